@@ -1,0 +1,1 @@
+"""The ``spurdyn`` command line."""

@@ -1,0 +1,42 @@
+"""Plane-stress finite elements: 8-node serendipity quads, assembly, time step."""
+
+from spurdyn.fem.assembly import (
+    CENTRAL_DIFFERENCE_STABILITY_LIMIT,
+    RK4_STABILITY_LIMIT,
+    StableStep,
+    assemble_consistent_mass,
+    assemble_lumped_mass,
+    assemble_stiffness,
+    centroid_stresses,
+    element_mass,
+    element_stiffness,
+    element_stress,
+    hrz_lump,
+    jacobian_determinants,
+    stable_time_step,
+    von_mises_plane_stress,
+)
+from spurdyn.fem.element import ElementQuadS2, gauss_2d
+from spurdyn.fem.material import STEEL, Material, plane_stress_matrix
+
+__all__ = [
+    "CENTRAL_DIFFERENCE_STABILITY_LIMIT",
+    "RK4_STABILITY_LIMIT",
+    "STEEL",
+    "ElementQuadS2",
+    "Material",
+    "StableStep",
+    "assemble_consistent_mass",
+    "assemble_lumped_mass",
+    "assemble_stiffness",
+    "centroid_stresses",
+    "element_mass",
+    "element_stiffness",
+    "element_stress",
+    "gauss_2d",
+    "hrz_lump",
+    "jacobian_determinants",
+    "plane_stress_matrix",
+    "stable_time_step",
+    "von_mises_plane_stress",
+]

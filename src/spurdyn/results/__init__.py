@@ -1,0 +1,1 @@
+"""Results: pictures now; NetCDF, CSV and ParaView output with the solver."""

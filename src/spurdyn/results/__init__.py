@@ -1,1 +1,1 @@
-"""Results: pictures now; NetCDF, CSV and ParaView output with the solver."""
+"""Results: the Result object, NetCDF, CSV and ParaView output, pictures."""

@@ -1,0 +1,85 @@
+"""The outcome of a run as a plain object: time histories, frames and a status."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+#: Names of the three stages of a step, in order.
+STAGES = ("displacement", "velocity", "acceleration")
+
+
+@dataclass
+class Result:
+    """Time history of a simulated engagement (SI units; angles in rad unless named _deg).
+
+    Every per-step array has the length of ``time`` (the saved steps, the initial state
+    first). Gear quantities are stacked as ``(n, 2)``: column 0 is gear A, column 1 gear B.
+
+    Attributes
+    ----------
+    time
+        Time since the start of contact (s).
+    angle
+        Rotation of gear A since the start of contact (rad).
+    contact_force
+        Contact force (N), compression positive, 0 when the teeth are apart.
+    gap
+        Normal gap between the contact points (m): positive apart, negative penetration.
+    roll
+        Roll angles (rad) of the contact point on each tooth's involute ``(n, 2)``.
+    theta, omega
+        Rotation since the start (rad) and angular speed (rad/s) of each disk ``(n, 2)``,
+        each along its own sense of rotation.
+    torque
+        External torques on the disks (N m) ``(n, 2)``, along each disk's sense.
+    residual, iterations
+        Final constraint error (max norm: m, m/s, m/s^2) and iterations of each stage
+        ``(n, 3)``, see :data:`STAGES`.
+    corner
+        Contact at a tip corner: 0 flank to flank, 1 A's tip corner, 2 B's tip corner.
+    frame_time, frame_theta, frame_u
+        Tooth frames: times ``(k,)``, rotations ``(k, 2)`` and absolute nodal
+        displacements of both teeth ``(k, n_u)`` (A's DOFs first).
+    status
+        ``"complete"`` or ``"incomplete"``.
+    reason
+        Why an incomplete run stopped.
+    steps
+        Time steps taken.
+    wall_s
+        Wall-clock time of the run (s).
+    info
+        Anything else worth keeping (case description, model sizes, ...).
+    """
+
+    time: NDArray[np.float64]
+    angle: NDArray[np.float64]
+    contact_force: NDArray[np.float64]
+    gap: NDArray[np.float64]
+    roll: NDArray[np.float64]
+    theta: NDArray[np.float64]
+    omega: NDArray[np.float64]
+    torque: NDArray[np.float64]
+    residual: NDArray[np.float64]
+    iterations: NDArray[np.int64]
+    corner: NDArray[np.int8]
+    frame_time: NDArray[np.float64]
+    frame_theta: NDArray[np.float64]
+    frame_u: NDArray[np.float64]
+    status: str = "complete"
+    reason: str = ""
+    steps: int = 0
+    wall_s: float = 0.0
+    info: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def angle_deg(self) -> NDArray[np.float64]:
+        return np.degrees(self.angle)
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "complete"

@@ -1,0 +1,113 @@
+"""What to simulate: the run settings of a dynamic contact analysis (SI units)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from spurdyn.errors import InputError
+from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+
+#: The paper's time step (s).
+PAPER_DT = 3e-8
+#: The paper's tolerance on the displacement constraint errors (m).
+PAPER_TOL = 1e-12
+
+RPM = 2.0 * math.pi / 60.0
+
+METHODS = ("paper", "exact")
+BACKENDS = ("numba", "numpy")
+
+
+@dataclass(frozen=True)
+class RunCase:
+    """Settings of one run of the dynamic contact solver.
+
+    Parameters
+    ----------
+    speed_a, speed_b
+        Initial angular speeds (rad/s) of gears A and B, each positive along its own
+        sense of rotation (A clockwise, B counter-clockwise).
+    torque
+        External torque ``tau_0`` on the driver (N m). The driven gear's load torque is
+        ``tau_0 r_b,driven / r_b,driver``. Both follow the paper's Fig. 7 schedule.
+    dt
+        Time step (s).
+    angle
+        Rotation of gear A to simulate (rad), from the start of contact; ``None`` is the
+        angle of action ``theta_s``.
+    nx, ny
+        Q8 elements across and along each tooth.
+    n_spline
+        Data points of each flank spline.
+    tol_disp
+        Tolerance of the displacement stage (m); the velocity and acceleration stages use
+        ``tol_disp / dt`` and ``tol_disp / dt**2``.
+    max_iter
+        Iteration cap of each stage in each step.
+    accel_levels
+        The integer ``n`` of the accelerated iteration (Appendix B).
+    method
+        ``"paper"``: the accelerated iteration with ``C = c G M^-1 G^T``; ``"exact"``: the
+        same projected iteration with the exact linear response of the RK4 step.
+    backend
+        ``"numba"`` (compiled, superposed) or ``"numpy"`` (the straightforward reference).
+    save_every
+        Keep every k-th step in the time history.
+    frames_every
+        Keep the tooth nodal displacements every m-th step (0: none).
+    keep_theta_term
+        Keep the second-order elastic torque ``-(dw/dtheta)^T K w`` on the disks.
+    name
+        A name for the run.
+    """
+
+    speed_a: float
+    speed_b: float
+    torque: float
+    dt: float = PAPER_DT
+    angle: float | None = None
+    nx: int = DEFAULT_NX
+    ny: int = DEFAULT_NY
+    n_spline: int = 61
+    tol_disp: float = PAPER_TOL
+    max_iter: int = 500
+    accel_levels: int = 3
+    method: str = "paper"
+    backend: str = "numba"
+    save_every: int = 1
+    frames_every: int = 100
+    keep_theta_term: bool = True
+    name: str = "run"
+
+    def __post_init__(self) -> None:
+        for key in ("speed_a", "speed_b", "dt", "tol_disp"):
+            v = getattr(self, key)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v <= 0:
+                raise InputError(key, f"must be a positive number (got {v!r})")
+        if not isinstance(self.torque, (int, float)) or not math.isfinite(self.torque) or self.torque < 0:
+            raise InputError("torque", f"must be a number >= 0 (got {self.torque!r})")
+        if self.angle is not None and (not math.isfinite(self.angle) or self.angle <= 0):
+            raise InputError("angle", f"must be a positive angle (got {self.angle!r})")
+        for key, lo in (("n_spline", 8), ("max_iter", 1), ("accel_levels", 1), ("save_every", 1),
+                        ("frames_every", 0)):
+            v = getattr(self, key)
+            if not isinstance(v, int) or isinstance(v, bool) or v < lo:
+                raise InputError(key, f"must be a whole number >= {lo} (got {v!r})")
+        if self.method not in METHODS:
+            raise InputError("method", f"must be one of {', '.join(METHODS)} (got {self.method!r})")
+        if self.backend not in BACKENDS:
+            raise InputError("backend", f"must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
+
+    @property
+    def tol_vel(self) -> float:
+        return self.tol_disp / self.dt
+
+    @property
+    def tol_acc(self) -> float:
+        return self.tol_disp / self.dt**2
+
+    def with_(self, **changes: Any) -> "RunCase":
+        """A copy with some settings changed."""
+        return replace(self, **changes)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from spurdyn.errors import InputError
 from spurdyn.fem import (
     STEEL,
     ElementQuadS2,
@@ -251,17 +252,23 @@ def test_hrz_lump_shape_check() -> None:
 
 
 def test_material_validation_messages() -> None:
-    with pytest.raises(ValueError, match=r"^material\.young must be > 0 \(got -1\)$"):
+    # InputError (a ValueError) naming the bare field, so a reader can prefix it with
+    # where the material came from (e.g. ``gear_a.material.young``).
+    with pytest.raises(InputError, match=r"^young: must be > 0 \(got -1\)$") as err:
         Material(-1, 0.3, 7800.0)
-    with pytest.raises(ValueError, match=r"material\.density"):
+    assert err.value.field == "young" and isinstance(err.value, ValueError)
+    with pytest.raises(InputError, match=r"^density: must be > 0"):
         Material(1e9, 0.3, 0.0)
-    with pytest.raises(ValueError, match=r"material\.density"):
+    with pytest.raises(InputError, match=r"^density: must be > 0"):
         Material(1e9, 0.3, float("nan"))
-    with pytest.raises(ValueError, match=r"material\.young must be finite"):
+    with pytest.raises(InputError, match=r"^young: must be finite"):
         Material(float("inf"), 0.3, 1.0)
-    for nu in (0.5, -1.0, 0.7):
-        with pytest.raises(ValueError, match=r"material\.poisson"):
+    for nu in (0.5, -1.0, 0.7, float("nan")):
+        with pytest.raises(InputError, match=r"^poisson: must be in \(-1, 0.5\)"):
             Material(1e9, nu, 1.0)
+    for bad in ("steel", True, None):
+        with pytest.raises(InputError, match=r"^young: must be a number"):
+            Material(bad, 0.3, 1.0)  # type: ignore[arg-type]
 
 
 def test_plane_stress_matrix() -> None:

@@ -8,6 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from spurdyn.errors import InputError
+
 __all__ = ["Material", "STEEL", "plane_stress_matrix"]
 
 
@@ -27,8 +29,10 @@ class Material:
 
     Raises
     ------
-    ValueError
-        If a field is out of range; the message names the field.
+    InputError
+        If a field is not a number or out of range. ``field`` is the bare field name
+        (``young``, ``poisson``, ``density``) so that a reader can prefix it with where
+        the material came from (``gear_a.material``). ``InputError`` is a ``ValueError``.
     """
 
     young: float
@@ -36,16 +40,20 @@ class Material:
     density: float
 
     def __post_init__(self) -> None:
+        for name in ("young", "poisson", "density"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+                raise InputError(name, f"must be a number (got {value!r})")
         for name in ("young", "density"):
             value = getattr(self, name)
             # `not (x > 0)` also rejects NaN, which `x <= 0` would let through.
             if not value > 0:
-                raise ValueError(f"material.{name} must be > 0 (got {value})")
+                raise InputError(name, f"must be > 0 (got {value})")
             if not math.isfinite(value):
-                raise ValueError(f"material.{name} must be finite (got {value})")
+                raise InputError(name, f"must be finite (got {value})")
         nu = self.poisson
         if not -1.0 < nu < 0.5:
-            raise ValueError(f"material.poisson must be in (-1, 0.5) (got {nu})")
+            raise InputError("poisson", f"must be in (-1, 0.5) (got {nu})")
 
 
 STEEL = Material(young=210e9, poisson=0.3, density=7800.0)

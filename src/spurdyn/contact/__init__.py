@@ -1,0 +1,1 @@
+"""Contact between the deformed flanks: splines, closest-normal pairs, sliding kinematics."""

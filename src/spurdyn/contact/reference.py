@@ -1,0 +1,169 @@
+"""Contact between the two deformed flanks: the straightforward NumPy/SciPy version.
+
+Each flank is a not-a-knot cubic spline (SciPy's :class:`~scipy.interpolate.CubicSpline`)
+through the current positions of its data points, parameterised by the flank
+coordinate ``t`` (see :class:`~spurdyn.solver.system.Flank`). The contact pair is the
+pair of points with the minimum normal distance: tangents parallel and the connecting
+vector normal to both (docs/contact.md). Where that pair would lie beyond a tooth's tip,
+the tip corner is projected onto the other flank instead ("corner contact").
+
+The penetration (paper eq. 3) is measured between the *finite-element* material points
+under the contact pair: ``s = n . (x_A - x_B)``, ``n`` the unit normal pointing from A
+towards B, ``s > 0`` penetration.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline
+
+from spurdyn.solver.system import Flank
+
+FLANK, CORNER_A, CORNER_B = 0, 1, 2
+
+
+def cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
+    return float(a[0] * b[1] - a[1] * b[0])
+
+
+def outward_normal(tangent: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Outward unit normal of a right flank traversed root to tip: the tangent turned clockwise."""
+    n = np.array([tangent[1], -tangent[0]])
+    return n / np.hypot(*n)
+
+
+def data_values(flank: Flank, values: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Values at the data points ``(n, 2)`` from nodal values ``(N, 2)`` of the tooth."""
+    return np.einsum("kj,kjd->kd", flank.data_weights, values[flank.data_nodes])
+
+
+def flank_spline(flank: Flank, values: NDArray[np.float64]) -> CubicSpline:
+    """Not-a-knot cubic spline through the data-point values, in the flank coordinate."""
+    t = np.linspace(flank.t0, flank.t1, flank.n_data)
+    return CubicSpline(t, data_values(flank, values), bc_type="not-a-knot")
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    """The contact pair found on the current flanks.
+
+    Attributes
+    ----------
+    alpha, beta
+        Flank coordinates of the contact points on A and B.
+    mode
+        :data:`FLANK`, :data:`CORNER_A` (A's tip corner on B's flank) or :data:`CORNER_B`.
+    normal
+        Unit contact normal, from A towards B.
+    s
+        Penetration (m) between the finite-element material points; negative is a gap.
+    nodes_a, weights_a, nodes_b, weights_b
+        Edge nodes and shape weights of the material points (the rows of ``N``).
+    """
+
+    alpha: float
+    beta: float
+    mode: int
+    normal: NDArray[np.float64]
+    s: float
+    nodes_a: NDArray[np.intp]
+    weights_a: NDArray[np.float64]
+    nodes_b: NDArray[np.intp]
+    weights_b: NDArray[np.float64]
+
+
+def _newton_pair(pa: CubicSpline, pb: CubicSpline, a: float, b: float) -> tuple[float, float, bool]:
+    """Solve ``P_A' x P_B' = 0`` and ``(P_A - P_B) . P_A' = 0`` for ``(alpha, beta)``."""
+    for _ in range(30):
+        xa, ta, ca = pa(a), pa(a, 1), pa(a, 2)
+        xb, tb, cb = pb(b), pb(b, 1), pb(b, 2)
+        d = xa - xb
+        f = np.array([cross(ta, tb), d @ ta])
+        jac = np.array([[cross(ca, tb), cross(ta, cb)],
+                        [ta @ ta + d @ ca, -(tb @ ta)]])
+        step = np.linalg.solve(jac, f)
+        a, b = a - step[0], b - step[1]
+        if abs(step[0]) + abs(step[1]) < 1e-14:
+            return a, b, True
+        if not (np.isfinite(a) and np.isfinite(b)):
+            return a, b, False
+    return a, b, False
+
+
+def _project(point: NDArray[np.float64], p: CubicSpline, t: float, lo: float, hi: float) -> float:
+    """Flank coordinate of the foot of the normal from ``point`` onto spline ``p``."""
+    for _ in range(30):
+        d = p(t) - point
+        tan, cur = p(t, 1), p(t, 2)
+        step = (d @ tan) / (tan @ tan + d @ cur)
+        t = min(max(t - step, lo), hi)
+        if abs(step) < 1e-14:
+            break
+    return t
+
+
+def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.float64],
+                 guess: tuple[float, float]) -> ContactPair:
+    """Contact pair of two flanks with current nodal positions ``xa``, ``xb`` ``(N, 2)``."""
+    pa, pb = flank_spline(fa, xa), flank_spline(fb, xb)
+    a, b, ok = _newton_pair(pa, pb, *guess)
+    mode = FLANK
+    if not ok or a > fa.t1 or b > fb.t1:
+        # The pair lies beyond a tooth's tip: that tip corner touches the other flank.
+        # When both corners are candidates, keep the one whose foot lies on the flank.
+        ga = min(max(guess[0], fa.t0), fa.t1)
+        gb = min(max(guess[1], fb.t0), fb.t1)
+        a_b = _project(pb(fb.t1), pa, ga, fa.t0, fa.t1)     # B's corner on A
+        b_a = _project(pa(fa.t1), pb, gb, fb.t0, fb.t1)     # A's corner on B
+        corner_b = fa.t0 < a_b < fa.t1 and (ok and b > fb.t1 or not ok)
+        corner_a = fb.t0 < b_a < fb.t1 and (ok and a > fa.t1 or not ok)
+        if corner_a and corner_b:
+            corner_b = np.hypot(*(pb(fb.t1) - pa(a_b))) <= np.hypot(*(pa(fa.t1) - pb(b_a)))
+        if corner_b or not corner_a and (ok and b > fb.t1):
+            a, b, mode = a_b, fb.t1, CORNER_B
+        else:
+            a, b, mode = fa.t1, b_a, CORNER_A
+    a = min(max(a, fa.t0), fa.t1)
+    b = min(max(b, fb.t0), fb.t1)
+    if mode == CORNER_A:
+        normal = -outward_normal(pb(b, 1))
+    else:
+        normal = outward_normal(pa(a, 1))
+    na, wa, _ = fa.locate(a)
+    nb, wb, _ = fb.locate(b)
+    s = float(normal @ (wa @ xa[na] - wb @ xb[nb]))
+    return ContactPair(alpha=float(a), beta=float(b), mode=mode, normal=normal, s=s,
+                       nodes_a=na, weights_a=wa, nodes_b=nb, weights_b=wb)
+
+
+def sliding_acceleration(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.float64],
+                         va: NDArray[np.float64], vb: NDArray[np.float64],
+                         c: ContactPair) -> tuple[float, float, float]:
+    """The Appendix A terms of the relative normal acceleration, and ``d alpha/dt``, ``d beta/dt``.
+
+    Returns ``(extra, alpha_dot, beta_dot)`` with ``extra`` to be added to
+    ``n . (N_A a_A - N_B a_B)``: the Coriolis terms ``2 alpha' n . V_A,alpha`` and the
+    curvature terms ``alpha'^2 n . P_A,alpha alpha`` (and minus the same for B).
+    """
+    pa, pb = flank_spline(fa, xa), flank_spline(fb, xb)
+    sa, sb = flank_spline(fa, va), flank_spline(fb, vb)
+    n = c.normal
+    ta, tb = pa(c.alpha, 1), pb(c.beta, 1)
+    ca, cb = pa(c.alpha, 2), pb(c.beta, 2)
+    wa, wb = sa(c.alpha), sb(c.beta)
+    dwa, dwb = sa(c.alpha, 1), sb(c.beta, 1)
+    if c.mode == FLANK:
+        that = ta / np.hypot(*ta)
+        lhs = np.array([[that @ ta, -(that @ tb)],
+                        [cross(ta, ca) / (ta @ ta), -cross(tb, cb) / (tb @ tb)]])
+        rhs = np.array([that @ (wb - wa), cross(tb, dwb) / (tb @ tb) - cross(ta, dwa) / (ta @ ta)])
+        ad, bd = np.linalg.solve(lhs, rhs)
+    elif c.mode == CORNER_A:
+        ad, bd = 0.0, float(tb @ (wa - wb) / (tb @ tb))
+    else:
+        ad, bd = float(ta @ (wb - wa) / (ta @ ta)), 0.0
+    extra = 2.0 * ad * (n @ dwa) + ad * ad * (n @ ca) - 2.0 * bd * (n @ dwb) - bd * bd * (n @ cb)
+    return float(extra), float(ad), float(bd)

@@ -90,6 +90,71 @@ def test_fillet_reaches_root_circle_tangentially():
     assert np.all(np.diff(np.hypot(pts[:, 0], pts[:, 1])) > 0)
 
 
+
+def _gears_with_fillets():
+    m = 0.003
+    return {
+        "paper": paper_gear(),
+        "z20": Gear(teeth=20, module=m, pressure_angle=math.radians(20), face_width=0.01,
+                    addendum=m, dedendum=1.25 * m, cutter_tip_radius=0.38 * m, disk_inertia=1e-4),
+        "z40": Gear(teeth=40, module=m, pressure_angle=math.radians(20), face_width=0.01,
+                    addendum=m, dedendum=1.25 * m, cutter_tip_radius=0.38 * m, disk_inertia=1e-3),
+        "z30-25deg": Gear(teeth=30, module=m, pressure_angle=math.radians(25), face_width=0.01,
+                          addendum=m, dedendum=1.25 * m, cutter_tip_radius=0.25 * m,
+                          disk_inertia=1e-3),
+    }
+
+
+@pytest.mark.parametrize("name", ["paper", "z20", "z40", "z30-25deg"])
+def test_fillet_tangent_equals_involute_tangent_at_form_radius(name):
+    """Central differences of both curves at the junction give the same direction.
+
+    Central differences are O(h^2): at h = 1e-5 (rad of normal angle on the fillet,
+    1e-8 m of radius on the involute) the two unit tangents of the paper's gear differ
+    by 4e-10 rad; a kink of even 1e-6 rad would fail the test.
+    """
+    g = _gears_with_fillets()[name]
+    a, r, h = g.fillet_end_angle, g.form_radius, 1e-5
+    junction = g.fillet_points(np.asarray(a))
+    assert np.allclose(junction, g.flank_point(r), rtol=0, atol=1e-13)
+    t_fillet = g.fillet_points(np.asarray(a + h)) - g.fillet_points(np.asarray(a - h))
+    t_flank = g.flank_point(r + h * 1e-3) - g.flank_point(r - h * 1e-3)
+    t_fillet /= np.linalg.norm(t_fillet)
+    t_flank /= np.linalg.norm(t_flank)
+    angle = math.atan2(t_fillet[0] * t_flank[1] - t_fillet[1] * t_flank[0], float(t_fillet @ t_flank))
+    assert abs(angle) < 1e-8
+    # The involute's analytic normal is also the fillet's normal at the junction.
+    n = g.flank_normal(np.asarray(r))
+    assert abs(float(t_fillet @ n)) < 1e-8
+
+
+@pytest.mark.parametrize("name", ["paper", "z20", "z40", "z30-25deg"])
+def test_fillet_spans_root_circle_to_form_radius(name):
+    """Sampled densely, the fillet's smallest radius is the root radius and its largest
+    the form radius: it reaches the root circle and stops at the involute."""
+    g = _gears_with_fillets()[name]
+    pts = g.fillet_points(np.linspace(0.0, g.fillet_end_angle, 4001))
+    radii = np.hypot(pts[:, 0], pts[:, 1])
+    assert radii.min() == pytest.approx(g.root_radius, rel=1e-12)
+    assert radii.max() == pytest.approx(g.form_radius, rel=1e-12)
+    assert g.root_radius < g.form_radius
+    # The form radius lies above the base circle (no undercut) ...
+    assert g.form_radius > g.base_radius
+    # ... and right_side_point follows the fillet below it and the involute above it.
+    for r in np.linspace(g.root_radius, g.tip_radius, 13):
+        assert float(np.hypot(*g.right_side_point(float(r)))) == pytest.approx(r, rel=1e-12)
+
+
+def test_paper_form_radius_and_margin_below_active_profile():
+    p = paper_pair()
+    g = p.gear_a
+    assert round(g.form_radius * 1e3, 2) == 42.19
+    start = float(g.radius_at_roll_angle(p.start_roll_a))
+    # Contact never reaches the fillet: a quarter of a millimetre of involute to spare.
+    assert 0.2e-3 < start - g.form_radius < 0.3e-3
+    assert g.min_teeth_without_undercut == 18
+
+
 def test_no_undercut_for_28_teeth_and_clear_error_below_limit():
     g = paper_gear()
     assert not g.undercut
@@ -98,6 +163,25 @@ def test_no_undercut_for_28_teeth_and_clear_error_below_limit():
         Gear(teeth=12, module=g.module, pressure_angle=g.pressure_angle, face_width=g.face_width,
              addendum=g.module, dedendum=1.25 * g.module, cutter_tip_radius=0.38 * g.module,
              disk_inertia=1e-4)
+
+
+def test_rack_tooth_coming_to_a_point_is_refused_naming_the_dedendum():
+    # 35 deg with a 1.25 m dedendum: the rack tooth's flanks meet above its tip line.
+    with pytest.raises(InputError) as err:
+        Gear(teeth=30, module=0.003, pressure_angle=math.radians(35), face_width=0.01,
+             addendum=0.003, dedendum=0.00375, cutter_tip_radius=0.0003, disk_inertia=1e-4)
+    assert err.value.field == "dedendum" and "comes to a point" in err.value.reason
+
+
+def test_gears_too_far_apart_to_touch_are_refused():
+    g = paper_gear()
+    with pytest.raises(InputError) as err:
+        GearPair(g, g, centre_distance=2 * g.tip_radius + 1e-4)
+    assert err.value.field == "centre_distance" and "never touch" in err.value.reason
+    # Touching, but less than one pair in mesh at all times.
+    with pytest.raises(InputError, match="contact ratio 0.*below 1") as err:
+        GearPair(g, g, centre_distance=2 * g.pitch_radius + 3e-3)
+    assert err.value.field == "centre_distance"
 
 
 def test_interference_is_refused():

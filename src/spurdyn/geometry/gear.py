@@ -90,6 +90,12 @@ class Gear:
             raise InputError("dedendum", "puts the root circle at or below the gear centre")
         if not isinstance(self.material, Material):
             raise InputError("material", "must be a Material")
+        # The generating rack's tooth must still have a tip land at the dedendum depth.
+        if math.pi * self.module / 4.0 - self.dedendum * math.tan(self.pressure_angle) <= 0.0:
+            deepest = math.pi / 4.0 / math.tan(self.pressure_angle)
+            raise InputError("dedendum", f"is too deep for the pressure angle: the generating "
+                             f"rack's tooth comes to a point (dedendum must stay below "
+                             f"{deepest:.3g} x module)")
         # The rounding must fit on the cutter tooth: its centre may not pass the
         # cutter tooth's centre line.
         x_c, _ = self.cutter_centre
@@ -269,6 +275,9 @@ class GearPair:
         if self.centre_distance <= self.gear_a.tip_radius + self.gear_b.root_radius or \
                 self.centre_distance <= self.gear_b.tip_radius + self.gear_a.root_radius:
             raise InputError("centre_distance", "is too small: a tip would hit the other gear's root")
+        if self.path_of_contact <= 0.0:
+            raise InputError("centre_distance", "is too large: the tip circles do not reach "
+                             "across the line of action, so the gears never touch")
         if self.contact_ratio < 1.0:
             raise InputError("centre_distance", f"gives a contact ratio {self.contact_ratio:.3f} "
                              "below 1; the pair would not mesh continuously")

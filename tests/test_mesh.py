@@ -92,3 +92,12 @@ def test_teeth_touch_in_mesh_position_without_overlap():
     t0, _ = mesh_angles(p, p.start_roll_a)
     t1, _ = mesh_angles(p, p.end_roll_a)
     assert t1 - t0 == pytest.approx(p.theta_s, rel=1e-12)
+
+
+def test_default_density_is_the_finest_of_the_table_stable_at_the_paper_step():
+    """docs/stiffness.md: RK4 at 3e-8 s is stable for 4x14 but not for 6x20."""
+    from spurdyn.model import build_tooth
+    g = paper_gear()
+    assert (DEFAULT_NX, DEFAULT_NY) == (4, 14)
+    assert build_tooth(g, 4, 14).stable_step().dt_rk4 >= 3e-8
+    assert build_tooth(g, 6, 20).stable_step().dt_rk4 < 3e-8

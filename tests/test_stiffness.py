@@ -58,3 +58,25 @@ def test_compliance_is_the_work_of_a_unit_load(pair_and_tooth):
     from spurdyn.fem import Material
     stiff_gear = replace(p.gear_a, material=Material(2 * 210e9, 0.3, 7800.0))
     assert ToothCompliance(build_tooth(stiff_gear))(r) == pytest.approx(c(r) / 2, rel=1e-10)
+
+
+def test_refinement_adds_the_point_load_log_compliance_of_two_half_planes():
+    """Why the stiffness keeps falling with refinement (docs/stiffness.md).
+
+    A point force F on a plane-stress half-plane of thickness b has a surface
+    displacement ``(2 F / (pi E b)) ln(1/r)``: each halving of the element size near the
+    load lets the loaded point sink by ``(2 / (pi E b)) ln 2`` more per unit force, per
+    tooth. Halving the mesh (4x14 -> 8x28, 6x20 -> 12x40) must add about twice that to
+    the pair compliance, and the pitch stiffness must fall at every step from 4x14 on.
+    """
+    p = paper_pair()
+    g = p.gear_a
+    densities = [(4, 14), (6, 20), (8, 28), (12, 40)]
+    comp = {d: 1.0 / pitch_point_stiffness(p, t, t)
+            for d, t in ((d, build_tooth(g, *d)) for d in densities)}
+    ks = [1.0 / comp[d] for d in densities]
+    assert all(a > b for a, b in zip(ks, ks[1:]))
+    half_planes = 2 * 2.0 / (np.pi * g.material.young * g.face_width) * np.log(2.0)
+    for coarse, fine in (((4, 14), (8, 28)), ((6, 20), (12, 40))):
+        added = comp[fine] - comp[coarse]
+        assert 0.8 * half_planes < added < 1.25 * half_planes

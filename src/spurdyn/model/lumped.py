@@ -121,6 +121,10 @@ class MeshStiffnessTable:
             out = out * d + c
         return out
 
+    def slope(self, roll_a: ArrayLike) -> NDArray[np.float64]:
+        """``dk/droll_a`` (N/m per rad) at roll angles of A; 0 outside the path."""
+        return np.nan_to_num(self._poly.derivative()(np.asarray(roll_a, dtype=float)), nan=0.0)
+
     def mean(self, lo: float, hi: float) -> float:
         """Mean stiffness (N/m) over the roll angles ``[lo, hi]`` of A."""
         return float(self._poly.integrate(lo, hi) / (hi - lo))

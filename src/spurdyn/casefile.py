@@ -1,24 +1,31 @@
-"""Read gear-pair descriptions from TOML files (stdlib ``tomllib``).
+"""Read gear-pair and run descriptions from TOML files (stdlib ``tomllib``).
 
 A file holds the tables ``[gear_a]``, ``[gear_b]`` (optional: a copy of gear A),
-``[pair]`` (optional) and ``[mesh]`` (optional); ``examples/paper_pair.toml`` shows every
-key. Lengths are in metres, angles in degrees (keys ending ``_deg``), inertia in kg m^2,
-moduli in Pa, density in kg/m^3. Every problem is raised as an
+``[pair]`` (optional), ``[mesh]`` (optional) and ``[run]`` (the run settings, needed by
+``spurdyn run``); ``examples/paper_pair.toml`` shows every pair key and
+``examples/paper_fig8.toml`` every run key. Lengths are in metres, angles in degrees (keys
+ending ``_deg``), speeds in rpm (keys ending ``_rpm``), torque in N m, time in s, inertia
+in kg m^2, moduli in Pa, density in kg/m^3. Every problem is raised as an
 :class:`~spurdyn.errors.InputError` naming the key.
+
+A :class:`Case` (pair + :class:`~spurdyn.solver.case.RunCase`) turns back into the same
+dictionary with :func:`case_to_dict`, so a run can store its whole description and be
+rebuilt from it (:func:`case_from_dict`).
 """
 
 from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.fem.material import Material
 from spurdyn.geometry.gear import DEFAULT_CUTTER_TIP_RADIUS, Gear, GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+from spurdyn.solver.case import BACKENDS, METHODS, RPM, RunCase
 
 GEAR_KEYS = {
     "teeth", "module", "pitch_radius", "tip_radius", "root_radius", "addendum", "dedendum",
@@ -27,7 +34,17 @@ GEAR_KEYS = {
 MATERIAL_KEYS = {"young", "poisson", "density"}
 PAIR_KEYS = {"centre_distance", "driver"}
 MESH_KEYS = {"nx", "ny"}
-TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh"}
+RUN_KEYS = {
+    "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
+    "max_iter", "accel_levels", "method", "backend", "save_every", "frames_every",
+    "keep_theta_term",
+}
+TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run"}
+
+#: How far past the angle of action ``theta_s`` a run may go (fraction of ``theta_s``):
+#: beyond it the tip of A has left B's flank for good and the modelled teeth no longer
+#: describe the meshing (the next pair, not modelled, carries the load).
+ANGLE_MARGIN = 0.02
 
 
 @dataclass(frozen=True)
@@ -169,6 +186,241 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> PairCase:
 def load_pair(path: str | Path) -> PairCase:
     """Read a gear-pair TOML file."""
     path = Path(path)
+    return pair_from_dict(_read_toml(path), name=path.stem)
+
+
+# -- runs ------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Case:
+    """Everything one run needs: the pair, the run settings (mesh included) and a name.
+
+    Attributes
+    ----------
+    name
+        Name of the case (preset name or TOML file stem); the default output folder.
+    pair
+        The gear pair.
+    run
+        Run settings in SI units; ``run.nx``, ``run.ny`` hold the mesh density.
+    description
+        One line saying what the case is for.
+    """
+
+    name: str
+    pair: GearPair
+    run: RunCase
+    description: str = ""
+
+    @property
+    def pair_case(self) -> PairCase:
+        """The pair and its mesh, as ``spurdyn info`` takes them."""
+        return PairCase(pair=self.pair, nx=self.run.nx, ny=self.run.ny, name=self.name)
+
+    @property
+    def angle(self) -> float:
+        """Rotation of A to simulate (rad): ``run.angle`` or the whole ``theta_s``."""
+        return self.pair.theta_s if self.run.angle is None else self.run.angle
+
+    @property
+    def static_force(self) -> float:
+        """Quasi-static tooth force (N): torque over the driver's base radius."""
+        driver = self.pair.gear_a if self.pair.driver == "a" else self.pair.gear_b
+        return self.run.torque / driver.base_radius
+
+
+class _Source:
+    """Where each run setting comes from: a command-line override or the ``[run]`` table.
+
+    ``overrides`` and ``labels`` are keyed by dotted names (``run.dt``, ``mesh.nx``);
+    a label (``--dt``) names the field in refusals of an overridden value.
+    """
+
+    def __init__(self, table: Mapping[str, Any], where: str,
+                 overrides: Mapping[str, Any], labels: Mapping[str, str]) -> None:
+        self.table, self.where, self.overrides, self.labels = table, where, overrides, labels
+
+    def field(self, key: str) -> str:
+        dotted = f"{self.where}.{key}"
+        return self.labels.get(dotted, dotted) if dotted in self.overrides else dotted
+
+    def get(self, key: str) -> tuple[bool, Any, str]:
+        dotted = f"{self.where}.{key}"
+        if dotted in self.overrides and self.overrides[dotted] is not None:
+            return True, self.overrides[dotted], self.labels.get(dotted, dotted)
+        if key in self.table and self.table[key] is not None:
+            return True, self.table[key], dotted
+        return False, None, dotted
+
+    def number(self, key: str, default: float | None, *, positive: bool = True,
+               required_hint: str = "") -> float | None:
+        found, value, name = self.get(key)
+        if not found:
+            if default is None and required_hint:
+                raise InputError(name, f"is missing; {required_hint}")
+            return default
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise InputError(name, f"must be a number (got {value!r})")
+        value = float(value)
+        if not math.isfinite(value):
+            raise InputError(name, f"must be a finite number (got {value!r})")
+        if positive and value <= 0.0:
+            raise InputError(name, f"must be positive (got {value:g})")
+        if not positive and value < 0.0:
+            raise InputError(name, f"must not be negative (got {value:g})")
+        return value
+
+    def integer(self, key: str, default: int, low: int) -> int:
+        found, value, name = self.get(key)
+        if not found:
+            return default
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise InputError(name, f"must be a whole number (got {value!r})")
+        if value < low:
+            raise InputError(name, f"must be a whole number >= {low} (got {value})")
+        return value
+
+    def choice(self, key: str, default: str, allowed: tuple[str, ...]) -> str:
+        found, value, name = self.get(key)
+        if not found:
+            return default
+        if value not in allowed:
+            raise InputError(name, f"must be one of {', '.join(allowed)} (got {value!r})")
+        return str(value)
+
+    def boolean(self, key: str, default: bool) -> bool:
+        found, value, name = self.get(key)
+        if not found:
+            return default
+        if not isinstance(value, bool):
+            raise InputError(name, f"must be true or false (got {value!r})")
+        return value
+
+
+def _round_down(x: float, digits: int) -> float:
+    """``x > 0`` rounded down to ``digits`` significant digits."""
+    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return math.floor(x / scale) * scale
+
+
+_RUN_DEFAULTS = {f.name: f.default for f in fields(RunCase)}
+
+
+def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, name: str,
+                   overrides: Mapping[str, Any] | None = None,
+                   labels: Mapping[str, str] | None = None, description: str = "",
+                   check_step: bool = True) -> Case:
+    """Build a :class:`Case` from a pair and its ``[run]`` table (TOML units).
+
+    Parameters
+    ----------
+    pair_case
+        The pair and the mesh density of its ``[mesh]`` table.
+    run_table
+        The ``[run]`` table (speeds in rpm, angle in degrees, the rest SI), or ``None``.
+    name
+        Name of the case.
+    overrides
+        Values that replace the table's, keyed ``run.<key>`` or ``mesh.nx``/``mesh.ny``
+        (``None`` values are ignored): the command-line options.
+    labels
+        How to name an overridden field in a refusal, e.g. ``{"run.dt": "--dt"}``.
+    description
+        One line about the case.
+    check_step
+        Refuse a time step above the stable RK4 step of either tooth mesh (builds both
+        tooth models, a fraction of a second) and refuse a bad mesh.
+
+    Raises
+    ------
+    InputError
+        Unknown keys, wrong types, non-physical values, a ``dt`` above the stable step,
+        an angle beyond ``theta_s`` plus :data:`ANGLE_MARGIN`.
+    """
+    overrides = dict(overrides or {})
+    labels = dict(labels or {})
+    table = {} if run_table is None else run_table
+    if not isinstance(table, dict):
+        raise InputError("run", "must be a table")
+    _check_keys(table, RUN_KEYS, "run")
+    src = _Source(table, "run", overrides, labels)
+    pair = pair_case.pair
+    hint = "give it in the [run] table or on the command line"
+    speed_a = src.number("speed_a_rpm", None, required_hint=hint)
+    speed_b = src.number("speed_b_rpm", speed_a * pair.gear_a.teeth / pair.gear_b.teeth)
+    torque = src.number("torque", None, positive=False, required_hint=hint)
+    dt = src.number("dt", _RUN_DEFAULTS["dt"])
+    angle_deg = src.number("angle_deg", None)
+    mesh = _Source({"nx": pair_case.nx, "ny": pair_case.ny}, "mesh", overrides, labels)
+    nx = mesh.integer("nx", pair_case.nx, 1)
+    ny = mesh.integer("ny", pair_case.ny, 1)
+    settings = dict(
+        speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque, dt=dt,
+        angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
+        n_spline=src.integer("n_spline", _RUN_DEFAULTS["n_spline"], 8),
+        tol_disp=src.number("tol_disp", _RUN_DEFAULTS["tol_disp"]),
+        max_iter=src.integer("max_iter", _RUN_DEFAULTS["max_iter"], 1),
+        accel_levels=src.integer("accel_levels", _RUN_DEFAULTS["accel_levels"], 1),
+        method=src.choice("method", _RUN_DEFAULTS["method"], METHODS),
+        backend=src.choice("backend", _RUN_DEFAULTS["backend"], BACKENDS),
+        save_every=src.integer("save_every", _RUN_DEFAULTS["save_every"], 1),
+        frames_every=src.integer("frames_every", _RUN_DEFAULTS["frames_every"], 0),
+        keep_theta_term=src.boolean("keep_theta_term", _RUN_DEFAULTS["keep_theta_term"]),
+        name=name,
+    )
+    try:
+        run = RunCase(**settings)
+    except InputError as err:  # pragma: no cover - every value was checked above
+        raise InputError(src.field(err.field), err.reason) from None
+
+    theta_s = pair.theta_s
+    if run.angle is not None:
+        limit = theta_s * (1.0 + ANGLE_MARGIN)
+        field_ = src.field("angle_deg")
+        if run.angle > limit:
+            raise InputError(field_, f"{angle_deg:g} deg goes beyond the angle of action "
+                             f"theta_s = {math.degrees(theta_s):.3f} deg (+{ANGLE_MARGIN:.0%}): "
+                             "the teeth would leave the modelled region")
+        if run.angle < run.speed_a * run.dt:
+            raise InputError(field_, f"{angle_deg:g} deg is shorter than one time step "
+                             f"({math.degrees(run.speed_a * run.dt):.3g} deg at this speed)")
+    if check_step:
+        from spurdyn.model.tooth import build_tooth
+
+        stable = []
+        for gear in (pair.gear_a, pair.gear_b):
+            try:
+                stable.append(build_tooth(gear, nx, ny).stable_step().dt_rk4)
+            except InputError as err:
+                if "mesh.nx" in overrides and err.field.startswith("mesh."):
+                    label = labels.get("mesh.nx", "mesh")
+                    raise InputError(label, f"{err.field[5:]} {err.reason}") from None
+                raise
+        dt_max = min(stable)
+        if run.dt > dt_max:
+            field_ = src.field("dt")
+            if "run.dt" not in overrides and "mesh.nx" in overrides:
+                field_ = labels.get("mesh.nx", "mesh")
+            safe = _round_down(dt_max, 3)
+            raise InputError(field_, f"dt {run.dt:g} s is above the stable RK4 step "
+                             f"{dt_max:.4g} s of the {nx}x{ny} tooth mesh; use a dt of at most "
+                             f"{safe:g} s or a coarser mesh")
+    return Case(name=name, pair=pair, run=run, description=description)
+
+
+def case_from_dict(data: dict[str, Any], name: str = "case",
+                   overrides: Mapping[str, Any] | None = None,
+                   labels: Mapping[str, str] | None = None,
+                   check_step: bool = True) -> Case:
+    """Build a :class:`Case` from a parsed TOML document (or :func:`case_to_dict`)."""
+    if not isinstance(data, dict):
+        raise InputError("case", "must be a table")
+    pair_case = pair_from_dict(data, name=name)
+    return case_from_pair(pair_case, data.get("run"), name, overrides, labels,
+                          check_step=check_step)
+
+
+def _read_toml(path: Path) -> dict[str, Any]:
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -176,7 +428,49 @@ def load_pair(path: str | Path) -> PairCase:
     except (IsADirectoryError, PermissionError, UnicodeDecodeError) as err:
         raise InputError(str(path), f"cannot be read ({type(err).__name__})") from None
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise InputError(str(path), f"is not valid TOML ({err})") from None
-    return pair_from_dict(data, name=path.stem)
+
+
+def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
+              labels: Mapping[str, str] | None = None, check_step: bool = True) -> Case:
+    """Read a case TOML file: the pair tables and the ``[run]`` table."""
+    path = Path(path)
+    return case_from_dict(_read_toml(path), name=path.stem, overrides=overrides,
+                          labels=labels, check_step=check_step)
+
+
+def _gear_to_dict(gear: Gear) -> dict[str, Any]:
+    return {
+        "teeth": gear.teeth, "module": gear.module, "addendum": gear.addendum,
+        "dedendum": gear.dedendum, "pressure_angle_deg": math.degrees(gear.pressure_angle),
+        "face_width": gear.face_width, "disk_inertia": gear.disk_inertia,
+        "cutter_tip_radius": gear.cutter_tip_radius,
+        "material": {"young": gear.material.young, "poisson": gear.material.poisson,
+                     "density": gear.material.density},
+    }
+
+
+def case_to_dict(case: Case) -> dict[str, Any]:
+    """The case as a TOML-shaped dictionary (TOML units) that :func:`case_from_dict` reads.
+
+    ``run.angle_deg`` is left out when the run covers the whole angle of action.
+    """
+    run = case.run
+    run_table: dict[str, Any] = {
+        "speed_a_rpm": run.speed_a / RPM, "speed_b_rpm": run.speed_b / RPM,
+        "torque": float(run.torque), "dt": run.dt,
+    }
+    if run.angle is not None:
+        run_table["angle_deg"] = math.degrees(run.angle)
+    run_table.update({k: getattr(run, k) for k in (
+        "n_spline", "tol_disp", "max_iter", "accel_levels", "method", "backend",
+        "save_every", "frames_every", "keep_theta_term")})
+    return {
+        "gear_a": _gear_to_dict(case.pair.gear_a),
+        "gear_b": _gear_to_dict(case.pair.gear_b),
+        "pair": {"centre_distance": case.pair.centre_distance, "driver": case.pair.driver},
+        "mesh": {"nx": run.nx, "ny": run.ny},
+        "run": run_table,
+    }

@@ -1,0 +1,121 @@
+"""An animated GIF of a run: the two teeth meshing, deformation magnified, coloured by the
+von Mises stress, with the contact-force trace beside them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
+
+from spurdyn.errors import InputError  # noqa: E402
+from spurdyn.results.io import ToothFrames, speeds_label, tooth_frames  # noqa: E402
+from spurdyn.results.plots import draw_contact_force  # noqa: E402
+
+# Outline of a Q8 element through its mid-side nodes: corner, mid, corner, ...
+_OUTLINE = [0, 4, 1, 5, 2, 6, 3, 7]
+
+#: The largest magnified elastic displacement, as a fraction of the tooth height.
+AUTO_MAGNIFY_FRACTION = 0.08
+
+
+def auto_magnify(frames: ToothFrames) -> float:
+    """A magnification that shows the largest elastic displacement as
+    :data:`AUTO_MAGNIFY_FRACTION` of the tooth height (1 if the teeth do not deform)."""
+    biggest = 0.0
+    for k in range(frames.n_frames):
+        for g in (0, 1):
+            d = frames.elastic(g, k)
+            if np.isfinite(d).all():
+                biggest = max(biggest, float(np.hypot(d[:, 0], d[:, 1]).max()))
+    gear = frames.case.pair.gear_a
+    height = gear.tip_radius - gear.root_radius
+    return AUTO_MAGNIFY_FRACTION * height / biggest if biggest > 0 else 1.0
+
+
+def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None,
+                fps: int = 15, max_frames: int = 150) -> Path:
+    """Write an animated GIF of the tooth frames of a run.
+
+    Parameters
+    ----------
+    ds
+        The run (:func:`spurdyn.results.io.load_run`); it must hold tooth frames.
+    gif
+        File to write.
+    magnify
+        Magnification of the elastic displacements; default :func:`auto_magnify`.
+    fps
+        Frames per second of the GIF.
+    max_frames
+        At most this many frames, evenly picked from the run's.
+    """
+    frames = tooth_frames(ds)
+    if magnify is None:
+        magnify = auto_magnify(frames)
+    picks = np.unique(np.linspace(0, frames.n_frames - 1, min(max_frames, frames.n_frames))
+                      .round().astype(int))
+    meshes = frames.meshes
+
+    # Stresses and outlines of every picked frame, and one colour scale for all.
+    polys: list[list[np.ndarray]] = []
+    stress: list[list[np.ndarray]] = []
+    for k in picks:
+        polys.append([frames.positions(g, k, magnify)[meshes[g].elements[:, _OUTLINE]] * 1e3
+                      for g in (0, 1)])
+        stress.append([frames.von_mises(g, k) / 1e6 for g in (0, 1)])
+    vmax = max(float(np.nanmax(s)) for pair_ in stress for s in pair_ if np.isfinite(s).any()) \
+        if any(np.isfinite(s).any() for pair_ in stress for s in pair_) else 1.0
+    vmax = vmax if vmax > 0 else 1.0
+    allpts = np.concatenate([p.reshape(-1, 2) for pair_ in polys for p in pair_])
+    allpts = allpts[np.isfinite(allpts).all(axis=1)]
+    if allpts.size == 0:
+        raise InputError("frame_u", "holds no finite displacements to draw")
+    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+    pad = 0.05 * float((hi - lo).max())
+
+    fig, (ax_t, ax_f) = plt.subplots(1, 2, figsize=(11, 5), dpi=90,
+                                     gridspec_kw={"width_ratios": [1, 1.3]})
+    coll = []
+    for g in (0, 1):
+        c = PolyCollection(polys[0][g], array=stress[0][g], cmap="viridis", clim=(0.0, vmax),
+                           edgecolor="k", linewidth=0.2)
+        ax_t.add_collection(c)
+        coll.append(c)
+    fig.colorbar(coll[0], ax=ax_t, label="von Mises stress (MPa)", shrink=0.8)
+    ax_t.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax_t.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax_t.set_aspect("equal")
+    ax_t.set_xlabel("x (mm)")
+    ax_t.set_ylabel("y (mm)")
+    stamp = ax_t.set_title("")
+
+    draw_contact_force(ax_f, [ds], legend=False)
+    ax_f.set_title(f"{ds.attrs['case_name']}: {speeds_label(ds)}, displacements x {magnify:.3g}",
+                   fontsize=9)
+    cursor = ax_f.axvline(0.0, color="tab:red", lw=1.0)
+    angle = ds["angle_deg"].values
+    time = ds["time"].values
+    fig.tight_layout()
+
+    def draw(i: int) -> list:
+        k = picks[i]
+        for g in (0, 1):
+            coll[g].set_verts(polys[i][g])
+            coll[g].set_array(stress[i][g])
+        a = float(np.interp(frames.time[k], time, angle)) if len(time) else 0.0
+        cursor.set_xdata([a, a])
+        stamp.set_text(f"t = {frames.time[k] * 1e6:.1f} us, A turned {a:.2f} deg")
+        return [*coll, cursor, stamp]
+
+    anim = FuncAnimation(fig, draw, frames=len(picks), blit=False)
+    gif = Path(gif)
+    anim.save(gif, writer=PillowWriter(fps=fps))
+    plt.close(fig)
+    return gif

@@ -1,0 +1,453 @@
+"""What a run leaves on disk, and reading it back.
+
+A run folder holds
+
+``result.nc``
+    The time history as NetCDF (xarray, engine ``netcdf4``): dimension ``time``, one
+    variable per quantity with CF ``units`` and ``long_name``; the tooth frames along a
+    second dimension ``frame``; the whole case (pair and run settings, TOML units) as the
+    JSON global attribute ``case``, the outcome in ``status`` and ``reason``.
+``contact_force.csv``
+    ``angle_deg,time_s,contact_force_N``.
+``contact_force.png``
+    The contact force against the rotation of A (see :mod:`spurdyn.results.plots`).
+``summary.json``
+    The figures of the run (:func:`summarize`), all computed from ``result.nc``.
+
+:func:`load_run` reads ``result.nc`` back, :func:`case_from_run` rebuilds the case.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from spurdyn.casefile import Case, case_from_dict, case_to_dict
+from spurdyn.errors import InputError
+from spurdyn.results.result import STAGES, Result
+
+RESULT_FILE = "result.nc"
+CSV_FILE = "contact_force.csv"
+PNG_FILE = "contact_force.png"
+SUMMARY_FILE = "summary.json"
+
+_STAGE_UNITS = {"displacement": "m", "velocity": "m s-1", "acceleration": "m s-2"}
+
+
+def _jsonable(value: Any) -> Any:
+    """Plain JSON types: numpy scalars and arrays unwrapped, NaN and inf as ``None``."""
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if value is None or isinstance(value, str):
+        return value
+    return str(value)
+
+
+def _model_figures(result: Result, case: Case) -> dict[str, Any]:
+    """``n_dof``, ``theta_s``, ``theta_2``, ``static_force``, ``single_zone``: from the
+    solver's ``info`` when it gives them, else from the case."""
+    info = result.info
+    pair = case.pair
+    if "n_dof" in info:
+        n_dof = int(info["n_dof"])
+    else:
+        from spurdyn.mesh.tooth import tooth_mesh
+
+        n_dof = sum(tooth_mesh(g, case.run.nx, case.run.ny).n_dof + 1
+                    for g in (pair.gear_a, pair.gear_b))
+    theta_s = float(info.get("theta_s", pair.theta_s))
+    theta_2 = float(info.get("theta_2", pair.theta_2))
+    zone = info.get("single_zone", (theta_2, theta_s - theta_2))
+    return {"n_dof": n_dof, "theta_s": theta_s, "theta_2": theta_2,
+            "static_force": float(info.get("static_force", case.static_force)),
+            "single_zone": (float(zone[0]), float(zone[1]))}
+
+
+def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
+    """The run as an :class:`xarray.Dataset` (what ``result.nc`` holds).
+
+    Parameters
+    ----------
+    result
+        What the solver returned.
+    case
+        The case that was run; stored whole as the JSON attribute ``case``.
+    """
+    n = len(result.time)
+    t = ("time",)
+
+    def col(a: NDArray[Any], j: int) -> NDArray[Any]:
+        a = np.asarray(a)
+        return a[:, j] if a.ndim == 2 and a.shape[0] == n else np.full(n, np.nan)
+
+    def var(data: Any, units: str, long_name: str, **extra: Any) -> xr.Variable:
+        return xr.Variable(t, np.asarray(data), {"units": units, "long_name": long_name, **extra})
+
+    data_vars: dict[str, Any] = {
+        "angle_deg": var(np.degrees(result.angle), "degree",
+                         "rotation of gear A since the start of contact"),
+        "contact_force": var(result.contact_force, "N",
+                             "normal contact force between the teeth, compression positive"),
+        "gap": var(result.gap, "m", "normal gap between the contact points, negative "
+                   "when the surfaces interpenetrate"),
+        "theta_a": var(col(result.theta, 0), "rad", "rotation of gear A since the start "
+                       "(clockwise)"),
+        "theta_b": var(col(result.theta, 1), "rad", "rotation of gear B since the start "
+                       "(counter-clockwise)"),
+        "omega_a": var(col(result.omega, 0), "rad s-1", "angular speed of gear A"),
+        "omega_b": var(col(result.omega, 1), "rad s-1", "angular speed of gear B"),
+        "torque_a": var(col(result.torque, 0), "N m", "external torque on gear A"),
+        "torque_b": var(col(result.torque, 1), "N m", "external torque on gear B"),
+        "roll_a_deg": var(np.degrees(col(result.roll, 0)), "degree",
+                          "roll angle of the contact point on the involute of A"),
+        "roll_b_deg": var(np.degrees(col(result.roll, 1)), "degree",
+                          "roll angle of the contact point on the involute of B"),
+    }
+    for j, stage in enumerate(STAGES):
+        data_vars[f"residual_{stage}"] = var(
+            col(result.residual, j), _STAGE_UNITS[stage],
+            f"final constraint error of the {stage} stage (max norm)")
+        data_vars[f"iterations_{stage}"] = var(
+            col(result.iterations, j).astype(np.int32) if np.asarray(result.iterations).ndim == 2
+            else np.zeros(n, np.int32), "1", f"iterations of the {stage} stage")
+    corner = np.asarray(result.corner)
+    data_vars["corner"] = var(corner.astype(np.int8) if corner.shape == (n,) else np.zeros(n, np.int8),
+                              "1", "where the contact point is",
+                              flag_values=np.array([0, 1, 2], np.int8),
+                              flag_meanings="flank_to_flank tip_corner_of_a tip_corner_of_b")
+    frame_time = np.asarray(result.frame_time, float)
+    if frame_time.size:
+        f = ("frame",)
+        theta = np.asarray(result.frame_theta, float).reshape(frame_time.size, 2)
+        data_vars["frame_time"] = xr.Variable(f, frame_time, {"units": "s",
+                                              "long_name": "time of the tooth frame"})
+        data_vars["frame_theta_a"] = xr.Variable(f, theta[:, 0], {
+            "units": "rad", "long_name": "rotation of gear A since the start at the frame"})
+        data_vars["frame_theta_b"] = xr.Variable(f, theta[:, 1], {
+            "units": "rad", "long_name": "rotation of gear B since the start at the frame"})
+        data_vars["frame_u"] = xr.Variable(("frame", "dof"), np.asarray(result.frame_u, float), {
+            "units": "m", "long_name": "absolute nodal displacements of both teeth in the "
+            "world frame, A's then B's, [u0x, u0y, u1x, ...]"})
+    figures = _model_figures(result, case)
+    attrs = {
+        "title": f"spurdyn dynamic contact analysis: {case.name}",
+        "Conventions": "CF-1.10",
+        "source": "spurdyn (Lee & Jang dynamic contact analysis of spur gears)",
+        "case_name": case.name,
+        "case": json.dumps(_jsonable(case_to_dict(case))),
+        "status": result.status,
+        "reason": result.reason or "",
+        "steps": int(result.steps),
+        "wall_s": float(result.wall_s),
+        "dt_s": float(case.run.dt),
+        "angle_target_deg": math.degrees(case.angle),
+        "n_dof": figures["n_dof"],
+        "theta_s_deg": math.degrees(figures["theta_s"]),
+        "theta_2_deg": math.degrees(figures["theta_2"]),
+        "single_zone_deg": np.degrees(np.array(figures["single_zone"])),
+        "static_force_N": figures["static_force"],
+        "info": json.dumps(_jsonable(result.info)),
+    }
+    from spurdyn import __version__
+
+    attrs["spurdyn_version"] = __version__
+    coords = {"time": xr.Variable(t, np.asarray(result.time, float),
+                                  {"units": "s", "long_name": "time since the start of contact",
+                                   "standard_name": "time"})}
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def write_netcdf(ds: xr.Dataset, path: Path) -> None:
+    """Write ``ds`` as NetCDF-4 (compressed) with the ``netcdf4`` engine."""
+    encoding = {name: {"zlib": True, "complevel": 4} for name in ds.data_vars}
+    ds.to_netcdf(path, engine="netcdf4", encoding=encoding)
+
+
+def load_run(directory: str | Path) -> xr.Dataset:
+    """Read a run folder's ``result.nc`` into memory (the file is closed again).
+
+    Parameters
+    ----------
+    directory
+        A run folder, or the ``result.nc`` file itself.
+
+    Raises
+    ------
+    InputError
+        If there is no readable ``result.nc``.
+    """
+    path = Path(directory)
+    if path.is_dir():
+        path = path / RESULT_FILE
+    if not path.is_file():
+        raise InputError(str(directory), f"is not a run folder (no {RESULT_FILE})")
+    try:
+        with xr.open_dataset(path, engine="netcdf4", decode_timedelta=False) as ds:
+            return ds.load()
+    except (OSError, ValueError) as err:
+        raise InputError(str(path), f"cannot be read as NetCDF ({err})") from None
+
+
+def case_from_run(ds: xr.Dataset) -> Case:
+    """Rebuild the :class:`Case` stored in a run's ``case`` attribute."""
+    try:
+        data = json.loads(ds.attrs["case"])
+    except (KeyError, json.JSONDecodeError):
+        raise InputError("result.nc", "holds no case description") from None
+    return case_from_dict(data, name=str(ds.attrs.get("case_name", "case")), check_step=False)
+
+
+def _in_contact(force: NDArray[np.float64]) -> NDArray[np.bool_]:
+    return np.nan_to_num(force, nan=0.0) > 0.0
+
+
+def separation_times(ds: xr.Dataset) -> NDArray[np.float64]:
+    """Times (s) of the saved samples where contact was lost after first being made.
+
+    Contact is a positive contact force. With ``save_every > 1`` only the saved samples
+    are seen, so separations shorter than the saving interval are missed.
+    """
+    contact = _in_contact(ds["contact_force"].values)
+    lost = np.flatnonzero(contact[:-1] & ~contact[1:]) + 1
+    return ds["time"].values[lost]
+
+
+def summarize(ds: xr.Dataset) -> dict[str, Any]:
+    """The figures of ``summary.json``, all computed from the dataset.
+
+    Returns
+    -------
+    dict
+        ``case``, ``status``, ``reason``, ``steps``, ``dt_s``, ``wall_s``, ``n_dof``,
+        ``peak_force_N``, ``mean_force_single_zone_N`` (``None`` when the run never
+        reached the single-contact zone), ``static_force_N``, ``dynamic_factor``
+        (peak/static), ``separations`` (times contact was lost after first being made,
+        see :func:`separation_times`), ``iterations_mean`` and ``residual_max`` per stage,
+        and more.
+    """
+    force = ds["contact_force"].values.astype(float)
+    angle = ds["angle_deg"].values.astype(float)
+    time = ds["time"].values.astype(float)
+    finite = np.isfinite(force)
+    peak = float(np.max(force[finite])) if finite.any() else float("nan")
+    peak_at = float(angle[finite][np.argmax(force[finite])]) if finite.any() else float("nan")
+    zone = np.asarray(ds.attrs["single_zone_deg"], float).reshape(2)
+    in_zone = finite & (angle >= zone[0]) & (angle <= zone[1])
+    static = float(ds.attrs["static_force_N"])
+    seps = separation_times(ds)
+    contact = _in_contact(force)
+    first = time[np.argmax(contact)] if contact.any() else None
+    case = json.loads(ds.attrs["case"])
+    steps_rows = slice(1, None) if len(time) > 1 else slice(0, None)
+    iterations = {s: float(np.nanmean(ds[f"iterations_{s}"].values[steps_rows]))
+                  if len(time) else None for s in STAGES}
+    residual = {}
+    for s in STAGES:
+        r = ds[f"residual_{s}"].values.astype(float)
+        residual[s] = float(np.nanmax(r)) if np.isfinite(r).any() else None
+    summary = {
+        "case": ds.attrs["case_name"],
+        "status": ds.attrs["status"],
+        "reason": ds.attrs.get("reason", ""),
+        "steps": int(ds.attrs["steps"]),
+        "samples": int(len(time)),
+        "frames": int(ds.sizes.get("frame", 0)),
+        "dt_s": float(ds.attrs["dt_s"]),
+        "wall_s": float(ds.attrs["wall_s"]),
+        "n_dof": int(ds.attrs["n_dof"]),
+        "speed_a_rpm": case["run"]["speed_a_rpm"],
+        "speed_b_rpm": case["run"]["speed_b_rpm"],
+        "torque_Nm": case["run"]["torque"],
+        "time_s": float(time[-1]) if len(time) else 0.0,
+        "angle_deg": float(angle[-1]) if len(angle) else 0.0,
+        "angle_target_deg": float(ds.attrs["angle_target_deg"]),
+        "theta_s_deg": float(ds.attrs["theta_s_deg"]),
+        "single_zone_deg": [float(zone[0]), float(zone[1])],
+        "peak_force_N": peak,
+        "peak_angle_deg": peak_at,
+        "mean_force_single_zone_N": float(np.mean(force[in_zone])) if in_zone.any() else None,
+        "static_force_N": static,
+        "dynamic_factor": peak / static if static > 0 else None,
+        "first_contact_s": None if first is None else float(first),
+        "separations": int(len(seps)),
+        "separation_times_s": [float(x) for x in seps],
+        "iterations_mean": iterations,
+        "residual_max": residual,
+        "settings": case,
+        "spurdyn_version": ds.attrs.get("spurdyn_version", ""),
+    }
+    return _jsonable(summary)
+
+
+def write_csv(ds: xr.Dataset, path: Path) -> None:
+    """Write ``angle_deg,time_s,contact_force_N``, one row per saved step."""
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(["angle_deg", "time_s", "contact_force_N"])
+        for a, t, f in zip(ds["angle_deg"].values, ds["time"].values, ds["contact_force"].values):
+            w.writerow([f"{a:.9g}", f"{t:.9g}", f"{f:.9g}"])
+
+
+def write_summary(summary: dict[str, Any], path: Path) -> None:
+    path.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+
+
+def write_run(result: Result, case: Case, directory: str | Path, *, png: bool = True,
+              vtu: bool = False) -> dict[str, Any]:
+    """Write everything a run leaves into ``directory`` (which must exist).
+
+    Returns
+    -------
+    dict
+        The summary written to ``summary.json``.
+    """
+    directory = Path(directory)
+    ds = result_to_dataset(result, case)
+    write_netcdf(ds, directory / RESULT_FILE)
+    write_csv(ds, directory / CSV_FILE)
+    summary = summarize(ds)
+    write_summary(summary, directory / SUMMARY_FILE)
+    if png:
+        from spurdyn.results.plots import plot_contact_force
+
+        plot_contact_force([ds], directory / PNG_FILE)
+    if vtu and "frame_u" in ds:
+        from spurdyn.results.vtu import write_vtu_series
+
+        write_vtu_series(ds, directory)
+    return summary
+
+
+# -- tooth frames ----------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ToothFrames:
+    """The tooth frames of a run, ready to draw: meshes, positions and stresses.
+
+    Attributes
+    ----------
+    case
+        The case of the run.
+    meshes
+        The tooth meshes of A and B (gear frame).
+    X0
+        ``(2,)`` tuple of ``(N, 2)`` world node positions at the start of contact.
+    centres
+        World positions of the gear centres.
+    time, theta
+        Frame times (s) and rotations since the start ``(k, 2)`` (rad).
+    u
+        ``(2,)`` tuple of ``(k, N, 2)`` absolute world displacements of each tooth.
+    """
+
+    case: Case
+    meshes: tuple[Any, Any]
+    X0: tuple[NDArray[np.float64], NDArray[np.float64]]
+    centres: tuple[NDArray[np.float64], NDArray[np.float64]]
+    time: NDArray[np.float64]
+    theta: NDArray[np.float64]
+    u: tuple[NDArray[np.float64], NDArray[np.float64]]
+
+    @property
+    def n_frames(self) -> int:
+        return int(self.time.size)
+
+    @staticmethod
+    def _rot(angle: NDArray[np.float64]) -> NDArray[np.float64]:
+        c, s = np.cos(angle), np.sin(angle)
+        return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)  # (..., 2, 2)
+
+    def rotation(self, gear: int, k: int) -> NDArray[np.float64]:
+        """World rotation matrix of gear ``gear`` (0: A, clockwise; 1: B) at frame ``k``."""
+        th = self.theta[k, gear]
+        return self._rot(np.asarray(-th if gear == 0 else th))
+
+    def elastic(self, gear: int, k: int) -> NDArray[np.float64]:
+        """Elastic displacement ``R^T (X0 + u - c) - (X0 - c)`` in the start frame (m)."""
+        c = self.centres[gear]
+        r = self.rotation(gear, k)
+        return (self.X0[gear] + self.u[gear][k] - c) @ r - (self.X0[gear] - c)
+
+    def positions(self, gear: int, k: int, magnify: float = 1.0) -> NDArray[np.float64]:
+        """World node positions at frame ``k`` with the elastic part magnified."""
+        c = self.centres[gear]
+        r = self.rotation(gear, k)
+        return c + (self.X0[gear] - c + magnify * self.elastic(gear, k)) @ r.T
+
+    def von_mises(self, gear: int, k: int) -> NDArray[np.float64]:
+        """Von Mises stress (Pa) at each element centre of tooth ``gear`` at frame ``k``."""
+        from spurdyn.fem.assembly import centroid_stresses, von_mises_plane_stress
+
+        g = self.case.pair.gear_a if gear == 0 else self.case.pair.gear_b
+        mesh = self.meshes[gear]
+        sig = centroid_stresses(self.X0[gear], mesh.elements, self.elastic(gear, k).ravel(),
+                                g.material)
+        return von_mises_plane_stress(sig)
+
+
+def tooth_frames(ds: xr.Dataset) -> ToothFrames:
+    """Rebuild the tooth meshes from the case in ``ds`` and split the frames per tooth.
+
+    Raises
+    ------
+    InputError
+        If the run holds no frames or their size does not match the meshes.
+    """
+    from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
+    from spurdyn.mesh.tooth import tooth_mesh
+
+    if "frame_u" not in ds or ds.sizes.get("frame", 0) == 0:
+        raise InputError(str(ds.attrs.get("case_name", "run")),
+                         "holds no tooth frames (run with frames_every > 0)")
+    case = case_from_run(ds)
+    pair = case.pair
+    mesh_a = tooth_mesh(pair.gear_a, case.run.nx, case.run.ny)
+    mesh_b = tooth_mesh(pair.gear_b, case.run.nx, case.run.ny)
+    theta_a0, theta_b0 = mesh_angles(pair, pair.start_roll_a)
+    x0 = (to_world_a(mesh_a.nodes, theta_a0),
+          to_world_b(mesh_b.nodes, theta_b0, pair.centre_distance))
+    u = ds["frame_u"].values
+    na, nb = mesh_a.n_dof, mesh_b.n_dof
+    if u.shape[1] != na + nb:
+        raise InputError("frame_u", f"has {u.shape[1]} DOFs per frame but the meshes of the "
+                         f"case have {na} + {nb}")
+    k = u.shape[0]
+    theta = np.stack([ds["frame_theta_a"].values, ds["frame_theta_b"].values], axis=1)
+    return ToothFrames(
+        case=case, meshes=(mesh_a, mesh_b), X0=x0,
+        centres=(np.zeros(2), np.array([0.0, pair.centre_distance])),
+        time=ds["frame_time"].values, theta=theta,
+        u=(u[:, :na].reshape(k, -1, 2), u[:, na:].reshape(k, -1, 2)),
+    )
+
+
+def speeds_label(ds: xr.Dataset) -> str:
+    """``"4,000/4,000 rpm"`` for a run."""
+    run = json.loads(ds.attrs["case"])["run"]
+    return f"{run['speed_a_rpm']:,.0f}/{run['speed_b_rpm']:,.0f} rpm"
+
+
+__all__ = [
+    "RESULT_FILE", "CSV_FILE", "PNG_FILE", "SUMMARY_FILE", "ToothFrames", "case_from_run",
+    "load_run", "result_to_dataset", "separation_times", "speeds_label", "summarize",
+    "tooth_frames", "write_csv", "write_netcdf", "write_run", "write_summary",
+]

@@ -1,0 +1,114 @@
+"""Contact-force pictures of one or several runs (Matplotlib, no screen needed)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Sequence
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from spurdyn.results.io import speeds_label  # noqa: E402
+
+
+def _labels(runs: Sequence[xr.Dataset]) -> list[str]:
+    """Case name and speeds of each run; the run folder too when names repeat."""
+    names = [str(ds.attrs["case_name"]) for ds in runs]
+    labels = []
+    for ds, name in zip(runs, names):
+        label = f"{name} ({speeds_label(ds)})"
+        if names.count(name) > 1 and ds.encoding.get("source"):
+            label = f"{Path(ds.encoding['source']).parent.name}: {label}"
+        if ds.attrs.get("status") != "complete":
+            label += " [incomplete]"
+        labels.append(label)
+    return labels
+
+
+def draw_contact_force(ax: plt.Axes, runs: Sequence[xr.Dataset], *, zones: bool = True,
+                       legend: bool = True) -> None:
+    """Draw the contact force of ``runs`` against the rotation of A on ``ax``.
+
+    The first run's double-contact zones are shaded and its single-contact zone marked;
+    each distinct quasi-static force (torque over the driver's base radius) is a dashed
+    line. The angle axis spans the longest angle a run set out to cover.
+    """
+    first = runs[0]
+    theta_s = float(first.attrs["theta_s_deg"])
+    xmax = max(max(float(ds.attrs.get("angle_target_deg", theta_s)),
+                   float(np.nanmax(ds["angle_deg"].values, initial=0.0))) for ds in runs)
+    z0, z1 = (float(v) for v in np.asarray(first.attrs["single_zone_deg"]).reshape(2))
+    if zones:
+        ax.axvspan(0.0, min(z0, xmax), color="0.88", lw=0, label="double contact (one pair modelled)")
+        if z1 < xmax:
+            ax.axvspan(z1, theta_s, color="0.88", lw=0)
+        for z in (z0, z1):
+            if z < xmax:
+                ax.axvline(z, color="0.5", lw=0.8, ls=":")
+        if z0 < xmax:
+            right = min(z1, xmax)
+            ax.annotate("single contact", xy=((z0 + right) / 2, 1.0),
+                        xycoords=("data", "axes fraction"), xytext=(0, -12),
+                        textcoords="offset points", ha="center", va="top", fontsize=8,
+                        color="0.35")
+            ax.annotate("", xy=(z0, 0.97), xytext=(right, 0.97),
+                        xycoords=("data", "axes fraction"),
+                        arrowprops={"arrowstyle": "<->" if z1 <= xmax else "<-",
+                                    "color": "0.5", "lw": 0.8})
+    statics: list[float] = []
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    labels = _labels(runs) if len(runs) > 1 else ["contact force" + (
+        "" if first.attrs.get("status") == "complete" else " [incomplete]")]
+    for i, (ds, label) in enumerate(zip(runs, labels)):
+        colour = colours[i % len(colours)]
+        ax.plot(ds["angle_deg"].values, ds["contact_force"].values, color=colour, lw=1.0,
+                label=label)
+        static = float(ds.attrs["static_force_N"])
+        if not any(np.isclose(static, s, rtol=1e-9) for s in statics):
+            statics.append(static)
+            ax.axhline(static, color="k" if len(runs) == 1 else colour, ls="--", lw=0.9,
+                       label=f"quasi-static torque/r_b = {static:,.0f} N")
+    ax.set_xlim(0.0, xmax)
+    ax.set_ylim(bottom=0.0)
+    ax.set_xlabel("rotation of gear A since the start of contact (deg)")
+    ax.set_ylabel("contact force (N)")
+    ax.grid(True, lw=0.3, alpha=0.6)
+    if legend:
+        ax.legend(loc="best", fontsize=8)
+
+
+def plot_contact_force(runs: Sequence[xr.Dataset], png: str | Path,
+                       title: str | None = None) -> Path:
+    """Write a picture of the contact force of one run or several overlaid.
+
+    Parameters
+    ----------
+    runs
+        Datasets as :func:`spurdyn.results.io.load_run` returns them.
+    png
+        File to write.
+    title
+        Title; default: the case name(s) and the speeds.
+    """
+    if not runs:
+        raise ValueError("no runs to plot")
+    if title is None:
+        if len(runs) == 1:
+            ds = runs[0]
+            title = f"{ds.attrs['case_name']}: contact force, {speeds_label(ds)}"
+            if ds.attrs.get("status") != "complete":
+                title += f" (incomplete: {ds.attrs.get('reason', '')})"
+        else:
+            title = "contact force: " + ", ".join(str(ds.attrs["case_name"]) for ds in runs)
+    fig, ax = plt.subplots(figsize=(8, 4.8), dpi=120)
+    draw_contact_force(ax, runs)
+    ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    png = Path(png)
+    fig.savefig(png)
+    plt.close(fig)
+    return png

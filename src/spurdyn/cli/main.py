@@ -1,7 +1,9 @@
-"""Entry point of the ``spurdyn`` command.
+"""Entry point of the ``spurdyn`` command: ``info``, ``mesh``, ``run``, ``cases``, ``plot``
+and ``animate``.
 
 Every refusal is one line on stderr, ``spurdyn: error: <field>: <reason>``, with exit
-status 2 and nothing written.
+status 2 and nothing written. ``spurdyn run`` exits with 1 when a run stopped early
+(its results so far are kept, marked incomplete).
 """
 
 from __future__ import annotations
@@ -23,15 +25,18 @@ class _Parser(argparse.ArgumentParser):
     """An argument parser whose refusals are one line, like every other refusal."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+        self.exit(EXIT_BAD_INPUT, f"spurdyn: error: {message} (see {self.prog} --help)\n")
 
 
 def resolve_pair(name: str) -> PairCase:
-    """A pair by preset name (``paper``) or from a TOML file."""
-    if name == "paper" or name.startswith("paper-"):
+    """A pair by name (``paper`` or a preset such as ``paper-fig8``) or from a TOML file."""
+    from spurdyn.cases import is_preset
+
+    if name == "paper" or is_preset(name):
         return PairCase(pair=paper_pair(), name="paper")
     if not name.endswith(".toml") and not Path(name).exists():
-        raise InputError("CASE", f"unknown case {name!r}; use 'paper' or a .toml file")
+        raise InputError("CASE", f"unknown case {name!r}; use 'paper', a preset "
+                         "(see 'spurdyn cases') or a .toml file")
     return load_pair(name)
 
 
@@ -66,14 +71,133 @@ def cmd_mesh(args: argparse.Namespace) -> int:
     from spurdyn.results.pictures import draw_mesh_position
 
     case = _with_mesh(resolve_pair(args.case), _parse_mesh(args.mesh))
-    png = Path(args.png)
-    if png.suffix.lower() != ".png":
-        raise InputError("--png", f"must name a .png file (got {args.png!r})")
-    if not png.parent.exists():
-        raise InputError("--png", f"folder {str(png.parent)!r} does not exist")
+    png = _png_target(args.png)
     draw_mesh_position(case, png)
     print(f"wrote {png}")
     return 0
+
+
+#: ``spurdyn run`` options that override a case: (dest, dotted case key, label).
+RUN_OVERRIDES = (
+    ("dt", "run.dt", "--dt"),
+    ("speed_a", "run.speed_a_rpm", "--speed-a"),
+    ("speed_b", "run.speed_b_rpm", "--speed-b"),
+    ("torque", "run.torque", "--torque"),
+    ("angle", "run.angle_deg", "--angle"),
+    ("save_every", "run.save_every", "--save-every"),
+    ("frames_every", "run.frames_every", "--frames-every"),
+    ("method", "run.method", "--method"),
+    ("backend", "run.backend", "--backend"),
+)
+
+
+def run_overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str, str]]:
+    """The case values given on the command line, and how to name them in refusals."""
+    overrides: dict[str, object] = {}
+    labels: dict[str, str] = {}
+    for dest, key, label in RUN_OVERRIDES:
+        value = getattr(args, dest)
+        if value is not None:
+            overrides[key] = value
+            labels[key] = label
+    mesh = _parse_mesh(args.mesh)
+    if mesh is not None:
+        overrides["mesh.nx"], overrides["mesh.ny"] = mesh
+        labels["mesh.nx"] = labels["mesh.ny"] = "--mesh"
+    return overrides, labels
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from spurdyn.cases import resolve_cases
+    from spurdyn.cli import run as runner
+
+    if args.jobs < 1:
+        raise InputError("--jobs", f"must be a whole number >= 1 (got {args.jobs})")
+    overrides, labels = run_overrides(args)
+    cases = resolve_cases(args.case, overrides, labels)
+    simulate = runner.load_simulate()
+    plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
+    return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,
+                            quiet=args.quiet)
+
+
+def cmd_cases(args: argparse.Namespace) -> int:
+    from spurdyn.cases import preset_lines
+
+    print("\n".join(preset_lines()))
+    return 0
+
+
+def _png_target(text: str) -> Path:
+    png = Path(text)
+    if png.suffix.lower() != ".png":
+        raise InputError("--png", f"must name a .png file (got {text!r})")
+    if not png.parent.exists():
+        raise InputError("--png", f"folder {str(png.parent)!r} does not exist")
+    return png
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    from spurdyn.results.io import load_run
+    from spurdyn.results.plots import plot_contact_force
+
+    png = _png_target(args.png)
+    runs = [load_run(d) for d in args.dirs]
+    plot_contact_force(runs, png)
+    print(f"wrote {png}")
+    return 0
+
+
+def cmd_animate(args: argparse.Namespace) -> int:
+    from spurdyn.results.io import load_run, tooth_frames
+
+    gif = Path(args.gif)
+    if gif.suffix.lower() != ".gif":
+        raise InputError("--gif", f"must name a .gif file (got {args.gif!r})")
+    if not gif.parent.exists():
+        raise InputError("--gif", f"folder {str(gif.parent)!r} does not exist")
+    if args.magnify is not None and not (args.magnify > 0 and args.magnify < float("inf")):
+        raise InputError("--magnify", f"must be a positive number (got {args.magnify})")
+    if args.fps < 1:
+        raise InputError("--fps", f"must be a whole number >= 1 (got {args.fps})")
+    if args.max_frames < 1:
+        raise InputError("--max-frames", f"must be a whole number >= 1 (got {args.max_frames})")
+    ds = load_run(args.dir)
+    tooth_frames(ds)  # refuse a run without frames before drawing anything
+    from spurdyn.results.animate import animate_run
+
+    animate_run(ds, gif, magnify=args.magnify, fps=args.fps, max_frames=args.max_frames)
+    print(f"wrote {gif}")
+    return 0
+
+
+def _add_run_parser(sub: argparse._SubParsersAction) -> None:
+    run = sub.add_parser(
+        "run", help="run a case and leave result.nc, CSV, picture and summary in a folder",
+        description="Run a dynamic contact analysis. CASE is a preset (see 'spurdyn cases') "
+        "or a TOML case file; the options override the case. Exit status: 0 complete, "
+        "1 incomplete (results so far kept), 2 bad input (nothing written).")
+    run.add_argument("case", metavar="CASE", help="preset name or TOML case file")
+    run.add_argument("--out", metavar="DIR", help="output folder (default out/<case name>; "
+                     "for a group, the parent of one folder per case)")
+    run.add_argument("--force", action="store_true", help="replace an existing output folder")
+    run.add_argument("--dt", type=float, metavar="S", help="time step (s)")
+    run.add_argument("--speed-a", type=float, metavar="RPM", help="initial speed of gear A (rpm)")
+    run.add_argument("--speed-b", type=float, metavar="RPM", help="initial speed of gear B (rpm)")
+    run.add_argument("--torque", type=float, metavar="NM", help="external torque on the driver (N m)")
+    run.add_argument("--angle", type=float, metavar="DEG",
+                     help="rotation of A to simulate (deg; default the whole angle of action)")
+    run.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
+    run.add_argument("--save-every", type=int, metavar="K", help="keep every K-th step")
+    run.add_argument("--frames-every", type=int, metavar="M",
+                     help="keep the tooth displacements every M-th step (0: none)")
+    run.add_argument("--method", metavar="paper|exact", help="constraint iteration")
+    run.add_argument("--backend", metavar="numba|numpy", help="solver backend")
+    run.add_argument("--vtu", action="store_true", help="also write a ParaView time series")
+    run.add_argument("--jobs", type=int, default=1, metavar="N",
+                     help="run the cases of a group side by side on N processes")
+    run.add_argument("--quiet", action="store_true", help="no progress bar, no report line")
+    run.set_defaults(func=cmd_run)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -93,6 +217,27 @@ def build_parser() -> argparse.ArgumentParser:
     mesh.add_argument("--png", required=True, metavar="FILE", help="picture to write")
     mesh.add_argument("--mesh", metavar="NXxNY", help="elements across x along the tooth")
     mesh.set_defaults(func=cmd_mesh)
+
+    _add_run_parser(sub)
+
+    cases = sub.add_parser("cases", help="list the ready-made cases (presets)")
+    cases.set_defaults(func=cmd_cases)
+
+    plot = sub.add_parser("plot", help="overlay the contact force of one or more runs")
+    plot.add_argument("dirs", nargs="+", metavar="DIR", help="run folders")
+    plot.add_argument("--png", default="contact_force_overlay.png", metavar="FILE",
+                      help="picture to write (default contact_force_overlay.png)")
+    plot.set_defaults(func=cmd_plot)
+
+    anim = sub.add_parser("animate", help="animated GIF of the teeth meshing, stress-coloured")
+    anim.add_argument("dir", metavar="DIR", help="run folder (with tooth frames)")
+    anim.add_argument("--gif", required=True, metavar="FILE", help="GIF to write")
+    anim.add_argument("--magnify", type=float, metavar="X",
+                      help="magnification of the elastic displacements (default: automatic)")
+    anim.add_argument("--fps", type=int, default=15, help="frames per second (default 15)")
+    anim.add_argument("--max-frames", type=int, default=150, metavar="K",
+                      help="at most K frames, evenly picked (default 150)")
+    anim.set_defaults(func=cmd_animate)
     return parser
 
 
@@ -105,6 +250,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InputError as err:
         print(f"spurdyn: error: {err}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("spurdyn: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

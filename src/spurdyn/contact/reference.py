@@ -35,15 +35,26 @@ def outward_normal(tangent: NDArray[np.float64]) -> NDArray[np.float64]:
     return n / np.hypot(*n)
 
 
-def data_values(flank: Flank, values: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Values at the data points ``(n, 2)`` from nodal values ``(N, 2)`` of the tooth."""
-    return np.einsum("kj,kjd->kd", flank.data_weights, values[flank.data_nodes])
+def data_values(flank: Flank, nodal: NDArray[np.float64], mat: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Surface values at the data points ``(n, 2)``: ``N nodal + mat delta``.
+
+    ``nodal`` are nodal positions (or velocities, accelerations) ``(N, 2)``; ``mat`` is
+    what the disk motion does to the involute offsets ``delta``: ``R`` for positions,
+    ``sense omega R Jz`` for velocities, ``sense alpha R Jz - omega^2 R`` for accelerations.
+    """
+    return np.einsum("kj,kjd->kd", flank.data_weights, nodal[flank.data_nodes]) + flank.data_delta @ mat.T
 
 
-def flank_spline(flank: Flank, values: NDArray[np.float64]) -> CubicSpline:
+def surface_point(flank: Flank, t: float, nodal: NDArray[np.float64], mat: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The surface value of the material point at flank coordinate ``t``."""
+    nodes, w, _ = flank.locate(t)
+    return w @ nodal[nodes] + mat @ flank.delta(t)
+
+
+def flank_spline(flank: Flank, nodal: NDArray[np.float64], mat: NDArray[np.float64]) -> CubicSpline:
     """Not-a-knot cubic spline through the data-point values, in the flank coordinate."""
     t = np.linspace(flank.t0, flank.t1, flank.n_data)
-    return CubicSpline(t, data_values(flank, values), bc_type="not-a-knot")
+    return CubicSpline(t, data_values(flank, nodal, mat), bc_type="not-a-knot")
 
 
 @dataclass(frozen=True)
@@ -62,6 +73,8 @@ class ContactPair:
         Penetration (m) between the finite-element material points; negative is a gap.
     nodes_a, weights_a, nodes_b, weights_b
         Edge nodes and shape weights of the material points (the rows of ``N``).
+    delta_a, delta_b
+        The involute offsets ``delta`` of the material points (initial frame).
     """
 
     alpha: float
@@ -73,6 +86,8 @@ class ContactPair:
     weights_a: NDArray[np.float64]
     nodes_b: NDArray[np.intp]
     weights_b: NDArray[np.float64]
+    delta_a: NDArray[np.float64]
+    delta_b: NDArray[np.float64]
 
 
 def _newton_pair(pa: CubicSpline, pb: CubicSpline, a: float, b: float) -> tuple[float, float, bool]:
@@ -86,7 +101,7 @@ def _newton_pair(pa: CubicSpline, pb: CubicSpline, a: float, b: float) -> tuple[
                         [ta @ ta + d @ ca, -(tb @ ta)]])
         step = np.linalg.solve(jac, f)
         a, b = a - step[0], b - step[1]
-        if abs(step[0]) + abs(step[1]) < 1e-14:
+        if abs(step[0]) + abs(step[1]) < 1e-11:
             return a, b, True
         if not (np.isfinite(a) and np.isfinite(b)):
             return a, b, False
@@ -100,15 +115,19 @@ def _project(point: NDArray[np.float64], p: CubicSpline, t: float, lo: float, hi
         tan, cur = p(t, 1), p(t, 2)
         step = (d @ tan) / (tan @ tan + d @ cur)
         t = min(max(t - step, lo), hi)
-        if abs(step) < 1e-14:
+        if abs(step) < 1e-11:
             break
     return t
 
 
 def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.float64],
-                 guess: tuple[float, float]) -> ContactPair:
-    """Contact pair of two flanks with current nodal positions ``xa``, ``xb`` ``(N, 2)``."""
-    pa, pb = flank_spline(fa, xa), flank_spline(fb, xb)
+                 ra: NDArray[np.float64], rb: NDArray[np.float64], guess: tuple[float, float]) -> ContactPair:
+    """Contact pair of two flanks.
+
+    ``xa``, ``xb`` are the current nodal positions ``(N, 2)``, ``ra``, ``rb`` the disks'
+    rotation matrices ``R(sense theta)``, ``guess`` the last ``(alpha, beta)``.
+    """
+    pa, pb = flank_spline(fa, xa, ra), flank_spline(fb, xb, rb)
     a, b, ok = _newton_pair(pa, pb, *guess)
     mode = FLANK
     if not ok or a > fa.t1 or b > fb.t1:
@@ -134,13 +153,16 @@ def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.f
         normal = outward_normal(pa(a, 1))
     na, wa, _ = fa.locate(a)
     nb, wb, _ = fb.locate(b)
-    s = float(normal @ (wa @ xa[na] - wb @ xb[nb]))
+    s = float(normal @ (surface_point(fa, a, xa, ra) - surface_point(fb, b, xb, rb)))
     return ContactPair(alpha=float(a), beta=float(b), mode=mode, normal=normal, s=s,
-                       nodes_a=na, weights_a=wa, nodes_b=nb, weights_b=wb)
+                       nodes_a=na, weights_a=wa, nodes_b=nb, weights_b=wb,
+                       delta_a=fa.delta(a), delta_b=fb.delta(b))
 
 
 def sliding_acceleration(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.float64],
+                         ra: NDArray[np.float64], rb: NDArray[np.float64],
                          va: NDArray[np.float64], vb: NDArray[np.float64],
+                         ma: NDArray[np.float64], mb: NDArray[np.float64],
                          c: ContactPair) -> tuple[float, float, float]:
     """The Appendix A terms of the relative normal acceleration, and ``d alpha/dt``, ``d beta/dt``.
 
@@ -148,8 +170,8 @@ def sliding_acceleration(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDAr
     ``n . (N_A a_A - N_B a_B)``: the Coriolis terms ``2 alpha' n . V_A,alpha`` and the
     curvature terms ``alpha'^2 n . P_A,alpha alpha`` (and minus the same for B).
     """
-    pa, pb = flank_spline(fa, xa), flank_spline(fb, xb)
-    sa, sb = flank_spline(fa, va), flank_spline(fb, vb)
+    pa, pb = flank_spline(fa, xa, ra), flank_spline(fb, xb, rb)
+    sa, sb = flank_spline(fa, va, ma), flank_spline(fb, vb, mb)
     n = c.normal
     ta, tb = pa(c.alpha, 1), pb(c.beta, 1)
     ca, cb = pa(c.alpha, 2), pb(c.beta, 2)

@@ -206,7 +206,8 @@ class ReferenceStepper:
         ua, ub = blocks(s, u)
         xa = s.gears[0].X + ua.reshape(-1, 2)
         xb = s.gears[1].X + ub.reshape(-1, 2)
-        return find_contact(s.gears[0].flank, s.gears[1].flank, xa, xb, guess)
+        ra, rb = (rot(g.sense * th) for g, th in zip(s.gears, theta))
+        return find_contact(s.gears[0].flank, s.gears[1].flank, xa, xb, ra, rb, guess)
 
     def root_errors(self, theta: NDArray[np.float64], u: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.concatenate([-root_phi(gb, theta[g], ub).ravel()
@@ -230,12 +231,28 @@ class ReferenceStepper:
             out.append(-(ab.reshape(-1, 2)[gb.root_nodes] + pt * alpha[g] + (y @ r.T) * omega[g] ** 2).ravel())
         return np.concatenate(out)
 
-    @staticmethod
-    def normal_of(system: PairSystem, c: ContactPair, vec: NDArray[np.float64]) -> float:
-        """``n . (N_A vec_A - N_B vec_B)`` for a stacked nodal vector (velocities, accelerations)."""
-        va, vb = blocks(system, vec)
-        return float(c.normal @ (c.weights_a @ va.reshape(-1, 2)[c.nodes_a]
-                                 - c.weights_b @ vb.reshape(-1, 2)[c.nodes_b]))
+    def normal_of(self, c: ContactPair, vec: NDArray[np.float64], mats: tuple[NDArray[np.float64], NDArray[np.float64]]) -> float:
+        """``n . (a_A - a_B)`` of the contact material points for a stacked nodal vector
+        (velocities or accelerations), with ``mats`` the disks' action on the offsets ``delta``."""
+        va, vb = blocks(self.system, vec)
+        pa = c.weights_a @ va.reshape(-1, 2)[c.nodes_a] + mats[0] @ c.delta_a
+        pb = c.weights_b @ vb.reshape(-1, 2)[c.nodes_b] + mats[1] @ c.delta_b
+        return float(c.normal @ (pa - pb))
+
+    def velocity_mats(self, theta: NDArray[np.float64], omega: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+        """``sense omega R Jz`` per gear: the velocity of a point fixed to the disk is this times its offset."""
+        jz = np.array([[0.0, -1.0], [1.0, 0.0]])
+        return tuple(g.sense * omega[i] * rot(g.sense * theta[i]) @ jz for i, g in enumerate(self.system.gears))
+
+    def acceleration_mats(self, theta: NDArray[np.float64], omega: NDArray[np.float64],
+                          alpha: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+        """``sense alpha R Jz - omega^2 R`` per gear."""
+        jz = np.array([[0.0, -1.0], [1.0, 0.0]])
+        out = []
+        for i, g in enumerate(self.system.gears):
+            r = rot(g.sense * theta[i])
+            out.append(g.sense * alpha[i] * r @ jz - omega[i] ** 2 * r)
+        return tuple(out)
 
     # -- the step ----------------------------------------------------------------------
     def step(self, st: State, index: int = 0) -> tuple[State, StepReport]:
@@ -269,7 +286,7 @@ class ReferenceStepper:
         for m in range(cap + 1):
             f_theta, f_u = constraint_force(sys_, st.theta, st.contact, x)
             _, om2, _, v2 = self.rk4(st, f_theta, f_u)
-            sh = self.normal_of(sys_, c1, v2)
+            sh = self.normal_of(c1, v2, self.velocity_mats(th1, om2))
             pih = sh if (p_bar < 0.0 and (sh > 0.0 or x[-1] < 0.0)) else 0.0
             e = np.append(self.root_velocity_errors(th1, om2, v2), pih)
             residual[1] = np.abs(e).max()
@@ -287,16 +304,18 @@ class ReferenceStepper:
         ca = (g1 * self.minv) @ g1.T
         ua, ub = blocks(sys_, u1)
         va, vb = blocks(sys_, v2)
+        ra, rb = (rot(g.sense * th) for g, th in zip(sys_.gears, th1))
+        ma, mb = self.velocity_mats(th1, om2)
         extra, _, _ = sliding_acceleration(
             sys_.gears[0].flank, sys_.gears[1].flank,
-            sys_.gears[0].X + ua.reshape(-1, 2), sys_.gears[1].X + ub.reshape(-1, 2),
-            va.reshape(-1, 2), vb.reshape(-1, 2), c1)
+            sys_.gears[0].X + ua.reshape(-1, 2), sys_.gears[1].X + ub.reshape(-1, 2), ra, rb,
+            va.reshape(-1, 2), vb.reshape(-1, 2), ma, mb, c1)
         zero = np.zeros(sys_.n_x)
         alpha0, a0 = self.accelerations(th1, u1, *constraint_force(sys_, th1, c1, zero))
         for m in range(cap + 1):
             dq = self.minv * (g1.T @ x)
             alpha, a = alpha0 + dq[:2], a0 + dq[2:]
-            st_ = self.normal_of(sys_, c1, a) + extra
+            st_ = self.normal_of(c1, a, self.acceleration_mats(th1, om2, alpha)) + extra
             pit = st_ if (p_bar < 0.0 and (st_ > 0.0 or x[-1] < 0.0)) else 0.0
             e = np.append(self.root_acceleration_errors(th1, om2, alpha, a), pit)
             residual[2] = np.abs(e).max()

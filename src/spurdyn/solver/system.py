@@ -24,11 +24,11 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.optimize import brentq
 
 from spurdyn.errors import InputError
 from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry import involute as ivl
+from spurdyn.geometry.gear import Gear, GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
 from spurdyn.mesh.tooth import ToothMesh, tooth_mesh
 from spurdyn.solver.case import RunCase
@@ -53,24 +53,54 @@ class Flank:
 
     The flank coordinate ``t`` runs from 0 at the root end of the outline to ``ny`` at
     the tip corner; element row ``r`` covers ``r <= t <= r + 1`` with edge coordinate
-    ``eta = 2 (t - r) - 1``. The spline data points sit at fixed material points
-    ``t_k`` (evenly spaced over the involute part of the flank).
+    ``eta = 2 (t - r) - 1``. The outline nodes are evenly spaced in radius, so the
+    material point at ``t`` is the point of the exact involute at radius
+    ``r(t) = r_0 + (r_tip - r_0) t / ny``.
+
+    The surface is the exact involute plus the finite-element displacement (the paper:
+    the tooth surface is "the initial shape combined with the displacements of rigid
+    motion and elastic deformation"). A point at ``t`` is at
+    ``c + N(t) (Y + u) + R(sense theta) delta(t)`` with ``delta = Y_exact - N Y`` the
+    (nanometre) offset of the involute from the quadratic element edge, carried round by
+    the disk; for a rigid rotation this is the exactly rotated involute. The spline data
+    points sit at fixed material points ``t_k``, evenly spaced over the involute.
 
     Attributes
     ----------
     side_nodes
         ``(2 ny + 1,)`` outline nodes, root to tip (local node numbers of the tooth).
+    side_Y
+        ``(2 ny + 1, 2)`` their initial positions relative to the centre.
     t0, t1
         Flank coordinates of the first and last data point (``t1 = ny``, the tip).
+    r0, r_tip
+        Radius of the outline at ``t = 0`` and at the tip.
+    base_radius, psi_base
+        Base radius and polar half-angle of the tooth at the base circle.
+    ref_angle
+        World angle of the gear frame at ``theta = 0``.
     data_nodes, data_weights
         ``(n, 3)`` edge nodes and shape weights of each data point.
+    data_delta
+        ``(n, 2)`` ``delta`` at each data point.
     """
 
     side_nodes: NDArray[np.intp]
+    side_Y: NDArray[np.float64]
     t0: float
     t1: float
+    r0: float
+    r_tip: float
+    base_radius: float
+    psi_base: float
+    ref_angle: float
     data_nodes: NDArray[np.intp]
     data_weights: NDArray[np.float64]
+    data_delta: NDArray[np.float64]
+
+    @property
+    def ny(self) -> int:
+        return (self.side_nodes.size - 1) // 2
 
     @property
     def n_data(self) -> int:
@@ -83,37 +113,47 @@ class Flank:
 
     def locate(self, t: float) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]:
         """Edge nodes, shape weights and their ``d/dt`` at flank coordinate ``t``."""
-        ny = (self.side_nodes.size - 1) // 2
-        row = min(max(int(math.floor(t)), 0), ny - 1)
+        row = min(max(int(math.floor(t)), 0), self.ny - 1)
         eta = 2.0 * (t - row) - 1.0
         return self.side_nodes[2 * row:2 * row + 3], edge_weights(eta), 2.0 * edge_dweights(eta)
 
+    def exact(self, t: float) -> NDArray[np.float64]:
+        """Initial position (relative to the centre) of the involute point at ``t``."""
+        r = self.r0 + (self.r_tip - self.r0) * t / self.ny
+        chi = self.psi_base - float(ivl.inv(math.acos(min(self.base_radius / r, 1.0))))
+        c, s = math.cos(self.ref_angle), math.sin(self.ref_angle)
+        x, y = r * math.sin(chi), r * math.cos(chi)
+        return np.array([c * x - s * y, s * x + c * y])
 
-def make_flank(mesh: ToothMesh, nodes_world: NDArray[np.float64], centre: NDArray[np.float64],
-               r_start: float, n_data: int) -> Flank:
-    """The right flank of ``mesh`` with ``n_data`` spline points from radius ``r_start`` up."""
+    def delta(self, t: float) -> NDArray[np.float64]:
+        """``Y_exact(t) - N(t) Y``: the involute's offset from the element edge."""
+        row = min(max(int(math.floor(t)), 0), self.ny - 1)
+        w = edge_weights(2.0 * (t - row) - 1.0)
+        return self.exact(t) - w @ self.side_Y[2 * row:2 * row + 3]
+
+
+def make_flank(mesh: ToothMesh, gear: Gear, nodes_world: NDArray[np.float64],
+               centre: NDArray[np.float64], ref_angle: float, n_data: int) -> Flank:
+    """The right flank of ``mesh`` with ``n_data`` spline points over the involute."""
     side = mesh.right_side
     ny = mesh.ny
-    xy = nodes_world[side] - centre
-
-    def radius(t: float) -> float:
-        row = min(max(int(math.floor(t)), 0), ny - 1)
-        p = edge_weights(2.0 * (t - row) - 1.0) @ xy[2 * row:2 * row + 3]
-        return float(np.hypot(*p))
-
-    if r_start <= radius(0.0):
-        t0 = 0.0
-    else:
-        t0 = brentq(lambda t: radius(t) - r_start, 0.0, float(ny), xtol=1e-13)
-    ts = np.linspace(t0, float(ny), n_data)
+    side_y = nodes_world[side] - centre
+    r0 = float(np.hypot(*side_y[0]))
+    r_tip = float(gear.tip_radius)
+    t0 = ny * (float(gear.form_radius) - r0) / (r_tip - r0)
+    ts = np.linspace(max(t0, 0.0), float(ny), n_data)
     nodes = np.empty((n_data, 3), dtype=np.intp)
     weights = np.empty((n_data, 3))
     for k, t in enumerate(ts):
         row = min(int(math.floor(t)), ny - 1)
         nodes[k] = side[2 * row:2 * row + 3]
         weights[k] = edge_weights(2.0 * (t - row) - 1.0)
-    return Flank(side_nodes=side.copy(), t0=float(t0), t1=float(ny), data_nodes=nodes,
-                 data_weights=weights)
+    flank = Flank(side_nodes=side.copy(), side_Y=side_y, t0=float(ts[0]), t1=float(ny), r0=r0,
+                  r_tip=r_tip, base_radius=float(gear.base_radius),
+                  psi_base=float(gear.half_angle_base), ref_angle=float(ref_angle),
+                  data_nodes=nodes, data_weights=weights, data_delta=np.zeros((n_data, 2)))
+    object.__setattr__(flank, "data_delta", np.array([flank.delta(t) for t in ts]))
+    return flank
 
 
 @dataclass(frozen=True)
@@ -212,13 +252,12 @@ class PairSystem:
         return np.concatenate([g.mass for g in self.gears])
 
 
-def _body(gear, mesh: ToothMesh, X: NDArray[np.float64], centre: NDArray[np.float64], sense: float,
-          n_spline: int) -> GearBody:
+def _body(gear: Gear, mesh: ToothMesh, X: NDArray[np.float64], centre: NDArray[np.float64],
+          sense: float, ref_angle: float, n_spline: int) -> GearBody:
     k = assemble_stiffness(X, mesh.elements, gear.material, gear.face_width).tocsr()
     k.sort_indices()
     m = assemble_lumped_mass(X, mesh.elements, gear.material, gear.face_width)
-    # The flank spline covers the whole involute, from the form radius to the tip corner.
-    flank = make_flank(mesh, X, centre, float(gear.form_radius), n_spline)
+    flank = make_flank(mesh, gear, X, centre, ref_angle, n_spline)
     return GearBody(sense=sense, centre=centre, inertia=gear.disk_inertia, mesh=mesh, X=X,
                     Y=(X - centre).ravel(), stiffness=k, mass=m, root_nodes=mesh.root_nodes.copy(),
                     flank=flank, base_radius=gear.base_radius)
@@ -227,10 +266,9 @@ def _body(gear, mesh: ToothMesh, X: NDArray[np.float64], centre: NDArray[np.floa
 def build_system(pair: GearPair, case: RunCase) -> PairSystem:
     """Mesh both teeth, place them just touching at the start of contact, assemble K and M.
 
-    The exact involutes touch at the start of the path of contact for the rotations of
-    :func:`~spurdyn.geometry.placement.mesh_angles`; the meshed flanks (quadratic edges
-    through points of the involute) are off by some nanometres, so gear B is then turned
-    until the meshed flanks touch (``s = 0``) to round-off.
+    With the surfaces of :class:`Flank` the involutes touch exactly at the start of the
+    path of contact at the rotations of :func:`~spurdyn.geometry.placement.mesh_angles`;
+    gear B is still turned until the contact search finds ``s = 0`` to round-off.
     """
     from spurdyn.contact.reference import find_contact  # the contact module builds on this one
 
@@ -242,23 +280,20 @@ def build_system(pair: GearPair, case: RunCase) -> PairSystem:
     mesh_b = tooth_mesh(pair.gear_b, case.nx, case.ny)
     ca, cb = np.array([0.0, 0.0]), np.array([0.0, pair.centre_distance])
     xa = to_world_a(mesh_a.nodes, theta_a)
-    fa = make_flank(mesh_a, xa, ca, float(pair.gear_a.form_radius), case.n_spline)
+    fa = make_flank(mesh_a, pair.gear_a, xa, ca, -theta_a, case.n_spline)
     r_start = float(pair.gear_a.radius_at_roll_angle(pair.start_roll_a))
-    ts = np.linspace(fa.t0, fa.t1, 8 * fa.n_data)
-    radii = [float(np.hypot(*(fa.locate(t)[1] @ xa[fa.locate(t)[0]]))) for t in ts]
-    guess = (float(np.interp(r_start, radii, ts)), float(mesh_b.ny))
+    guess = (fa.ny * (r_start - fa.r0) / (fa.r_tip - fa.r0), float(mesh_b.ny))
     for _ in range(6):
         xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)
-        fb = make_flank(mesh_b, xb, cb, float(pair.gear_b.form_radius), case.n_spline)
-        c = find_contact(fa, fb, xa, xb, guess)
+        fb = make_flank(mesh_b, pair.gear_b, xb, cb, math.pi + theta_b, case.n_spline)
+        c = find_contact(fa, fb, xa, xb, np.eye(2), np.eye(2), guess)
         guess = (c.alpha, c.beta)
         point = c.weights_b @ xb[c.nodes_b] - cb
         lever = float(c.normal @ np.array([-point[1], point[0]]))
-        theta_b += c.s / lever
         if abs(c.s) < 1e-16:
             break
-    xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)
-    gears = (_body(pair.gear_a, mesh_a, xa, ca, float(SENSE[0]), case.n_spline),
-             _body(pair.gear_b, mesh_b, xb, cb, float(SENSE[1]), case.n_spline))
+        theta_b += c.s / lever
+    gears = (_body(pair.gear_a, mesh_a, xa, ca, float(SENSE[0]), -theta_a, case.n_spline),
+             _body(pair.gear_b, mesh_b, xb, cb, float(SENSE[1]), math.pi + theta_b, case.n_spline))
     na, nb = gears[0].n_u, gears[1].n_u
     return PairSystem(pair=pair, gears=gears, offsets=(0, na, na + nb), theta0=(theta_a, theta_b))

@@ -1,0 +1,5 @@
+"""The time loop: ``simulate(pair, case) -> Result``."""
+
+from spurdyn.integrate.run import simulate
+
+__all__ = ["simulate"]

@@ -1,0 +1,200 @@
+"""The time loop: from a pair and run settings to a :class:`~spurdyn.results.result.Result`.
+
+The loop owns the bookkeeping (history, frames, progress, stopping); a stepper owns the
+method. Two steppers compute the same thing: :class:`~spurdyn.solver.reference.ReferenceStepper`
+(NumPy, re-integrates every iterate) and :class:`~spurdyn.integrate.fast.FastStepper`
+(Numba, superposes the response to the forces). A run that cannot go on (a stage that
+does not converge, a NaN, Ctrl-C) returns what it has with ``status = "incomplete"``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Callable, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.errors import InputError
+from spurdyn.geometry.gear import GearPair
+from spurdyn.results.result import Result
+from spurdyn.solver.case import RunCase
+from spurdyn.solver.reference import ConvergenceError
+from spurdyn.solver.system import PairSystem, build_system
+
+Progress = Callable[[int, float, float], None]
+
+#: History columns kept per saved step (see :func:`_to_result`).
+COLUMNS = ("t", "theta_a", "theta_b", "omega_a", "omega_b", "tau_a", "tau_b", "p", "s",
+           "alpha", "beta", "mode", "res1", "res2", "res3", "it1", "it2", "it3")
+NCOL = len(COLUMNS)
+
+
+class Stepper(Protocol):
+    """What the loop needs of a method."""
+
+    system: PairSystem
+
+    def advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
+                frames_every: int, frames: list[tuple[float, NDArray[np.float64], NDArray[np.float64]]]
+                ) -> tuple[int, int, str]:
+        """Take up to ``n`` steps (stop once gear A has turned ``angle_end``).
+
+        Appends saved rows to ``rows`` (a preallocated ``(k, NCOL)`` array, returns how many)
+        and frames ``(t, theta(2), u)`` to ``frames``. Returns ``(steps, rows_written,
+        stop_reason)``; ``stop_reason`` is ``""`` unless the run cannot go on.
+        """
+        ...
+
+    def row(self) -> NDArray[np.float64]:
+        """The history row of the current state."""
+        ...
+
+    @property
+    def theta_a(self) -> float: ...
+
+    @property
+    def u(self) -> NDArray[np.float64]: ...
+
+    @property
+    def theta(self) -> NDArray[np.float64]: ...
+
+    @property
+    def t(self) -> float: ...
+
+
+def stable_step(system: PairSystem) -> float:
+    """Largest stable RK4 step of either free tooth (s)."""
+    from spurdyn.fem.assembly import stable_time_step
+
+    return min(stable_time_step(g.stiffness, g.mass).dt_rk4 for g in system.gears)
+
+
+def make_stepper(system: PairSystem, case: RunCase) -> Stepper:
+    if case.backend == "numpy":
+        from spurdyn.integrate.reference_stepper import ReferenceLoopStepper
+
+        return ReferenceLoopStepper(system, case)
+    from spurdyn.integrate.fast import FastStepper
+
+    return FastStepper(system, case)
+
+
+def check_case(pair: GearPair, case: RunCase, system: PairSystem) -> float:
+    """Refuse settings the model cannot run; return the angle to simulate (rad)."""
+    limit = stable_step(system)
+    if case.dt > limit:
+        raise InputError("dt", f"{case.dt:.3g} s is above the stable RK4 step {limit:.3g} s of this "
+                         "mesh; use a smaller dt or a coarser mesh")
+    angle = pair.theta_s if case.angle is None else case.angle
+    # Beyond theta_s the teeth leave the modelled contact region (and the torque schedule).
+    if angle > pair.theta_s * 1.02:
+        raise InputError("angle", f"{math.degrees(angle):.4g} deg is longer than the engagement "
+                         f"(theta_s = {math.degrees(pair.theta_s):.4g} deg)")
+    return angle
+
+
+def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
+             chunk: int = 500) -> Result:
+    """Simulate one tooth engagement of ``pair`` with the settings ``case``.
+
+    Parameters
+    ----------
+    pair
+        The gear pair (gear A drives).
+    case
+        Run settings.
+    progress
+        Called as ``progress(step, angle_reached, angle_total)`` (rad) after each chunk.
+    chunk
+        Steps between calls of ``progress`` (and checks for Ctrl-C).
+
+    Returns
+    -------
+    Result
+        ``status`` is ``"incomplete"`` (with ``reason``) if the run stopped early.
+    """
+    wall0 = time.perf_counter()
+    system = build_system(pair, case)
+    angle = check_case(pair, case, system)
+    stepper = make_stepper(system, case)
+    n_est = int(math.ceil(angle / (case.speed_a * case.dt))) + 2
+    rows = np.empty((n_est // case.save_every + 8, NCOL))
+    rows[0] = stepper.row()
+    n_rows = 1
+    frames: list[tuple[float, NDArray[np.float64], NDArray[np.float64]]] = []
+    if case.frames_every:
+        frames.append((stepper.t, stepper.theta.copy(), stepper.u.copy()))
+    steps, status, reason = 0, "complete", ""
+    try:
+        while stepper.theta_a < angle:
+            if n_rows + chunk // case.save_every + 2 > rows.shape[0]:
+                rows = np.concatenate([rows, np.empty_like(rows)])
+            done, written, stop = stepper.advance(chunk, angle, case.save_every, rows[n_rows:],
+                                                  case.frames_every, frames)
+            steps += done
+            n_rows += written
+            if progress is not None:
+                progress(steps, stepper.theta_a, angle)
+            if stop:
+                status, reason = "incomplete", stop
+                break
+    except KeyboardInterrupt:
+        status, reason = "incomplete", f"interrupted by the user at step {steps}"
+    except ConvergenceError as err:  # raised by the reference stepper
+        status, reason = "incomplete", str(err)
+    return _to_result(pair, case, system, rows[:n_rows], frames, status, reason, steps,
+                      time.perf_counter() - wall0)
+
+
+def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Roll angle (rad) of the material flank point at flank coordinate ``t`` of gear ``g``."""
+    gb = system.gears[g]
+    out = np.empty(t.size)
+    for i, ti in enumerate(t):
+        nodes, w, _ = gb.flank.locate(float(ti))
+        r = float(np.hypot(*(w @ gb.X[nodes] - gb.centre)))
+        out[i] = math.sqrt(max(r * r - gb.base_radius**2, 0.0)) / gb.base_radius
+    return out
+
+
+def _to_result(pair: GearPair, case: RunCase, system: PairSystem, rows: NDArray[np.float64],
+               frames: list, status: str, reason: str, steps: int, wall: float) -> Result:
+    col = {name: rows[:, i] for i, name in enumerate(COLUMNS)}
+    n_u = system.n_u
+    if frames:
+        ft = np.array([f[0] for f in frames])
+        fth = np.array([f[1] for f in frames])
+        fu = np.array([f[2] for f in frames])
+    else:
+        ft, fth, fu = np.zeros(0), np.zeros((0, 2)), np.zeros((0, n_u))
+    single = pair.single_contact_roll_a
+    return Result(
+        time=col["t"].copy(),
+        angle=col["theta_a"].copy(),
+        contact_force=-col["p"],
+        gap=-col["s"],
+        roll=np.column_stack([_roll(system, 0, col["alpha"]), _roll(system, 1, col["beta"])]),
+        theta=np.column_stack([col["theta_a"], col["theta_b"]]),
+        omega=np.column_stack([col["omega_a"], col["omega_b"]]),
+        torque=np.column_stack([col["tau_a"], col["tau_b"]]),
+        residual=np.column_stack([col["res1"], col["res2"], col["res3"]]),
+        iterations=np.column_stack([col["it1"], col["it2"], col["it3"]]).astype(np.int64),
+        corner=col["mode"].astype(np.int8),
+        frame_time=ft, frame_theta=fth, frame_u=fu,
+        status=status, reason=reason, steps=steps, wall_s=wall,
+        info={
+            "model": "fe",
+            "n_dof": system.n_dof,
+            "n_x": system.n_x,
+            "nodes": [g.mesh.n_nodes for g in system.gears],
+            "theta_s": pair.theta_s,
+            "theta_2": pair.theta_2,
+            "static_force": case.torque / pair.gear_a.base_radius,
+            "single_zone": (single[0] - pair.start_roll_a, single[1] - pair.start_roll_a),
+            "theta0": system.theta0,
+            "method": case.method,
+            "backend": case.backend,
+        },
+    )

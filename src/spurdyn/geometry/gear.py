@@ -18,9 +18,10 @@ from spurdyn.errors import InputError
 from spurdyn.fem.material import STEEL, Material
 from spurdyn.geometry import involute as ivl
 
-#: Default rack-cutter tip radius, as a fraction of the module. ISO 53 profile A/B use
-#: 0.38 m; it gives a generous trochoid that meets the involute below the start of the
-#: active profile of ordinary pairs (the paper gives no fillet).
+#: Default rack-cutter tip radius, as a fraction of the module: ISO 53 basic rack
+#: profile A (dedendum 1.25 m, as the paper's gears) uses 0.38 m. It gives a generous
+#: trochoid that meets the involute below the start of the active profile of ordinary
+#: pairs (the paper gives no fillet; see docs/geometry.md).
 DEFAULT_CUTTER_TIP_RADIUS = 0.38
 
 #: Default angle (from the root circle) at which the fillet is cut off and the sliver

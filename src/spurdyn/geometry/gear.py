@@ -206,7 +206,11 @@ class Gear:
         return float(ivl.radius_at_roll(length, self.base_radius))
 
     def fillet_points(self, angle_from_root: np.ndarray) -> np.ndarray:
-        """Right-fillet points at normal angles measured from the root circle (rad)."""
+        """Right-fillet points at normal angles measured from the root circle (rad).
+
+        The angle is that of the generating normal in the rack frame (0 at the root circle,
+        ``fillet_end_angle`` at the involute); see ``docs/geometry.md``, section 3.2.
+        """
         phi = ivl.fillet_phi_at_normal_angle(angle_from_root, self.pitch_radius, self.cutter_centre)
         return ivl.fillet_point(phi, self.pitch_radius, self.cutter_centre, self.cutter_tip_radius)
 

@@ -2,9 +2,11 @@
 
 The tooth is the region bounded by the two tooth outlines (involute over trochoidal
 fillet), the tip circle, and at the bottom a curve that follows the root circle under
-the tooth and rises to meet the fillets where their normal is ``cut_angle`` away from
-radial (``docs/geometry.md`` explains why the fillets are cut there: a fillet meets
-the root circle tangentially, which would leave a degenerate 180-degree element corner).
+the tooth and rises to meet the fillets where their generating normal is ``cut_angle``
+away from the root circle's (measured in the rack cutter's frame; 45 deg puts the cut of
+the paper's gear at 40.99 mm, where the fillet climbs at 50 deg to the circle).
+``docs/geometry.md`` explains why the fillets are cut: a fillet meets the root circle
+tangentially, which would leave a degenerate 180-degree element corner.
 The crescent beneath that curve belongs to the rigid disk.
 
 Nodes are placed by transfinite (Coons) interpolation of the four boundary curves on a

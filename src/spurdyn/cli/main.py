@@ -17,6 +17,7 @@ from typing import NoReturn, Sequence
 from spurdyn.casefile import PairCase, load_pair
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
+from spurdyn.solver.case import BACKENDS, METHODS
 
 EXIT_BAD_INPUT = 2
 
@@ -191,8 +192,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--save-every", type=int, metavar="K", help="keep every K-th step")
     run.add_argument("--frames-every", type=int, metavar="M",
                      help="keep the tooth displacements every M-th step (0: none)")
-    run.add_argument("--method", metavar="paper|exact", help="constraint iteration")
-    run.add_argument("--backend", metavar="numba|numpy", help="solver backend")
+    run.add_argument("--method", metavar="|".join(METHODS), help="constraint iteration")
+    run.add_argument("--backend", metavar="|".join(BACKENDS), help="solver backend")
     run.add_argument("--vtu", action="store_true", help="also write a ParaView time series")
     run.add_argument("--jobs", type=int, default=1, metavar="N",
                      help="run the cases of a group side by side on N processes")
@@ -244,7 +245,10 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as done:  # --help, --version, or a refusal already printed
+        return done.code if isinstance(done.code, int) else EXIT_BAD_INPUT
     try:
         return int(args.func(args))
     except InputError as err:

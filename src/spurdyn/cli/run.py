@@ -207,6 +207,7 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True) -> dict[st
     from spurdyn.results.io import write_run
 
     target = plan.out
+    made = [p for p in [target.parent, *target.parent.parents] if not p.exists()]
     target.parent.mkdir(parents=True, exist_ok=True)
     tmp = target.with_name(f".{target.name}.partial-{os.getpid()}")
     if tmp.exists():
@@ -227,6 +228,12 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True) -> dict[st
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
+        if not target.exists():  # nothing came of it: remove the folders made for it
+            for folder in made:
+                try:
+                    folder.rmdir()
+                except OSError:
+                    break
     summary["out"] = str(target)
     return summary
 

@@ -216,19 +216,33 @@ def case_from_run(ds: xr.Dataset) -> Case:
     return case_from_dict(data, name=str(ds.attrs.get("case_name", "case")), check_step=False)
 
 
+#: Contact lost for good within this fraction of ``theta_s`` of its end is the tip leaving
+#: the flank at the end of the engagement, not a separation.
+END_OF_ENGAGEMENT = 0.01
+
+
 def _in_contact(force: NDArray[np.float64]) -> NDArray[np.bool_]:
     return np.nan_to_num(force, nan=0.0) > 0.0
 
 
 def separation_times(ds: xr.Dataset) -> NDArray[np.float64]:
-    """Times (s) of the saved samples where contact was lost after first being made.
+    """Times (s) where contact was lost after first being made.
 
-    Contact is a positive contact force. With ``save_every > 1`` only the saved samples
-    are seen, so separations shorter than the saving interval are missed.
+    Contact is a positive contact force; samples whose force is not finite are left out.
+    A final loss of contact within :data:`END_OF_ENGAGEMENT` of the end of the angle of
+    action (the tip leaving the flank) is not counted. With ``save_every > 1`` only the
+    saved samples are seen, so separations shorter than the saving interval are missed.
     """
-    contact = _in_contact(ds["contact_force"].values)
+    force = ds["contact_force"].values.astype(float)
+    keep = np.isfinite(force)
+    contact = force[keep] > 0.0
+    time = ds["time"].values[keep]
+    angle = ds["angle_deg"].values[keep]
     lost = np.flatnonzero(contact[:-1] & ~contact[1:]) + 1
-    return ds["time"].values[lost]
+    if lost.size and not contact[lost[-1]:].any() and \
+            angle[lost[-1]] >= (1.0 - END_OF_ENGAGEMENT) * float(ds.attrs["theta_s_deg"]):
+        lost = lost[:-1]
+    return time[lost]
 
 
 def summarize(ds: xr.Dataset) -> dict[str, Any]:
@@ -240,8 +254,8 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         ``case``, ``status``, ``reason``, ``steps``, ``dt_s``, ``wall_s``, ``n_dof``,
         ``peak_force_N``, ``mean_force_single_zone_N`` (``None`` when the run never
         reached the single-contact zone), ``static_force_N``, ``dynamic_factor``
-        (peak/static), ``separations`` (times contact was lost after first being made,
-        see :func:`separation_times`), ``iterations_mean`` and ``residual_max`` per stage,
+        (peak/static), ``separations`` (how many times contact was lost after first
+        being made, see :func:`separation_times`) and ``separation_times_s``, ``iterations_mean`` and ``residual_max`` per stage,
         and more.
     """
     force = ds["contact_force"].values.astype(float)

@@ -1,0 +1,344 @@
+"""What a run leaves on disk (result.nc, CSV, summary, pictures, ParaView) and reading it
+back, on synthetic results shaped like the solver's (``fake_simulate``, also used by
+``test_cli_run.py``)."""
+
+from __future__ import annotations
+
+import json
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import meshio
+import numpy as np
+import pytest
+import xarray as xr
+
+from spurdyn.cases import preset_case, resolve_cases
+from spurdyn.casefile import case_from_dict, case_to_dict, load_case
+from spurdyn.errors import InputError
+from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
+from spurdyn.mesh.tooth import tooth_mesh
+from spurdyn.results.io import (CSV_FILE, PNG_FILE, RESULT_FILE, SUMMARY_FILE, case_from_run,
+                                load_run, result_to_dataset, summarize, tooth_frames, write_run)
+from spurdyn.results.result import STAGES, Result
+from spurdyn.solver.case import RunCase
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+# -- a synthetic solver ----------------------------------------------------------------
+
+def _rot(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s], [s, c]])
+
+
+def fake_simulate(pair: GearPair, case: RunCase, progress=None, *, status: str = "complete",
+                  reason: str = "", separations: tuple[tuple[float, float], ...] = (),
+                  elastic: float = 2e-7, chunk: int = 20) -> Result:
+    """A stand-in for ``spurdyn.integrate.simulate`` with the same contract.
+
+    Gear A turns at its initial speed; the force follows the torque schedule with a
+    ripple and drops to zero in the windows ``separations`` (deg). Frames hold the rigid
+    rotation of each tooth plus an elastic shear of amplitude ``elastic`` (m) at the tip.
+    Ctrl-C in ``progress`` ends the run early with ``status = "incomplete"``.
+    """
+    total = pair.theta_s if case.angle is None else case.angle
+    n = max(1, math.ceil(total / (case.speed_a * case.dt)))
+    done = n
+    try:
+        for step in range(chunk, n + chunk, chunk):
+            if progress is not None:
+                progress(min(step, n), min(step, n) * case.speed_a * case.dt, total)
+    except KeyboardInterrupt:
+        done = min(step, n)
+        status, reason = "incomplete", f"interrupted by the user at step {done}"
+    steps = np.unique(np.append(np.arange(0, done + 1, case.save_every), done))
+    t = steps * case.dt
+    angle = case.speed_a * t
+    deg = np.degrees(angle)
+    static = case.torque / pair.gear_a.base_radius
+    ramp = np.clip(np.minimum(angle, pair.theta_s - angle) / pair.theta_2, 0.0, 1.0)
+    force = static * ramp * (1.0 + 0.1 * np.sin(40.0 * angle))
+    for lo, hi in separations:
+        force[(deg > lo) & (deg < hi)] = 0.0
+    ratio = pair.gear_a.teeth / pair.gear_b.teeth
+    theta = np.column_stack([angle, angle * ratio])
+    it = np.tile([6, 4, 3], (len(t), 1)).astype(np.int64)
+    it[0] = 0
+    res = np.tile([1e-13, 1e-6, 1.0], (len(t), 1)) * (1.0 + np.arange(len(t)))[:, None]
+
+    mesh_a = tooth_mesh(pair.gear_a, case.nx, case.ny)
+    mesh_b = tooth_mesh(pair.gear_b, case.nx, case.ny)
+    ta0, tb0 = mesh_angles(pair, pair.start_roll_a)
+    c = (np.zeros(2), np.array([0.0, pair.centre_distance]))
+    x0 = (to_world_a(mesh_a.nodes, ta0), to_world_b(mesh_b.nodes, tb0, pair.centre_distance))
+    frame_steps = np.arange(0, done + 1, case.frames_every) if case.frames_every else np.zeros(0, int)
+    frame_u = np.zeros((len(frame_steps), 2 * (mesh_a.n_nodes + mesh_b.n_nodes)))
+    for k, s in enumerate(frame_steps):
+        blocks = []
+        for g, sign in ((0, -1.0), (1, 1.0)):
+            a = s * case.dt * case.speed_a * (1.0 if g == 0 else ratio)
+            rel = x0[g] - c[g]
+            height = np.hypot(*rel.T) - np.hypot(*rel.T).min()
+            shear = elastic * k / max(len(frame_steps) - 1, 1) * height / height.max()
+            d = np.column_stack([shear, np.zeros_like(shear)])
+            blocks.append((c[g] + (rel + d) @ _rot(sign * a).T - x0[g]).ravel())
+        frame_u[k] = np.concatenate(blocks)
+    return Result(
+        time=t, angle=angle, contact_force=force, gap=np.where(force > 0, -force / 2e8, 1e-7),
+        roll=np.column_stack([pair.start_roll_a + angle,
+                              pair.roll_b_from_roll_a(pair.start_roll_a + angle)]),
+        theta=theta, omega=np.column_stack([np.full_like(t, case.speed_a),
+                                            np.full_like(t, case.speed_b)]),
+        torque=np.column_stack([case.torque * ramp, case.torque * ramp / ratio]),
+        residual=res, iterations=it, corner=np.zeros(len(t), np.int8),
+        frame_time=frame_steps * case.dt, frame_theta=np.column_stack(
+            [frame_steps * case.dt * case.speed_a, frame_steps * case.dt * case.speed_a * ratio])
+        if len(frame_steps) else np.zeros((0, 2)),
+        frame_u=frame_u, status=status, reason=reason, steps=int(done), wall_s=0.25,
+        info={"n_dof": 2 * (mesh_a.n_nodes + mesh_b.n_nodes) + 2, "theta_s": pair.theta_s,
+              "theta_2": pair.theta_2, "static_force": static,
+              "single_zone": (pair.theta_2, pair.theta_s - pair.theta_2), "note": np.float64(1)},
+    )
+
+
+@pytest.fixture(scope="module")
+def short_case():
+    """paper-fig9 over 0.3 deg, every step kept, a frame every 10 steps."""
+    return preset_case("paper-fig9", {"run.angle_deg": 0.3, "run.frames_every": 10},
+                       check_step=False)
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory, short_case):
+    d = tmp_path_factory.mktemp("run")
+    result = fake_simulate(short_case.pair, short_case.run, separations=((0.1, 0.12),))
+    summary = write_run(result, short_case, d, vtu=True)
+    return d, result, summary
+
+
+# -- result.nc -------------------------------------------------------------------------
+
+def test_run_folder_files(run_dir):
+    d, _, _ = run_dir
+    for name in (RESULT_FILE, CSV_FILE, PNG_FILE, SUMMARY_FILE, "result.pvd"):
+        assert (d / name).is_file(), name
+    assert (d / PNG_FILE).read_bytes()[:8] == PNG_MAGIC
+
+
+def test_netcdf_layout_units_and_case(run_dir, short_case):
+    d, result, _ = run_dir
+    with xr.open_dataset(d / RESULT_FILE, engine="netcdf4") as ds:
+        assert ds.sizes["time"] == len(result.time)
+        assert ds["time"].attrs["units"] == "s"
+        assert np.issubdtype(ds["time"].dtype, np.floating)  # not decoded as timedelta
+        expected = {"angle_deg": "degree", "contact_force": "N", "gap": "m",
+                    "omega_a": "rad s-1", "omega_b": "rad s-1", "torque_a": "N m",
+                    "torque_b": "N m", "theta_a": "rad", "theta_b": "rad",
+                    "roll_a_deg": "degree", "roll_b_deg": "degree",
+                    "residual_displacement": "m", "residual_velocity": "m s-1",
+                    "residual_acceleration": "m s-2"}
+        for name, units in expected.items():
+            assert ds[name].dims == ("time",)
+            assert ds[name].attrs["units"] == units and ds[name].attrs["long_name"]
+        for stage in STAGES:
+            assert ds[f"iterations_{stage}"].dims == ("time",)
+        np.testing.assert_allclose(ds["contact_force"].values, result.contact_force)
+        np.testing.assert_allclose(ds["angle_deg"].values, np.degrees(result.angle))
+        np.testing.assert_allclose(ds["omega_b"].values, result.omega[:, 1])
+        assert ds["frame_u"].dims == ("frame", "dof")
+        assert ds.sizes["frame"] == len(result.frame_time)
+        np.testing.assert_allclose(ds["frame_theta_b"].values, result.frame_theta[:, 1])
+        assert ds.attrs["status"] == "complete" and ds.attrs["reason"] == ""
+        assert ds.attrs["case_name"] == "paper-fig9"
+        case = json.loads(ds.attrs["case"])
+        assert case["run"]["speed_a_rpm"] == pytest.approx(20000.0)
+        assert case["run"]["angle_deg"] == pytest.approx(0.3)
+        assert json.loads(ds.attrs["info"])["note"] == 1.0
+
+
+def test_load_run_and_case_round_trip(run_dir, short_case):
+    d, result, _ = run_dir
+    ds = load_run(d)
+    assert float(ds["contact_force"].max()) == pytest.approx(result.contact_force.max())
+    case = case_from_run(ds)
+    assert case.pair == short_case.pair
+    assert case.run == short_case.run
+    assert load_run(d / RESULT_FILE).sizes == ds.sizes
+    with pytest.raises(InputError, match="not a run folder"):
+        load_run(d / "vtu")
+    import spurdyn.results
+
+    assert spurdyn.results.load_run is load_run
+
+
+# -- summary and CSV -------------------------------------------------------------------
+
+def test_summary_figures(run_dir, short_case):
+    d, result, summary = run_dir
+    assert json.loads((d / SUMMARY_FILE).read_text()) == summary
+    static = 22.25 / short_case.pair.gear_a.base_radius
+    assert summary["case"] == "paper-fig9" and summary["status"] == "complete"
+    assert summary["steps"] == result.steps and summary["dt_s"] == 3e-8
+    assert summary["wall_s"] == 0.25 and summary["n_dof"] == result.info["n_dof"]
+    assert summary["static_force_N"] == pytest.approx(static)
+    assert summary["peak_force_N"] == pytest.approx(result.contact_force.max())
+    assert summary["dynamic_factor"] == pytest.approx(result.contact_force.max() / static)
+    assert summary["separations"] == 1
+    lost = summary["separation_times_s"][0]
+    assert 0.1 < math.degrees(lost * short_case.run.speed_a) < 0.101
+    assert summary["mean_force_single_zone_N"] is None  # 0.3 deg never gets there
+    assert summary["iterations_mean"] == {"displacement": 6.0, "velocity": 4.0,
+                                          "acceleration": 3.0}
+    n = len(result.time)
+    assert summary["residual_max"]["velocity"] == pytest.approx(1e-6 * n)
+    assert summary["frames"] == len(result.frame_time)
+
+
+def test_summary_single_zone_mean_and_nan(short_case):
+    case = preset_case("paper-fig9", {"run.save_every": 20, "run.frames_every": 0},
+                       check_step=False)
+    result = fake_simulate(case.pair, case.run)
+    result.contact_force[-1] = np.nan
+    s = summarize(result_to_dataset(result, case))
+    deg = np.degrees(result.angle)
+    zone = (deg >= math.degrees(case.pair.theta_2)) & \
+        (deg <= math.degrees(case.pair.theta_s - case.pair.theta_2))
+    assert s["mean_force_single_zone_N"] == pytest.approx(result.contact_force[zone].mean())
+    assert s["peak_force_N"] == pytest.approx(np.nanmax(result.contact_force))
+    assert s["separations"] == 0 and s["frames"] == 0
+    json.dumps(s, allow_nan=False)
+
+
+def test_csv(run_dir):
+    d, result, _ = run_dir
+    lines = (d / CSV_FILE).read_text().splitlines()
+    assert lines[0] == "angle_deg,time_s,contact_force_N"
+    assert len(lines) == len(result.time) + 1
+    rows = np.loadtxt(d / CSV_FILE, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(rows[:, 2], result.contact_force, rtol=1e-8)
+    np.testing.assert_allclose(rows[:, 1], result.time, rtol=1e-8)
+
+
+def test_incomplete_result_reads_back(tmp_path, short_case):
+    calls = []
+
+    def interrupt(step, angle, total):
+        calls.append(step)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+
+    result = fake_simulate(short_case.pair, short_case.run, interrupt)
+    assert result.status == "incomplete" and result.steps == 40
+    summary = write_run(result, short_case, tmp_path)
+    ds = load_run(tmp_path)
+    assert ds.attrs["status"] == "incomplete" == summary["status"]
+    assert "interrupted" in ds.attrs["reason"] and summary["reason"] == ds.attrs["reason"]
+    assert ds.sizes["time"] == 41 and summary["steps"] == 40
+
+
+# -- tooth frames, ParaView, GIF -------------------------------------------------------
+
+def test_tooth_frames_recover_the_elastic_part(run_dir):
+    d, _, _ = run_dir
+    frames = tooth_frames(load_run(d))
+    assert frames.n_frames >= 3
+    # The first frame is the undeformed start: no elastic displacement, no stress.
+    for g in (0, 1):
+        assert np.abs(frames.elastic(g, 0)).max() < 1e-15
+        assert frames.von_mises(g, 0).max() < 1e-3
+    last = frames.n_frames - 1
+    for g in (0, 1):
+        e = frames.elastic(g, last)
+        assert np.abs(e[:, 0]).max() == pytest.approx(2e-7, rel=1e-6)
+        assert np.abs(e[:, 1]).max() < 1e-15
+        assert frames.von_mises(g, last).max() > 1e3
+        # Positions: the rigid rotation of the start, plus the elastic part.
+        np.testing.assert_allclose(frames.positions(g, last, 1.0),
+                                   frames.X0[g] + frames.u[g][last], atol=1e-15)
+
+
+def test_vtu_series(run_dir):
+    d, result, _ = run_dir
+    root = ET.parse(d / "result.pvd").getroot()
+    sets = root.findall("./Collection/DataSet")
+    assert len(sets) == len(result.frame_time)
+    assert float(sets[-1].get("timestep")) == pytest.approx(result.frame_time[-1])
+    m = meshio.read(d / sets[-1].get("file"))
+    assert m.cells[0].type == "quad8"
+    assert {"displacement", "elastic_displacement"} <= set(m.point_data)
+    assert {"von_mises", "gear"} <= set(m.cell_data)
+    assert m.points.shape[1] == 3
+
+
+def test_animation_gif(tmp_path, run_dir):
+    from spurdyn.results.animate import animate_run
+
+    d, _, _ = run_dir
+    gif = animate_run(load_run(d), tmp_path / "mesh.gif", max_frames=3, fps=5)
+    assert gif.read_bytes()[:6] == b"GIF89a"
+
+
+def test_overlay_picture(tmp_path, run_dir):
+    from spurdyn.results.plots import plot_contact_force
+
+    d, _, _ = run_dir
+    png = plot_contact_force([load_run(d), load_run(d)], tmp_path / "two.png")
+    assert png.read_bytes()[:8] == PNG_MAGIC
+
+
+# -- case files ------------------------------------------------------------------------
+
+def test_case_dict_round_trip_and_examples():
+    for spec in ("paper-fig11", str(EXAMPLES / "pinion_gear.toml")):
+        case = resolve_cases(spec)[0]
+        back = case_from_dict(json.loads(json.dumps(case_to_dict(case))), case.name)
+        assert back.pair == case.pair and back.run == case.run
+    fig8 = load_case(EXAMPLES / "paper_fig8.toml")
+    preset = preset_case("paper-fig8")
+    assert fig8.pair == preset.pair
+    assert fig8.run == preset.run.with_(name="paper_fig8")
+    assert fig8.angle == pytest.approx(preset.pair.theta_s)
+
+
+def test_speed_b_defaults_to_the_meshing_speed():
+    pinion = load_case(EXAMPLES / "pinion_gear.toml")
+    assert pinion.run.speed_b == pytest.approx(pinion.run.speed_a * 20 / 40)
+
+
+@pytest.mark.parametrize("run_table, field", [
+    ({"speed_a_rpm": 4000, "torque": 1, "colour": "red"}, "run.colour"),
+    ({"speed_a_rpm": "fast", "torque": 1}, "run.speed_a_rpm"),
+    ({"speed_a_rpm": 4000}, "run.torque"),
+    ({"speed_a_rpm": 4000, "torque": -1}, "run.torque"),
+    ({"speed_a_rpm": 0, "torque": 1}, "run.speed_a_rpm"),
+    ({"speed_a_rpm": 4000, "torque": 1, "dt": -1e-8}, "run.dt"),
+    ({"speed_a_rpm": 4000, "torque": 1, "save_every": 1.5}, "run.save_every"),
+    ({"speed_a_rpm": 4000, "torque": 1, "keep_theta_term": 1}, "run.keep_theta_term"),
+    ({"speed_a_rpm": 4000, "torque": 1, "method": "magic"}, "run.method"),
+    ({"speed_a_rpm": 4000, "torque": 1, "angle_deg": 30.0}, "run.angle_deg"),
+    ({"speed_a_rpm": 4000, "torque": 1, "dt": 5e-8}, "run.dt"),
+])
+def test_run_table_refusals(run_table, field):
+    data = {"gear_a": case_to_dict(preset_case("paper-fig8"))["gear_a"], "run": run_table}
+    with pytest.raises(InputError) as err:
+        case_from_dict(data, "bad")
+    assert err.value.field == field
+
+
+def test_separations_count_losses_not_the_end_of_engagement(short_case):
+    case = preset_case("paper-fig9", {"run.save_every": 10, "run.frames_every": 0},
+                       check_step=False)
+    result = fake_simulate(case.pair, case.run, separations=((3.0, 3.5), (9.0, 9.2)))
+    assert result.contact_force[0] == 0 and result.contact_force[-1] == 0  # start and end
+    s = summarize(result_to_dataset(result, case))
+    assert s["separations"] == 2
+    assert [math.degrees(t * case.run.speed_a) for t in s["separation_times_s"]] == \
+        [pytest.approx(3.0, abs=0.04), pytest.approx(9.0, abs=0.04)]  # 0.036 deg sampling
+    # Contact lost for good before the end is a separation.
+    result.contact_force[np.degrees(result.angle) > 15.0] = 0.0
+    assert summarize(result_to_dataset(result, case))["separations"] == 3

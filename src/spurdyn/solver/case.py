@@ -16,7 +16,7 @@ PAPER_TOL = 1e-12
 
 RPM = 2.0 * math.pi / 60.0
 
-METHODS = ("paper", "exact")
+METHODS = ("paper",)
 BACKENDS = ("numba", "numpy")
 
 
@@ -49,8 +49,7 @@ class RunCase:
     accel_levels
         The integer ``n`` of the accelerated iteration (Appendix B).
     method
-        ``"paper"``: the accelerated iteration with ``C = c G M^-1 G^T``; ``"exact"``: the
-        same projected iteration with the exact linear response of the RK4 step.
+        ``"paper"``: the accelerated iteration of Appendix B with ``C = c G M^-1 G^T``.
     backend
         ``"numba"`` (compiled, superposed) or ``"numpy"`` (the straightforward reference).
     save_every

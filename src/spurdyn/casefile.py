@@ -127,33 +127,48 @@ def gear_from_table(table: dict[str, Any], where: str) -> Gear:
     top = _one_of(table, "addendum", "tip_radius", where)
     addendum = _number(table, top, where)
     if top == "tip_radius":
-        if addendum <= r_p:
-            raise InputError(f"{where}.tip_radius", f"must be above the pitch radius {r_p:g} m")
+        if not math.isfinite(addendum) or addendum <= r_p:
+            raise InputError(f"{where}.tip_radius", f"must be above the pitch radius {r_p:g} m "
+                             f"(got {addendum!r})")
+        if addendum - r_p > 2.0 * module:
+            raise InputError(f"{where}.tip_radius", f"is more than two modules above the pitch "
+                             f"radius; at most {r_p + 2.0 * module:g} m")
         addendum -= r_p
+    elif not math.isfinite(addendum) or addendum <= 0.0:
+        raise InputError(f"{where}.addendum", f"must be a positive number (got {addendum!r})")
     bottom = _one_of(table, "dedendum", "root_radius", where)
     dedendum = _number(table, bottom, where)
     if bottom == "root_radius":
+        if not math.isfinite(dedendum) or dedendum <= 0.0:
+            raise InputError(f"{where}.root_radius", f"must be a positive number (got {dedendum!r})")
         if dedendum >= r_p:
             raise InputError(f"{where}.root_radius", f"must be below the pitch radius {r_p:g} m")
         if "tip_radius" in table and dedendum >= table["tip_radius"]:
             raise InputError(f"{where}.tip_radius", "must be above root_radius")
         dedendum = r_p - dedendum
+    elif not math.isfinite(dedendum) or dedendum <= 0.0:
+        raise InputError(f"{where}.dedendum", f"must be a positive number (got {dedendum!r})")
     alpha = _number(table, "pressure_angle_deg", where, 20.0)
     if not 12.0 <= alpha <= 35.0:
         raise InputError(f"{where}.pressure_angle_deg", f"must lie between 12 and 35 (got {alpha:g})")
     material = material_from_table(table["material"], f"{where}.material") \
         if "material" in table else Material(210e9, 0.3, 7800.0)
+    # Read outside the try below: their refusals already name the table.
+    face_width = _number(table, "face_width", where)
+    cutter = _number(table, "cutter_tip_radius", where, DEFAULT_CUTTER_TIP_RADIUS * module)
+    inertia = _number(table, "disk_inertia", where)
     try:
         return Gear(
             teeth=teeth, module=module, pressure_angle=math.radians(alpha),
-            face_width=_number(table, "face_width", where),
-            addendum=addendum, dedendum=dedendum,
-            cutter_tip_radius=_number(table, "cutter_tip_radius", where,
-                                      DEFAULT_CUTTER_TIP_RADIUS * module),
-            disk_inertia=_number(table, "disk_inertia", where),
-            material=material,
+            face_width=face_width, addendum=addendum, dedendum=dedendum,
+            cutter_tip_radius=cutter, disk_inertia=inertia, material=material,
         )
     except InputError as err:
+        # Name the key the user wrote, not the one it was turned into.
+        if err.field == "addendum" and top != "addendum":
+            raise InputError(f"{where}.{top}", err.reason) from None
+        if err.field == "dedendum" and bottom != "dedendum":
+            raise InputError(f"{where}.{bottom}", err.reason) from None
         raise err.prefixed(where) from None
 
 
@@ -168,7 +183,11 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> PairCase:
     if not isinstance(pair_table, dict):
         raise InputError("pair", "must be a table")
     _check_keys(pair_table, PAIR_KEYS, "pair")
-    centre = _number(pair_table, "centre_distance", "pair", 0.0) or None
+    centre = None
+    if "centre_distance" in pair_table:
+        centre = _number(pair_table, "centre_distance", "pair")
+        if not math.isfinite(centre) or centre <= 0.0:
+            raise InputError("pair.centre_distance", f"must be a positive number (got {centre!r})")
     driver = pair_table.get("driver", "a")
     try:
         pair = GearPair(gear_a=gear_a, gear_b=gear_b, centre_distance=centre, driver=driver)

@@ -8,7 +8,6 @@ of its backends) is not importable.
 
 from __future__ import annotations
 
-import functools
 import io
 import json
 import math

@@ -269,22 +269,16 @@ def _z_of(P, theta, cn, cw, normal, dx, zth, zu, nz_nodes, mark):
 
 
 @njit(cache=True)
-def step(P, S, cfg):
-    """Advance the state ``S`` by one step of the paper's method; returns a status code.
+def predict(P, S, h):
+    """RK4 over the step with the last step's forces held fixed (directions at ``q_n``).
 
-    ``cfg = [dt, tol_disp, tol_vel, tol_acc, max_iter, levels, eps_root]``.
+    Returns the end state ``(th, u, om, v)`` and what the linear response needs: the
+    third and fourth stage states' rotations, ``w`` and ``K w``, and the tangents of the
+    forces there applied to unit disk rotations.
     """
-    h = cfg[0]
-    tol1, tol2, tol3 = cfg[1], cfg[2], cfg[3]
-    cap = int(cfg[4])
-    nlev = int(cfg[5])
-    eps_root = cfg[6]
     n = S.u.size
-    m = S.x.size
-    nn = n // 2
     th, om, u, v = S.theta, S.omega, S.u, S.v
-    x0 = S.x.copy()
-
+    x0 = S.x
     # -- free RK4 with the forces of the last step, directions at q_n ----------------
     fth0 = np.empty(2)
     fu0 = np.empty(n)
@@ -335,6 +329,64 @@ def step(P, S, cfg):
     Th4_u = np.empty(n)
     tangent(q3th, w3, kw3, ones, zero_u, P, dw, kdw, Th3_th, Th3_u)
     tangent(q4th, w4, kw4, ones, zero_u, P, dw, kdw, Th4_th, Th4_u)
+
+    return (qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u)
+
+
+@njit(cache=True)
+def superpose(P, S, h, pred, dx, want_v):
+    """The end state of RK4 with the forces ``x0 + dx``: ``pred`` plus the linear response."""
+    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u = pred
+    n = S.u.size
+    nn = n // 2
+    scratch = np.zeros(n)
+    mark = np.zeros(nn, dtype=np.int64)
+    touched = np.empty(nn, dtype=np.int64)
+    nz_nodes = np.empty(nn, dtype=np.int64)
+    zth = np.empty(2)
+    zu = np.zeros(n)
+    t3th = np.empty(2)
+    t4th = np.empty(2)
+    t3u = np.empty(n)
+    t4u = np.empty(n)
+    nnz = _z_of(P, S.theta, S.cn, S.cw, S.normal, dx, zth, zu, nz_nodes, mark)
+    _response_full(P, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u, zth, zu,
+                   nz_nodes, nnz, scratch, mark, touched, t3th, t3u, t4th, t4u, want_v)
+    h2, h3, h4 = 0.5 * h * h, h ** 3 / 12.0, h ** 4 / 24.0
+    th1 = np.empty(2)
+    om1 = np.empty(2)
+    for g in range(2):
+        th1[g] = qs_th[g] + h2 * zth[g] + h4 * t3th[g] / P.J[g]
+        om1[g] = vs_th[g] + h * zth[g] + h3 * (t3th[g] + t4th[g]) / P.J[g]
+    u1 = qs_u + h2 * zu + h4 * t3u / P.mass
+    v1 = vs_u + h * zu + h3 * (t3u + t4u) / P.mass
+    return th1, u1, om1, v1
+
+
+@njit(cache=True)
+def step(P, S, cfg):
+    """Advance the state ``S`` by one step of the paper's method; returns a status code.
+
+    ``cfg = [dt, tol_disp, tol_vel, tol_acc, max_iter, levels, eps_root]``.
+    """
+    h = cfg[0]
+    tol1, tol2, tol3 = cfg[1], cfg[2], cfg[3]
+    cap = int(cfg[4])
+    nlev = int(cfg[5])
+    eps_root = cfg[6]
+    n = S.u.size
+    m = S.x.size
+    nn = n // 2
+    th, om, u, v = S.theta, S.omega, S.u, S.v
+    x0 = S.x.copy()
+
+    pred = predict(P, S, h)
+    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u = pred
+    zero_u = np.zeros(n)
+    w = np.empty(n)
+    kw = np.empty(n)
+    el = np.empty(n)
+    qq = np.empty(2)
 
     # -- response matrices on the rows the constraints read ----------------------------
     nrel = P.rel_nodes.size
@@ -453,16 +505,7 @@ def step(P, S, cfg):
     p_bar = x[m - 1]
 
     # full positions at t + dt by superposition
-    dxv = x - x0
-    t3u = np.empty(n)
-    t4u = np.empty(n)
-    nnz = _z_of(P, th, S.cn, S.cw, S.normal, dxv, zth, zu, nz_nodes, mark)
-    _response_full(P, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u, zth, zu,
-                   nz_nodes, nnz, scratch, mark, touched, t3th, t3u, t4th, t4u, False)
-    th1 = np.empty(2)
-    for g in range(2):
-        th1[g] = qs_th[g] + h2 * zth[g] + h4 * t3th[g] / P.J[g]
-    u1 = qs_u + h2 * zu + h4 * t3u / P.mass
+    th1, u1, _, _ = superpose(P, S, h, pred, x - x0, False)
     cn1 = np.empty(6, dtype=np.int64)
     cw1 = np.empty(6)
     contact_rows(P, a_c, b_c, cn1, cw1)
@@ -507,14 +550,7 @@ def step(P, S, cfg):
     S.res[1] = res
     S.its[1] = it
 
-    dxv = x - x0
-    nnz = _z_of(P, th, S.cn, S.cw, S.normal, dxv, zth, zu, nz_nodes, mark)
-    _response_full(P, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u, zth, zu,
-                   nz_nodes, nnz, scratch, mark, touched, t3th, t3u, t4th, t4u, True)
-    om1 = np.empty(2)
-    for g in range(2):
-        om1[g] = vs_th[g] + h * zth[g] + h3 * (t3th[g] + t4th[g]) / P.J[g]
-    v1 = vs_u + h * zu + h3 * (t3u + t4u) / P.mass
+    _, _, om1, v1 = superpose(P, S, h, pred, x - x0, True)
 
     # -- stage 3: accelerations at t + dt -----------------------------------------------
     zero2 = np.zeros(2)

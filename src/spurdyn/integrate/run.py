@@ -149,14 +149,10 @@ def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
 
 
 def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Roll angle (rad) of the material flank point at flank coordinate ``t`` of gear ``g``."""
-    gb = system.gears[g]
-    out = np.empty(t.size)
-    for i, ti in enumerate(t):
-        nodes, w, _ = gb.flank.locate(float(ti))
-        r = float(np.hypot(*(w @ gb.X[nodes] - gb.centre)))
-        out[i] = math.sqrt(max(r * r - gb.base_radius**2, 0.0)) / gb.base_radius
-    return out
+    """Roll angle (rad) of the involute point at flank coordinate ``t`` of gear ``g``."""
+    f = system.gears[g].flank
+    r = f.r0 + (f.r_tip - f.r0) * np.asarray(t, dtype=float) / f.ny
+    return np.sqrt(np.maximum(r * r - f.base_radius**2, 0.0)) / f.base_radius
 
 
 def _to_result(pair: GearPair, case: RunCase, system: PairSystem, rows: NDArray[np.float64],

@@ -17,12 +17,22 @@ from scipy.optimize import brentq
 from spurdyn.errors import InputError
 from spurdyn.fem.material import STEEL, Material
 from spurdyn.geometry import involute as ivl
+from spurdyn.geometry import relief as rlf
 
 #: Default rack-cutter tip radius, as a fraction of the module: ISO 53 basic rack
 #: profile A (dedendum 1.25 m, as the paper's gears) uses 0.38 m. It gives a generous
 #: trochoid that meets the involute below the start of the active profile of ordinary
 #: pairs (the paper gives no fillet; see docs/geometry.md).
 DEFAULT_CUTTER_TIP_RADIUS = 0.38
+
+#: Largest tilt (rad) a tip relief may give the flank, bounded by
+#: ``k C_a r_b / ((L_a - L_s) L_s)`` (see ``docs/geometry.md``, section 7): a relief
+#: that starts too close to the tip for its amount is refused.
+MAX_RELIEF_TILT = 0.1
+
+#: Largest tip relief as a fraction of the module (a second cap is a quarter of the tip
+#: land of the unmodified tooth).
+MAX_RELIEF_MODULES = 0.1
 
 #: Default angle (from the root circle) at which the fillet is cut off and the sliver
 #: beneath it counted as rigid disk; see ``docs/geometry.md``.
@@ -58,6 +68,15 @@ class Gear:
         Moment of inertia ``J`` of the rigid disk about its axis (kg m^2).
     material
         Elastic constants and density of the tooth.
+    tip_relief
+        Tip relief amount ``C_a`` (m): material removed normal to the involute at the
+        tip circle's roll angle. 0 (the default) leaves the flank a pure involute.
+    tip_relief_start_roll
+        Roll angle ``xi_s`` (rad) on the involute where the relief begins; it must lie
+        between the form radius' roll angle and the tip's. Needed when ``tip_relief > 0``.
+    tip_relief_shape
+        ``"linear"`` (depth grows as ``(xi - xi_s)``) or ``"parabolic"`` (as its square);
+        see :mod:`spurdyn.geometry.relief` and ``docs/geometry.md``, section 7.
     """
 
     teeth: int
@@ -69,6 +88,9 @@ class Gear:
     cutter_tip_radius: float
     disk_inertia: float
     material: Material = field(default=STEEL)
+    tip_relief: float = 0.0
+    tip_relief_start_roll: float | None = None
+    tip_relief_shape: str = "linear"
 
     def __post_init__(self) -> None:
         if not isinstance(self.teeth, int) or isinstance(self.teeth, bool):
@@ -108,9 +130,54 @@ class Gear:
         if self.undercut:
             raise InputError("teeth", f"{self.teeth} teeth are undercut by the cutter "
                              f"(need at least {self.min_teeth_without_undercut}); use more teeth")
-        if self.tip_thickness <= 0.0:
+        if float(self.thickness_at(self.tip_radius)) <= 0.0:
             raise InputError("addendum", "makes the tooth come to a point below the tip "
                              "circle; lower the tip radius")
+        self._check_relief()
+
+    def _check_relief(self) -> None:
+        """Refuse a tip relief that is not a small, well-placed modification."""
+        amount, start = self.tip_relief, self.tip_relief_start_roll
+        if isinstance(amount, bool) or not isinstance(amount, (int, float)):
+            raise InputError("tip_relief", f"must be a number (got {type(amount).__name__})")
+        if not math.isfinite(amount) or amount < 0.0:
+            raise InputError("tip_relief", f"must be zero or a positive number of metres "
+                             f"(got {amount!r})")
+        if not isinstance(self.tip_relief_shape, str) or self.tip_relief_shape not in rlf.RELIEF_SHAPES:
+            raise InputError("tip_relief_shape", f"must be one of {', '.join(rlf.RELIEF_SHAPES)} "
+                             f"(got {self.tip_relief_shape!r})")
+        if start is None:
+            if amount > 0.0:
+                raise InputError("tip_relief_start_roll", "is missing: a tip relief needs the "
+                                 "roll angle where it begins")
+            return
+        if isinstance(start, bool) or not isinstance(start, (int, float)) or not math.isfinite(start):
+            raise InputError("tip_relief_start_roll", f"must be a finite number (got {start!r})")
+        lo = float(self.roll_angle_at(self.form_radius))
+        hi = float(self.roll_angle_at(self.tip_radius))
+        if not lo - 1e-12 <= start < hi:
+            raise InputError("tip_relief_start_roll", f"must lie on the involute, from the form "
+                             f"radius' roll angle {math.degrees(lo):.4g} deg "
+                             f"(r = {self.form_radius * 1e3:.5g} mm) up to below the tip's "
+                             f"{math.degrees(hi):.4g} deg (r = {self.tip_radius * 1e3:.5g} mm); "
+                             f"got {math.degrees(start):.4g} deg")
+        cap = min(MAX_RELIEF_MODULES * self.module, float(self.thickness_at(self.tip_radius)) / 4.0)
+        if amount > cap:
+            raise InputError("tip_relief", f"{amount * 1e6:.4g} um is too large for this tooth "
+                             f"(at most {cap * 1e6:.4g} um: 0.1 module and a quarter of the "
+                             f"tip land)")
+        if amount > 0.0:
+            rb = self.base_radius
+            length_s, length_a = start * rb, hi * rb
+            k = rlf.RELIEF_SHAPES[self.tip_relief_shape]
+            tilt = k * amount * rb / ((length_a - length_s) * max(length_s, 1e-12 * rb))
+            if tilt > MAX_RELIEF_TILT:
+                raise InputError("tip_relief_start_roll", f"starts too close to the tip (or "
+                                 f"the base circle) for a {amount * 1e6:.4g} um relief: it would "
+                                 f"tilt the flank by up to {tilt:.3g} rad (at most "
+                                 f"{MAX_RELIEF_TILT:g}); start lower or relieve less")
+            if self.tip_thickness <= 0.0:  # pragma: no cover - the caps above prevent it
+                raise InputError("tip_relief", "leaves no tip land")
 
     # -- constructors ------------------------------------------------------------------
     @classmethod
@@ -125,6 +192,9 @@ class Gear:
         disk_inertia: float,
         cutter_tip_radius: float | None = None,
         material: Material = STEEL,
+        tip_relief: float = 0.0,
+        tip_relief_start_roll: float | None = None,
+        tip_relief_shape: str = "linear",
     ) -> "Gear":
         """Make a gear from its pitch, tip and root radii (as the paper gives them)."""
         _positive("pitch_radius", pitch_radius)
@@ -142,7 +212,8 @@ class Gear:
         return cls(teeth=teeth, module=module, pressure_angle=pressure_angle,
                    face_width=face_width, addendum=tip_radius - pitch_radius,
                    dedendum=pitch_radius - root_radius, cutter_tip_radius=cutter_tip_radius,
-                   disk_inertia=disk_inertia, material=material)
+                   disk_inertia=disk_inertia, material=material, tip_relief=tip_relief,
+                   tip_relief_start_roll=tip_relief_start_roll, tip_relief_shape=tip_relief_shape)
 
     # -- radii and pitches -------------------------------------------------------------
     @property
@@ -176,7 +247,16 @@ class Gear:
 
     @property
     def tip_thickness(self) -> float:
-        return float(self.thickness_at(self.tip_radius))
+        """Tip land (m): the arc of the tip circle between the two flanks.
+
+        With a tip relief this is the land of the *relieved* tooth, between the points
+        where the relieved flanks meet the tip circle (narrower than the unmodified
+        ``thickness_at(tip_radius)`` by about ``2 C_a / cos(alpha_a)``).
+        """
+        if self.tip_relief == 0.0:
+            return float(self.thickness_at(self.tip_radius))
+        corner = self.modified_flank_point(np.asarray(self.flank_end_radius))
+        return 2.0 * self.tip_radius * float(np.arctan2(corner[0], corner[1]))
 
     # -- fillet ------------------------------------------------------------------------
     @cached_property
@@ -220,9 +300,17 @@ class Gear:
         return math.pi / 2.0 - self.pressure_angle
 
     def right_side_point(self, r: float, cut_angle: float = DEFAULT_FILLET_CUT_ANGLE) -> np.ndarray:
-        """Point of the right tooth outline (fillet or involute) at radius ``r``."""
+        """Point of the right tooth outline (fillet or flank) at radius ``r``.
+
+        Above the form radius this is the (relieved) flank, ``modified_flank_point(r)``:
+        ``r`` is then the radius of the *unmodified* involute point, and a relieved
+        point lies up to ``C_a sin(alpha_r)`` lower. The relieved flank reaches the tip
+        circle at ``r = flank_end_radius`` (the tip radius when there is no relief).
+        """
         if r >= self.form_radius:
-            return ivl.right_flank_point(r, self.base_radius, self.half_angle_base)
+            if self.tip_relief == 0.0:
+                return ivl.right_flank_point(r, self.base_radius, self.half_angle_base)
+            return self.modified_flank_point(np.asarray(r))
         # The fillet's radius falls monotonically from the involute junction to the root.
         def gap(a: float) -> float:
             return float(np.hypot(*self.fillet_points(np.asarray(a)))) - r
@@ -242,6 +330,49 @@ class Gear:
 
     def radius_at_roll_angle(self, roll: float | np.ndarray) -> np.ndarray:
         return ivl.radius_at_roll(np.asarray(roll) * self.base_radius, self.base_radius)
+
+    # -- tip relief --------------------------------------------------------------------
+    @property
+    def has_tip_relief(self) -> bool:
+        return self.tip_relief > 0.0
+
+    def relief_depth(self, r: float | np.ndarray) -> np.ndarray:
+        """Tip-relief depth (m) along the outward normal at the involute point of radius ``r``.
+
+        Zero below the start of the relief (and everywhere on an unmodified gear),
+        ``tip_relief`` at the tip radius; see :func:`spurdyn.geometry.relief.relief_depth`.
+        """
+        amount, start, exponent, tip = rlf.relief_params(self)
+        return rlf.relief_depth(self.roll_angle_at(r), amount, start, tip, exponent)
+
+    def modified_flank_point(self, r: float | np.ndarray) -> np.ndarray:
+        """Points ``(..., 2)`` of the relieved right flank, gear frame.
+
+        ``flank_point(r) - relief_depth(r) * flank_normal(r)``: the involute point of
+        radius ``r`` moved into the tooth along its normal by the relief depth. Equal to
+        ``flank_point(r)`` where there is no relief.
+        """
+        depth = self.relief_depth(r)
+        return self.flank_point(r) - depth[..., None] * self.flank_normal(r)
+
+    @cached_property
+    def flank_end_radius(self) -> float:
+        """Involute radius whose relieved point lies on the tip circle (m).
+
+        The tip radius when there is no relief; with one, a few micrometres above it,
+        since the relief moves the flank inwards (``docs/geometry.md``, section 7).
+        """
+        ra = self.tip_radius
+        if self.tip_relief == 0.0:
+            return ra
+
+        def gap(r: float) -> float:
+            return float(np.hypot(*self.modified_flank_point(np.asarray(r)))) - ra
+
+        hi = ra + 2.0 * self.tip_relief
+        while gap(hi) <= 0.0:  # pragma: no cover - 2 C_a always suffices within the caps
+            hi += 2.0 * self.tip_relief
+        return float(brentq(gap, ra, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps))
 
 
 @dataclass(frozen=True)

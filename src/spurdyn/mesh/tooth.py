@@ -11,7 +11,8 @@ The crescent beneath that curve belongs to the rigid disk.
 
 Nodes are placed by transfinite (Coons) interpolation of the four boundary curves on a
 ``(2 nx + 1) x (2 ny + 1)`` grid, so every boundary node lies exactly on its curve. Rows
-along the tooth are spaced evenly in radius on the outline.
+along the tooth are spaced evenly in radius on the outline (on a tip-relieved flank, in
+the radius of the unmodified involute point the relieved one is taken from).
 """
 
 from __future__ import annotations
@@ -120,11 +121,13 @@ def tooth_mesh(
     if not 0.0 < cut_angle < gear.fillet_end_angle:
         raise InputError("mesh.fillet_cut_angle", "must lie between 0 and 90 deg - pressure angle")
 
-    # Right outline, from the cut point on the fillet to the tip corner.
+    # Right outline, from the cut point on the fillet to the tip corner. With a tip
+    # relief the rows are evenly spaced in the radius of the unmodified involute point,
+    # up to the one whose relieved point lies on the tip circle (flank_end_radius).
     cut = gear.fillet_points(np.asarray(cut_angle))
     r_cut = float(np.hypot(*cut))
     t = np.linspace(0.0, 1.0, 2 * ny + 1)
-    radii = r_cut + t * (gear.tip_radius - r_cut)
+    radii = r_cut + t * (gear.flank_end_radius - r_cut)
     right = np.array([cut] + [gear.right_side_point(r) for r in radii[1:]])
     left = right * np.array([-1.0, 1.0])
 

@@ -5,7 +5,9 @@ A file holds the tables ``[gear_a]``, ``[gear_b]`` (optional: a copy of gear A),
 ``spurdyn run``); ``examples/paper_pair.toml`` shows every pair key and
 ``examples/paper_fig8.toml`` every run key. Lengths are in metres, angles in degrees (keys
 ending ``_deg``), speeds in rpm (keys ending ``_rpm``), torque in N m, time in s, inertia
-in kg m^2, moduli in Pa, density in kg/m^3. Every problem is raised as an
+in kg m^2, moduli in Pa, density in kg/m^3. A gear table may hold a tip relief:
+``tip_relief`` (m), ``tip_relief_start_roll_deg`` (deg) or ``tip_relief_start_radius`` (m),
+``tip_relief_shape`` (``"linear"``/``"parabolic"``). Every problem is raised as an
 :class:`~spurdyn.errors.InputError` naming the key.
 
 A :class:`Case` (pair + :class:`~spurdyn.solver.case.RunCase`) turns back into the same
@@ -30,7 +32,10 @@ from spurdyn.solver.case import BACKENDS, METHODS, RPM, RunCase
 GEAR_KEYS = {
     "teeth", "module", "pitch_radius", "tip_radius", "root_radius", "addendum", "dedendum",
     "pressure_angle_deg", "face_width", "disk_inertia", "cutter_tip_radius", "material",
+    "tip_relief", "tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape",
 }
+#: Keys that only make sense with ``tip_relief`` in the same table.
+RELIEF_KEYS = ("tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape")
 MATERIAL_KEYS = {"young", "poisson", "density"}
 PAIR_KEYS = {"centre_distance", "driver"}
 MESH_KEYS = {"nx", "ny"}
@@ -157,11 +162,13 @@ def gear_from_table(table: dict[str, Any], where: str) -> Gear:
     face_width = _number(table, "face_width", where)
     cutter = _number(table, "cutter_tip_radius", where, DEFAULT_CUTTER_TIP_RADIUS * module)
     inertia = _number(table, "disk_inertia", where)
+    base_radius = module * teeth / 2.0 * math.cos(math.radians(alpha))
+    relief, start_key = _relief_from_table(table, where, base_radius)
     try:
         return Gear(
             teeth=teeth, module=module, pressure_angle=math.radians(alpha),
             face_width=face_width, addendum=addendum, dedendum=dedendum,
-            cutter_tip_radius=cutter, disk_inertia=inertia, material=material,
+            cutter_tip_radius=cutter, disk_inertia=inertia, material=material, **relief,
         )
     except InputError as err:
         # Name the key the user wrote, not the one it was turned into.
@@ -169,7 +176,52 @@ def gear_from_table(table: dict[str, Any], where: str) -> Gear:
             raise InputError(f"{where}.{top}", err.reason) from None
         if err.field == "dedendum" and bottom != "dedendum":
             raise InputError(f"{where}.{bottom}", err.reason) from None
+        if err.field == "tip_relief_start_roll":
+            raise InputError(f"{where}.{start_key}", err.reason) from None
         raise err.prefixed(where) from None
+
+
+def _relief_from_table(table: dict[str, Any], where: str,
+                       base_radius: float) -> tuple[dict[str, Any], str]:
+    """The tip-relief arguments of :class:`Gear` from a gear table, and the start key used.
+
+    ``tip_relief`` (m), ``tip_relief_start_roll_deg`` (deg) or ``tip_relief_start_radius``
+    (m, the radius of the involute point where the relief begins), ``tip_relief_shape``.
+    """
+    if "tip_relief" not in table:
+        for key in RELIEF_KEYS:
+            if key in table:
+                raise InputError(f"{where}.{key}", "needs tip_relief (the relief amount, m) "
+                                 "in the same table")
+        return {}, "tip_relief_start_roll_deg"
+    amount = _number(table, "tip_relief", where)
+    if not math.isfinite(amount) or amount < 0.0:
+        raise InputError(f"{where}.tip_relief", f"must be zero or a positive number of metres "
+                         f"(got {amount!r})")
+    relief: dict[str, Any] = {"tip_relief": amount}
+    start_key = "tip_relief_start_roll_deg"
+    if "tip_relief_start_roll_deg" in table or "tip_relief_start_radius" in table:
+        start_key = _one_of(table, "tip_relief_start_roll_deg", "tip_relief_start_radius", where)
+        value = _number(table, start_key, where)
+        if not math.isfinite(value):
+            raise InputError(f"{where}.{start_key}", f"must be a finite number (got {value!r})")
+        if start_key == "tip_relief_start_roll_deg":
+            relief["tip_relief_start_roll"] = math.radians(value)
+        else:
+            if value <= base_radius:
+                raise InputError(f"{where}.tip_relief_start_radius", f"must be above the base "
+                                 f"radius {base_radius:g} m, on the involute (got {value!r})")
+            relief["tip_relief_start_roll"] = math.sqrt(value * value - base_radius**2) / base_radius
+    elif amount > 0.0:
+        raise InputError(f"{where}.tip_relief_start_roll_deg", "is missing (or give "
+                         "tip_relief_start_radius): a tip relief needs the point where it begins")
+    if "tip_relief_shape" in table:
+        shape = table["tip_relief_shape"]
+        if not isinstance(shape, str):
+            raise InputError(f"{where}.tip_relief_shape", f"must be \"linear\" or \"parabolic\" "
+                             f"(got {shape!r})")
+        relief["tip_relief_shape"] = shape
+    return relief, start_key
 
 
 def pair_from_dict(data: dict[str, Any], name: str = "pair") -> PairCase:
@@ -461,7 +513,7 @@ def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
 
 
 def _gear_to_dict(gear: Gear) -> dict[str, Any]:
-    return {
+    table: dict[str, Any] = {
         "teeth": gear.teeth, "module": gear.module, "addendum": gear.addendum,
         "dedendum": gear.dedendum, "pressure_angle_deg": math.degrees(gear.pressure_angle),
         "face_width": gear.face_width, "disk_inertia": gear.disk_inertia,
@@ -469,6 +521,12 @@ def _gear_to_dict(gear: Gear) -> dict[str, Any]:
         "material": {"young": gear.material.young, "poisson": gear.material.poisson,
                      "density": gear.material.density},
     }
+    if gear.tip_relief > 0.0 or gear.tip_relief_start_roll is not None:
+        table["tip_relief"] = gear.tip_relief
+        if gear.tip_relief_start_roll is not None:
+            table["tip_relief_start_roll_deg"] = math.degrees(gear.tip_relief_start_roll)
+        table["tip_relief_shape"] = gear.tip_relief_shape
+    return table
 
 
 def case_to_dict(case: Case) -> dict[str, Any]:

@@ -25,9 +25,10 @@ from spurdyn.geometry import relief as rlf
 #: pairs (the paper gives no fillet; see docs/geometry.md).
 DEFAULT_CUTTER_TIP_RADIUS = 0.38
 
-#: Largest tilt (rad) a tip relief may give the flank, bounded by
-#: ``k C_a r_b / ((L_a - L_s) L_s)`` (see ``docs/geometry.md``, section 7): a relief
-#: that starts too close to the tip for its amount is refused.
+#: Largest tilt (rad) a tip relief may give the flank: the largest slope of the depth
+#: along the involute's arc length, ``k C_a r_b / ((L_a - L_s) L)`` with ``L = L_s``
+#: (linear) or ``L_a`` (parabolic) (see ``docs/geometry.md``, section 7). A relief that
+#: starts too close to the tip for its amount is refused.
 MAX_RELIEF_TILT = 0.1
 
 #: Largest tip relief as a fraction of the module (a second cap is a quarter of the tip
@@ -170,7 +171,10 @@ class Gear:
             rb = self.base_radius
             length_s, length_a = start * rb, hi * rb
             k = rlf.RELIEF_SHAPES[self.tip_relief_shape]
-            tilt = k * amount * rb / ((length_a - length_s) * max(length_s, 1e-12 * rb))
+            # Largest slope of the depth along the involute's arc length s (ds = L dL / r_b):
+            # at the start for a linear relief, at the tip for a parabolic one.
+            length = length_s if k == 1 else length_a
+            tilt = k * amount * rb / ((length_a - length_s) * max(length, 1e-12 * rb))
             if tilt > MAX_RELIEF_TILT:
                 raise InputError("tip_relief_start_roll", f"starts too close to the tip (or "
                                  f"the base circle) for a {amount * 1e6:.4g} um relief: it would "

@@ -100,6 +100,9 @@ def _newton_pair(pa: CubicSpline, pb: CubicSpline, a: float, b: float) -> tuple[
         jac = np.array([[cross(ca, tb), cross(ta, cb)],
                         [ta @ ta + d @ ca, -(tb @ ta)]])
         step = np.linalg.solve(jac, f)
+        big = max(abs(step[0]), abs(step[1]))
+        if big > 0.5:   # at most half an element at a time
+            step = step * (0.5 / big)
         a, b = a - step[0], b - step[1]
         if abs(step[0]) + abs(step[1]) < 1e-11:
             return a, b, True
@@ -120,6 +123,44 @@ def _project(point: NDArray[np.float64], p: CubicSpline, t: float, lo: float, hi
     return t
 
 
+def _scan(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank, b_guess: float) -> tuple[float, float]:
+    """A global start: the data point of A whose normal gap to B is smallest (deepest)."""
+    best, best_ab = np.inf, (fa.t0, fb.t0)
+    b = min(max(b_guess, fb.t0), fb.t1)
+    for a in np.linspace(fa.t0, fa.t1, fa.n_data):
+        p = pa(a)
+        b = _project(p, pb, b, fb.t0, fb.t1)
+        gap = outward_normal(pa(a, 1)) @ (pb(b) - p)
+        if gap < best:
+            best, best_ab = gap, (float(a), float(b))
+    return best_ab
+
+
+def _pair(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank,
+          guess: tuple[float, float]) -> tuple[float, float, int]:
+    """``(alpha, beta, mode)`` of the contact pair (see :func:`find_contact`)."""
+    a, b, ok = _newton_pair(pa, pb, *guess)
+    if not ok or abs(a - guess[0]) + abs(b - guess[1]) > 1.0:
+        # Lost or jumped more than an element (wavy flanks after an impact): start again
+        # from the deepest point of a scan along A.
+        a, b, ok = _newton_pair(pa, pb, *_scan(pa, pb, fa, fb, guess[1]))
+    if ok and fa.t0 <= a <= fa.t1 and fb.t0 <= b <= fb.t1:
+        return a, b, FLANK
+    # The pair lies beyond a tooth's tip: that tip corner touches the other flank. Of the
+    # corners whose foot lies on the other flank, keep the nearer.
+    ga = min(max(a if ok else guess[0], fa.t0), fa.t1)
+    gb = min(max(b if ok else guess[1], fb.t0), fb.t1)
+    a_b = _project(pb(fb.t1), pa, ga, fa.t0, fa.t1)     # B's corner on A
+    b_a = _project(pa(fa.t1), pb, gb, fb.t0, fb.t1)     # A's corner on B
+    dist_b = np.hypot(*(pb(fb.t1) - pa(a_b))) if fa.t0 < a_b < fa.t1 else np.inf
+    dist_a = np.hypot(*(pa(fa.t1) - pb(b_a))) if fb.t0 < b_a < fb.t1 else np.inf
+    if dist_b <= dist_a and np.isfinite(dist_b):
+        return a_b, fb.t1, CORNER_B
+    if np.isfinite(dist_a):
+        return fa.t1, b_a, CORNER_A
+    return ga, gb, FLANK
+
+
 def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.float64],
                  ra: NDArray[np.float64], rb: NDArray[np.float64], guess: tuple[float, float]) -> ContactPair:
     """Contact pair of two flanks.
@@ -128,25 +169,7 @@ def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.f
     rotation matrices ``R(sense theta)``, ``guess`` the last ``(alpha, beta)``.
     """
     pa, pb = flank_spline(fa, xa, ra), flank_spline(fb, xb, rb)
-    a, b, ok = _newton_pair(pa, pb, *guess)
-    mode = FLANK
-    if not ok or a > fa.t1 or b > fb.t1:
-        # The pair lies beyond a tooth's tip: that tip corner touches the other flank.
-        # When both corners are candidates, keep the one whose foot lies on the flank.
-        ga = min(max(guess[0], fa.t0), fa.t1)
-        gb = min(max(guess[1], fb.t0), fb.t1)
-        a_b = _project(pb(fb.t1), pa, ga, fa.t0, fa.t1)     # B's corner on A
-        b_a = _project(pa(fa.t1), pb, gb, fb.t0, fb.t1)     # A's corner on B
-        corner_b = fa.t0 < a_b < fa.t1 and (ok and b > fb.t1 or not ok)
-        corner_a = fb.t0 < b_a < fb.t1 and (ok and a > fa.t1 or not ok)
-        if corner_a and corner_b:
-            corner_b = np.hypot(*(pb(fb.t1) - pa(a_b))) <= np.hypot(*(pa(fa.t1) - pb(b_a)))
-        if corner_b or not corner_a and (ok and b > fb.t1):
-            a, b, mode = a_b, fb.t1, CORNER_B
-        else:
-            a, b, mode = fa.t1, b_a, CORNER_A
-    a = min(max(a, fa.t0), fa.t1)
-    b = min(max(b, fb.t0), fb.t1)
+    a, b, mode = _pair(pa, pb, fa, fb, guess)
     if mode == CORNER_A:
         normal = -outward_normal(pb(b, 1))
     else:

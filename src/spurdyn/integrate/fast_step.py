@@ -24,11 +24,17 @@ from numba import njit
 
 from spurdyn.integrate.kernels import (
     CORNER_A, CORNER_B, F_H, F_T0, FLANK, accelerated_update, accelerations, constraint_force,
-    delta_at, edge_at, elastic, find_pair, gram, root_phi_theta, spline_eval, spline_second,
+    delta_at, edge_at, elastic, find_pair, gram, gram_contact, root_phi_theta, spline_eval, spline_second,
     tangent, torque,
 )
 
 OK, FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NAN = 0, 1, 2, 3, 4
+
+#: Move the contact force to the contact pair found in an iteration when the pair has
+#: moved by more than this (elements) from where the force acts, at most MAX_RELOCATE
+#: times a step (see spurdyn.solver.reference.RELOCATE).
+RELOCATE = 0.05
+MAX_RELOCATE = 4
 
 
 @njit(cache=True)
@@ -334,8 +340,9 @@ def predict(P, S, h):
 
 
 @njit(cache=True)
-def superpose(P, S, h, pred, dx, want_v):
-    """The end state of RK4 with the forces ``x0 + dx``: ``pred`` plus the linear response."""
+def superpose(P, S, h, pred, x, cn, cw, normal, want_v):
+    """The end state of RK4 with the forces ``G^T x`` (contact row at ``cn, cw, normal``):
+    ``pred`` (made with the last step's forces) plus the linear response to the change."""
     qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u = pred
     n = S.u.size
     nn = n // 2
@@ -345,13 +352,31 @@ def superpose(P, S, h, pred, dx, want_v):
     nz_nodes = np.empty(nn, dtype=np.int64)
     zth = np.empty(2)
     zu = np.zeros(n)
+    zth0 = np.empty(2)
+    zu0 = np.zeros(n)
     t3th = np.empty(2)
     t4th = np.empty(2)
     t3u = np.empty(n)
     t4u = np.empty(n)
-    nnz = _z_of(P, S.theta, S.cn, S.cw, S.normal, dx, zth, zu, nz_nodes, mark)
+    nnz = _z_of(P, S.theta, cn, cw, normal, x, zth, zu, nz_nodes, mark)
+    nnz0 = _z_of(P, S.theta, S.cn, S.cw, S.normal, S.x, zth0, zu0, nz_nodes[nnz:], mark)
+    for g in range(2):
+        zth[g] -= zth0[g]
+    zu -= zu0
+    # merge the node lists (the root nodes appear in both)
+    total = nnz
+    for k in range(nnz0):
+        i = nz_nodes[nnz + k]
+        dup = False
+        for l in range(nnz):
+            if nz_nodes[l] == i:
+                dup = True
+                break
+        if not dup:
+            nz_nodes[total] = i
+            total += 1
     _response_full(P, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u, zth, zu,
-                   nz_nodes, nnz, scratch, mark, touched, t3th, t3u, t4th, t4u, want_v)
+                   nz_nodes, total, scratch, mark, touched, t3th, t3u, t4th, t4u, want_v)
     h2, h3, h4 = 0.5 * h * h, h ** 3 / 12.0, h ** 4 / 24.0
     th1 = np.empty(2)
     om1 = np.empty(2)
@@ -361,6 +386,48 @@ def superpose(P, S, h, pred, dx, want_v):
     u1 = qs_u + h2 * zu + h4 * t3u / P.mass
     v1 = vs_u + h * zu + h3 * (t3u + t4u) / P.mass
     return th1, u1, om1, v1
+
+
+@njit(cache=True)
+def _columns(P, h, pred, theta, cn, cw, normal, j0, j1, Wq, Wv, scratch, mark, touched,
+             nz_nodes, zu, acc3, acc4):
+    """Columns ``j0:j1`` of the responses of the relevant rows (positions ``Wq``, velocities
+    ``Wv``) to ``x = e_j``, the constraint directions at ``theta`` and the contact rows given."""
+    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u = pred
+    m = Wq.shape[1]
+    nrel = P.rel_nodes.size
+    h2, h3, h4 = 0.5 * h * h, h ** 3 / 12.0, h ** 4 / 24.0
+    ej = np.zeros(m)
+    zth = np.empty(2)
+    t3th = np.empty(2)
+    t4th = np.empty(2)
+    for j in range(j0, j1):
+        ej[:] = 0.0
+        ej[j] = 1.0
+        nnz = _z_of(P, theta, cn, cw, normal, ej, zth, zu, nz_nodes, mark)
+        for g in range(2):
+            t3th[g] = zth[g] * Th3_th[g]
+            t4th[g] = zth[g] * Th4_th[g]
+        n3 = sparse_tangent(P, q3th, w3, kw3, zu, nz_nodes, nnz, scratch, mark, touched, t3th, acc3, 1.0)
+        n4 = sparse_tangent(P, q4th, w4, kw4, zu, nz_nodes, nnz, scratch, mark, touched, t4th, acc4, 1.0)
+        for g in range(2):
+            Wq[g, j] = h2 * zth[g] + h4 * t3th[g] / P.J[g]
+            Wv[g, j] = h * zth[g] + h3 * (t3th[g] + t4th[g]) / P.J[g]
+        for k in range(nrel):
+            i = P.rel_nodes[k]
+            g = P.node_gear[i]
+            for d in range(2):
+                dof = 2 * i + d
+                t3 = zth[g] * Th3_u[dof] + acc3[dof]
+                t4 = zth[g] * Th4_u[dof] + acc4[dof]
+                Wq[2 + 2 * k + d, j] = h2 * zu[dof] + h4 * t3 / P.mass[dof]
+                Wv[2 + 2 * k + d, j] = h * zu[dof] + h3 * (t3 + t4) / P.mass[dof]
+        acc3[:] = 0.0
+        acc4[:] = 0.0
+        for k in range(nnz):
+            i = nz_nodes[k]
+            zu[2 * i] = 0.0
+            zu[2 * i + 1] = 0.0
 
 
 @njit(cache=True)
@@ -397,49 +464,12 @@ def step(P, S, cfg):
     mark = np.zeros(nn, dtype=np.int64)
     touched = np.empty(nn, dtype=np.int64)
     nz_nodes = np.empty(nn, dtype=np.int64)
-    zth = np.empty(2)
     zu = np.zeros(n)
-    t3th = np.empty(2)
-    t4th = np.empty(2)
     acc3 = np.zeros(n)
     acc4 = np.zeros(n)
-    ej = np.zeros(m)
-    h2, h3, h4 = 0.5 * h * h, h ** 3 / 12.0, h ** 4 / 24.0
-    for j in range(m):
-        ej[:] = 0.0
-        ej[j] = 1.0
-        nnz = _z_of(P, th, S.cn, S.cw, S.normal, ej, zth, zu, nz_nodes, mark)
-        for g in range(2):
-            t3th[g] = zth[g] * Th3_th[g]
-            t4th[g] = zth[g] * Th4_th[g]
-        n3 = sparse_tangent(P, q3th, w3, kw3, zu, nz_nodes, nnz, scratch, mark, touched, t3th, acc3, 1.0)
-        for g in range(2):
-            Wq[g, j] = h2 * zth[g] + h4 * t3th[g] / P.J[g]
-        # touched nodes of T3 are kept in acc3; collect them on the relevant rows below
-        for k in range(nrel):
-            i = P.rel_nodes[k]
-            g = P.node_gear[i]
-            for d in range(2):
-                dof = 2 * i + d
-                t3 = zth[g] * Th3_u[dof] + acc3[dof]
-                Wq[2 + 2 * k + d, j] = h2 * zu[dof] + h4 * t3 / P.mass[dof]
-        n4 = sparse_tangent(P, q4th, w4, kw4, zu, nz_nodes, nnz, scratch, mark, touched, t4th, acc4, 1.0)
-        for g in range(2):
-            Wv[g, j] = h * zth[g] + h3 * (t3th[g] + t4th[g]) / P.J[g]
-        for k in range(nrel):
-            i = P.rel_nodes[k]
-            g = P.node_gear[i]
-            for d in range(2):
-                dof = 2 * i + d
-                t3 = zth[g] * Th3_u[dof] + acc3[dof]
-                t4 = zth[g] * Th4_u[dof] + acc4[dof]
-                Wv[2 + 2 * k + d, j] = h * zu[dof] + h3 * (t3 + t4) / P.mass[dof]
-        acc3[:] = 0.0
-        acc4[:] = 0.0
-        for k in range(nnz):
-            i = nz_nodes[k]
-            zu[2 * i] = 0.0
-            zu[2 * i + 1] = 0.0
+    h2 = 0.5 * h * h
+    _columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, 0, m, Wq, Wv, scratch, mark, touched,
+             nz_nodes, zu, acc3, acc4)
 
     # relevant rows of the free state
     qs_rel = np.empty(R)
@@ -452,6 +482,14 @@ def step(P, S, cfg):
             qs_rel[2 + 2 * k + d] = qs_u[2 * i + d]
             vs_rel[2 + 2 * k + d] = vs_u[2 * i + d]
 
+    # The forces are G^T x with the contact row where the contact now is; the prediction
+    # used the last step's forces, so rel(x) = rel* - W0 x0 + W x.
+    qs_rel -= Wq @ x0
+    vs_rel -= Wv @ x0
+    cn_f = S.cn.copy()
+    cw_f = S.cw.copy()
+    n_f = S.normal.copy()
+    loc_f = np.array([S.cpar[0], S.cpar[1]])
     C = S.C
     Cp = np.empty((m, m))
     work = np.empty(m)
@@ -469,9 +507,9 @@ def step(P, S, cfg):
     x = x0.copy()
     a_c, b_c, mode, nxc, nyc, sc = 0.0, 0.0, 0, 0.0, 0.0, 0.0
     it = 0
+    moves = 0
     while True:
-        dxv = x - x0
-        rel = qs_rel + Wq @ dxv
+        rel = qs_rel + Wq @ x
         th_try[0], th_try[1] = rel[0], rel[1]
         for k in range(nrel):
             i = P.rel_nodes[k]
@@ -499,25 +537,33 @@ def step(P, S, cfg):
             S.its[0] = it
             return FAIL_DISP
         accelerated_update(x, e, C, h2, nlev, eps_root, Cp, work)
+        if abs(a_c - loc_f[0]) + abs(b_c - loc_f[1]) > RELOCATE and moves < MAX_RELOCATE:
+            # the contact force acts where the contact now is
+            moves += 1
+            loc_f[0], loc_f[1] = a_c, b_c
+            contact_rows(P, a_c, b_c, cn_f, cw_f)
+            n_f[0], n_f[1] = nxc, nyc
+            _columns(P, h, pred, S.theta, cn_f, cw_f, n_f, m - 1, m, Wq, Wv, scratch, mark,
+                     touched, nz_nodes, zu, acc3, acc4)
+            gram_contact(P, cn_f, cw_f, n_f, C)
         it += 1
     S.res[0] = res
     S.its[0] = it
     p_bar = x[m - 1]
 
     # full positions at t + dt by superposition
-    th1, u1, _, _ = superpose(P, S, h, pred, x - x0, False)
+    th1, u1, _, _ = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, False)
     cn1 = np.empty(6, dtype=np.int64)
     cw1 = np.empty(6)
     contact_rows(P, a_c, b_c, cn1, cw1)
     n1 = np.array([nxc, nyc])
 
-    # -- stage 2: velocities ------------------------------------------------------------
+    # -- stage 2: velocities (positions from stage 1, same force directions) ---------------
     it = 0
     v_try = vs_u.copy()
     om_try = np.empty(2)
     while True:
-        dxv = x - x0
-        rel = vs_rel + Wv @ dxv
+        rel = vs_rel + Wv @ x
         om_try[0], om_try[1] = rel[0], rel[1]
         for k in range(nrel):
             i = P.rel_nodes[k]
@@ -550,7 +596,7 @@ def step(P, S, cfg):
     S.res[1] = res
     S.its[1] = it
 
-    _, _, om1, v1 = superpose(P, S, h, pred, x - x0, True)
+    _, _, om1, v1 = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, True)
 
     # -- stage 3: accelerations at t + dt -----------------------------------------------
     zero2 = np.zeros(2)

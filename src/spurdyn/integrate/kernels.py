@@ -216,6 +216,31 @@ def gram(P, theta, cn, cw, normal, C):
     C[nx - 1, nx - 1] = cpp
 
 
+@njit(cache=True)
+def gram_contact(P, cn, cw, normal, C):
+    """Refresh the contact row and column of ``G M^-1 G^T`` for new contact rows."""
+    nr = P.rnode.size
+    nx = 2 * nr + 1
+    for k in range(nx):
+        C[nx - 1, k] = 0.0
+        C[k, nx - 1] = 0.0
+    for k in range(nr):
+        i = P.rnode[k]
+        for j in range(6):
+            if cn[j] == i:
+                sign = 1.0 if j < 3 else -1.0
+                for a in range(2):
+                    v = -sign * cw[j] * normal[a] / P.mass[2 * i + a]
+                    C[2 * k + a, nx - 1] += v
+                    C[nx - 1, 2 * k + a] += v
+    cpp = 0.0
+    for j in range(6):
+        for j2 in range(6):
+            if cn[j] == cn[j2] and ((j < 3) == (j2 < 3)):
+                cpp += cw[j] * cw[j2] / P.mass[2 * cn[j]]
+    C[nx - 1, nx - 1] = cpp
+
+
 # -- accelerated iteration (Appendix B) -----------------------------------------------------
 
 @njit(cache=True)
@@ -372,6 +397,10 @@ def newton_pair(va, Ma, vb, Mb, ta0, ha, tb0, hb, a, b):
             return a, b, False
         s0 = (f0 * j11 - j01 * f1) / det
         s1 = (j00 * f1 - j10 * f0) / det
+        big = max(abs(s0), abs(s1))
+        if big > 0.5:
+            s0 *= 0.5 / big
+            s1 *= 0.5 / big
         a -= s0
         b -= s1
         if not (math.isfinite(a) and math.isfinite(b)):
@@ -396,37 +425,64 @@ def project(px, py, v, M, t0, h, t, lo, hi):
 
 
 @njit(cache=True)
+def scan(va, Ma, vb, Mb, fa, fb, b_guess):
+    """A global start: the data point of A whose normal gap to B is smallest (deepest)."""
+    ta0, ta1, ha = fa[F_T0], fa[F_T1], fa[F_H]
+    tb0, tb1, hb = fb[F_T0], fb[F_T1], fb[F_H]
+    e = np.empty(6)
+    f = np.empty(6)
+    best = np.inf
+    ba, bb = ta0, tb0
+    b = min(max(b_guess, tb0), tb1)
+    n = va.shape[0]
+    for k in range(n):
+        a = ta0 + k * ha
+        spline_eval(va, Ma, ta0, ha, a, e)
+        b = project(e[0], e[1], vb, Mb, tb0, hb, b, tb0, tb1)
+        spline_eval(vb, Mb, tb0, hb, b, f)
+        nrm = math.hypot(e[2], e[3])
+        gap = (e[3] * (f[0] - e[0]) - e[2] * (f[1] - e[1])) / nrm
+        if gap < best:
+            best, ba, bb = gap, a, b
+    return ba, bb
+
+
+@njit(cache=True)
 def find_pair(va, Ma, vb, Mb, fa, fb, ga, gb):
     """The contact pair ``(alpha, beta, mode, nx, ny)`` of two flank splines (see
     :func:`spurdyn.contact.reference.find_contact`)."""
     ta0, ta1, ha = fa[F_T0], fa[F_T1], fa[F_H]
     tb0, tb1, hb = fb[F_T0], fb[F_T1], fb[F_H]
     a, b, ok = newton_pair(va, Ma, vb, Mb, ta0, ha, tb0, hb, ga, gb)
-    mode = FLANK
+    if not ok or abs(a - ga) + abs(b - gb) > 1.0:
+        sa, sb = scan(va, Ma, vb, Mb, fa, fb, gb)
+        a, b, ok = newton_pair(va, Ma, vb, Mb, ta0, ha, tb0, hb, sa, sb)
     e = np.empty(6)
-    if not ok or a > ta1 or b > tb1:
-        ga_ = min(max(ga, ta0), ta1)
-        gb_ = min(max(gb, tb0), tb1)
+    if ok and ta0 <= a <= ta1 and tb0 <= b <= tb1:
+        mode = FLANK
+    else:
+        ga_ = min(max(a if ok else ga, ta0), ta1)
+        gb_ = min(max(b if ok else gb, tb0), tb1)
         spline_eval(vb, Mb, tb0, hb, tb1, e)
         cbx, cby = e[0], e[1]
         a_b = project(cbx, cby, va, Ma, ta0, ha, ga_, ta0, ta1)
         spline_eval(va, Ma, ta0, ha, ta1, e)
         cax, cay = e[0], e[1]
         b_a = project(cax, cay, vb, Mb, tb0, hb, gb_, tb0, tb1)
-        corner_b = ta0 < a_b < ta1 and ((ok and b > tb1) or not ok)
-        corner_a = tb0 < b_a < tb1 and ((ok and a > ta1) or not ok)
-        if corner_a and corner_b:
+        dist_b = np.inf
+        dist_a = np.inf
+        if ta0 < a_b < ta1:
             spline_eval(va, Ma, ta0, ha, a_b, e)
-            db = math.hypot(cbx - e[0], cby - e[1])
+            dist_b = math.hypot(cbx - e[0], cby - e[1])
+        if tb0 < b_a < tb1:
             spline_eval(vb, Mb, tb0, hb, b_a, e)
-            da = math.hypot(cax - e[0], cay - e[1])
-            corner_b = db <= da
-        if corner_b or ((not corner_a) and ok and b > tb1):
+            dist_a = math.hypot(cax - e[0], cay - e[1])
+        if dist_b <= dist_a and math.isfinite(dist_b):
             a, b, mode = a_b, tb1, CORNER_B
-        else:
+        elif math.isfinite(dist_a):
             a, b, mode = ta1, b_a, CORNER_A
-    a = min(max(a, ta0), ta1)
-    b = min(max(b, tb0), tb1)
+        else:
+            a, b, mode = ga_, gb_, FLANK
     if mode == CORNER_A:
         spline_eval(vb, Mb, tb0, hb, b, e)
         tx, ty = e[2], e[3]

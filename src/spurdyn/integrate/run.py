@@ -115,6 +115,8 @@ def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
     Result
         ``status`` is ``"incomplete"`` (with ``reason``) if the run stopped early.
     """
+    if pair.driver == "b":
+        return _simulate_driven_by_b(pair, case, progress, chunk)
     wall0 = time.perf_counter()
     system = build_system(pair, case)
     angle = check_case(pair, case, system)
@@ -146,6 +148,39 @@ def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
         status, reason = "incomplete", str(err)
     return _to_result(pair, case, system, rows[:n_rows], frames, status, reason, steps,
                       time.perf_counter() - wall0)
+
+
+def _simulate_driven_by_b(pair: GearPair, case: RunCase, progress: Progress | None,
+                          chunk: int) -> Result:
+    """Gear B drives: simulate the mirror image, in which B is the first gear and drives.
+
+    With A turning clockwise and B counter-clockwise, a driving B pushes on the other
+    flanks. Mirrored about the line between the centres, the pair is a pair whose first
+    gear (B) drives clockwise on its right flank, which is what the solver models; every
+    rotation, speed and torque keeps its sense relative to its own gear, so the results
+    map back by swapping the gears' columns. Tooth frames are not mapped back (none kept).
+    """
+    inner_pair = GearPair(gear_a=pair.gear_b, gear_b=pair.gear_a,
+                          centre_distance=pair.centre_distance, driver="a")
+    ratio = pair.gear_a.base_radius / pair.gear_b.base_radius   # theta_B / theta_A
+    inner_case = case.with_(speed_a=case.speed_b, speed_b=case.speed_a, frames_every=0,
+                            angle=None if case.angle is None else case.angle * ratio)
+    r = simulate(inner_pair, inner_case, None if progress is None else
+                 (lambda k, a, tot: progress(k, a / ratio, tot / ratio)), chunk)
+    swap = (lambda a: a[:, ::-1].copy())
+    corner = r.corner.copy()
+    corner[r.corner == 1], corner[r.corner == 2] = 2, 1
+    info = dict(r.info)
+    info.update(theta_s=pair.theta_s, theta_2=pair.theta_2,
+                single_zone=(pair.theta_2, pair.theta_s - pair.theta_2), driver="b",
+                frames="not kept when gear B drives")
+    theta = swap(r.theta)
+    return Result(time=r.time, angle=theta[:, 0].copy(), contact_force=r.contact_force, gap=r.gap,
+                  roll=swap(r.roll), theta=theta, omega=swap(r.omega), torque=swap(r.torque),
+                  residual=r.residual, iterations=r.iterations, corner=corner,
+                  frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
+                  frame_u=np.zeros((0, r.frame_u.shape[1])), status=r.status, reason=r.reason,
+                  steps=r.steps, wall_s=r.wall_s, info=info)
 
 
 def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -29,6 +29,15 @@ from spurdyn.solver.iteration import accelerated_update
 from spurdyn.solver.system import GearBody, PairSystem
 
 
+#: The contact force moves to the contact pair found by an iterate when the pair has moved
+#: by more than this (flank coordinate, i.e. elements) from where the force acts, at most
+#: MAX_RELOCATE times a step. Smooth meshing moves the pair ~1e-4 element a step and never
+#: triggers it; after an impact, waves on the flanks can make the pair jump a large part
+#: of an element within a step, and a force left behind cannot close the gap there.
+RELOCATE = 0.05
+MAX_RELOCATE = 4
+
+
 class ConvergenceError(RuntimeError):
     """A stage did not converge within its iteration cap."""
 
@@ -265,10 +274,14 @@ class ReferenceStepper:
         residual = np.zeros(3)
         iters = np.zeros(3, dtype=np.int64)
 
-        # Stage 1: displacements.
+        # Stage 1: displacements. The contact force acts where the contact pair is: when an
+        # iterate finds the pair moved (by more than RELOCATE in flank coordinates), the
+        # force moves with it for the next iterates.
         x = st.x.copy()
+        c_force = st.contact
+        moves = 0
         for m in range(cap + 1):
-            f_theta, f_u = constraint_force(sys_, st.theta, st.contact, x)
+            f_theta, f_u = constraint_force(sys_, st.theta, c_force, x)
             th1, _, u1, _ = self.rk4(st, f_theta, f_u)
             c1 = self.contact_at(th1, u1, guess)
             pi = c1.s if (x[-1] < 0.0 or c1.s > 0.0) else 0.0
@@ -279,12 +292,18 @@ class ReferenceStepper:
             if m == cap:
                 raise ConvergenceError(index, "displacement", residual[0], case.tol_disp, m)
             x = accelerated_update(x, e, 0.5 * h * h * cbase, nlev)
+            if abs(c1.alpha - c_force.alpha) + abs(c1.beta - c_force.beta) > RELOCATE \
+                    and moves < MAX_RELOCATE:
+                moves += 1
+                c_force = c1
+                gmat = jacobian(sys_, st.theta, c_force)
+                cbase = (gmat * self.minv) @ gmat.T
         iters[0] = m
         x_bar, p_bar = x.copy(), x[-1]
 
-        # Stage 2: velocities (positions from stage 1).
+        # Stage 2: velocities (positions from stage 1, same force directions).
         for m in range(cap + 1):
-            f_theta, f_u = constraint_force(sys_, st.theta, st.contact, x)
+            f_theta, f_u = constraint_force(sys_, st.theta, c_force, x)
             _, om2, _, v2 = self.rk4(st, f_theta, f_u)
             sh = self.normal_of(c1, v2, self.velocity_mats(th1, om2))
             pih = sh if (p_bar < 0.0 and (sh > 0.0 or x[-1] < 0.0)) else 0.0

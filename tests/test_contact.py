@@ -209,3 +209,31 @@ def test_compiled_contact_search_matches_reference(system):
         assert sc == pytest.approx(c.s, abs=1e-15)
         assert np.allclose([nx, ny], c.normal, atol=1e-12)
     assert pair_end > 0
+
+
+@pytest.mark.parametrize("relief", [False, True])
+def test_flank_surface_passes_through_the_outline_nodes(relief):
+    """The exact (relieved) flank of the contact model runs through the mesh's outline
+    nodes, where the offset ``delta`` from the element edges vanishes; Python and
+    compiled versions agree."""
+    from spurdyn.geometry.gear import GearPair
+    from spurdyn.geometry.presets import nasa_like_relief
+    from spurdyn.integrate.fast import pack
+
+    pair = paper_pair()
+    if relief:
+        g = nasa_like_relief(pair.gear_a, pair.gear_b)
+        pair = GearPair(gear_a=g, gear_b=g)
+        assert g.tip_relief > 0
+    case = RunCase(speed_a=400.0, speed_b=400.0, torque=1.0)
+    s = build_system(pair, case)
+    p = pack(s, case)
+    for g, gb in enumerate(s.gears):
+        f = gb.flank
+        for k in range(int(np.ceil(2 * f.t0)), 2 * f.ny + 1):
+            t = k / 2.0
+            assert np.hypot(*f.delta(t)) < 1e-12
+            assert np.allclose(kernels.delta_at(p.fpar[g], p.sideY[g], t), f.delta(t), atol=1e-15)
+        # between the nodes the quadratic edges miss the involute by nanometres
+        mid = [np.hypot(*f.delta(t + 0.25)) for t in range(int(np.ceil(f.t0)), f.ny)]
+        assert 0 < max(mid) < 1e-6

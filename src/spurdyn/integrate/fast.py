@@ -40,11 +40,12 @@ def pack(system: PairSystem, case: RunCase) -> Packed:
     offs = (0, na)
     rnode = np.concatenate([ga.root_nodes + offs[0], gb.root_nodes + offs[1]]).astype(np.int64)
     rgear = np.concatenate([np.zeros(ga.root_nodes.size, np.int64), np.ones(gb.root_nodes.size, np.int64)])
-    fpar = np.zeros((2, 9))
+    fpar = np.zeros((2, 13))
     fl_nodes, fl_w, fl_delta, side, side_y, rel = [], [], [], [], [], [set(rnode.tolist())]
     for g, body in enumerate(system.gears):
         f = body.flank
-        fpar[g] = [f.t0, f.t1, f.r0, f.r_tip, f.base_radius, f.psi_base, f.ref_angle, f.ny, f.h]
+        fpar[g] = [f.t0, f.t1, f.r0, f.r_tip, f.base_radius, f.psi_base, f.ref_angle, f.ny, f.h,
+                   *f.relief]
         fl_nodes.append(f.data_nodes + offs[g])
         fl_w.append(f.data_weights)
         fl_delta.append(f.data_delta)

@@ -18,7 +18,7 @@ from numba import njit
 FLANK, CORNER_A, CORNER_B = 0, 1, 2
 
 # Indices into the per-gear flank parameter rows ``fpar[g]``.
-F_T0, F_T1, F_R0, F_RTIP, F_RB, F_PSI, F_REF, F_NY, F_H = range(9)
+F_T0, F_T1, F_R0, F_RTIP, F_RB, F_PSI, F_REF, F_NY, F_H, F_RA, F_RS, F_RK, F_RT = range(13)
 
 
 # -- small helpers --------------------------------------------------------------------------
@@ -523,6 +523,13 @@ def delta_at(fpar, sideY, t):
     chi = fpar[F_PSI] - (math.tan(al) - al)
     c, s = math.cos(fpar[F_REF]), math.sin(fpar[F_REF])
     x, y = r * math.sin(chi), r * math.cos(chi)
+    if fpar[F_RA] > 0.0:
+        # tip relief: move in along the involute's normal (spurdyn.geometry.relief)
+        xi = math.sqrt(max(r * r - fpar[F_RB] ** 2, 0.0)) / fpar[F_RB]
+        depth = fpar[F_RA] * max(0.0, (xi - fpar[F_RS]) / (fpar[F_RT] - fpar[F_RS])) ** fpar[F_RK]
+        chi_t = fpar[F_PSI] - math.tan(al)
+        x -= depth * math.cos(chi_t)
+        y += depth * math.sin(chi_t)
     ex, ey = c * x - s * y, s * x + c * y
     row = int(math.floor(t))
     if row < 0:

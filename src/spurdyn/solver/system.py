@@ -29,6 +29,7 @@ from spurdyn.errors import InputError
 from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
 from spurdyn.geometry import involute as ivl
 from spurdyn.geometry.gear import Gear, GearPair
+from spurdyn.geometry.relief import relief_params
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
 from spurdyn.mesh.tooth import ToothMesh, tooth_mesh
 from spurdyn.solver.case import RunCase
@@ -53,9 +54,11 @@ class Flank:
 
     The flank coordinate ``t`` runs from 0 at the root end of the outline to ``ny`` at
     the tip corner; element row ``r`` covers ``r <= t <= r + 1`` with edge coordinate
-    ``eta = 2 (t - r) - 1``. The outline nodes are evenly spaced in radius, so the
-    material point at ``t`` is the point of the exact involute at radius
-    ``r(t) = r_0 + (r_tip - r_0) t / ny``.
+    ``eta = 2 (t - r) - 1``. The outline nodes are evenly spaced in (involute) radius, so
+    the material point at ``t`` is the point of the flank at involute radius
+    ``r(t) = r_0 + (r_1 - r_0) t / ny`` (``r_1`` the tip radius, or a few micrometres
+    more with a tip relief: :attr:`~spurdyn.geometry.gear.Gear.flank_end_radius`), moved
+    in along the normal by the relief depth there.
 
     The surface is the exact involute plus the finite-element displacement (the paper:
     the tooth surface is "the initial shape combined with the displacements of rigid
@@ -74,7 +77,7 @@ class Flank:
     t0, t1
         Flank coordinates of the first and last data point (``t1 = ny``, the tip).
     r0, r_tip
-        Radius of the outline at ``t = 0`` and at the tip.
+        Radius of the outline at ``t = 0`` and involute radius at ``t = ny``.
     base_radius, psi_base
         Base radius and polar half-angle of the tooth at the base circle.
     ref_angle
@@ -83,6 +86,9 @@ class Flank:
         ``(n, 3)`` edge nodes and shape weights of each data point.
     data_delta
         ``(n, 2)`` ``delta`` at each data point.
+    relief
+        ``(amount, start_roll, exponent, tip_roll)`` of the tip relief
+        (:func:`spurdyn.geometry.relief.relief_params`; amount 0 for none).
     """
 
     side_nodes: NDArray[np.intp]
@@ -97,6 +103,7 @@ class Flank:
     data_nodes: NDArray[np.intp]
     data_weights: NDArray[np.float64]
     data_delta: NDArray[np.float64]
+    relief: tuple[float, float, float, float] = (0.0, 0.0, 1.0, 1.0)
 
     @property
     def ny(self) -> int:
@@ -120,9 +127,17 @@ class Flank:
     def exact(self, t: float) -> NDArray[np.float64]:
         """Initial position (relative to the centre) of the involute point at ``t``."""
         r = self.r0 + (self.r_tip - self.r0) * t / self.ny
-        chi = self.psi_base - float(ivl.inv(math.acos(min(self.base_radius / r, 1.0))))
-        c, s = math.cos(self.ref_angle), math.sin(self.ref_angle)
+        alpha = math.acos(min(self.base_radius / r, 1.0))
+        chi = self.psi_base - float(ivl.inv(alpha))
         x, y = r * math.sin(chi), r * math.cos(chi)
+        amount, start, k, tip = self.relief
+        if amount > 0.0:
+            xi = math.sqrt(max(r * r - self.base_radius**2, 0.0)) / self.base_radius
+            depth = amount * max(0.0, (xi - start) / (tip - start)) ** k
+            chi_t = self.psi_base - math.tan(alpha)          # the involute's normal
+            x -= depth * math.cos(chi_t)
+            y += depth * math.sin(chi_t)
+        c, s = math.cos(self.ref_angle), math.sin(self.ref_angle)
         return np.array([c * x - s * y, s * x + c * y])
 
     def delta(self, t: float) -> NDArray[np.float64]:
@@ -139,7 +154,7 @@ def make_flank(mesh: ToothMesh, gear: Gear, nodes_world: NDArray[np.float64],
     ny = mesh.ny
     side_y = nodes_world[side] - centre
     r0 = float(np.hypot(*side_y[0]))
-    r_tip = float(gear.tip_radius)
+    r_tip = float(gear.flank_end_radius)
     t0 = ny * (float(gear.form_radius) - r0) / (r_tip - r0)
     ts = np.linspace(max(t0, 0.0), float(ny), n_data)
     nodes = np.empty((n_data, 3), dtype=np.intp)
@@ -151,7 +166,8 @@ def make_flank(mesh: ToothMesh, gear: Gear, nodes_world: NDArray[np.float64],
     flank = Flank(side_nodes=side.copy(), side_Y=side_y, t0=float(ts[0]), t1=float(ny), r0=r0,
                   r_tip=r_tip, base_radius=float(gear.base_radius),
                   psi_base=float(gear.half_angle_base), ref_angle=float(ref_angle),
-                  data_nodes=nodes, data_weights=weights, data_delta=np.zeros((n_data, 2)))
+                  data_nodes=nodes, data_weights=weights, data_delta=np.zeros((n_data, 2)),
+                  relief=relief_params(gear))
     object.__setattr__(flank, "data_delta", np.array([flank.delta(t) for t in ts]))
     return flank
 
@@ -266,12 +282,10 @@ def _body(gear: Gear, mesh: ToothMesh, X: NDArray[np.float64], centre: NDArray[n
 def build_system(pair: GearPair, case: RunCase) -> PairSystem:
     """Mesh both teeth, place them just touching at the start of contact, assemble K and M.
 
-    With the surfaces of :class:`Flank` the involutes touch exactly at the start of the
-    path of contact at the rotations of :func:`~spurdyn.geometry.placement.mesh_angles`;
-    gear B is still turned until the contact search finds ``s = 0`` to round-off.
+    The surfaces of :class:`Flank` are the exact involutes, which touch at the start of
+    the path of contact at the rotations of :func:`~spurdyn.geometry.placement.mesh_angles`
+    (to round-off; with a tip relief they stand apart by the relief there).
     """
-    from spurdyn.contact.reference import find_contact  # the contact module builds on this one
-
     if pair.driver != "a":
         raise InputError("pair.driver", "only gear A driving is supported by the solver yet; "
                          "swap gear_a and gear_b")
@@ -280,19 +294,7 @@ def build_system(pair: GearPair, case: RunCase) -> PairSystem:
     mesh_b = tooth_mesh(pair.gear_b, case.nx, case.ny)
     ca, cb = np.array([0.0, 0.0]), np.array([0.0, pair.centre_distance])
     xa = to_world_a(mesh_a.nodes, theta_a)
-    fa = make_flank(mesh_a, pair.gear_a, xa, ca, -theta_a, case.n_spline)
-    r_start = float(pair.gear_a.radius_at_roll_angle(pair.start_roll_a))
-    guess = (fa.ny * (r_start - fa.r0) / (fa.r_tip - fa.r0), float(mesh_b.ny))
-    for _ in range(6):
-        xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)
-        fb = make_flank(mesh_b, pair.gear_b, xb, cb, math.pi + theta_b, case.n_spline)
-        c = find_contact(fa, fb, xa, xb, np.eye(2), np.eye(2), guess)
-        guess = (c.alpha, c.beta)
-        point = c.weights_b @ xb[c.nodes_b] - cb
-        lever = float(c.normal @ np.array([-point[1], point[0]]))
-        if abs(c.s) < 1e-16:
-            break
-        theta_b += c.s / lever
+    xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)
     gears = (_body(pair.gear_a, mesh_a, xa, ca, float(SENSE[0]), -theta_a, case.n_spline),
              _body(pair.gear_b, mesh_b, xb, cb, float(SENSE[1]), math.pi + theta_b, case.n_spline))
     na, nb = gears[0].n_u, gears[1].n_u

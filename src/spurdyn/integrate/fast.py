@@ -7,6 +7,7 @@ from collections import namedtuple
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.sparse import block_diag
 
 from spurdyn.model.loading import gear_angles, torque_amplitudes
 from spurdyn.solver.case import RunCase
@@ -17,7 +18,7 @@ from spurdyn.solver.system import PairSystem
 Packed = namedtuple("Packed", [
     "Y", "mass", "node_gear", "sense", "J", "centre", "indptr", "indices", "data", "keep",
     "tpar", "rnode", "rgear", "fpar", "fl_nodes", "fl_w", "fl_delta", "side", "sideY",
-    "rel_nodes",
+    "rel_nodes", "rel_pos",
 ])
 
 #: Mutable state arrays of the fast stepper.
@@ -33,8 +34,7 @@ def pack(system: PairSystem, case: RunCase) -> Packed:
     """The model as plain arrays, nodes of both teeth stacked (A first)."""
     ga, gb = system.gears
     na = ga.mesh.n_nodes
-    k = __import__("scipy.sparse", fromlist=["block_diag"]).block_diag(
-        [ga.stiffness, gb.stiffness], format="csr")
+    k = block_diag([ga.stiffness, gb.stiffness], format="csr").tobsr(blocksize=(2, 2))
     k.sort_indices()
     node_gear = np.concatenate([np.zeros(na, np.int64), np.ones(gb.mesh.n_nodes, np.int64)])
     offs = (0, na)
@@ -54,6 +54,9 @@ def pack(system: PairSystem, case: RunCase) -> Packed:
         # Flank nodes the contact can reach: every outline node from the row of t0 up.
         first = 2 * int(np.floor(f.t0))
         rel.append(set((f.side_nodes[first:] + offs[g]).tolist()))
+    rel_nodes = np.array(sorted(set().union(*rel)), dtype=np.int64)
+    rel_pos = -np.ones(node_gear.size, dtype=np.int64)
+    rel_pos[rel_nodes] = np.arange(rel_nodes.size)
     amp = torque_amplitudes(system.pair, case.torque)
     angles = gear_angles(system.pair)
     tpar = np.array([[amp[0], angles[0][0], angles[0][1]], [amp[1], angles[1][0], angles[1][1]]])
@@ -61,11 +64,11 @@ def pack(system: PairSystem, case: RunCase) -> Packed:
         Y=np.concatenate([ga.Y, gb.Y]), mass=system.mass, node_gear=node_gear,
         sense=np.array([ga.sense, gb.sense]), J=np.array([ga.inertia, gb.inertia]),
         centre=np.array([ga.centre, gb.centre]), indptr=k.indptr.astype(np.int64),
-        indices=k.indices.astype(np.int64), data=k.data.astype(np.float64),
+        indices=k.indices.astype(np.int64), data=np.ascontiguousarray(k.data, dtype=np.float64),
         keep=1 if case.keep_theta_term else 0, tpar=tpar, rnode=rnode, rgear=rgear, fpar=fpar,
         fl_nodes=np.array(fl_nodes, dtype=np.int64), fl_w=np.array(fl_w), fl_delta=np.array(fl_delta),
         side=np.array(side, dtype=np.int64), sideY=np.array(side_y),
-        rel_nodes=np.array(sorted(set().union(*rel)), dtype=np.int64),
+        rel_nodes=rel_nodes, rel_pos=rel_pos,
     )
 
 

@@ -197,17 +197,15 @@ def sparse_tangent(P, th, w, kw, zu, nz_nodes, nnz, scratch, mark, touched, out_
                 dq0 += v
             else:
                 dq1 += v
-        for d in range(2):
-            val = dwx if d == 0 else dwy
-            row = 2 * node + d
-            for q in range(P.indptr[row], P.indptr[row + 1]):
-                col = P.indices[q]
-                scratch[col] += P.data[q] * val
-                cn = col // 2
-                if mark[cn] == 0:
-                    mark[cn] = 1
-                    touched[nt] = cn
-                    nt += 1
+        # K symmetric: block (node, r) of K's row gives K[r, node] as its transpose
+        for q in range(P.indptr[node], P.indptr[node + 1]):
+            r = P.indices[q]
+            scratch[2 * r] += P.data[q, 0, 0] * dwx + P.data[q, 1, 0] * dwy
+            scratch[2 * r + 1] += P.data[q, 0, 1] * dwx + P.data[q, 1, 1] * dwy
+            if mark[r] == 0:
+                mark[r] = 1
+                touched[nt] = r
+                nt += 1
     for k in range(nt):
         node = touched[k]
         g = P.node_gear[node]
@@ -230,17 +228,14 @@ def sparse_tangent(P, th, w, kw, zu, nz_nodes, nnz, scratch, mark, touched, out_
 
 
 @njit(cache=True)
-def _response_full(P, th3, w3, kw3, th4, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u, zth, zu,
-                   nz_nodes, nnz, scratch, mark, touched, t3th, t3u, t4th, t4u, want4):
+def _response_full(P, th3, w3, kw3, th4, w4, kw4, sl3, sl4, zth, zu, nz_nodes, nnz, scratch,
+                   mark, touched, t3th, t3u, t4th, t4u, want4):
     """``T3 Z`` (and ``T4 Z`` if ``want4``) as full vectors for ``Z = (zth, zu)``."""
-    for i in range(zu.size):
-        g = P.node_gear[i // 2]
-        t3u[i] = zth[g] * Th3_u[i]
-        if want4:
-            t4u[i] = zth[g] * Th4_u[i]
+    t3u[:] = 0.0
+    t4u[:] = 0.0
     for g in range(2):
-        t3th[g] = zth[g] * Th3_th[g]
-        t4th[g] = zth[g] * Th4_th[g]
+        t3th[g] = zth[g] * sl3[g]
+        t4th[g] = zth[g] * sl4[g]
     sparse_tangent(P, th3, w3, kw3, zu, nz_nodes, nnz, scratch, mark, touched, t3th, t3u, 1.0)
     if want4:
         sparse_tangent(P, th4, w4, kw4, zu, nz_nodes, nnz, scratch, mark, touched, t4th, t4u, 1.0)
@@ -279,8 +274,8 @@ def predict(P, S, h):
     """RK4 over the step with the last step's forces held fixed (directions at ``q_n``).
 
     Returns the end state ``(th, u, om, v)`` and what the linear response needs: the
-    third and fourth stage states' rotations, ``w`` and ``K w``, and the tangents of the
-    forces there applied to unit disk rotations.
+    third and fourth stage states' rotations, ``w`` and ``K w``, and the slopes of the
+    torque schedule there.
     """
     n = S.u.size
     th, om, u, v = S.theta, S.omega, S.u, S.v
@@ -324,26 +319,22 @@ def predict(P, S, h):
     vs_th = om + h6 * (S.alpha_n + 2.0 * a2th + 2.0 * a3th + a4th)
     vs_u = v + h6 * (S.a_n + 2.0 * a2u + 2.0 * a3u + a4u)
 
-    # -- the response to the rotations: T3, T4 applied to unit disk turns ------------
-    ones = np.ones(2)
-    zero_u = np.zeros(n)
-    dw = np.empty(n)
-    kdw = np.empty(n)
-    Th3_th = np.empty(2)
-    Th3_u = np.empty(n)
-    Th4_th = np.empty(2)
-    Th4_u = np.empty(n)
-    tangent(q3th, w3, kw3, ones, zero_u, P, dw, kdw, Th3_th, Th3_u)
-    tangent(q4th, w4, kw4, ones, zero_u, P, dw, kdw, Th4_th, Th4_u)
-
-    return (qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u)
+    # -- the response to a disk rotation: only the torque schedule's slope is kept. The
+    # elastic part, s R [K, Jz] w, moves a node by ~1e-22 m and 1e-11 m/s in a step, far
+    # under round-off (docs/solver.md), and would cost two stiffness products.
+    sl3 = np.empty(2)
+    sl4 = np.empty(2)
+    for g in range(2):
+        _, sl3[g] = torque(P.tpar, g, q3th[g])
+        _, sl4[g] = torque(P.tpar, g, q4th[g])
+    return (qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, sl3, sl4)
 
 
 @njit(cache=True)
 def superpose(P, S, h, pred, x, cn, cw, normal, want_v):
     """The end state of RK4 with the forces ``G^T x`` (contact row at ``cn, cw, normal``):
     ``pred`` (made with the last step's forces) plus the linear response to the change."""
-    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u = pred
+    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, sl3, sl4 = pred
     n = S.u.size
     nn = n // 2
     scratch = np.zeros(n)
@@ -375,8 +366,8 @@ def superpose(P, S, h, pred, x, cn, cw, normal, want_v):
         if not dup:
             nz_nodes[total] = i
             total += 1
-    _response_full(P, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u, zth, zu,
-                   nz_nodes, total, scratch, mark, touched, t3th, t3u, t4th, t4u, want_v)
+    _response_full(P, q3th, w3, kw3, q4th, w4, kw4, sl3, sl4, zth, zu, nz_nodes, total, scratch,
+                   mark, touched, t3th, t3u, t4th, t4u, want_v)
     h2, h3, h4 = 0.5 * h * h, h ** 3 / 12.0, h ** 4 / 24.0
     th1 = np.empty(2)
     om1 = np.empty(2)
@@ -389,41 +380,86 @@ def superpose(P, S, h, pred, x, cn, cw, normal, want_v):
 
 
 @njit(cache=True)
+def _z_col(P, theta, cn, cw, normal, j, zth, zu, nz_nodes):
+    """``Z = M^-1 G^T e_j``, written only where it is nonzero; returns the node count."""
+    m = 2 * P.rnode.size + 1
+    zth[0] = 0.0
+    zth[1] = 0.0
+    if j < m - 1:
+        k = j // 2
+        a = j % 2
+        i = P.rnode[k]
+        px, py = root_phi_theta(P, theta, k)
+        zth[P.rgear[k]] = -(px if a == 0 else py) / P.J[P.rgear[k]]
+        zu[2 * i + a] = -1.0 / P.mass[2 * i + a]
+        nz_nodes[0] = i
+        return 1
+    nnz = 0
+    for jj in range(6):
+        i = cn[jj]
+        sign = 1.0 if jj < 3 else -1.0
+        new = True
+        for l in range(nnz):
+            if nz_nodes[l] == i:
+                new = False
+        if new:
+            nz_nodes[nnz] = i
+            nnz += 1
+        zu[2 * i] += sign * cw[jj] * normal[0] / P.mass[2 * i]
+        zu[2 * i + 1] += sign * cw[jj] * normal[1] / P.mass[2 * i + 1]
+    return nnz
+
+
+@njit(cache=True)
 def _columns(P, h, pred, theta, cn, cw, normal, j0, j1, Wq, Wv, scratch, mark, touched,
              nz_nodes, zu, acc3, acc4):
     """Columns ``j0:j1`` of the responses of the relevant rows (positions ``Wq``, velocities
-    ``Wv``) to ``x = e_j``, the constraint directions at ``theta`` and the contact rows given."""
-    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u = pred
-    m = Wq.shape[1]
-    nrel = P.rel_nodes.size
+    ``Wv``) to ``x = e_j``, the constraint directions at ``theta`` and the contact rows given.
+
+    Everything here is sparse: ``Z = M^-1 G^T e_j`` lives on one node (a root multiplier) or
+    the six contact nodes, and the tangents spread it one element further.
+    """
+    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, sl3, sl4 = pred
     h2, h3, h4 = 0.5 * h * h, h ** 3 / 12.0, h ** 4 / 24.0
-    ej = np.zeros(m)
     zth = np.empty(2)
     t3th = np.empty(2)
     t4th = np.empty(2)
     for j in range(j0, j1):
-        ej[:] = 0.0
-        ej[j] = 1.0
-        nnz = _z_of(P, theta, cn, cw, normal, ej, zth, zu, nz_nodes, mark)
+        Wq[:, j] = 0.0
+        Wv[:, j] = 0.0
+        nnz = _z_col(P, theta, cn, cw, normal, j, zth, zu, nz_nodes)
         for g in range(2):
-            t3th[g] = zth[g] * Th3_th[g]
-            t4th[g] = zth[g] * Th4_th[g]
+            t3th[g] = zth[g] * sl3[g]
+            t4th[g] = zth[g] * sl4[g]
+        for k in range(nnz):
+            i = nz_nodes[k]
+            r = P.rel_pos[i]
+            if r >= 0:
+                for d in range(2):
+                    Wq[2 + 2 * r + d, j] += h2 * zu[2 * i + d]
+                    Wv[2 + 2 * r + d, j] += h * zu[2 * i + d]
         n3 = sparse_tangent(P, q3th, w3, kw3, zu, nz_nodes, nnz, scratch, mark, touched, t3th, acc3, 1.0)
-        n4 = sparse_tangent(P, q4th, w4, kw4, zu, nz_nodes, nnz, scratch, mark, touched, t4th, acc4, 1.0)
-        for g in range(2):
-            Wq[g, j] = h2 * zth[g] + h4 * t3th[g] / P.J[g]
-            Wv[g, j] = h * zth[g] + h3 * (t3th[g] + t4th[g]) / P.J[g]
-        for k in range(nrel):
-            i = P.rel_nodes[k]
-            g = P.node_gear[i]
+        for k in range(n3):
+            i = touched[k]
+            r = P.rel_pos[i]
             for d in range(2):
                 dof = 2 * i + d
-                t3 = zth[g] * Th3_u[dof] + acc3[dof]
-                t4 = zth[g] * Th4_u[dof] + acc4[dof]
-                Wq[2 + 2 * k + d, j] = h2 * zu[dof] + h4 * t3 / P.mass[dof]
-                Wv[2 + 2 * k + d, j] = h * zu[dof] + h3 * (t3 + t4) / P.mass[dof]
-        acc3[:] = 0.0
-        acc4[:] = 0.0
+                if r >= 0:
+                    Wq[2 + 2 * r + d, j] += h4 * acc3[dof] / P.mass[dof]
+                    Wv[2 + 2 * r + d, j] += h3 * acc3[dof] / P.mass[dof]
+                acc3[dof] = 0.0
+        n4 = sparse_tangent(P, q4th, w4, kw4, zu, nz_nodes, nnz, scratch, mark, touched, t4th, acc4, 1.0)
+        for k in range(n4):
+            i = touched[k]
+            r = P.rel_pos[i]
+            for d in range(2):
+                dof = 2 * i + d
+                if r >= 0:
+                    Wv[2 + 2 * r + d, j] += h3 * acc4[dof] / P.mass[dof]
+                acc4[dof] = 0.0
+        for g in range(2):
+            Wq[g, j] += h2 * zth[g] + h4 * t3th[g] / P.J[g]
+            Wv[g, j] += h * zth[g] + h3 * (t3th[g] + t4th[g]) / P.J[g]
         for k in range(nnz):
             i = nz_nodes[k]
             zu[2 * i] = 0.0
@@ -448,7 +484,7 @@ def step(P, S, cfg):
     x0 = S.x.copy()
 
     pred = predict(P, S, h)
-    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, Th3_th, Th3_u, Th4_th, Th4_u = pred
+    qs_th, qs_u, vs_th, vs_u, q3th, w3, kw3, q4th, w4, kw4, sl3, sl4 = pred
     zero_u = np.zeros(n)
     w = np.empty(n)
     kw = np.empty(n)

@@ -29,14 +29,20 @@ def cross(ax, ay, bx, by):
 
 
 @njit(cache=True)
-def csr_matvec(indptr, indices, data, v, out):
-    """``out = K v`` for a CSR matrix."""
+def bsr_matvec(indptr, indices, data, v, out):
+    """``out = K v`` for ``K`` in 2 x 2 block rows (one per node): ``data (nb, 2, 2)``."""
     n = indptr.size - 1
     for i in range(n):
-        acc = 0.0
+        a0 = 0.0
+        a1 = 0.0
         for k in range(indptr[i], indptr[i + 1]):
-            acc += data[k] * v[indices[k]]
-        out[i] = acc
+            j = indices[k]
+            v0 = v[2 * j]
+            v1 = v[2 * j + 1]
+            a0 += data[k, 0, 0] * v0 + data[k, 0, 1] * v1
+            a1 += data[k, 1, 0] * v0 + data[k, 1, 1] * v1
+        out[2 * i] = a0
+        out[2 * i + 1] = a1
 
 
 @njit(cache=True)
@@ -76,7 +82,7 @@ def elastic(theta, u, Y, node_gear, sense, indptr, indices, data, keep, w, kw, f
         # R^T y - Y
         w[2 * i] = c[g] * yx + s[g] * yy - Y[2 * i]
         w[2 * i + 1] = -s[g] * yx + c[g] * yy - Y[2 * i + 1]
-    csr_matvec(indptr, indices, data, w, kw)
+    bsr_matvec(indptr, indices, data, w, kw)
     q[0] = 0.0
     q[1] = 0.0
     for i in range(nn):
@@ -125,7 +131,7 @@ def tangent(theta, w, kw, d_th, d_u, P, dw, kdw, out_th, out_u):
         wy = w[2 * i + 1] + P.Y[2 * i + 1]
         dw[2 * i] = rx + k * wy
         dw[2 * i + 1] = ry - k * wx
-    csr_matvec(P.indptr, P.indices, P.data, dw, kdw)
+    bsr_matvec(P.indptr, P.indices, P.data, dw, kdw)
     out_th[0] = 0.0
     out_th[1] = 0.0
     for i in range(nn):

@@ -116,7 +116,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise InputError("--jobs", f"must be a whole number >= 1 (got {args.jobs})")
     overrides, labels = run_overrides(args)
     cases = resolve_cases(args.case, overrides, labels)
-    simulate = runner.load_simulate()
+    simulate = runner.load_simulate() if args.model == "fe" else runner.simulate_lumped_run
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,
                             quiet=args.quiet)
@@ -194,6 +194,9 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                      help="keep the tooth displacements every M-th step (0: none)")
     run.add_argument("--method", metavar="|".join(METHODS), help="constraint iteration")
     run.add_argument("--backend", metavar="|".join(BACKENDS), help="solver backend")
+    run.add_argument("--model", choices=("fe", "lumped"), default="fe", metavar="fe|lumped",
+                     help="fe: the paper's FE contact model (default); lumped: two disks and "
+                     "a mesh spring (docs/lumped.md)")
     run.add_argument("--vtu", action="store_true", help="also write a ParaView time series")
     run.add_argument("--jobs", type=int, default=1, metavar="N",
                      help="run the cases of a group side by side on N processes")

@@ -54,6 +54,25 @@ def load_simulate() -> Simulate:
     return simulate
 
 
+#: Models ``spurdyn run --model`` offers.
+MODELS = ("fe", "lumped")
+
+
+def simulate_lumped_run(pair: GearPair, case: RunCase, progress: Progress | None = None) -> Result:
+    """The lumped model (:func:`spurdyn.model.lumped.simulate_lumped`, no damping) with the
+    solver's call signature, for ``spurdyn run --model lumped``.
+
+    Module-level so that ``--jobs`` can hand it to worker processes. The progress callback
+    is called once, at the end (a lumped run takes a fraction of a second).
+    """
+    from spurdyn.model.lumped import simulate_lumped
+
+    result = simulate_lumped(pair, case)
+    if progress is not None and len(result.angle):
+        progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))
+    return result
+
+
 @dataclass(frozen=True)
 class RunPlan:
     """One case and the folder its results go to."""
@@ -224,6 +243,12 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True) -> dict[st
             result.wall_s = time.perf_counter() - t0
         with _Interrupts.held():
             summary = write_run(result, plan.case, tmp, vtu=plan.vtu)
+            model = result.info.get("model") if isinstance(result.info, dict) else None
+            if model and model != "fe":  # say which model made it (the FE solver's is implied)
+                from spurdyn.results.io import SUMMARY_FILE, write_summary
+
+                summary["model"] = model
+                write_summary(summary, tmp / SUMMARY_FILE)
             _move_into_place(tmp, target)
     finally:
         if tmp.exists():

@@ -4,9 +4,7 @@ Each case edits ``examples/paper_pair.toml`` (or writes a small file from scratc
 ``spurdyn info FILE`` in-process and requires: exit status 2, nothing on stdout, and
 exactly one line on stderr of the form ``spurdyn: error: <field>: <reason>``, where
 ``<field>`` is the key the user wrote (with its table) and ``<reason>`` says what is
-wrong. A test marked ``xfail(strict=True)`` is a known fault in ``spurdyn/casefile.py``
-(named in its reason); it turns into a failure as soon as the fault is fixed, so the mark
-can then be dropped.
+wrong.
 """
 
 from __future__ import annotations
@@ -41,18 +39,6 @@ def gear(name: str, teeth: int, module: float, addendum: float, dedendum: float,
             f"disk_inertia = 1e-4\n")
 
 
-CASEFILE_PREFIX = pytest.mark.xfail(strict=True, reason=(
-    "casefile.gear_from_table reads face_width, disk_inertia and cutter_tip_radius inside "
-    "the try block that prefixes InputError fields, so the field comes out as "
-    "gear_a.gear_a.<key>"))
-CASEFILE_RADII = pytest.mark.xfail(strict=True, reason=(
-    "casefile.gear_from_table turns tip_radius/root_radius into addendum/dedendum without "
-    "checking them for NaN/zero/negative first, so Gear's refusal names addendum or "
-    "dedendum, keys the user did not write"))
-CASEFILE_CENTRE_ZERO = pytest.mark.xfail(strict=True, reason=(
-    "casefile.pair_from_dict reads centre_distance with `or None`, so 0 silently means "
-    "the standard centre distance instead of being refused"))
-
 # (edited file, field named, words of the reason)
 CASES = [
     # -- zero or negative sizes ------------------------------------------------------
@@ -81,13 +67,13 @@ CASES = [
     pytest.param(edit("tip_radius = 0.047625", "tip_radius = 0"),
                  "gear_a.tip_radius", "must be above the pitch radius", id="tip_radius=0"),
     pytest.param(edit("tip_radius = 0.047625", "tip_radius = nan"),
-                 "gear_a.tip_radius", "", id="tip_radius=nan", marks=CASEFILE_RADII),
+                 "gear_a.tip_radius", "", id="tip_radius=nan"),
     pytest.param(edit("root_radius = 0.04048", "root_radius = -0.04048"),
-                 "gear_a.root_radius", "", id="root_radius<0", marks=CASEFILE_RADII),
+                 "gear_a.root_radius", "", id="root_radius<0"),
     pytest.param(edit("root_radius = 0.04048", "root_radius = 0"),
-                 "gear_a.root_radius", "", id="root_radius=0", marks=CASEFILE_RADII),
+                 "gear_a.root_radius", "", id="root_radius=0"),
     pytest.param(edit("root_radius = 0.04048", "root_radius = nan"),
-                 "gear_a.root_radius", "", id="root_radius=nan", marks=CASEFILE_RADII),
+                 "gear_a.root_radius", "", id="root_radius=nan"),
     pytest.param(edit("face_width = 0.00635", "face_width = -0.00635"),
                  "gear_a.face_width", "must be a positive number", id="face_width<0"),
     pytest.param(edit("face_width = 0.00635", "face_width = 0"),
@@ -121,7 +107,7 @@ CASES = [
     pytest.param(edit("# centre_distance = 0.0889", "centre_distance = -0.0889"),
                  "pair.centre_distance", "must be a positive number", id="centre<0"),
     pytest.param(edit("# centre_distance = 0.0889", "centre_distance = 0.0"),
-                 "pair.centre_distance", "", id="centre=0", marks=CASEFILE_CENTRE_ZERO),
+                 "pair.centre_distance", "", id="centre=0"),
     pytest.param(edit("nx = 4 ", "nx = 0 "), "mesh.nx", "from 1 to 64", id="nx=0"),
     pytest.param(edit("ny = 14", "ny = -14"), "mesh.ny", "from 2 to 256", id="ny<0"),
     # -- tip radius not above root radius ----------------------------------------------
@@ -132,7 +118,7 @@ CASES = [
     pytest.param(edit("root_radius = 0.04048", "root_radius = 0.0480"),
                  "gear_a.root_radius", "must be below the pitch radius", id="root>tip"),
     pytest.param(edit("tip_radius = 0.047625", "tip_radius = 0.060"),
-                 "gear_a.tip_radius", "", id="tip-far-above-pitch", marks=CASEFILE_RADII),
+                 "gear_a.tip_radius", "", id="tip-far-above-pitch"),
     # -- too few teeth -------------------------------------------------------------------
     pytest.param(edit("teeth = 28", "teeth = 0"), "gear_a.teeth", "positive whole number",
                  id="teeth=0"),
@@ -193,17 +179,13 @@ CASES = [
     pytest.param(edit("pressure_angle_deg = 20.0", 'pressure_angle_deg = "20"'),
                  "gear_a.pressure_angle_deg", "must be a number", id="alpha-string"),
     pytest.param(edit("face_width = 0.00635", "face_width = true"),
-                 "gear_a.face_width", "must be a number", id="face_width-bool",
-                 marks=CASEFILE_PREFIX),
+                 "gear_a.face_width", "must be a number", id="face_width-bool"),
     pytest.param(edit("disk_inertia = 2.965e-4", 'disk_inertia = "heavy"'),
-                 "gear_a.disk_inertia", "must be a number", id="disk_inertia-string",
-                 marks=CASEFILE_PREFIX),
+                 "gear_a.disk_inertia", "must be a number", id="disk_inertia-string"),
     pytest.param(edit("# cutter_tip_radius = 0.0012065", 'cutter_tip_radius = "fine"'),
-                 "gear_a.cutter_tip_radius", "must be a number", id="cutter_tip-string",
-                 marks=CASEFILE_PREFIX),
+                 "gear_a.cutter_tip_radius", "must be a number", id="cutter_tip-string"),
     pytest.param(edit("face_width = 0.00635\n", ""),
-                 "gear_a.face_width", "is missing", id="face_width-missing",
-                 marks=CASEFILE_PREFIX),
+                 "gear_a.face_width", "is missing", id="face_width-missing"),
     pytest.param(edit("young = 210e9", 'young = "steel"'),
                  "gear_a.material.young", "must be a number", id="young-string"),
     pytest.param(edit("poisson = 0.3", "poisson = false"),

@@ -163,12 +163,21 @@ def test_plot_and_animate_commands(fake, here, capsys):
 def test_cases_lists_presets(capsys):
     code, out, _ = run(capsys, "cases")
     lines = out.splitlines()
-    assert code == 0 and len(lines) == 5
+    assert code == 0 and len(lines) == 7
     for name, speeds in (("paper-fig8", "4,000/4,000"), ("paper-fig9", "20,000/20,000"),
-                         ("paper-fig10", "4,000/4,040"), ("paper-fig11", "20,000/20,200")):
+                         ("paper-fig10", "4,000/4,040"), ("paper-fig11", "20,000/20,200"),
+                         ("paper-fig10-bdrive", "4,000/4,040"), ("paper-fig11-bdrive", "20,000/20,200")):
         line = next(x for x in lines if x.startswith(name + " "))
         assert speeds in line and "22.25 N m" in line and "3e-08" in line
     assert lines[-1].startswith("paper-all")
+    assert "B driving" in next(x for x in lines if x.startswith("paper-fig10-bdrive"))
+
+
+def test_bdrive_preset_drives_with_b():
+    from spurdyn.cases import preset_case
+
+    assert preset_case("paper-fig10-bdrive").pair.driver == "b"
+    assert preset_case("paper-fig10").pair.driver == "a"
 
 
 def test_paper_all_sequential(fake, here, capsys):

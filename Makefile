@@ -1,5 +1,5 @@
 # Two commands for a fresh machine with only Python 3.11+:
-#   make demo   - install spurdyn into .venv and run the paper's example
+#   make demo   - install spurdyn into .venv and run the paper's Fig. 8 case (out/paper-fig8)
 #   make test   - install spurdyn with its test extras and run the whole test suite
 PYTHON ?= python3
 VENV   := .venv
@@ -19,7 +19,7 @@ $(STAMP): pyproject.toml | $(BIN)/python
 install: $(STAMP)
 
 demo: install
-	$(BIN)/spurdyn info paper
+	$(BIN)/spurdyn run paper-fig8 --force
 
 test: install
 	$(BIN)/python -m pytest -q

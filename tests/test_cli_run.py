@@ -101,7 +101,8 @@ def test_run_preset_end_to_end(fake, here, capsys):
     code, out, err = run(capsys, "run", "paper-fig9", *SHORT)
     assert code == 0 and err == ""  # no progress bar in a pipe
     d = here / "out" / "paper-fig9"
-    assert f"-> {Path('out') / 'paper-fig9'}" in out and out.count("\n") == 1
+    assert f"-> {Path('out') / 'paper-fig9'}" in out and out.count("\n") == 2
+    assert f"plot: {Path('out') / 'paper-fig9' / 'contact_force.png'}" in out
     ds, summary = check_run_folder(d)
     assert summary["status"] == "complete" and ds.attrs["status"] == "complete"
     assert summary["speed_a_rpm"] == pytest.approx(20000.0)

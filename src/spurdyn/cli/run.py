@@ -274,6 +274,7 @@ def _report(summary: dict[str, Any], quiet: bool) -> None:
             print(f"{summary['case']}: complete, {summary['steps']:,} steps in "
                   f"{summary['wall_s']:.1f} s, {peak_s}, {summary['separations']} "
                   f"separation(s) -> {out}", flush=True)
+            print(f"  plot: {Path(out) / 'contact_force.png'}", flush=True)
     else:
         print(f"spurdyn: {summary['case']} incomplete: {summary['reason'] or 'stopped'}; "
               f"{summary['steps']:,} steps ({summary['angle_deg']:.3f} deg) kept in {out}",

@@ -1,0 +1,172 @@
+"""Benchmark of the paper's four cases: one command, ``python benchmarks/bench_paper.py``.
+
+For each case (each in a fresh process, so its peak memory is its own): wall time of
+``simulate``, steps per second, mean iterations per stage, peak resident memory; then the
+NumPy reference on a shortened run of the same case, scaled by steps, for the speed-up;
+``paper-all --jobs 2`` through the command line; and where the time of a compiled step
+goes (each part timed in a compiled loop on a loaded state).
+
+Options: ``--ref-steps N`` (reference steps per case, default 40), ``--quick`` (only
+fig9, fewer repetitions), ``--no-cli``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+CASES = {"paper-fig8": (4000.0, 4000.0), "paper-fig9": (20000.0, 20000.0),
+         "paper-fig10": (4000.0, 4040.0), "paper-fig11": (20000.0, 20200.0)}
+
+CHILD = r"""
+import json, math, resource, sys, time
+import numpy as np
+from spurdyn.geometry.presets import paper_pair, PAPER_TORQUE
+from spurdyn.integrate import simulate
+from spurdyn.solver.case import RunCase, RPM
+a, b, backend, steps = float(sys.argv[1]), float(sys.argv[2]), sys.argv[3], int(sys.argv[4])
+pair = paper_pair()
+case = RunCase(speed_a=a * RPM, speed_b=b * RPM, torque=PAPER_TORQUE, backend=backend)
+if steps:
+    case = case.with_(angle=steps * case.dt * case.speed_a)
+simulate(pair, case.with_(angle=20 * case.dt * case.speed_a))   # load the compiled code
+t = time.perf_counter()
+r = simulate(pair, case)
+wall = time.perf_counter() - t
+print(json.dumps({"status": r.status, "steps": r.steps, "wall": wall,
+                  "iterations": r.iterations[1:].mean(axis=0).tolist(),
+                  "peak_force": float(r.contact_force.max()),
+                  "maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def child(a: float, b: float, backend: str, steps: int) -> dict:
+    out = subprocess.run([sys.executable, "-c", CHILD, str(a), str(b), backend, str(steps)],
+                         capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def breakdown(reps: int) -> dict[str, float]:
+    """Microseconds per call of each part of a compiled step, timed inside Numba."""
+    import math
+
+    import numpy as np
+    from numba import njit
+
+    from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
+    from spurdyn.integrate import fast_step as fs
+    from spurdyn.integrate import kernels as k
+    from spurdyn.integrate.fast import FastStepper
+    from spurdyn.solver.case import RPM, RunCase
+    from spurdyn.solver.system import build_system
+
+    case = RunCase(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
+    f = FastStepper(build_system(paper_pair(), case), case)
+    for _ in range(3000):
+        f.step()
+    P, S, h = f.P, f.S, case.dt
+    n, m = S.u.size, S.x.size
+    nd = P.fl_nodes.shape[1]
+
+    @njit
+    def t_step(N, P, S, cfg):
+        for _ in range(N):
+            fs.step(P, S, cfg)
+
+    @njit
+    def t_predict(N, P, S, h):
+        for _ in range(N):
+            fs.predict(P, S, h)
+
+    @njit
+    def t_columns(N, P, S, h):
+        pred = fs.predict(P, S, h)
+        R = 2 + 2 * P.rel_nodes.size
+        m = S.x.size
+        n = S.u.size
+        Wq, Wv = np.zeros((R, m)), np.zeros((R, m))
+        sc, mk = np.zeros(n), np.zeros(n // 2, dtype=np.int64)
+        tch, nz = np.empty(n // 2, dtype=np.int64), np.empty(n // 2, dtype=np.int64)
+        zu, a3, a4 = np.zeros(n), np.zeros(n), np.zeros(n)
+        for _ in range(N):
+            fs._columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, 0, m, Wq, Wv, sc, mk, tch, nz, zu, a3, a4)
+
+    @njit
+    def t_superpose(N, P, S, h):
+        pred = fs.predict(P, S, h)
+        for _ in range(N):
+            fs.superpose(P, S, h, pred, S.x, S.cn, S.cw, S.normal, True)
+
+    @njit
+    def t_search(N, P, S, nd):
+        va, vb, ma, mb = np.empty((nd, 2)), np.empty((nd, 2)), np.empty((nd, 2)), np.empty((nd, 2))
+        g = np.array([S.cpar[0], S.cpar[1]])
+        for _ in range(N):
+            fs.search(P, S.theta, S.u, g, va, vb, ma, mb)
+
+    @njit
+    def t_matvec(N, P, v):
+        out = np.empty_like(v)
+        for _ in range(N):
+            k.bsr_matvec(P.indptr, P.indices, P.data, v, out)
+
+    def clock(fn, *args):
+        fn(1, *args)
+        t = time.perf_counter()
+        fn(reps, *args)
+        return (time.perf_counter() - t) / reps * 1e6
+
+    parts = {"whole step": clock(t_step, P, S, f.cfg),
+             "RK4 prediction (3 force evaluations)": clock(t_predict, P, S, h),
+             f"response columns ({m} of them)": clock(t_columns, P, S, h),
+             "superposition of a full state (x2 a step)": clock(t_superpose, P, S, h),
+             "spline + contact search (per iteration)": clock(t_search, P, S, nd),
+             "stiffness product K v (both teeth)": clock(t_matvec, P, S.u.copy())}
+    parts["iterations a step (disp/vel/acc)"] = list(map(int, S.its))
+    return parts
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--ref-steps", type=int, default=40)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--no-cli", action="store_true")
+    args = ap.parse_args()
+    cases = {"paper-fig9": CASES["paper-fig9"]} if args.quick else CASES
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+          f"Python {platform.python_version()}, load {os.getloadavg()[0]:.2f}")
+    total = 0.0
+    rows = []
+    for name, (a, b) in cases.items():
+        fast = child(a, b, "numba", 0)
+        ref = child(a, b, "numpy", args.ref_steps)
+        ref_per_step = ref["wall"] / max(ref["steps"], 1)
+        total += fast["wall"]
+        rows.append((name, fast, ref_per_step))
+        its = "/".join(f"{x:.2f}" for x in fast["iterations"])
+        print(f"{name:<12} {fast['status']:<10} {fast['steps']:>6} steps {fast['wall']:6.2f} s "
+              f"{fast['steps'] / fast['wall']:8.0f} steps/s  iterations {its}  "
+              f"peak memory {fast['maxrss_mb']:6.0f} MB  reference {ref_per_step * 1e3:7.1f} ms/step "
+              f"-> speed-up {ref_per_step * fast['steps'] / fast['wall']:5.0f}x")
+    print(f"all {len(rows)} cases: {total:.1f} s of simulation")
+    if not args.no_cli and not args.quick:
+        with tempfile.TemporaryDirectory() as tmp:
+            t = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "spurdyn.cli.main", "run", "paper-all", "--jobs", "2",
+                            "--quiet", "--out", os.path.join(tmp, "all")], check=True)
+            print(f"spurdyn run paper-all --jobs 2: {time.perf_counter() - t:.1f} s wall "
+                  f"(CPU time of the children {resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime:.1f} s)")
+    print("where the time of a compiled step goes (us per call, 4,000 rpm, loaded):")
+    for part, us in breakdown(300 if args.quick else 2000).items():
+        print(f"  {part:<45} {us if isinstance(us, list) else f'{us:8.1f}'}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,5 +1,5 @@
-"""Entry point of the ``spurdyn`` command: ``info``, ``mesh``, ``run``, ``cases``, ``plot``
-and ``animate``.
+"""Entry point of the ``spurdyn`` command: ``info``, ``mesh``, ``run``, ``sweep``, ``cases``,
+``plot`` and ``animate``.
 
 Every refusal is one line on stderr, ``spurdyn: error: <field>: <reason>``, with exit
 status 2 and nothing written. ``spurdyn run`` exits with 1 when a run stopped early
@@ -223,6 +223,9 @@ def build_parser() -> argparse.ArgumentParser:
     mesh.set_defaults(func=cmd_mesh)
 
     _add_run_parser(sub)
+    from spurdyn.cli.sweep import add_sweep_parser
+
+    add_sweep_parser(sub)
 
     cases = sub.add_parser("cases", help="list the ready-made cases (presets)")
     cases.set_defaults(func=cmd_cases)

@@ -1,0 +1,233 @@
+"""``spurdyn sweep``: one run per speed (and torque), the dynamic factor against speed.
+
+Order of work, as ``spurdyn run``: every option and the case are read and checked, the
+output folder is checked and (with ``--scheduler``) the cluster is reached *before*
+anything is created, so bad input writes nothing (one line, exit status 2). The points
+then run on Dask (a local cluster, or the one at ``--scheduler``); each is written to
+``DIR/points/`` as soon as it finishes, and ``sweep.nc`` and ``dynamic_factor.png`` are
+assembled at the end, also after Ctrl-C. See docs/sweep.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any, Iterator
+
+from spurdyn.errors import InputError
+from spurdyn.sweep import backends as _backends
+from spurdyn.sweep.spec import MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
+
+#: Exit statuses of ``spurdyn sweep`` (those of ``spurdyn run``).
+EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
+
+#: ``spurdyn sweep`` options that override the case: (dest, dotted case key, label).
+SWEEP_OVERRIDES = (("dt", "run.dt", "--dt"), ("angle", "run.angle_deg", "--angle"))
+
+
+def local_backend(jobs: int) -> Any:
+    """The local Dask cluster (a seam for tests)."""
+    return _backends.local_backend(jobs)
+
+
+def scheduler_backend(address: str) -> Any:
+    """An existing Dask cluster (a seam for tests)."""
+    return _backends.scheduler_backend(address)
+
+
+@contextmanager
+def _nothing_to_run() -> Iterator[_backends.SerialBackend]:
+    yield _backends.SerialBackend()
+
+
+def _overrides(args: argparse.Namespace, torques: tuple[float, ...] | None
+               ) -> tuple[dict[str, Any], dict[str, str]]:
+    from spurdyn.cli.main import _parse_mesh
+
+    overrides: dict[str, Any] = {}
+    labels: dict[str, str] = {}
+    for dest, key, label in SWEEP_OVERRIDES:
+        value = getattr(args, dest)
+        if value is not None:
+            overrides[key], labels[key] = value, label
+    mesh = _parse_mesh(args.mesh)
+    if mesh is not None:
+        overrides["mesh.nx"], overrides["mesh.ny"] = mesh
+        labels["mesh.nx"] = labels["mesh.ny"] = "--mesh"
+    if torques is not None:
+        overrides["run.torque"], labels["run.torque"] = torques[0], "--torque"
+    return overrides, labels
+
+
+def resolve_sweep_case(spec: str, overrides: dict[str, Any], labels: dict[str, str],
+                       first_rpm: float) -> Any:
+    """The one case a sweep runs (a preset or a TOML file, not a group).
+
+    A file without ``run.speed_a_rpm`` takes the sweep's first speed there (the sweep
+    replaces it at each point anyway; ``run.speed_b_rpm`` defaults to the meshing speed).
+    """
+    from spurdyn.cases import GROUPS, resolve_cases
+
+    if spec in GROUPS:
+        raise InputError("CASE", f"{spec!r} is a group of cases; a sweep runs one case "
+                         "(e.g. paper-fig8)")
+    try:
+        cases = resolve_cases(spec, overrides, labels)
+    except InputError as err:
+        if err.field != "run.speed_a_rpm":
+            raise
+        more = {**overrides, "run.speed_a_rpm": first_rpm}
+        cases = resolve_cases(spec, more, {**labels, "run.speed_a_rpm": "--rpm"})
+    return cases[0]
+
+
+def check_out(out: Path, force: bool) -> None:
+    """Refuse an output folder that cannot be a sweep folder (nothing is created).
+
+    A folder that exists and is not empty must hold a sweep (``points/`` or a
+    ``sweep*.nc``) unless ``--force``: a sweep adds to its own folder, resuming it.
+    """
+    if out.exists() and not out.is_dir():
+        raise InputError(str(out), "is a file, not a folder; give another --out")
+    if out.is_dir() and any(out.iterdir()) and not force:
+        is_sweep = (out / "points").is_dir() or any(out.glob("sweep*.nc"))
+        if not is_sweep:
+            raise InputError(str(out), "exists, is not empty and holds no sweep; give "
+                             "another --out (or --force to add a sweep to it)")
+    for parent in [out, *out.parents]:
+        if parent.exists():
+            if not parent.is_dir():
+                raise InputError(str(out), f"cannot be made: {parent} is a file")
+            if not os.access(parent, os.W_OK | os.X_OK):
+                raise InputError(str(out), f"cannot be made: {parent} is not writable")
+            break
+
+
+def build_plan(args: argparse.Namespace) -> SweepPlan:
+    """Check every option and the case; the sweep to run (nothing is created)."""
+    if args.model not in MODELS:
+        raise InputError("--model", f"must be one of {', '.join(MODELS)} (got {args.model!r})")
+    if args.jobs is not None:
+        if args.scheduler is not None:
+            raise InputError("--jobs", "has no effect with --scheduler: the cluster's workers "
+                             "run the points")
+        if args.jobs < 1:
+            raise InputError("--jobs", f"must be a whole number >= 1 (got {args.jobs})")
+    if args.scheduler is not None:
+        _backends.check_address(args.scheduler)
+    rpms = parse_speeds(args.rpm)
+    torques = parse_torques(args.torque) if args.torque is not None else None
+    overrides, labels = _overrides(args, torques)
+    case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
+    out = Path(args.out) if args.out else Path("out") / f"sweep-{case.name}"
+    check_out(out, args.force)
+    plan = SweepPlan(case=case, model=args.model, rpms=rpms, torques=torques, out=out,
+                     keep_runs=args.keep_runs, force=args.force)
+    check_plan(plan)
+    return plan
+
+
+def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:
+    import numpy as np
+
+    plan, counts = report.plan, report.counts
+    n = sum(counts.values())
+    parts = [f"{counts['complete']} complete"]
+    for name in ("incomplete", "failed", "not_run"):
+        if counts.get(name):
+            parts.append(f"{counts[name]} {name.replace('_', ' ')}")
+    line = (f"{plan.model} sweep of {plan.case.name}: {n} point{'s' if n != 1 else ''} "
+            f"({report.computed} computed on {where}, {report.reused} already in "
+            f"{plan.out}): {', '.join(parts)}; {report.wall_s:.1f} s")
+    if report.interrupted or report.stopped:
+        why = "interrupted" if report.interrupted else f"stopped ({report.stopped})"
+        print(f"spurdyn: sweep {why}: {counts['complete'] + counts['incomplete']} of {n} "
+              f"points kept in {plan.out}; run the same command to compute the rest",
+              file=sys.stderr, flush=True)
+    if quiet:
+        return
+    print(line)
+    ds = report.dataset
+    factor = np.asarray(ds["dynamic_factor"].values, float)
+    ok = np.isfinite(factor)
+    extra = ""
+    if ok.any():
+        idx = np.unravel_index(np.nanargmax(np.where(ok, factor, -np.inf)), factor.shape)
+        rpm = float(np.atleast_1d(ds["rpm"].values)[idx[0]])
+        extra = f"; largest dynamic factor {factor[idx]:.3f} at {rpm:,.0f} rpm"
+    print(f"f_n = {resonance.natural_frequency_hz / 1e3:.3f} kHz (mean mesh stiffness "
+          f"{resonance.mesh_stiffness_mean:.3g} N/m): mesh resonance expected at "
+          f"{resonance.resonance_rpm:,.0f} rpm{extra}")
+    print("-> " + ", ".join(str(p) for p in report.files), flush=True)
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """Run ``spurdyn sweep``; return the exit status."""
+    from spurdyn.sweep.resonance import resonance_estimate
+    from spurdyn.sweep.runner import points_to_compute, run_sweep
+
+    plan = build_plan(args)
+    if plan.model == "fe":
+        from spurdyn.cli.run import load_simulate
+
+        load_simulate()  # refuse now if this installation has no solver
+    resonance = resonance_estimate(plan.case)
+    todo = len(points_to_compute(plan))
+    if todo == 0:
+        backend_cm, where = _nothing_to_run(), "no worker"
+    elif args.scheduler is not None:
+        backend_cm, where = scheduler_backend(args.scheduler), args.scheduler
+    else:
+        jobs = min(args.jobs or _backends.default_jobs(), todo)
+        backend_cm = local_backend(jobs)
+        where = f"{jobs} local worker{'s' if jobs > 1 else ''}"
+    with backend_cm as backend:
+        report = run_sweep(plan, backend, resonance=resonance, progress=not args.quiet)
+    _report(report, resonance, where, args.quiet)
+    return EXIT_OK if report.all_complete else EXIT_INCOMPLETE
+
+
+def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
+    """Add ``spurdyn sweep`` to the subcommands."""
+    p = sub.add_parser(
+        "sweep", help="one run per speed (and torque): the dynamic factor against speed",
+        description="Run CASE once per speed of --rpm (and torque of --torque), the whole "
+        "engagement each, gear B at the case's speed ratio (the meshing speed for the "
+        "presets but paper-fig10/11). Results: DIR/sweep.nc and DIR/dynamic_factor.png; "
+        "each finished point is kept in DIR/points/, and running the same command again "
+        "computes only what is missing. The points run on a local Dask cluster (--jobs) "
+        "or on the cluster at --scheduler. Exit status: 0 every point complete, 1 some "
+        "point incomplete, failed or not run, 2 bad input (nothing written). "
+        "See docs/sweep.md.")
+    p.add_argument("case", metavar="CASE", help="preset name (see 'spurdyn cases') or TOML file")
+    p.add_argument("--rpm", required=True, metavar="START:STOP:STEP",
+                   help="speeds of gear A (rpm): START:STOP:STEP (STOP included), "
+                   "START:STOP/N (N speeds, ends included) or a list A,B,C")
+    p.add_argument("--torque", metavar="LIST",
+                   help="torques on the driver (N m): a list A,B,C or START:STOP:STEP; "
+                   "adds a torque dimension (default: the case's torque)")
+    p.add_argument("--model", default="fe", metavar="|".join(MODELS),
+                   help="fe: the paper's FE contact model (default); lumped: two disks and "
+                   "a mesh spring")
+    p.add_argument("--out", metavar="DIR", help="sweep folder (default out/sweep-<case name>); "
+                   "rerunning into it resumes the sweep")
+    p.add_argument("--dt", type=float, metavar="S", help="time step (s)")
+    p.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
+    p.add_argument("--angle", type=float, metavar="DEG",
+                   help="rotation of A per run (deg; default the whole angle of action)")
+    p.add_argument("--jobs", type=int, metavar="N",
+                   help="worker processes of the local Dask cluster (default: one per core)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="run on the existing Dask cluster of this scheduler instead")
+    p.add_argument("--keep-runs", action="store_true",
+                   help="also keep each point's whole run folder in DIR/runs/")
+    p.add_argument("--force", action="store_true",
+                   help="compute every point again (and allow a non-sweep DIR)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar, no report lines")
+    p.set_defaults(func=cmd_sweep)
+
+
+__all__ = ["add_sweep_parser", "build_plan", "check_out", "cmd_sweep", "resolve_sweep_case"]

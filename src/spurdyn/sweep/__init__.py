@@ -1,0 +1,46 @@
+"""Speed sweeps: the dynamic factor against speed, on one machine or a Dask cluster.
+
+``spurdyn sweep`` (:mod:`spurdyn.cli.sweep`) and, from Python::
+
+    from pathlib import Path
+    from spurdyn.cases import preset_case
+    from spurdyn.sweep import SerialBackend, SweepPlan, local_backend, parse_speeds, run_sweep
+
+    plan = SweepPlan(case=preset_case("paper-fig8"), model="lumped",
+                     rpms=parse_speeds("1000:20000/40"), torques=None, out=Path("out/sweep"))
+    with local_backend(jobs=2) as backend:        # or SerialBackend(): this process
+        report = run_sweep(plan, backend)
+    report.dataset["dynamic_factor"]
+
+The modules: :mod:`~spurdyn.sweep.spec` (grids, point keys, settings hash),
+:mod:`~spurdyn.sweep.point` (one point: run and figures), :mod:`~spurdyn.sweep.backends`
+(this process or Dask), :mod:`~spurdyn.sweep.store` (point files, ``sweep.nc``),
+:mod:`~spurdyn.sweep.runner` (resumable runs), :mod:`~spurdyn.sweep.resonance` (the
+natural-frequency estimate), :mod:`~spurdyn.sweep.plot` (``dynamic_factor.png``).
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+#: Public names and the module each comes from (imported when first asked for, so that
+#: ``spurdyn --help`` does not pay for xarray and Matplotlib).
+_EXPORTS = {
+    "DaskBackend": "backends", "SerialBackend": "backends", "local_backend": "backends",
+    "scheduler_backend": "backends",
+    "FIGURES": "point", "PointOutcome": "point", "PointTask": "point", "run_point": "point",
+    "ResonanceEstimate": "resonance", "resonance_estimate": "resonance",
+    "SweepReport": "runner", "run_sweep": "runner", "points_to_compute": "runner",
+    "MODELS": "spec", "PointKey": "spec", "SweepPlan": "spec", "parse_speeds": "spec",
+    "parse_torques": "spec", "point_case": "spec", "settings_hash": "spec",
+    "STATUS_CODES": "store", "load_dataset": "store",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        return getattr(import_module(f"spurdyn.sweep.{_EXPORTS[name]}"), name)
+    raise AttributeError(f"module 'spurdyn.sweep' has no attribute {name!r}")

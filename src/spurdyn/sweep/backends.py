@@ -1,0 +1,289 @@
+"""Where the points of a sweep run: in this process, or on a Dask cluster.
+
+A backend turns a list of :class:`~spurdyn.sweep.point.PointTask` into a stream of
+``(task, outcome, note)`` in the order the points finish: ``outcome`` is the
+:class:`~spurdyn.sweep.point.PointOutcome`, or ``None`` when the point was not computed
+(``note`` says why). The runner writes each outcome the moment it arrives.
+
+:class:`DaskBackend` runs on a ``distributed`` client: a local cluster made by
+:func:`local_backend` (one single-threaded worker process per job, on 127.0.0.1) or an
+existing cluster reached by :func:`scheduler_backend`. :class:`SerialBackend` runs the
+points one after the other in this process (the Python API, tests and debugging).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import signal
+import time
+import uuid
+from contextlib import contextmanager
+from typing import Any, Callable, Iterator, Protocol, Sequence
+
+from spurdyn.errors import InputError
+from spurdyn.sweep.point import FAILED, PointOutcome, PointTask
+from spurdyn.sweep.spec import expected_steps
+
+PointFn = Callable[[PointTask], PointOutcome]
+Stream = Iterator[tuple[PointTask, "PointOutcome | None", str]]
+
+#: Seconds a cluster may have no worker before the sweep gives up on the rest.
+NO_WORKER_GRACE_S = 120.0
+
+
+class Backend(Protocol):
+    """What the sweep runner needs of a place to run points."""
+
+    description: str
+
+    def run(self, tasks: Sequence[PointTask], fn: PointFn) -> Stream: ...
+
+    def cancel(self) -> None: ...
+
+
+def by_cost(tasks: Sequence[PointTask]) -> list[PointTask]:
+    """The longest runs first (fewest idle workers at the end of a sweep)."""
+    return sorted(tasks, key=lambda t: (-expected_steps(t.case), t.key))
+
+
+# -- in this process -------------------------------------------------------------------
+
+class _SigintFlag:
+    """While installed, Ctrl-C is counted and still raised as KeyboardInterrupt."""
+
+    def __init__(self) -> None:
+        self.count = 0
+
+    def handler(self, signum: int, frame: Any) -> None:
+        self.count += 1
+        raise KeyboardInterrupt
+
+    @contextmanager
+    def installed(self) -> Iterator[None]:
+        try:
+            old = signal.signal(signal.SIGINT, self.handler)
+        except ValueError:  # not the main thread
+            yield
+            return
+        try:
+            yield
+        finally:
+            signal.signal(signal.SIGINT, old)
+
+
+class SerialBackend:
+    """Run the points one after the other in this process.
+
+    The FE solver catches Ctrl-C and returns the run so far as ``incomplete``: such a
+    point is not a result of the sweep, so the backend drops it and raises
+    ``KeyboardInterrupt`` instead.
+    """
+
+    description = "this process"
+
+    def run(self, tasks: Sequence[PointTask], fn: PointFn) -> Stream:
+        flag = _SigintFlag()
+        for task in by_cost(tasks):
+            with flag.installed():
+                before = flag.count
+                outcome = fn(task)
+                if flag.count != before:
+                    raise KeyboardInterrupt
+            yield task, outcome, ""
+
+    def cancel(self) -> None:
+        return None
+
+
+# -- on a Dask cluster -----------------------------------------------------------------
+
+def _failed(task: PointTask, reason: str) -> PointOutcome:
+    return PointOutcome(key=task.key, status=FAILED, reason=reason, finished=time.time())
+
+
+class DaskBackend:
+    """Run the points on a ``distributed`` client, one task per point.
+
+    Every point is submitted at once, the longest first (scheduler ``priority``); results
+    are taken as they finish. A task whose worker died more often than the scheduler
+    allows (``KilledWorker``) is a failed point; tasks cancelled or lost with the scheduler
+    are not run. When the cluster has had no worker for ``no_worker_grace_s`` the
+    remaining points are given up (not run).
+    """
+
+    def __init__(self, client: Any, description: str,
+                 no_worker_grace_s: float = NO_WORKER_GRACE_S) -> None:
+        self.client = client
+        self.description = description
+        self.no_worker_grace_s = no_worker_grace_s
+        self._pending: set[Any] = set()
+
+    def _workers(self) -> int:
+        try:
+            return len(self.client.scheduler_info().get("workers", {}))
+        except Exception:  # noqa: BLE001 - a lost scheduler reads as no workers
+            return 0
+
+    def run(self, tasks: Sequence[PointTask], fn: PointFn) -> Stream:
+        from distributed import wait
+
+        ordered = by_cost(tasks)
+        token = uuid.uuid4().hex[:8]
+        futures = {}
+        for task in ordered:
+            fut = self.client.submit(fn, task, key=f"spurdyn-{task.key.stem}-{token}",
+                                     pure=False, retries=0, priority=expected_steps(task.case))
+            futures[fut] = task
+        self._pending = set(futures)
+        no_worker_since: float | None = None
+        while self._pending:
+            try:
+                done = wait(list(self._pending), timeout=1.0, return_when="FIRST_COMPLETED").done
+            except TimeoutError:
+                done = set()
+            if not done:
+                if self._workers() == 0:
+                    no_worker_since = no_worker_since or time.monotonic()
+                    if time.monotonic() - no_worker_since > self.no_worker_grace_s:
+                        raise RuntimeError(f"no worker in the cluster for "
+                                           f"{self.no_worker_grace_s:.0f} s")
+                else:
+                    no_worker_since = None
+                continue
+            for fut in sorted(done, key=lambda f: futures[f].key):
+                self._pending.discard(fut)
+                task = futures[fut]
+                if fut.status == "finished":
+                    outcome = fut.result()
+                    fut.release()
+                    yield task, outcome, ""
+                elif fut.status == "error":
+                    err = fut.exception()
+                    yield task, _failed(task, f"{type(err).__name__}: {err}"), ""
+                else:  # cancelled or lost
+                    yield task, None, f"task {fut.status} (lost its scheduler or cancelled)"
+
+    def cancel(self) -> None:
+        pending, self._pending = list(self._pending), set()
+        if pending:
+            try:
+                self.client.cancel(pending, force=True)
+            except Exception:  # noqa: BLE001 - the cluster may be gone already
+                pass
+
+
+def _quiet_distributed() -> None:
+    for name in ("distributed", "distributed.client", "distributed.scheduler",
+                 "distributed.worker", "distributed.nanny", "distributed.core",
+                 "distributed.deploy", "distributed.comm"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+
+
+def default_jobs() -> int:
+    """One worker per core this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+@contextmanager
+def local_backend(jobs: int) -> Iterator[DaskBackend]:
+    """A local Dask cluster: ``jobs`` worker processes of one thread each, on 127.0.0.1.
+
+    The cluster (scheduler and workers) is closed when the block ends, also on Ctrl-C.
+    """
+    from distributed import Client, LocalCluster
+
+    _quiet_distributed()
+    cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                           host="127.0.0.1", dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    client = Client(cluster)
+    try:
+        yield DaskBackend(client, f"a local Dask cluster of {jobs} worker process"
+                          f"{'es' if jobs > 1 else ''}")
+    finally:
+        _close(client, cluster)
+
+
+def _close(client: Any, cluster: Any = None) -> None:
+    previous = signal.getsignal(signal.SIGINT)
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C must not leave workers
+    except ValueError:
+        previous = None
+    try:
+        try:
+            client.close(timeout=10)
+        except Exception:  # noqa: BLE001
+            pass
+        if cluster is not None:
+            try:
+                cluster.close(timeout=10)
+            except Exception:  # noqa: BLE001
+                pass
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+
+
+def _worker_spurdyn() -> str:
+    import spurdyn
+
+    return spurdyn.__version__
+
+
+def check_address(address: str) -> str:
+    """Refuse a ``--scheduler`` that is not ``tcp://HOST:PORT`` (or ``tls://``)."""
+    scheme, sep, rest = address.partition("://")
+    host, colon, port = rest.rpartition(":")
+    if not sep or scheme not in ("tcp", "tls") or not colon or not host or not port.isdigit():
+        raise InputError("--scheduler", f"must look like tcp://HOST:PORT (got {address!r})")
+    return address
+
+
+@contextmanager
+def scheduler_backend(address: str, timeout_s: float = 10.0,
+                      workers_timeout_s: float = 30.0) -> Iterator[DaskBackend]:
+    """An existing Dask cluster reached through its scheduler at ``address``.
+
+    Raises
+    ------
+    InputError
+        Naming ``--scheduler``: no scheduler answers within ``timeout_s``, no worker
+        joins within ``workers_timeout_s``, or the workers cannot import spurdyn.
+    """
+    from distributed import Client
+
+    check_address(address)
+    _quiet_distributed()
+    try:
+        client = Client(address, timeout=timeout_s, set_as_default=False)
+    except (OSError, TimeoutError) as err:
+        raise InputError("--scheduler", f"no Dask scheduler answers at {address} "
+                         f"({type(err).__name__}: {err})") from None
+    try:
+        try:
+            client.wait_for_workers(1, timeout=workers_timeout_s)
+        except (TimeoutError, OSError):
+            raise InputError("--scheduler", f"no worker joined the scheduler at {address} "
+                             f"within {workers_timeout_s:g} s; start one with "
+                             f"'dask worker {address}'") from None
+        try:
+            versions = client.run(_worker_spurdyn)
+        except Exception as err:  # noqa: BLE001 - e.g. ModuleNotFoundError on a worker
+            raise InputError("--scheduler", f"the workers at {address} cannot run spurdyn "
+                             f"({type(err).__name__}: {err})") from None
+        from spurdyn import __version__
+
+        other = sorted({v for v in versions.values() if v != __version__})
+        if other:
+            raise InputError("--scheduler", f"the workers run spurdyn {', '.join(other)}, "
+                             f"this is {__version__}")
+        n = len(versions)
+        yield DaskBackend(client, f"the Dask cluster at {address} ({n} worker"
+                          f"{'s' if n != 1 else ''} now)")
+    finally:
+        _close(client)

@@ -1,0 +1,190 @@
+"""One point of a sweep: run the model on one case and reduce the run to its figures.
+
+:func:`run_point` is what the workers execute (by reference: the workers need spurdyn
+installed). It never raises for a run that goes wrong: an exception becomes a
+``"failed"`` outcome with the exception as its reason, and a run the solver stops early
+(non-convergence, NaN) is ``"incomplete"`` with the solver's reason, like ``spurdyn run``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import socket
+import time
+import traceback
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from spurdyn.casefile import Case
+from spurdyn.results.result import Result
+from spurdyn.sweep.spec import PointKey
+
+#: Outcomes of a point, in the order of their codes in ``sweep.nc`` (see
+#: :data:`spurdyn.sweep.store.STATUS_CODES`).
+COMPLETE, INCOMPLETE, FAILED = "complete", "incomplete", "failed"
+
+#: Figures of a point: name -> (units, long name). All come from
+#: :func:`spurdyn.results.io.summarize` of the run, as ``spurdyn run`` writes them,
+#: except ``rms_force`` (computed here, from the same data set).
+FIGURES: dict[str, tuple[str, str]] = {
+    "peak_force": ("N", "largest contact force of the engagement"),
+    "peak_angle_deg": ("degree", "rotation of A at the largest contact force"),
+    "dynamic_factor": ("1", "peak contact force over the quasi-static force torque / r_b"),
+    "mean_force_single_zone": ("N", "mean contact force in the single-contact zone"),
+    "rms_force": ("N", "root mean square of the contact force over the saved steps of the "
+                  "engagement (contact-free steps count as zero)"),
+    "separations": ("1", "times contact was lost after first being made (the tip leaving "
+                    "at the end not counted)"),
+    "static_force": ("N", "quasi-static tooth force torque / r_b of the driver"),
+    "angle_reached_deg": ("degree", "rotation of A the run reached"),
+    "steps": ("1", "time steps (FE) or integrator steps (lumped) taken"),
+    "wall_s": ("s", "wall-clock time of the point on its worker"),
+}
+
+
+@dataclass(frozen=True)
+class PointTask:
+    """What a worker needs to compute one point.
+
+    Attributes
+    ----------
+    key
+        The point.
+    case
+        Its case (speed and torque set, see :meth:`SweepPlan.point_case`).
+    keep_result
+        Return the whole :class:`Result` too (for ``--keep-runs``).
+    """
+
+    key: PointKey
+    case: Case
+    keep_result: bool = False
+
+
+@dataclass(frozen=True)
+class PointOutcome:
+    """What became of one point.
+
+    Attributes
+    ----------
+    key
+        The point.
+    status
+        ``"complete"``, ``"incomplete"`` (the run stopped early: ``reason``) or
+        ``"failed"`` (an error: ``reason``).
+    reason
+        Why the point is not complete ("" when it is).
+    figures
+        :data:`FIGURES` (``None`` where a figure does not exist, e.g. no single-contact
+        zone reached); empty for a failed point.
+    worker
+        ``host:pid`` of the process that computed it.
+    finished
+        Unix time at which it finished.
+    result
+        The run itself when asked for (``keep_result``), else ``None``.
+    """
+
+    key: PointKey
+    status: str
+    reason: str = ""
+    figures: dict[str, Any] = field(default_factory=dict)
+    worker: str = ""
+    finished: float = 0.0
+    result: Result | None = None
+
+
+def _worker_name() -> str:
+    return f"{socket.gethostname()}:{os.getpid()}"
+
+
+#: Mesh-stiffness tables of the lumped model, per (pair, nx, ny), kept in each worker.
+_TABLES: dict[Any, Any] = {}
+
+
+def simulate_model(model: str, case: Case) -> Result:
+    """Run ``model`` (``"fe"`` or ``"lumped"``) on ``case``; no progress reports.
+
+    The lumped model keeps its FE stiffness table per pair and mesh in the process, so
+    the points of a sweep share it.
+    """
+    if model == "fe":
+        from spurdyn.integrate import simulate
+
+        return simulate(case.pair, case.run)
+    if model == "lumped":
+        from spurdyn.model.lumped import mesh_stiffness_table, simulate_lumped
+
+        key = (case.pair, case.run.nx, case.run.ny)
+        try:
+            table = _TABLES.get(key)
+        except TypeError:  # an unhashable pair: no caching
+            key, table = None, None
+        if table is None:
+            table = mesh_stiffness_table(case.pair, case.run.nx, case.run.ny)
+            if key is not None:
+                _TABLES[key] = table
+        return simulate_lumped(case.pair, case.run, table=table)
+    raise ValueError(f"unknown model {model!r}")
+
+
+def point_figures(result: Result, case: Case) -> dict[str, Any]:
+    """The figures (:data:`FIGURES`) of a run, through the run folder's own summary.
+
+    Computed from :func:`spurdyn.results.io.result_to_dataset` and
+    :func:`~spurdyn.results.io.summarize`, so a point agrees with ``spurdyn run`` of the
+    same case.
+    """
+    from spurdyn.results.io import result_to_dataset, summarize
+
+    ds = result_to_dataset(result, case)
+    s = summarize(ds)
+    force = np.asarray(ds["contact_force"].values, float)
+    finite = force[np.isfinite(force)]
+    rms = float(np.sqrt(np.mean(finite * finite))) if finite.size else None
+    return {
+        "peak_force": s["peak_force_N"],
+        "peak_angle_deg": s["peak_angle_deg"],
+        "dynamic_factor": s["dynamic_factor"],
+        "mean_force_single_zone": s["mean_force_single_zone_N"],
+        "rms_force": rms,
+        "separations": s["separations"],
+        "static_force": s["static_force_N"],
+        "angle_reached_deg": s["angle_deg"],
+        "steps": s["steps"],
+        "wall_s": s["wall_s"],
+    }
+
+
+def run_point(task: PointTask) -> PointOutcome:
+    """Compute one point: run the model, reduce the run to its figures.
+
+    Never raises an ``Exception``: an error is a ``"failed"`` outcome whose reason is the
+    exception (type, message and the line it came from). ``KeyboardInterrupt`` and other
+    ``BaseException`` pass through.
+    """
+    t0 = time.perf_counter()
+    try:
+        result = simulate_model(task.key.model, task.case)
+        if not result.wall_s:
+            result.wall_s = time.perf_counter() - t0
+        figures = point_figures(result, task.case)
+    except Exception as err:  # noqa: BLE001 - recorded, the sweep goes on
+        where = traceback.extract_tb(err.__traceback__)[-1] if err.__traceback__ else None
+        at = f" ({os.path.basename(where.filename)}:{where.lineno})" if where else ""
+        return PointOutcome(key=task.key, status=FAILED,
+                            reason=f"{type(err).__name__}: {err}{at}",
+                            figures={"wall_s": time.perf_counter() - t0},
+                            worker=_worker_name(), finished=time.time())
+    status = COMPLETE if result.status == "complete" else INCOMPLETE
+    reason = "" if status == COMPLETE else (result.reason or "stopped early")
+    if status == COMPLETE:
+        peak = figures.get("peak_force")
+        if peak is None or not math.isfinite(peak):
+            status, reason = INCOMPLETE, "no finite contact force"
+    return PointOutcome(key=task.key, status=status, reason=reason, figures=figures,
+                        worker=_worker_name(), finished=time.time(),
+                        result=result if task.keep_result else None)

@@ -1,0 +1,302 @@
+"""Run a sweep: compute the points that are missing, write each the moment it finishes,
+then assemble ``sweep_<model>.nc``, ``sweep.nc`` and ``dynamic_factor.png``.
+
+A point already in the folder with a final status (complete or incomplete) is not
+computed again (``force`` recomputes it); failed and missing points are. Ctrl-C, a lost
+scheduler or a cluster without workers stop the sweep: the points finished so far are
+kept, the rest are marked ``not_run`` with the reason, and the same command finishes
+the job later.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import sys
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterator, TextIO
+
+import xarray as xr
+
+from spurdyn.casefile import Case
+from spurdyn.results.result import Result
+from spurdyn.sweep import point as _point
+from spurdyn.sweep.backends import Backend, PointFn
+from spurdyn.sweep.point import COMPLETE, FAILED, INCOMPLETE, PointOutcome, PointTask
+from spurdyn.sweep.resonance import ResonanceEstimate
+from spurdyn.sweep.spec import PointKey, SweepPlan, expected_steps, settings_dict
+from spurdyn.sweep.store import (FINAL, NOT_RUN, PNG_FILE, point_record, run_path,
+                                 statuses, stored_points, sweep_dataset, write_point,
+                                 write_sweep_files)
+
+
+@dataclass(frozen=True)
+class SweepReport:
+    """What a sweep did.
+
+    Attributes
+    ----------
+    plan
+        The sweep.
+    dataset
+        This model's sweep (what ``sweep_<model>.nc`` holds).
+    computed
+        Points computed by this command (whatever their outcome).
+    reused
+        Points found in the folder and not computed again.
+    counts
+        Points per status (:data:`spurdyn.sweep.store.STATUS_CODES`).
+    interrupted
+        Ctrl-C stopped the sweep.
+    stopped
+        Why the sweep stopped early other than Ctrl-C ("" if it did not).
+    files
+        The files written (``sweep_<model>.nc``, ``sweep.nc``, the picture).
+    wall_s
+        Wall-clock time of the sweep (s).
+    """
+
+    plan: SweepPlan
+    dataset: xr.Dataset
+    computed: int
+    reused: int
+    counts: dict[str, int]
+    interrupted: bool = False
+    stopped: str = ""
+    files: tuple[Path, ...] = ()
+    wall_s: float = 0.0
+
+    @property
+    def all_complete(self) -> bool:
+        return self.counts.get(COMPLETE, 0) == sum(self.counts.values())
+
+
+# -- progress --------------------------------------------------------------------------
+
+class SweepProgress:
+    """A tqdm bar: points done and failed, time left (weighted by each point's steps).
+
+    Shown only when ``enabled`` and the stream is a terminal: silent in pipes.
+    """
+
+    def __init__(self, label: str, total_cost: int, n_points: int, enabled: bool = True,
+                 stream: TextIO | None = None) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        isatty = getattr(self.stream, "isatty", lambda: False)
+        self.enabled = bool(enabled) and bool(isatty()) and n_points > 0
+        self.n_points, self.done, self.failed = n_points, 0, 0
+        self.bar: Any = None
+        if self.enabled:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=max(total_cost, 1), desc=label, file=self.stream,
+                            dynamic_ncols=True, leave=True, unit="step", unit_scale=True,
+                            bar_format="{desc}: {percentage:3.0f}%|{bar}| {postfix} "
+                                       "[{elapsed}<{remaining}]")
+            self._postfix()
+
+    def _postfix(self) -> None:
+        if self.bar is not None:
+            self.bar.set_postfix_str(f"{self.done}/{self.n_points} points, {self.failed} "
+                                     "failed", refresh=True)
+
+    def update(self, cost: int, ok: bool) -> None:
+        self.done += 1
+        self.failed += 0 if ok else 1
+        if self.bar is not None:
+            self.bar.update(cost)
+            self._postfix()
+
+    def write(self, line: str) -> None:
+        """Print a line on stderr without breaking the bar."""
+        if self.bar is not None:
+            self.bar.write(line, file=self.stream)
+        else:
+            print(line, file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+
+# -- Ctrl-C held back while files are written ------------------------------------------
+
+@contextmanager
+def _held_interrupts() -> Iterator[None]:
+    """Hold Ctrl-C back while a file is written; raise it afterwards."""
+    caught: list[int] = []
+
+    def handler(signum: int, frame: Any) -> None:
+        caught.append(signum)
+
+    try:
+        old = signal.signal(signal.SIGINT, handler)
+    except ValueError:  # not the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+    if caught:
+        raise KeyboardInterrupt
+
+
+# -- writing ---------------------------------------------------------------------------
+
+def write_run_folder(out: Path, key: PointKey, case: Case, result: Result) -> Path:
+    """Write a point's whole run folder (``spurdyn run``'s layout) to ``out/runs/``.
+
+    Written into a hidden temporary folder first and renamed into place.
+    """
+    from spurdyn.results.io import SUMMARY_FILE, write_run, write_summary
+
+    target = run_path(out, key)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.with_name(f".{target.name}.partial-{os.getpid()}")
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir()
+    try:
+        summary = write_run(result, case, tmp)
+        model = result.info.get("model") if isinstance(result.info, dict) else None
+        if model and model != "fe":
+            summary["model"] = model
+            write_summary(summary, tmp / SUMMARY_FILE)
+        if target.exists():
+            old = target.with_name(f".{target.name}.old-{os.getpid()}")
+            target.rename(old)
+            tmp.rename(target)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            tmp.rename(target)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return target
+
+
+def _describe(key: PointKey) -> str:
+    return f"{key.model} {key.rpm:,.6g} rpm, {key.torque:g} N m"
+
+
+def _stored_and_todo(plan: SweepPlan) -> tuple[dict[PointKey, dict[str, Any]], list[PointKey]]:
+    keys = plan.keys()
+    stored = {} if plan.force else stored_points(plan.out, keys)
+    final = {k for k, r in stored.items() if r["status"] in FINAL}
+    if plan.keep_runs:  # a final point without its run folder is computed again
+        final = {k for k in final if run_path(plan.out, k).is_dir()}
+    return stored, [k for k in keys if k not in final]
+
+
+def points_to_compute(plan: SweepPlan) -> list[PointKey]:
+    """The points of ``plan`` that :func:`run_sweep` would compute.
+
+    Every point unless ``plan.force`` is off and its folder holds it with a final status
+    (complete or incomplete; with ``keep_runs``, also its run folder).
+    """
+    return _stored_and_todo(plan)[1]
+
+
+def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate | None = None,
+              progress: bool = True, point_fn: PointFn | None = None,
+              stream: TextIO | None = None) -> SweepReport:
+    """Run the points of ``plan`` that are missing from its folder on ``backend``.
+
+    Parameters
+    ----------
+    plan
+        The sweep (see :class:`~spurdyn.sweep.spec.SweepPlan`); its folder is created.
+    backend
+        Where the points run (:mod:`spurdyn.sweep.backends`).
+    resonance
+        The natural-frequency estimate stored with the results and marked on the picture;
+        ``None`` computes it from the case.
+    progress
+        Draw a progress bar on ``stream`` (default stderr) when it is a terminal.
+    point_fn
+        The function computing one point (default :func:`spurdyn.sweep.point.run_point`).
+
+    Returns
+    -------
+    SweepReport
+        Also written: ``sweep_<model>.nc``, ``sweep.nc``, ``dynamic_factor.png``.
+    """
+    t0 = time.perf_counter()
+    if resonance is None:
+        from spurdyn.sweep.resonance import resonance_estimate
+
+        resonance = resonance_estimate(plan.case)
+    fn = point_fn if point_fn is not None else _point.run_point
+    out = plan.out
+    keys = plan.keys()
+    stored, todo = _stored_and_todo(plan)
+    records: dict[PointKey, dict[str, Any]] = dict(stored)
+    tasks = [PointTask(k, plan.point_case(k), plan.keep_runs) for k in todo]
+    cost = {t.key: expected_steps(t.case) for t in tasks}
+    out.mkdir(parents=True, exist_ok=True)
+    settings = settings_dict(plan.case)
+
+    bar = SweepProgress(f"{plan.model} sweep", sum(cost.values()), len(tasks),
+                        enabled=progress, stream=stream)
+    finished: set[PointKey] = set()
+    missing: dict[PointKey, str] = {}
+    interrupted, stopped = False, ""
+    stream_ = backend.run(tasks, fn) if tasks else iter(())
+    try:
+        for task, outcome, note in stream_:
+            if outcome is None:
+                missing[task.key] = note or "not run"
+                continue
+            with _held_interrupts():
+                write_point(out, outcome, settings)
+                if outcome.result is not None:
+                    write_run_folder(out, task.key, task.case, outcome.result)
+                records[task.key] = point_record(_without_result(outcome))
+                finished.add(task.key)
+            bar.update(cost[task.key], outcome.status == COMPLETE)
+            if outcome.status != COMPLETE:
+                bar.write(f"spurdyn: {_describe(task.key)}: {outcome.status}: {outcome.reason}")
+    except KeyboardInterrupt:
+        interrupted = True
+        backend.cancel()
+    except Exception as err:  # noqa: BLE001 - the cluster failed: keep what we have
+        stopped = f"{type(err).__name__}: {err}"
+        backend.cancel()
+    finally:
+        bar.close()
+        close = getattr(stream_, "close", None)
+        if close is not None:
+            close()
+    for task in tasks:
+        if task.key not in finished and task.key not in missing:
+            missing[task.key] = ("interrupted" if interrupted else
+                                 f"sweep stopped: {stopped}" if stopped else "not run")
+    for key in missing:  # an old failed record gives way to "not run"
+        if key in records and records[key]["status"] not in FINAL:
+            del records[key]
+
+    with _held_interrupts():
+        ds = sweep_dataset(plan, records, missing, extra_attrs=resonance.attrs())
+        own, combined = write_sweep_files(out, ds)
+        png = out / PNG_FILE
+        from spurdyn.sweep.plot import plot_sweep_folder
+
+        plot_sweep_folder(out, png, resonance)
+    return SweepReport(plan=plan, dataset=ds, computed=len(finished),
+                       reused=len(keys) - len(tasks), counts=statuses(ds),
+                       interrupted=interrupted, stopped=stopped, files=(own, combined, png),
+                       wall_s=time.perf_counter() - t0)
+
+
+def _without_result(outcome: PointOutcome) -> PointOutcome:
+    from dataclasses import replace
+
+    return replace(outcome, result=None) if outcome.result is not None else outcome
+
+
+__all__ = ["SweepProgress", "SweepReport", "points_to_compute", "run_sweep", "write_run_folder",
+           "COMPLETE", "INCOMPLETE", "FAILED", "NOT_RUN"]

@@ -1,0 +1,276 @@
+"""What a speed sweep is: the speed and torque grids, the points and their keys.
+
+A sweep runs one case (a preset or a TOML file) at every speed of a grid, and optionally
+at every torque of a second grid, each run covering the whole engagement. A point is
+identified by its :class:`PointKey`: the model, the speed of gear A, the torque and the
+hash of every other setting of the case (:func:`settings_hash`), so a point computed once
+is found again whatever command asked for it.
+
+Every function here is pure; refusals are :class:`~spurdyn.errors.InputError` naming the
+option.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from spurdyn.casefile import Case, case_to_dict
+from spurdyn.errors import InputError
+from spurdyn.solver.case import RPM
+
+#: Models a sweep can run.
+MODELS = ("fe", "lumped")
+
+#: Most points one grid may hold.
+MAX_POINTS = 10_000
+
+#: Speeds and torques are rounded to this many decimals (so keys do not depend on the
+#: last bit of a floating-point step).
+DECIMALS = 6
+
+
+def _number(text: str, field: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(field, f"{text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise InputError(field, f"{text!r} is not a finite number")
+    return value
+
+
+def parse_grid(text: str, field: str, *, positive: bool = True) -> tuple[float, ...]:
+    """Read a grid: ``START:STOP:STEP``, ``START:STOP/N`` or a list ``A,B,C``.
+
+    Parameters
+    ----------
+    text
+        ``START:STOP:STEP`` runs from START by STEP up to STOP (STOP included when the
+        steps land on it, to a millionth of a step); ``START:STOP/N`` is N evenly spaced
+        values, both ends included; ``A,B,C`` (or a single value) lists the values.
+    field
+        The option name used in refusals (``--rpm``).
+    positive
+        Refuse zero (else only negative values are refused).
+
+    Returns
+    -------
+    tuple of float
+        Sorted, distinct values rounded to :data:`DECIMALS` decimals.
+
+    Raises
+    ------
+    InputError
+        A malformed grid, a negative (or zero) value, ``STOP < START``, a step that is
+        not positive, more than :data:`MAX_POINTS` values.
+    """
+    text = text.strip()
+    syntax = "must be START:STOP:STEP, START:STOP/N or a list A,B,C"
+    if not text:
+        raise InputError(field, f"is empty; it {syntax}")
+    if ":" in text:
+        parts = text.split(":")
+        if len(parts) == 2 and "/" in parts[1]:
+            stop_text, n_text = parts[1].split("/", 1)
+            start, stop = _number(parts[0], field), _number(stop_text, field)
+            try:
+                n = int(n_text)
+            except ValueError:
+                raise InputError(field, f"N in START:STOP/N must be a whole number (got "
+                                 f"{n_text!r})") from None
+            if n < 1:
+                raise InputError(field, f"N in START:STOP/N must be at least 1 (got {n})")
+            if n > MAX_POINTS:
+                raise InputError(field, f"{n:,} values; at most {MAX_POINTS:,}")
+            if n > 1 and stop <= start:
+                raise InputError(field, f"STOP {stop:g} must be above START {start:g}")
+            values = [start] if n == 1 else [start + (stop - start) * i / (n - 1)
+                                             for i in range(n)]
+        elif len(parts) == 3:
+            start, stop, step = (_number(p, field) for p in parts)
+            if step <= 0:
+                raise InputError(field, f"STEP must be positive (got {step:g})")
+            if stop < start:
+                raise InputError(field, f"STOP {stop:g} is below START {start:g}")
+            count = math.floor((stop - start) / step + 1e-6) + 1
+            if count > MAX_POINTS:
+                raise InputError(field, f"{count:,} values; at most {MAX_POINTS:,}")
+            values = [start + i * step for i in range(count)]
+        else:
+            raise InputError(field, f"{text!r}: {syntax}")
+    else:
+        values = [_number(p, field) for p in text.split(",")]
+        if len(values) > MAX_POINTS:
+            raise InputError(field, f"{len(values):,} values; at most {MAX_POINTS:,}")
+    for v in values:
+        if v < 0 or (positive and v == 0):
+            kind = "positive" if positive else "zero or positive"
+            raise InputError(field, f"values must be {kind} (got {v:g})")
+    return tuple(sorted({round(v, DECIMALS) for v in values}))
+
+
+def parse_speeds(text: str, field: str = "--rpm") -> tuple[float, ...]:
+    """The speeds of gear A (rpm) of ``--rpm``; see :func:`parse_grid`."""
+    return parse_grid(text, field, positive=True)
+
+
+def parse_torques(text: str, field: str = "--torque") -> tuple[float, ...]:
+    """The torques (N m, zero allowed) of ``--torque``; see :func:`parse_grid`."""
+    return parse_grid(text, field, positive=False)
+
+
+def speed_ratio(case: Case) -> float:
+    """``speed_b / speed_a`` of the case: kept at every speed of a sweep.
+
+    The meshing ratio ``z_a / z_b`` (equal pitch-line speeds) unless the case starts B
+    faster or slower (``paper-fig10``: 1.01).
+    """
+    return float(case.run.speed_b / case.run.speed_a)
+
+
+def settings_dict(case: Case) -> dict[str, Any]:
+    """Every setting of the case that a point depends on, apart from speed and torque.
+
+    The case in the TOML layout (:func:`spurdyn.casefile.case_to_dict`) with the speeds
+    replaced by their ratio ``run.speed_ratio`` and without ``run.torque`` (both are part
+    of the point's key) and ``run.frames_every`` (which changes what is kept, not what is
+    computed).
+    """
+    data = case_to_dict(case)
+    run = dict(data["run"])
+    for key in ("speed_a_rpm", "speed_b_rpm", "torque", "frames_every"):
+        run.pop(key, None)
+    run["speed_ratio"] = round(speed_ratio(case), 12)
+    data["run"] = run
+    return data
+
+
+def settings_hash(case: Case) -> str:
+    """Twelve hex digits of the SHA-256 of :func:`settings_dict` (canonical JSON)."""
+    text = json.dumps(settings_dict(case), sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]
+
+
+def _num_text(x: float) -> str:
+    return f"{x:.{DECIMALS}f}".rstrip("0").rstrip(".")
+
+
+@dataclass(frozen=True, order=True)
+class PointKey:
+    """What identifies one point of a sweep.
+
+    Attributes
+    ----------
+    model
+        ``"fe"`` or ``"lumped"``.
+    rpm
+        Initial speed of gear A (rpm).
+    torque
+        External torque on the driver (N m).
+    settings
+        :func:`settings_hash` of the case.
+    """
+
+    model: str
+    rpm: float
+    torque: float
+    settings: str
+
+    @property
+    def stem(self) -> str:
+        """File-name stem, e.g. ``fe_rpm4000_tq22.25_0123456789ab``."""
+        return f"{self.model}_rpm{_num_text(self.rpm)}_tq{_num_text(self.torque)}_{self.settings}"
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"model": self.model, "rpm": self.rpm, "torque": self.torque,
+                "settings_hash": self.settings}
+
+
+@dataclass(frozen=True)
+class SweepPlan:
+    """One sweep: the case, the model, the grids and where the results go.
+
+    Attributes
+    ----------
+    case
+        The case; its speed and torque are replaced at each point (the speed ratio of
+        B to A is kept).
+    model
+        ``"fe"`` or ``"lumped"``.
+    rpms
+        Speeds of gear A (rpm), increasing.
+    torques
+        Torques (N m), increasing; ``None``: the case's torque only, and the results have
+        no ``torque`` dimension.
+    out
+        The sweep folder.
+    keep_runs
+        Also keep each point's whole run folder under ``out/runs/``.
+    force
+        Recompute the points already in ``out``.
+    """
+
+    case: Case
+    model: str
+    rpms: tuple[float, ...]
+    torques: tuple[float, ...] | None
+    out: Path
+    keep_runs: bool = False
+    force: bool = False
+
+    @property
+    def torque_values(self) -> tuple[float, ...]:
+        return self.torques if self.torques is not None else (float(self.case.run.torque),)
+
+    @property
+    def settings(self) -> str:
+        return settings_hash(self.case)
+
+    def keys(self) -> list[PointKey]:
+        """Every point, speed-major."""
+        h = self.settings
+        return [PointKey(self.model, rpm, tq, h) for rpm in self.rpms for tq in self.torque_values]
+
+    def point_case(self, key: PointKey) -> Case:
+        """The case of one point (see :func:`point_case`)."""
+        return point_case(self.case, key.rpm, key.torque, keep_frames=self.keep_runs)
+
+
+def point_case(case: Case, rpm: float, torque: float, keep_frames: bool = False) -> Case:
+    """The case at speed ``rpm`` of gear A and torque ``torque``.
+
+    Gear B starts at ``rpm * speed_ratio(case)``. Tooth frames are kept only when
+    ``keep_frames`` (a point's figures do not need them).
+    """
+    run = case.run.with_(
+        speed_a=rpm * RPM, speed_b=rpm * RPM * speed_ratio(case), torque=float(torque),
+        frames_every=case.run.frames_every if keep_frames else 0,
+        name=f"{case.name} {_num_text(rpm)} rpm {_num_text(torque)} N m")
+    return replace(case, name=f"{case.name}@{_num_text(rpm)}rpm_{_num_text(torque)}Nm", run=run)
+
+
+def expected_steps(case: Case) -> int:
+    """Time steps the run of ``case`` needs (its cost, for ordering and time left)."""
+    return int(math.ceil(case.angle / (case.run.speed_a * case.run.dt)))
+
+
+def check_plan(plan: SweepPlan) -> None:
+    """Refuse points that cannot run: an angle shorter than one step at the top speed.
+
+    Raises
+    ------
+    InputError
+        Naming ``--angle``.
+    """
+    if plan.model not in MODELS:
+        raise InputError("--model", f"must be one of {', '.join(MODELS)} (got {plan.model!r})")
+    top = plan.point_case(PointKey(plan.model, max(plan.rpms), plan.torque_values[0], ""))
+    if top.run.angle is not None and top.run.angle < top.run.speed_a * top.run.dt:
+        raise InputError("--angle", f"{math.degrees(top.run.angle):g} deg is shorter than one "
+                         f"time step at {max(plan.rpms):,g} rpm "
+                         f"({math.degrees(top.run.speed_a * top.run.dt):.3g} deg)")

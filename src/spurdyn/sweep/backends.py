@@ -139,7 +139,9 @@ class DaskBackend:
         no_worker_since: float | None = None
         while self._pending:
             try:
-                done = wait(list(self._pending), timeout=1.0, return_when="FIRST_COMPLETED").done
+                with self.client.as_current():
+                    done = wait(list(self._pending), timeout=1.0,
+                                return_when="FIRST_COMPLETED").done
             except TimeoutError:
                 done = set()
             if not done:
@@ -177,7 +179,7 @@ def _quiet_distributed() -> None:
     for name in ("distributed", "distributed.client", "distributed.scheduler",
                  "distributed.worker", "distributed.nanny", "distributed.core",
                  "distributed.deploy", "distributed.comm"):
-        logging.getLogger(name).setLevel(logging.ERROR)
+        logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
 def default_jobs() -> int:
@@ -192,14 +194,23 @@ def default_jobs() -> int:
 def local_backend(jobs: int) -> Iterator[DaskBackend]:
     """A local Dask cluster: ``jobs`` worker processes of one thread each, on 127.0.0.1.
 
+    The scheduler hands a worker one point at a time (``worker-saturation`` 1.0), so the
+    longest points start first and a worker that dies loses only the point it was running
+    (the scheduler runs it again elsewhere, up to ``distributed.scheduler.allowed-failures``
+    times, then the point is failed: ``KilledWorker``).
+
     The cluster (scheduler and workers) is closed when the block ends, also on Ctrl-C.
     """
+    import dask
     from distributed import Client, LocalCluster
 
     _quiet_distributed()
-    cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address=None,
-                           silence_logs=logging.ERROR)
+    # One task at a time per worker: the scheduler keeps the queue (longest points first)
+    # and a worker that dies takes only the point it was running with it.
+    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=None,
+                               silence_logs=logging.CRITICAL)
     client = Client(cluster)
     try:
         yield DaskBackend(client, f"a local Dask cluster of {jobs} worker process"

@@ -32,7 +32,7 @@ from spurdyn.sweep.store import STATUS_CODES
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 FIGS = ("peak_force", "dynamic_factor", "mean_force_single_zone", "separations", "rms_force",
-        "status", "wall_s", "reason")
+        "status", "wall_s", "reason", "dynamic_factor_smoothed", "peak_force_smoothed")
 
 
 def sweep(capsys, *argv):
@@ -124,6 +124,17 @@ def test_lumped_sweep_files_and_agreement_with_run(tmp_path, capsys, serial, cal
     run = load(tmp_path / "run" / "result.nc")
     force = run["contact_force"].values
     assert float(p["rms_force"]) == pytest.approx(np.sqrt(np.mean(force**2)), rel=1e-12)
+    smooth = own["dynamic_factor_smoothed"].values
+    assert (smooth <= own["dynamic_factor"].values).all() and (smooth > 0.9).all()
+
+
+def test_smoothed_peak_takes_out_a_fast_ripple():
+    t = np.arange(0, 200e-6, 3e-8)
+    slow = 500.0 + 100.0 * np.sin(2 * np.pi * 5e3 * t)          # below the mesh frequencies
+    ripple = 80.0 * np.sin(2 * np.pi * 1e6 * t)                   # a local tooth mode
+    assert point_mod.smoothed_peak(t, slow + ripple) == pytest.approx(600.0, abs=1.0)
+    assert point_mod.smoothed_peak(t, np.full(t.size, np.nan)) == 0.0
+    assert point_mod.smoothed_peak(t[:0], t[:0]) is None
 
 
 def test_torque_dimension_and_fe_overlay(tmp_path, capsys, serial, calls, monkeypatch):

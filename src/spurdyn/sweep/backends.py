@@ -207,16 +207,32 @@ def local_backend(jobs: int) -> Iterator[DaskBackend]:
     _quiet_distributed()
     # One task at a time per worker: the scheduler keeps the queue (longest points first)
     # and a worker that dies takes only the point it was running with it.
-    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+    # Workers ignore Ctrl-C (the client stops the sweep and closes the cluster): SIG_IGN is
+    # inherited by the processes spawned now, and the preload sets it in restarted ones.
+    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}), _sigint_ignored():
         cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
                                host="127.0.0.1", dashboard_address=None,
-                               silence_logs=logging.CRITICAL)
+                               silence_logs=logging.CRITICAL,
+                               preload=["spurdyn.sweep.worker_setup"])
     client = Client(cluster)
     try:
         yield DaskBackend(client, f"a local Dask cluster of {jobs} worker process"
                           f"{'es' if jobs > 1 else ''}")
     finally:
         _close(client, cluster)
+
+
+@contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    try:
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # not the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _close(client: Any, cluster: Any = None) -> None:

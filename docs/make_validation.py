@@ -251,7 +251,9 @@ def n3(x: float) -> str:
 
 
 def pct(x: float, digits: int = 1) -> str:
-    """A fraction as a signed percentage."""
+    """A fraction as a signed percentage (no sign when it rounds to zero)."""
+    if round(100 * x, digits) == 0:
+        return f"{0:.{digits}f} %"
     return f"{100 * x:+.{digits}f} %"
 
 
@@ -284,6 +286,8 @@ def table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
 # =====================================================================================
 
 RPM = 2.0 * math.pi / 60.0
+#: Packages whose state the runs depend on (for the provenance line of the report).
+SOLVER_DIRS = ("geometry", "mesh", "fem", "model", "contact", "solver", "integrate", "results")
 
 
 @dataclass(frozen=True)
@@ -369,9 +373,9 @@ def git_state() -> str:
         head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                               text=True, check=True).stdout.strip()
         dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no",
-                                "src/spurdyn"], cwd=ROOT,
+                                *(f"src/spurdyn/{d}" for d in SOLVER_DIRS)], cwd=ROOT,
                                capture_output=True, text=True, check=True).stdout.strip()
-        return head + (" (with uncommitted changes in src/spurdyn)" if dirty else "")
+        return head + (" (with uncommitted changes to the model or solver)" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
 
@@ -701,6 +705,7 @@ def section_paper(ctx: Ctx) -> str:
     imp10b = ctx.impacts("fig10_b")
     eps10b = contact_episodes(R["fig10_b"]["time"], R["fig10_b"]["angle"], R["fig10_b"]["contact_force"])
     touches10b = [e for e in eps10b if e["t_off"] - e["t_on"] < 10e-6]
+    d_touch = [(e["t_off"] - e["t_on"]) * 1e6 for e in touches10b] or [float("nan")]
     ep11b = contact_episodes(R["fig11_b_dt15"]["time"], R["fig11_b_dt15"]["angle"],
                              R["fig11_b_dt15"]["contact_force"])
     ep11b_imp = ctx.impacts("fig11_b_dt15")
@@ -770,7 +775,7 @@ not reproduce the paper's description of Fig. 11:
   {n2(max(e['peak'] for e in imp10) / ctx.static)} times the static force.
 * **Fig. 10, B drives.** B strikes at once; {len(imp10b)} impacts, peaks
   {", ".join(n0(e['peak']) for e in imp10b)} N, and {len(touches10b)} brief touches of
-  1–3 µs right after some bounces (the teeth' own vibration, which the lumped model has
+  {min(d_touch):.0f}–{max(d_touch):.0f} µs right after some bounces (the teeth' own vibration, which the lumped model has
   not: section 4).
 * **Fig. 11, A drives.** No contact at all. B runs ahead at r_b Δω = {v0:.3f} m/s along
   the line of action; the torques decelerate the relative motion by at most
@@ -849,6 +854,16 @@ def clamped_tooth_modes(pair, nx: int, ny: int, n: int = 2) -> NDArray[np.float6
     return np.sqrt(w2) / (2 * math.pi)
 
 
+def points_per_element(pair, nx: int, ny: int, n_spline: int) -> float:
+    """Spline data points per element edge along the active flank (``1 / h``)."""
+    from spurdyn.solver.case import RunCase
+    from spurdyn.solver.system import build_system
+
+    system = build_system(pair, RunCase(speed_a=1.0, speed_b=1.0, torque=1.0, nx=nx, ny=ny,
+                                        n_spline=n_spline))
+    return 1.0 / system.gears[0].flank.h
+
+
 def ripple(ctx: Ctx, name: str) -> tuple[float, float, float, float]:
     """Raw minus 10-us-averaged force in the single zone: RMS, largest, frequency of the
     largest spectral peak above 20 kHz, and that peak's amplitude."""
@@ -884,6 +899,9 @@ def section_convergence(ctx: Ctx) -> str:
     R = ctx.runs
     names = [f"mesh_{nx}x{ny}" for nx, ny in MESHES]
     finest = names[-1]
+    stable_at_paper = [f"{nx} × {ny}" for (nx, ny), n in zip(MESHES, names)
+                       if R[n].meta["dt"] / STABLE_FRACTION >= 3e-8]
+    ctx.figures["settings_change"] = None  # set below
     rows = []
     peaks = {n: ctx.peak_avg(n) for n in names}
     kpitch = {}
@@ -1014,6 +1032,8 @@ def section_convergence(ctx: Ctx) -> str:
     robust_table = table(["run", "Δt (s)", "outcome", "raw peak (N)",
                           f"averaged peak against {MESH_SPLINE} points", "reason"], robust_rows)
     stopped = [row for row in robust_rows if row[2].startswith("stopped")]
+    ppe = {(nx, ny, n): points_per_element(ctx.pair, nx, ny, n)
+           for nx, ny, n in ((4, 14, 61), (8, 28, 61), (12, 40, 61), (8, 28, MESH_SPLINE))}
 
     # -- time step, spline points, tolerance ---------------------------------------
     settings = [("fig8", "default: Δt 3 × 10⁻⁸ s, 61 points, 10⁻¹² m"),
@@ -1060,6 +1080,7 @@ def section_convergence(ctx: Ctx) -> str:
     dt_change = relative(ctx.peak_avg("dt_half"), ctx.peak_avg("fig8"))
     sp_changes = [relative(ctx.peak_avg(n), ctx.peak_avg("fig8")) for n in ("spline_121", "spline_241")]
     tol_change = relative(ctx.peak_avg("tol_1e-13"), ctx.peak_avg("fig8"))
+    ctx.figures["settings_change"] = max(abs(dt_change), abs(tol_change), *(abs(c) for c in sp_changes))
     worst_fig10 = max(abs(relative(ctx.peak_avg(n), ctx.peak_avg("fig10")))
                       for n in ("fig10_dt15", "fig10_s121", "fig10_s241", "fig10_6x20"))
     raw_peaks10 = [max(e["peak"] for e in ctx.impacts(n)) for n in
@@ -1074,9 +1095,15 @@ def section_convergence(ctx: Ctx) -> str:
                  f"in the runs with the default mesh.")
     for n, on in other:
         extra = [a for a in on if min(abs(a - b) for b in ref_on) > math.radians(0.2)]
-        same_text += (f" The 6 × 20 mesh has {len(on)} impacts: the same ones and "
+        first = ctx.impacts("fig10")[0]
+        inside = all(first["angle_on"] < a < first["angle_off"] for a in extra)
+        moved = max(min(abs(a - b) for a in on) for b in ref_on)
+        same_text += (f" The 6 × 20 mesh has {len(on)} impacts: the default's (made up to "
+                      f"{math.degrees(moved):.2f}° later) and "
                       + ", ".join(f"one at {math.degrees(a):.2f}°" for a in extra)
-                      + " (the first impact's rebound, which touches again).") if n == "fig10_6x20" else ""
+                      + (f", inside the default run's first impact ({math.degrees(first['angle_on']):.2f}°–"
+                         f"{math.degrees(first['angle_off']):.2f}°): on the finer mesh that impact "
+                         "splits in two." if inside else "."))
     ctx.figures["impact_raw_range"] = (min(raw_peaks10), max(raw_peaks10))
     ctx.figures["impact_avg_spread"] = worst_fig10
     verdict = (f"**The default 4 × 14 mesh meets it**: its averaged peak is {pct(c414)} from the "
@@ -1093,8 +1120,8 @@ common 0.1-µs grid.
 
 ### 2.1 Mesh
 
-Fig. 8 (4,000 rpm) on four meshes, each at 0.9 of its own stable RK4 step (the paper's
-Δt = 3 × 10⁻⁸ s is stable for 3 × 10 and 4 × 14 only). The stiffness column is the static
+Fig. 8 (4,000 rpm) on four meshes, each at {STABLE_FRACTION} of its own stable RK4 step (the
+paper's Δt = 3 × 10⁻⁸ s is stable for {" and ".join(stable_at_paper)} only). The stiffness column is the static
 pair stiffness at the pitch point of the same mesh (`spurdyn.model.stiffness`), and f_n the
 torsional natural frequency it gives with the two disks.
 
@@ -1135,15 +1162,15 @@ largest spectral line is at {rip8[2] / 1e3:.0f} kHz. It is not a numerical insta
 limits the RK4 step, is at {f_max / 1e6:.1f} MHz. It is the teeth vibrating against each
 other: the two teeth clamped at their roots and held together at the pitch point have
 their first mode in which the contact moves at {modes[1] / 1e3:.1f} kHz on the 4 × 14 mesh
-({modes8[1] / 1e3:.1f} kHz on 8 × 28; the lower mode at {modes[0] / 1e3:.1f} kHz is the single
-clamped tooth's first bending mode, {clamped[0] / 1e3:.1f} kHz, with the contact at rest),
-and the next such mode at {modes[3] / 1e3:.0f} kHz. What rings them is the mesh: the
+({modes8[1] / 1e3:.1f} kHz on 8 × 28; below it, at {modes[0] / 1e3:.1f} kHz, the teeth bend in
+their own first clamped mode, {clamped[0] / 1e3:.1f} kHz, without moving the contact), and
+the next such mode at {modes[3] / 1e3:.0f} kHz. What rings them is the mesh: the
 contact point crosses {cross / 1e3:.1f} element edges per millisecond on each tooth at
 4,000 rpm, and the point-load compliance of a Q8 edge has a kink at every corner node
 (`docs/stiffness.md` section 3), so each crossing gives the teeth a small kick. The
 ripple therefore belongs to the discretisation, not to the gears, and it does not go
 away with refinement (the finer mesh crosses more, smaller kinks). On the finer meshes
-the raw force also has isolated spikes of one or a few steps: samples more than 50 N
+the raw force also has isolated spikes of one or a few steps: the samples more than 50 N
 from the average number {", ".join(f"{spikes[n][0]} ({n[5:].replace('x', ' × ')})" for n in names)},
 up to {n0(max(v[1] for v in spikes.values()))} N, at steps where the displacement stage
 needed up to {max(v[2] for v in spikes.values())} iterations (against at most
@@ -1156,10 +1183,12 @@ disks.
 
 **Runs that stop.** With the paper's 61 spline data points on finer meshes, and on
 12 × 40 with any, the displacement stage stops converging at a high load or in an
-impact; half the stable Δt does not help, more spline points do on 6 × 20 and 8 × 28. A spline with too few data points per element
-(61 points are about {60 / 28:.1f} per element edge along the flank at 8 × 28, against
-{60 / 14:.1f} at 4 × 14) no longer follows the element edges that carry the contact force,
-and the iteration cannot reconcile the two. {len(stopped)} of these {len(robust_rows)} runs stop:
+impact; half the stable Δt does not help, more spline points do on 6 × 20 and 8 × 28. The likely cause is a spline with too few data points per element: 61 points are
+{ppe[(8, 28, 61)]:.1f} per element edge along the active flank at 8 × 28 and
+{ppe[(12, 40, 61)]:.1f} at 12 × 40, against {ppe[(4, 14, 61)]:.1f} at 4 × 14 ({ppe[(8, 28, MESH_SPLINE)]:.1f} at
+8 × 28 with {MESH_SPLINE}); the spline surface then no longer follows the element edges
+that carry the contact force, and the iteration fails to reconcile the two. That 12 × 40
+stops even with 481 points shows it is not the only cause. {len(stopped)} of these {len(robust_rows)} runs stop:
 
 {robust_table}
 
@@ -1600,10 +1629,42 @@ def section_lumped(ctx: Ctx) -> str:
     lumped_table = table(["case", "FE peak raw / 10-µs average (N)", "lumped peak (N)",
                           "FE average vs lumped", "impacts FE (+ brief touches) / lumped",
                           "first impact (≥ 10 µs) FE / lumped", "RMS difference of the averages (N, of τ0/r_b)"], rows)
-    # the stiffness-variation "spurious" ringing: how much of it is in the lumped model
-    sel8 = ctx.single("fig8")
-    r8 = R["lumped_fig8"]
-    info = r8.meta["info"]
+    # the same lumped model with an assumed spring instead of the FE table (0.1 s each)
+    from spurdyn.model.lumped import MeshStiffnessTable, mesh_stiffness_table, simulate_lumped
+    from spurdyn.model.stiffness import iso_6336_stiffness
+    from spurdyn.solver.case import RunCase
+
+    c1, cga = iso_6336_stiffness(ctx.pair).per_face_width(ctx.pair.gear_a.face_width)
+    fe_table = mesh_stiffness_table(ctx.pair)
+    springs = (("FE stiffness table (the runs above)", fe_table),
+               ("constant, the FE table's mean over the path",
+                MeshStiffnessTable.constant(ctx.pair, fe_table.mean(ctx.pair.start_roll_a, ctx.pair.end_roll_a))),
+               (f"constant, ISO c′ b = {c1:.3g} N/m", MeshStiffnessTable.constant(ctx.pair, c1)),
+               (f"constant, ISO c_γα b = {cga:.3g} N/m", MeshStiffnessTable.constant(ctx.pair, cga)))
+    spring_rows = []
+    spread = {}
+    for label, tab in springs:
+        row = [label]
+        for rpm in (4000, 20000):
+            case = RunCase(speed_a=rpm * RPM, speed_b=rpm * RPM, torque=ctx.tau0, save_every=10)
+            dfac = float(simulate_lumped(ctx.pair, case, table=tab).contact_force.max()) / ctx.static
+            spread.setdefault(rpm, []).append(dfac)
+            row.append(n2(dfac))
+        spring_rows.append(row)
+    spring_rows.append(["FE model (raw peak / 10-µs average)",
+                        f"{n2(R['fig8']['contact_force'].max() / ctx.static)} / {n2(ctx.peak_avg('fig8') / ctx.static)}",
+                        f"{n2(R['fig9']['contact_force'].max() / ctx.static)} / {n2(ctx.peak_avg('fig9') / ctx.static)}"])
+    spring_table = table(["lumped model's spring", "dynamic factor, 4,000 rpm", "dynamic factor, 20,000 rpm"],
+                         spring_rows)
+    clamped_f = float(clamped_tooth_modes(ctx.pair, 4, 14, 1)[0])
+    r10b = R["fig10_b"]
+    brief = [(e["t_off"] - e["t_on"]) * 1e6 for e in contact_episodes(
+        r10b["time"], r10b["angle"], r10b["contact_force"]) if e["t_off"] - e["t_on"] < 10e-6]
+    brief_lo, brief_hi = (min(brief), max(brief)) if brief else (float("nan"), float("nan"))
+    ctx.figures["lumped_agreement"] = max(abs(relative(c["fe"], c["lu"])) for c in cmp.values() if c)
+    raw_higher = all(float(R[fe]["contact_force"].max()) > float(R[lu]["contact_force"].max())
+                     for fe, lu in (("fig10", "lumped_fig10"), ("fig10_b", "lumped_fig10_b"),
+                                    ("fig11_b_dt15", "lumped_fig11_b")))
     text = f"""
 ## 4. The lumped model beside it
 
@@ -1625,15 +1686,16 @@ impacts, and the escape of gear B in Fig. 11 read literally. The averaged peaks 
 {upct(max(abs(relative(c['fe'], c['lu'])) for c in cmp.values() if c), 1)} at worst. The
 reason is that the FE model's tooth pair, seen from the disks, *is* a spring of about
 that stiffness: the teeth weigh little (section 3.4) and
-their own modes (≥ 95 kHz) are far above the 7–8 kHz torsional mode, so the disks see a
-quasi-static tooth compliance.
+their own modes (from {clamped_f / 1e3:.0f} kHz up) are far above the
+{ctx.figures['frequency']['fe'] / 1e3:.1f} kHz torsional mode, so the disks see a quasi-static
+tooth compliance.
 
 **Where they differ.**
 
 * **The ripple and the brief touches.** The FE force carries the teeth' own vibration
-  (section 2.1) and, after a bounce, the teeth can touch again for 1–3 µs while they
-  ring (Fig. 10 with B driving); the lumped model has no tooth mass and cannot show
-  either. The raw FE peaks of impacts are therefore higher than the lumped ones.
+  (section 2.1) and, after a bounce, the teeth can touch again for
+  {brief_lo:.0f}–{brief_hi:.0f} µs while they ring (Fig. 10 with B driving); the lumped model has no tooth mass and cannot show
+  either. {"The raw FE peaks of the impacts are therefore higher than the lumped ones (Fig. 10 read both ways and Fig. 11 with B driving)." if raw_higher else "The raw FE peaks of the impacts therefore differ from the lumped ones."}
 * **The hard impact of Fig. 11 with B driving.** The averaged FE peak is
   {pct(relative(cmp['fig11_b_dt15']['fe'], cmp['fig11_b_dt15']['lu']))} from the lumped one, but
   the raw FE peak is {n2(R['fig11_b_dt15']['contact_force'].max() / R['lumped_fig11_b']['contact_force'].max())}
@@ -1642,13 +1704,19 @@ quasi-static tooth compliance.
   by the local stiffness of the teeth before the disks feel the whole tooth spring, and
   the contact point moves on the deformed flanks; the lumped spring has neither mass nor
   local stiffness.
-* **Stiffness is an input, not a result.** The lumped model needs the stiffness along
-  the path in advance (here taken from the FE model; with ISO's c′ or c_γα instead the
-  low-speed dynamic factor moves by 15 %, `docs/lumped.md`), and every corner and ripple
-  of that table excites the disks, vibration that belongs to the assumed spring rather
-  than to the teeth. This is the paper's point: the FE contact model computes the
-  stiffness, the contact position and the tooth inertia from the deformed shapes, so it
-  needs no spring constant and adds no vibration of a spring's making.
+
+**Stiffness is an input, not a result.** The lumped model needs the stiffness along the
+path in advance. Above it was given the FE model's own; with an assumed spring the answer
+moves (same lumped model, equal speeds, Fig. 7 torques):
+
+{spring_table}
+
+At 4,000 rpm the dynamic factor ranges from {n2(min(spread[4000]))} to {n2(max(spread[4000]))}
+and at 20,000 rpm from {n2(min(spread[20000]))} to {n2(max(spread[20000]))} with the spring
+chosen: the vibration a spring model shows is largely of the spring's making (every change
+of its stiffness along the path rings the disks). This is the paper's point: the FE
+contact model computes the stiffness, the contact position and the tooth inertia from the
+deformed shapes, so it needs no spring constant.
 
 What the comparison does **not** show is a large difference in the paper's four cases:
 with the FE model's own stiffness as the spring, the lumped model reproduces the FE
@@ -1787,18 +1855,19 @@ relief gap equals the static deflection the ramp's load would produce, i.e. wher
 two-pair model (or the real gears) would make and lose contact.
 
 **What the runs show.** The relief moves the start of contact later and the end earlier,
-as the paper says of the NASA gears, and leaves the single-contact zone (where no
-relief acts) loaded. But in this one-tooth model a relief also makes the pair **rattle**:
-with the {NASA_LIKE_TIP_RELIEF * 1e6:.0f} µm relief the teeth first meet at
-{rows[2][1]} at {rows[2][5]} m/s and bounce ({rows[2][6]} impacts, dynamic factor
-{rows[2][8]}); with 5 µm at {rows[1][1]} ({rows[1][6]} impacts, {rows[1][8]}).
+as the paper says of the NASA gears. But in this one-tooth model a relief also makes the
+pair **rattle**: with the {NASA_LIKE_TIP_RELIEF * 1e6:.0f} µm relief the teeth first meet at
+{rows[2][1]}, approaching at {rows[2][5]} m/s, and bounce ({rows[2][6]} impacts, dynamic
+factor {rows[2][8]}); with 5 µm they meet at {rows[1][1]} at {rows[1][5]} m/s
+({rows[1][6]} impacts, {rows[1][8]}). Once set going, the bouncing continues through the
+single-contact zone, where no relief acts.
 
 **Why: a limitation of the one-tooth model.** The Fig. 7 schedule puts the torque on the
 modelled pair's disks from the first degree, as if that pair carried its share of the
 load, whatever the flanks do. With a relief the flanks do not touch there, so nothing
 holds the disks: the driver's torque speeds A up, the load torque slows B down, and the
-two disks close the relief gap in free flight (dotted curve; the first contacts fall
-close to where it crosses the relief gap) and strike. In real gears the previous pair
+two disks close the relief gap in free flight and strike (dotted curve: the first
+contacts fall where it crosses the relief gap, {rows[2][2]} and {rows[1][2]}). In real gears the previous pair
 would carry the whole load until the new pair's relief gap closed under its deflection
 (the quasi-static prediction), and the disks' relative speed would stay small. The same
 happens at the end of contact, where the relief on A's tip opens a gap while the ramp
@@ -1807,11 +1876,14 @@ contact, but their forces near the ends are an artefact of prescribing the load 
 modelling tip relief properly needs the second tooth pair (or a load-sharing rule driven
 by the contact itself).
 
-**What could be compared.** Qualitatively, the paper's statement holds in this model:
+**What could be compared.** Half of the paper's statement can be checked in this model:
 without relief the force rises from the very start of the path of contact and falls to
-zero at its end; with a relief it starts later and ends earlier, while the force in the
-single-contact zone is unchanged in kind. Quantitatively, nothing: the relief's amount
-and start, the rig's measured loads, its damping and its shafts are not available.
+zero at its end; with a relief it starts later and ends earlier. The other half, close
+agreement away from the ends, cannot: in the one-tooth model the relief sets off a
+rattle that spoils the middle of the engagement too, which says more about the
+prescribed load sharing than about the gears. Quantitatively nothing could be compared:
+the relief's amount and start, the rig's measured loads, its damping and its shafts are
+not available to us.
 """
     return text
 
@@ -1831,7 +1903,7 @@ def section_limits(ctx: Ctx) -> str:
     e_star = mat.young / (2 * (1 - mat.poisson ** 2))
     b_h = math.sqrt(4 * (ctx.static / face) * r_eq / (math.pi * e_star))
     edges = {}
-    for nx, ny in ((4, 14), (12, 40)):
+    for nx, ny in ((4, 14), (8, 28)):
         tooth = build_tooth(g, nx, ny)
         side = tooth.mesh.nodes[tooth.mesh.right_side[::2]]
         edges[(nx, ny)] = float(np.min(np.linalg.norm(np.diff(side, axis=0), axis=1)))
@@ -1855,12 +1927,12 @@ def section_limits(ctx: Ctx) -> str:
 * **One engagement, from rest of the elastic system.** Each run starts with undeformed
   teeth just touching and ends after θs; there is no steady state, no previous
   engagement's vibration. Dynamic factors are those of a transient, and the undamped
-  oscillation set off by the torque ramp's corners is in every figure.
+  oscillation set off by the torque ramps and the stiffness variation is in every figure.
 * **Shafts, bearings and the rest of the gear body.** The disks are rigid, pinned on
   fixed centres, with the paper's J = {g.disk_inertia:.4g} kg m²; no shaft torsion or
   bending, no bearing or housing compliance, no motor or load inertia, and no rim or web
-  compliance under the root circle (the main reason the pair is twice as stiff as ISO,
-  section 3.3). Shaft and bearing modes couple with the mesh at the speeds where their
+  compliance under the root circle (a main reason the pair is
+  {ctx.figures['iso_ratio']:.1f} times as stiff as ISO's c′, section 3.3). Shaft and bearing modes couple with the mesh at the speeds where their
   frequencies meet the mesh frequency; none of that is in the model.
 * **No damping.** Neither material nor lubricant damping; oscillations never decay
   (section 3.1), and dynamic factors near resonance are upper bounds.
@@ -1868,9 +1940,12 @@ def section_limits(ctx: Ctx) -> str:
   {slide[4000]:.1f} m/s at 4,000 rpm and {slide[20000]:.0f} m/s at 20,000 rpm at the ends
   of contact, changing sign at the pitch point; a friction coefficient of a few per cent
   (lubricated steel) would add a tangential force of that fraction of the normal force,
-  reversing at the pitch point, with a moment arm of the tooth height: a small change of
-  the disks' torques and an excitation at the pitch point that matters for noise and
-  efficiency, little for the peak normal force.
+  reversing at the pitch point, whose moment arm about each centre is the contact point's
+  roll length ({pair.start_roll_length_a * 1e3:.1f}–{pair.end_roll_length_a * 1e3:.1f} mm, against
+  r_b = {g.base_radius * 1e3:.1f} mm for the normal force): with μ = 0.05, a change of the
+  disks' torques of up to {upct(0.05 * pair.end_roll_length_a / g.base_radius, 1)}, and an
+  excitation at the pitch point that matter for noise and efficiency, little for the
+  peak normal force.
 * **Two dimensions.** Plane stress with the face width as thickness; no lead or
   crowning, no misalignment, no load distribution across the face. For a
   {face * 1e3:.2f} mm face with perfect alignment this is a fair model; for wide or
@@ -1878,8 +1953,8 @@ def section_limits(ctx: Ctx) -> str:
 * **Hertzian flattening at the Q8 mesh's resolution.** The contact force is a point load
   on the element edge. Under the static load the Hertzian contact half-width at the
   pitch point is b_H = {b_h * 1e3:.3f} mm, against a shortest flank element edge of
-  {edges[(4, 14)] * 1e3:.3f} mm on the default 4 × 14 mesh ({edges[(12, 40)] * 1e3:.3f} mm on
-  12 × 40): the mesh smears the load over one element instead of the contact width, the
+  {edges[(4, 14)] * 1e3:.3f} mm on the default 4 × 14 mesh ({edges[(8, 28)] * 1e3:.3f} mm on
+  8 × 28): the mesh smears the load over one element instead of the contact width, the
   local contact compliance is resolved only to the mesh's scale (it keeps growing with
   refinement, section 2.1), and the model gives no contact pressure or subsurface
   stress. Tooth-root stresses, bending and the pair's overall stiffness are resolved.
@@ -1923,13 +1998,13 @@ stress (section 6). Within that model:
 
 * **The paper's cases** (section 1): dynamic factor {n2(df['fig8'])} at 4,000 rpm and
   {n2(df['fig9'])} at 20,000 rpm (raw peaks). The rattling cases depend on which gear
-  drives: read literally (A drives, the presets) Fig. 10 rattles with three impacts
+  drives: read literally (A drives, the presets) Fig. 10 rattles with {len(ctx.impacts('fig10'))} impacts
   (factor {n2(df['fig10'])}) and Fig. 11 has no contact at all; with B driving Fig. 10
   rattles (factor {n2(df['fig10_b'])}) and Fig. 11 is one long hard impact (factor
   {n2(df['fig11_b_dt15'])}{", and its preset stops at the paper's Δt" if ctx.figures.get('fig11_b_failed') else ""}).
 * **Convergence** (section 2): the peak of the 10-µs-averaged force of the default
   4 × 14 mesh is {pct(c)} from the 6 × 20 mesh's; the time step, the spline points and the
-  tolerance change it by well under 1 %. The raw force carries a ripple (the teeth's own
+  tolerance change it by at most {upct(ctx.figures['settings_change'], 2)}. The raw force carries a ripple (the teeth' own
   vibration at about {ctx.figures['ripple']['freq'] / 1e3:.0f} kHz, rung by the contact point crossing
   element edges) of about ±{ctx.figures['ripple']['max']:.0f} N. In impacts the raw peaks are not
   converged ({n0(ctx.figures['impact_raw_range'][0])}–{n0(ctx.figures['impact_raw_range'][1])} N in
@@ -1944,7 +2019,8 @@ stress (section 6). Within that model:
   known reasons; the force oscillates at {fr['fe'] / 1e3:.2f} kHz against
   {fr['theory'] / 1e3:.2f} kHz for two disks on the model's own stiffness.
 * **The lumped model** (section 4), given the FE model's stiffness, reproduces the FE
-  dynamic factors to a few per cent; it misses the tooth-level detail.
+  averaged peaks to {upct(ctx.figures['lumped_agreement'], 1)}; it misses the tooth-level detail
+  (ripple, chatter, raw impact peaks), and with an assumed spring its answer moves.
 * **Tip relief** (section 5) moves the start and end of contact as the paper says of
   the NASA gears, but makes the one-tooth model rattle, because the prescribed torque
   ramps load the pair before the relieved teeth touch. No NASA data were available.

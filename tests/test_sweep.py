@@ -346,12 +346,14 @@ def test_local_cluster_of_processes(tmp_path, capsys):
 def _dying_point(task):
     """A point function whose worker process dies at 10,000 rpm (importable by workers)."""
     if task.key.rpm == 10000.0:
+        time.sleep(1.0)  # let the client fetch the point finished before on this worker
         os._exit(3)
     return run_point(task)
 
 
 def test_worker_dying_loses_only_its_point(tmp_path):
     import dask
+    import distributed  # noqa: F401 - its defaults must be loaded before config.set
 
     from spurdyn.cases import preset_case
     from spurdyn.sweep.backends import local_backend
@@ -416,6 +418,24 @@ def test_external_scheduler_on_loopback(tmp_path, capsys, loopback_cluster):
     workers = {json.loads(p.read_text())["worker"] for p in (out / "points").glob("*.json")}
     assert len(workers) == 1 and workers.pop().split(":")[1] != str(os.getpid())
     assert (load(out / "sweep.nc")["status"].values == 0).all()
+
+    # The only worker dies (no nanny restarts it): the finished point is kept, the others
+    # are marked not run once the cluster has had no worker for the grace period.
+    from spurdyn.cases import preset_case
+    from spurdyn.sweep.backends import scheduler_backend
+    from spurdyn.sweep.runner import run_sweep
+    from spurdyn.sweep.spec import SweepPlan
+
+    plan = SweepPlan(case=preset_case("paper-fig8"), model="lumped",
+                     rpms=(8000.0, 10000.0, 12000.0), torques=None, out=tmp_path / "dies")
+    with scheduler_backend(loopback_cluster, no_worker_grace_s=2.0) as backend:
+        report = run_sweep(plan, backend, progress=False, point_fn=_dying_point)
+    assert report.stopped == "RuntimeError: no worker in the cluster for 2 s"
+    status = report.dataset["status"]
+    assert int(status.sel(rpm=8000.0)) == STATUS_CODES["complete"]
+    assert (status.sel(rpm=[10000.0, 12000.0]).values == STATUS_CODES["not_run"]).all()
+    assert str(report.dataset["reason"].sel(rpm=12000.0).values).startswith("sweep stopped: ")
+    assert len(list((tmp_path / "dies" / "points").glob("*.json"))) == 1
 
 
 def test_unreachable_scheduler_refused(tmp_path):

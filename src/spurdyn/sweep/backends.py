@@ -31,6 +31,10 @@ Stream = Iterator[tuple[PointTask, "PointOutcome | None", str]]
 #: Seconds a cluster may have no worker before the sweep gives up on the rest.
 NO_WORKER_GRACE_S = 120.0
 
+#: Seconds to fetch a finished point's result before looking again (a result held by a
+#: worker that has just died is lost and computed again).
+RESULT_TIMEOUT_S = 30.0
+
 
 class Backend(Protocol):
     """What the sweep runner needs of a place to run points."""
@@ -157,7 +161,15 @@ class DaskBackend:
                 self._pending.discard(fut)
                 task = futures[fut]
                 if fut.status == "finished":
-                    outcome = fut.result()
+                    try:
+                        outcome = fut.result(timeout=RESULT_TIMEOUT_S)
+                    except TimeoutError:
+                        # The result died with its worker before it was fetched: the
+                        # scheduler computes it again (or the no-worker watch gives up).
+                        self._pending.add(fut)
+                        continue
+                    except Exception as err:  # noqa: BLE001 - e.g. it cannot be unpickled
+                        outcome = _failed(task, f"{type(err).__name__}: {err}")
                     fut.release()
                     yield task, outcome, ""
                 elif fut.status == "error":
@@ -272,9 +284,12 @@ def check_address(address: str) -> str:
 
 
 @contextmanager
-def scheduler_backend(address: str, timeout_s: float = 10.0,
-                      workers_timeout_s: float = 30.0) -> Iterator[DaskBackend]:
+def scheduler_backend(address: str, timeout_s: float = 10.0, workers_timeout_s: float = 30.0,
+                      no_worker_grace_s: float = NO_WORKER_GRACE_S) -> Iterator[DaskBackend]:
     """An existing Dask cluster reached through its scheduler at ``address``.
+
+    The sweep gives up the points not yet finished once the cluster has had no worker
+    for ``no_worker_grace_s`` (they are ``not_run``; the finished ones are kept).
 
     Raises
     ------
@@ -311,6 +326,6 @@ def scheduler_backend(address: str, timeout_s: float = 10.0,
                              f"this is {__version__}")
         n = len(versions)
         yield DaskBackend(client, f"the Dask cluster at {address} ({n} worker"
-                          f"{'s' if n != 1 else ''} now)")
+                          f"{'s' if n != 1 else ''} now)", no_worker_grace_s=no_worker_grace_s)
     finally:
         _close(client)

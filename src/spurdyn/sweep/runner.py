@@ -10,6 +10,7 @@ the job later.
 
 from __future__ import annotations
 
+import asyncio
 import os
 import shutil
 import signal
@@ -179,6 +180,13 @@ def write_run_folder(out: Path, key: PointKey, case: Case, result: Result) -> Pa
     return target
 
 
+def short_error(err: BaseException, limit: int = 240) -> str:
+    """``Type: first line of the message``, at most ``limit`` characters."""
+    lines = str(err).strip().splitlines()
+    text = f"{type(err).__name__}: {lines[0]}" if lines else type(err).__name__
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
 def _describe(key: PointKey) -> str:
     return f"{key.model} {key.rpm:,.6g} rpm, {key.torque:g} N m"
 
@@ -263,8 +271,8 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     except KeyboardInterrupt:
         interrupted = True
         backend.cancel()
-    except Exception as err:  # noqa: BLE001 - the cluster failed: keep what we have
-        stopped = f"{type(err).__name__}: {err}"
+    except (Exception, asyncio.CancelledError) as err:  # noqa: BLE001 - the cluster failed
+        stopped = short_error(err)
         backend.cancel()
     finally:
         bar.close()

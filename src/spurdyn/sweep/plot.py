@@ -1,7 +1,7 @@
 """The dynamic factor against speed (Matplotlib, no screen needed).
 
-One curve per model in the folder (FE solid with dots, lumped dashed), one colour per
-torque; incomplete points hollow, failed and missing points left out of the curves and
+One curve per model in the folder (FE solid blue with dots, lumped dashed orange; with
+several torques, one colour per torque); incomplete points hollow, failed and missing points left out of the curves and
 ticked along the bottom. The top axis is the tooth mesh frequency; the speed at which
 the mesh frequency equals the estimated torsional natural frequency ``f_n`` is marked
 (and, lighter, the speed at which twice the mesh frequency does).
@@ -22,8 +22,16 @@ import xarray as xr  # noqa: E402
 from spurdyn.sweep.resonance import ResonanceEstimate  # noqa: E402
 from spurdyn.sweep.store import STATUS_CODES, model_datasets  # noqa: E402
 
-_STYLE = {"fe": {"ls": "-", "marker": "o", "label": "FE contact model"},
-          "lumped": {"ls": "--", "marker": "s", "label": "lumped (two disks, mesh spring)"}}
+_STYLE = {"fe": {"ls": "-", "marker": "o", "label": "FE contact model", "colour": "C0"},
+          "lumped": {"ls": "--", "marker": "s", "label": "lumped (two disks, mesh spring)",
+                     "colour": "C1"}}
+
+
+def line_colour(model: str, torque_index: int, n_torques: int) -> str:
+    """One colour per model for a single torque; one per torque for several."""
+    if n_torques > 1:
+        return f"C{(torque_index + 2) % 10}" if torque_index >= 1 else "C0"
+    return str(_STYLE.get(model, {}).get("colour", "C2"))
 
 
 def _per_torque(ds: xr.Dataset) -> list[tuple[float, xr.Dataset]]:
@@ -36,10 +44,9 @@ def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
                         resonance: ResonanceEstimate | None) -> None:
     """Draw each model's dynamic factor against the speed of A on ``ax``."""
     torques = sorted({t for ds in datasets.values() for t, _ in _per_torque(ds)})
-    colours = {t: f"C{i % 10}" for i, t in enumerate(torques)}
     lo, hi = np.inf, -np.inf
     for model, ds in datasets.items():
-        style = _STYLE.get(model, {"ls": "-.", "marker": "^", "label": model})
+        style = _STYLE.get(model, {"ls": "-.", "marker": "^", "label": model, "colour": "C2"})
         for torque, part in _per_torque(ds):
             rpm = part["rpm"].values.astype(float)
             if rpm.size:
@@ -50,9 +57,9 @@ def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
             partial = status == STATUS_CODES["incomplete"]
             shown = ok | partial
             label = style["label"] + (f", {torque:g} N m" if len(torques) > 1 else "")
-            colour = colours[torque]
+            colour = line_colour(model, torques.index(torque), len(torques))
             ax.plot(rpm[shown], factor[shown], ls=style["ls"], color=colour, lw=1.4,
-                    marker=style["marker"], ms=3.5, label=label)
+                    marker=style["marker"], ms=3.5 if rpm.size <= 60 else 1.5, label=label)
             if partial.any():
                 ax.plot(rpm[partial], factor[partial], ls="none", marker=style["marker"],
                         ms=7, mfc="white", mec=colour, label=f"{model}: incomplete run")

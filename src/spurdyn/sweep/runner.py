@@ -89,21 +89,21 @@ class SweepProgress:
         self.stream = sys.stderr if stream is None else stream
         isatty = getattr(self.stream, "isatty", lambda: False)
         self.enabled = bool(enabled) and bool(isatty()) and n_points > 0
-        self.n_points, self.done, self.failed = n_points, 0, 0
+        self.label, self.n_points, self.done, self.failed = label, n_points, 0, 0
         self.bar: Any = None
         if self.enabled:
             from tqdm import tqdm
 
             self.bar = tqdm(total=max(total_cost, 1), desc=label, file=self.stream,
                             dynamic_ncols=True, leave=True, unit="step", unit_scale=True,
-                            bar_format="{desc}: {percentage:3.0f}%|{bar}| {postfix} "
+                            bar_format="{desc} {percentage:3.0f}%|{bar}| "
                                        "[{elapsed}<{remaining}]")
             self._postfix()
 
     def _postfix(self) -> None:
         if self.bar is not None:
-            self.bar.set_postfix_str(f"{self.done}/{self.n_points} points, {self.failed} "
-                                     "failed", refresh=True)
+            self.bar.set_description_str(f"{self.label}: {self.done}/{self.n_points} points, "
+                                         f"{self.failed} not complete,", refresh=True)
 
     def update(self, cost: int, ok: bool) -> None:
         self.done += 1

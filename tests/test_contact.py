@@ -237,3 +237,67 @@ def test_flank_surface_passes_through_the_outline_nodes(relief):
         # between the nodes the quadratic edges miss the involute by nanometres
         mid = [np.hypot(*f.delta(t + 0.25)) for t in range(int(np.ceil(f.t0)), f.ny)]
         assert 0 < max(mid) < 1e-6
+
+
+def _wavy_flanks(system):
+    """Flank splines of paper-fig11-bdrive at step 819, iterate 6 (the mirrored pair: B
+    drives, B's hard impact at 20,200 rpm): after the impact the flanks are wavy and
+    locally nearly conforming, and Newton's iteration for the pair cycles."""
+    from pathlib import Path
+
+    from spurdyn.contact import reference as cref
+
+    s, ref = system
+    data = np.load(Path(__file__).parent / "data" / "wavy_flanks_fig11_bdrive.npz")
+    th, u, guess = data["theta"], data["u"], tuple(data["guess"])
+    ua, ub = blocks(s, u)
+    fa, fb = s.gears[0].flank, s.gears[1].flank
+    pa = cref.flank_spline(fa, s.gears[0].X + ua.reshape(-1, 2), rot(s.gears[0].sense * th[0]))
+    pb = cref.flank_spline(fb, s.gears[1].X + ub.reshape(-1, 2), rot(s.gears[1].sense * th[1]))
+    return th, u, guess, pa, pb, fa, fb
+
+
+def test_contact_search_finds_the_deepest_point_where_newton_cycles(system):
+    from spurdyn.contact import reference as cref
+
+    s, ref = system
+    th, u, guess, pa, pb, fa, fb = _wavy_flanks(system)
+    # The case this guards: Newton fails from the guess and from the scan's start.
+    assert not cref._newton_pair(pa, pb, *guess)[2]
+    assert not cref._newton_pair(pa, pb, *cref._scan(pa, pb, fa, fb, guess[1]))[2]
+    c = ref.contact_at(th, u, guess)
+    assert c.mode == FLANK
+    # Brute force: the normal gap along A, densely, near the pair found.
+    a_grid = np.linspace(c.alpha - 0.3, c.alpha + 0.3, 601)
+    b = c.beta
+    gaps = []
+    for a in a_grid:
+        g, b = cref._gap(pa, pb, fb, a, b)
+        gaps.append(g)
+    gaps = np.array(gaps)
+    best = int(np.argmin(gaps))
+    assert abs(a_grid[best] - c.alpha) <= 1.5e-3          # the grid's spacing is 1e-3
+    g_pair, _ = cref._gap(pa, pb, fb, c.alpha, c.beta)
+    assert g_pair <= gaps.min() + 1e-15
+
+
+def test_compiled_search_matches_reference_where_newton_cycles(system):
+    from spurdyn.integrate.fast import pack
+    from spurdyn.integrate.fast_step import search
+
+    s, ref = system
+    th, u, guess, *_ = _wavy_flanks(system)
+    c = ref.contact_at(th, u, guess)
+    p = pack(s, ref.case)
+    nd = p.fl_nodes.shape[1]
+    va, vb, ma, mb = (np.empty((nd, 2)) for _ in range(4))
+    a, b, mode, nx, ny, sc = search(p, th, u, np.array(guess), va, vb, ma, mb)
+    assert (a, b, mode) == pytest.approx((c.alpha, c.beta, c.mode), abs=1e-8)
+    assert sc == pytest.approx(c.s, abs=1e-14)
+
+
+def test_compiled_search_constants_are_the_reference_ones():
+    from spurdyn.contact import reference as cref
+
+    assert ((kernels.GOLDEN, kernels.GOLDEN_TOL, kernels.EDGE, kernels.POLISH)
+            == (cref.GOLDEN, cref.GOLDEN_TOL, cref.EDGE, cref.POLISH))

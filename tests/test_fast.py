@@ -111,3 +111,16 @@ def test_gear_b_driving_is_the_mirror_image():
     assert np.allclose(ra.theta[:n, ::-1], rb.theta[:n], rtol=0, atol=1e-12)
     assert np.allclose(ra.omega[:n, ::-1], rb.omega[:n], rtol=1e-12)
     assert rb.torque[-1, 1] > 0 > rb.torque[-1, 0]        # B's torque drives now
+
+
+def test_a_stage_that_does_not_converge_stops_both_backends_and_keeps_the_steps_before():
+    # With 8 iterations allowed, the velocity stage of step 3 at 20,000 rpm needs more.
+    case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, max_iter=8,
+                   angle=0.004, frames_every=0)
+    runs = {b: simulate(PAIR, case.with_(backend=b), chunk=50) for b in ("numba", "numpy")}
+    for r in runs.values():
+        assert r.status == "incomplete"
+        assert r.reason.startswith("step 3: the velocity stage did not converge in 8 iterations")
+        assert r.steps == 2 and r.time.size == 3      # t = 0 and the two steps made
+    assert np.allclose(runs["numba"].omega, runs["numpy"].omega, rtol=1e-9)
+    assert np.allclose(runs["numba"].contact_force, runs["numpy"].contact_force, rtol=1e-6, atol=1e-6)

@@ -14,6 +14,7 @@ towards B, ``s > 0`` penetration.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -123,33 +124,84 @@ def _project(point: NDArray[np.float64], p: CubicSpline, t: float, lo: float, hi
     return t
 
 
+def _gap(pa: CubicSpline, pb: CubicSpline, fb: Flank, a: float, b: float) -> tuple[float, float]:
+    """Normal gap from A's point ``a`` to B (foot of the normal at ``b``, warm start) and ``b``."""
+    p = pa(a)
+    b = _project(p, pb, b, fb.t0, fb.t1)
+    return float(outward_normal(pa(a, 1)) @ (pb(b) - p)), b
+
+
 def _scan(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank, b_guess: float) -> tuple[float, float]:
     """A global start: the data point of A whose normal gap to B is smallest (deepest)."""
     best, best_ab = np.inf, (fa.t0, fb.t0)
     b = min(max(b_guess, fb.t0), fb.t1)
     for a in np.linspace(fa.t0, fa.t1, fa.n_data):
-        p = pa(a)
-        b = _project(p, pb, b, fb.t0, fb.t1)
-        gap = outward_normal(pa(a, 1)) @ (pb(b) - p)
+        gap, b = _gap(pa, pb, fb, a, b)
         if gap < best:
             best, best_ab = gap, (float(a), float(b))
     return best_ab
+
+
+#: Golden-section ratio and the bracket width (flank coordinate) at which it stops.
+GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
+GOLDEN_TOL = 1e-10
+#: A point this close to a tip (flank coordinate) is that tip's corner.
+EDGE = 1e-9
+#: Newton's polish of the golden-section point is kept if it moved less than this.
+POLISH = 1e-4
+
+
+def _deepest(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank,
+             a0: float, b0: float) -> tuple[float, float]:
+    """The deepest point (smallest normal gap) of A within one data spacing of ``a0``.
+
+    The safeguard for wavy flanks: where the flanks are nearly conforming the Newton
+    iteration of :func:`_newton_pair` can cycle, but the gap along A is still a smooth
+    function whose minimum is the contact pair; golden-section search finds it.
+    """
+    h = (fa.t1 - fa.t0) / (fa.n_data - 1)
+    lo, hi = max(a0 - h, fa.t0), min(a0 + h, fa.t1)
+    x1, x2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
+    g1, b1 = _gap(pa, pb, fb, x1, b0)
+    g2, b2 = _gap(pa, pb, fb, x2, b0)
+    while hi - lo > GOLDEN_TOL:
+        if g1 <= g2:
+            hi, x2, g2, b2 = x2, x1, g1, b1
+            x1 = hi - GOLDEN * (hi - lo)
+            g1, b1 = _gap(pa, pb, fb, x1, b2)
+        else:
+            lo, x1, g1, b1 = x1, x2, g2, b2
+            x2 = lo + GOLDEN * (hi - lo)
+            g2, b2 = _gap(pa, pb, fb, x2, b1)
+    return (x1, b1) if g1 <= g2 else (x2, b2)
 
 
 def _pair(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank,
           guess: tuple[float, float]) -> tuple[float, float, int]:
     """``(alpha, beta, mode)`` of the contact pair (see :func:`find_contact`)."""
     a, b, ok = _newton_pair(pa, pb, *guess)
+    near = guess
     if not ok or abs(a - guess[0]) + abs(b - guess[1]) > 1.0:
         # Lost or jumped more than an element (wavy flanks after an impact): start again
-        # from the deepest point of a scan along A.
-        a, b, ok = _newton_pair(pa, pb, *_scan(pa, pb, fa, fb, guess[1]))
+        # from the deepest data point of a scan along A; if Newton cycles there too, take
+        # the deepest point near it by a bracketed search.
+        near = _scan(pa, pb, fa, fb, guess[1])
+        a, b, ok = _newton_pair(pa, pb, *near)
+        if not ok or abs(a - near[0]) + abs(b - near[1]) > 1.0:
+            a, b = _deepest(pa, pb, fa, fb, *near)
+            near = (a, b)
+            # A minimum is located only to ~sqrt(machine epsilon); Newton, started this
+            # close, polishes it to round-off unless the flanks conform there.
+            a2, b2, ok2 = _newton_pair(pa, pb, a, b)
+            if ok2 and abs(a2 - a) + abs(b2 - b) < POLISH:
+                a, b = a2, b2
+            ok = a < fa.t1 - EDGE and b < fb.t1 - EDGE
     if ok and fa.t0 <= a <= fa.t1 and fb.t0 <= b <= fb.t1:
         return a, b, FLANK
     # The pair lies beyond a tooth's tip: that tip corner touches the other flank. Of the
     # corners whose foot lies on the other flank, keep the nearer.
-    ga = min(max(a if ok else guess[0], fa.t0), fa.t1)
-    gb = min(max(b if ok else guess[1], fb.t0), fb.t1)
+    ga = min(max(a if ok else near[0], fa.t0), fa.t1)
+    gb = min(max(b if ok else near[1], fb.t0), fb.t1)
     a_b = _project(pb(fb.t1), pa, ga, fa.t0, fa.t1)     # B's corner on A
     b_a = _project(pa(fa.t1), pb, gb, fb.t0, fb.t1)     # A's corner on B
     dist_b = np.hypot(*(pb(fb.t1) - pa(a_b))) if fa.t0 < a_b < fa.t1 else np.inf

@@ -1,7 +1,7 @@
 """Compiled kernels of the fast stepper (Numba): arrays and scalars in, arrays out.
 
 Each kernel has a NumPy counterpart in :mod:`spurdyn.solver.reference` or
-:mod:`spurdyn.contact.reference` and is tested against it (tests/test_kernels.py).
+:mod:`spurdyn.contact.reference` and is tested against it (tests/test_fast.py, tests/test_contact.py).
 
 Conventions: ``u``-vectors stack both teeth (A's nodes first, node ``n`` owns DOFs
 ``2n``, ``2n+1``); ``theta``, ``omega`` are ``(2,)``; ``x = [lambda_A, lambda_B, p]``.
@@ -19,6 +19,13 @@ FLANK, CORNER_A, CORNER_B = 0, 1, 2
 
 # Indices into the per-gear flank parameter rows ``fpar[g]``.
 F_T0, F_T1, F_R0, F_RTIP, F_RB, F_PSI, F_REF, F_NY, F_H, F_RA, F_RS, F_RK, F_RT = range(13)
+
+# The contact search's safeguard (the values of spurdyn.contact.reference, repeated here
+# because a compiled kernel freezes its globals and its disk cache tracks this file only).
+GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
+GOLDEN_TOL = 1e-10
+EDGE = 1e-9
+POLISH = 1e-4
 
 
 # -- small helpers --------------------------------------------------------------------------
@@ -431,10 +438,22 @@ def project(px, py, v, M, t0, h, t, lo, hi):
 
 
 @njit(cache=True)
+def gap_at(va, Ma, vb, Mb, fa, fb, a, b, e, f):
+    """Normal gap from A's point ``a`` to B and the foot ``b`` of the normal (warm start)."""
+    ta0, ha = fa[F_T0], fa[F_H]
+    tb0, tb1, hb = fb[F_T0], fb[F_T1], fb[F_H]
+    spline_eval(va, Ma, ta0, ha, a, e)
+    b = project(e[0], e[1], vb, Mb, tb0, hb, b, tb0, tb1)
+    spline_eval(vb, Mb, tb0, hb, b, f)
+    nrm = math.hypot(e[2], e[3])
+    return (e[3] * (f[0] - e[0]) - e[2] * (f[1] - e[1])) / nrm, b
+
+
+@njit(cache=True)
 def scan(va, Ma, vb, Mb, fa, fb, b_guess):
     """A global start: the data point of A whose normal gap to B is smallest (deepest)."""
-    ta0, ta1, ha = fa[F_T0], fa[F_T1], fa[F_H]
-    tb0, tb1, hb = fb[F_T0], fb[F_T1], fb[F_H]
+    ta0, ha = fa[F_T0], fa[F_H]
+    tb0, tb1 = fb[F_T0], fb[F_T1]
     e = np.empty(6)
     f = np.empty(6)
     best = np.inf
@@ -443,14 +462,35 @@ def scan(va, Ma, vb, Mb, fa, fb, b_guess):
     n = va.shape[0]
     for k in range(n):
         a = ta0 + k * ha
-        spline_eval(va, Ma, ta0, ha, a, e)
-        b = project(e[0], e[1], vb, Mb, tb0, hb, b, tb0, tb1)
-        spline_eval(vb, Mb, tb0, hb, b, f)
-        nrm = math.hypot(e[2], e[3])
-        gap = (e[3] * (f[0] - e[0]) - e[2] * (f[1] - e[1])) / nrm
+        gap, b = gap_at(va, Ma, vb, Mb, fa, fb, a, b, e, f)
         if gap < best:
             best, ba, bb = gap, a, b
     return ba, bb
+
+
+@njit(cache=True)
+def deepest(va, Ma, vb, Mb, fa, fb, a0, b0):
+    """Golden-section search for the deepest point of A within one data spacing of ``a0``
+    (see :func:`spurdyn.contact.reference._deepest`)."""
+    ta0, ta1, ha = fa[F_T0], fa[F_T1], fa[F_H]
+    e = np.empty(6)
+    f = np.empty(6)
+    lo, hi = max(a0 - ha, ta0), min(a0 + ha, ta1)
+    x1, x2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
+    g1, b1 = gap_at(va, Ma, vb, Mb, fa, fb, x1, b0, e, f)
+    g2, b2 = gap_at(va, Ma, vb, Mb, fa, fb, x2, b0, e, f)
+    while hi - lo > GOLDEN_TOL:
+        if g1 <= g2:
+            hi, x2, g2, b2 = x2, x1, g1, b1
+            x1 = hi - GOLDEN * (hi - lo)
+            g1, b1 = gap_at(va, Ma, vb, Mb, fa, fb, x1, b2, e, f)
+        else:
+            lo, x1, g1, b1 = x1, x2, g2, b2
+            x2 = lo + GOLDEN * (hi - lo)
+            g2, b2 = gap_at(va, Ma, vb, Mb, fa, fb, x2, b1, e, f)
+    if g1 <= g2:
+        return x1, b1
+    return x2, b2
 
 
 @njit(cache=True)
@@ -460,15 +500,23 @@ def find_pair(va, Ma, vb, Mb, fa, fb, ga, gb):
     ta0, ta1, ha = fa[F_T0], fa[F_T1], fa[F_H]
     tb0, tb1, hb = fb[F_T0], fb[F_T1], fb[F_H]
     a, b, ok = newton_pair(va, Ma, vb, Mb, ta0, ha, tb0, hb, ga, gb)
+    na, nb = ga, gb
     if not ok or abs(a - ga) + abs(b - gb) > 1.0:
-        sa, sb = scan(va, Ma, vb, Mb, fa, fb, gb)
-        a, b, ok = newton_pair(va, Ma, vb, Mb, ta0, ha, tb0, hb, sa, sb)
+        na, nb = scan(va, Ma, vb, Mb, fa, fb, gb)
+        a, b, ok = newton_pair(va, Ma, vb, Mb, ta0, ha, tb0, hb, na, nb)
+        if not ok or abs(a - na) + abs(b - nb) > 1.0:
+            a, b = deepest(va, Ma, vb, Mb, fa, fb, na, nb)
+            na, nb = a, b
+            a2, b2, ok2 = newton_pair(va, Ma, vb, Mb, ta0, ha, tb0, hb, a, b)
+            if ok2 and abs(a2 - a) + abs(b2 - b) < POLISH:
+                a, b = a2, b2
+            ok = a < ta1 - EDGE and b < tb1 - EDGE
     e = np.empty(6)
     if ok and ta0 <= a <= ta1 and tb0 <= b <= tb1:
         mode = FLANK
     else:
-        ga_ = min(max(a if ok else ga, ta0), ta1)
-        gb_ = min(max(b if ok else gb, tb0), tb1)
+        ga_ = min(max(a if ok else na, ta0), ta1)
+        gb_ = min(max(b if ok else nb, tb0), tb1)
         spline_eval(vb, Mb, tb0, hb, tb1, e)
         cbx, cby = e[0], e[1]
         a_b = project(cbx, cby, va, Ma, ta0, ha, ga_, ta0, ta1)

@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.solver.case import RunCase
-from spurdyn.solver.reference import ReferenceStepper, initial_state
+from spurdyn.solver.reference import ConvergenceError, ReferenceStepper, initial_state
 from spurdyn.solver.system import PairSystem
 
 
@@ -48,7 +48,11 @@ class ReferenceLoopStepper:
         for _ in range(n):
             if self.state.theta[0] >= angle_end:
                 break
-            self.state, rep = self.method.step(self.state, self.index + 1)
+            try:
+                self.state, rep = self.method.step(self.state, self.index + 1)
+            except ConvergenceError as err:
+                # What was computed before the failing step stays in ``rows``.
+                return _count(self, n), written, str(err)
             self.index += 1
             self.residual, self.iterations = rep.residual, rep.iterations
             if not np.all(np.isfinite(self.state.u)):

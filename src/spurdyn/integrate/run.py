@@ -20,7 +20,6 @@ from spurdyn.errors import InputError
 from spurdyn.geometry.gear import GearPair
 from spurdyn.results.result import Result
 from spurdyn.solver.case import RunCase
-from spurdyn.solver.reference import ConvergenceError
 from spurdyn.solver.system import PairSystem, build_system
 
 Progress = Callable[[int, float, float], None]
@@ -144,8 +143,6 @@ def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
                 break
     except KeyboardInterrupt:
         status, reason = "incomplete", f"interrupted by the user at step {steps}"
-    except ConvergenceError as err:  # raised by the reference stepper
-        status, reason = "incomplete", str(err)
     return _to_result(pair, case, system, rows[:n_rows], frames, status, reason, steps,
                       time.perf_counter() - wall0)
 

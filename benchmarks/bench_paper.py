@@ -6,8 +6,13 @@ NumPy reference on a shortened run of the same case, scaled by steps, for the sp
 ``paper-all --jobs 2`` through the command line; and where the time of a compiled step
 goes (each part timed in a compiled loop on a loaded state).
 
+Then the two figures a user meets first: ``spurdyn run paper-fig8`` from the command line
+(Python start-up, set-up, the run and writing every output file), and the first run on
+a machine with an empty compile cache (a fresh ``SPURDYN_CACHE_DIR``), which compiles the
+kernels before it runs.
+
 Options: ``--ref-steps N`` (reference steps per case, default 40), ``--quick`` (only
-fig9, fewer repetitions), ``--no-cli``.
+fig9, fewer repetitions), ``--no-cli``, ``--no-compile``.
 """
 
 from __future__ import annotations
@@ -47,9 +52,35 @@ print(json.dumps({"status": r.status, "steps": r.steps, "wall": wall,
 """
 
 
+COLD = r"""
+import json, time
+t0 = time.perf_counter()
+from spurdyn.geometry.presets import paper_pair, PAPER_TORQUE
+from spurdyn.integrate import simulate
+from spurdyn.solver.case import RunCase, RPM
+case = RunCase(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
+t1 = time.perf_counter()
+r = simulate(paper_pair(), case)
+t2 = time.perf_counter()
+r = simulate(paper_pair(), case)
+t3 = time.perf_counter()
+print(json.dumps({"import": t1 - t0, "first": t2 - t1, "second": t3 - t2, "status": r.status}))
+"""
+
+
 def child(a: float, b: float, backend: str, steps: int) -> dict:
     out = subprocess.run([sys.executable, "-c", CHILD, str(a), str(b), backend, str(steps)],
                          capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def cold_start() -> dict:
+    """paper-fig8 twice in one process whose compile cache starts empty."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, SPURDYN_CACHE_DIR=cache)
+        env.pop("NUMBA_CACHE_DIR", None)
+        out = subprocess.run([sys.executable, "-c", COLD], capture_output=True, text=True,
+                             check=True, env=env)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -138,6 +169,7 @@ def main() -> None:
     ap.add_argument("--ref-steps", type=int, default=40)
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--no-cli", action="store_true")
+    ap.add_argument("--no-compile", action="store_true")
     args = ap.parse_args()
     cases = {"paper-fig9": CASES["paper-fig9"]} if args.quick else CASES
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
@@ -163,6 +195,18 @@ def main() -> None:
                             "--quiet", "--out", os.path.join(tmp, "all")], check=True)
             print(f"spurdyn run paper-all --jobs 2: {time.perf_counter() - t:.1f} s wall "
                   f"(CPU time of the children {resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime:.1f} s)")
+    if not args.no_cli:
+        with tempfile.TemporaryDirectory() as tmp:
+            t = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "spurdyn.cli.main", "run", "paper-fig8",
+                            "--quiet", "--out", os.path.join(tmp, "fig8")], check=True)
+            print(f"spurdyn run paper-fig8 (command, every output file written): "
+                  f"{time.perf_counter() - t:.1f} s wall")
+    if not args.no_compile and not args.quick:
+        c = cold_start()
+        print(f"first run with an empty compile cache: paper-fig8 {c['first']:.1f} s "
+              f"(compiling included; import {c['import']:.1f} s), the same run again "
+              f"{c['second']:.1f} s -> compiling ~{c['first'] - c['second']:.0f} s")
     print("where the time of a compiled step goes (us per call, 4,000 rpm, loaded):")
     for part, us in breakdown(300 if args.quick else 2000).items():
         print(f"  {part:<45} {us if isinstance(us, list) else f'{us:8.1f}'}")

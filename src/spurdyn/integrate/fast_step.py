@@ -28,6 +28,9 @@ from spurdyn.integrate.kernels import (
     tangent, torque,
 )
 
+# Constant arguments of compiled calls are written ``np.int64(0)``, ``np.bool_(True)``:
+# a bare literal makes Numba compile a separate copy of the callee per literal value,
+# which cost ~8 s of the first compile (measured in docs/performance.md).
 OK, FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NAN = 0, 1, 2, 3, 4
 
 #: Move the contact force to the contact pair found in an iteration when the pair has
@@ -105,13 +108,13 @@ def material_point(P, g, t, th, uget, kind, om, al):
 @njit(cache=True)
 def search(P, theta, u, guess, va, vb, Ma, Mb):
     """Contact pair on the current flanks: ``(alpha, beta, mode, n_x, n_y, s)``."""
-    data_positions(P, 0, theta[0], 0.0, u, va, 0)
-    data_positions(P, 1, theta[1], 0.0, u, vb, 0)
+    data_positions(P, np.int64(0), theta[0], 0.0, u, va, np.int64(0))
+    data_positions(P, np.int64(1), theta[1], 0.0, u, vb, np.int64(0))
     spline_second(va, P.fpar[0, F_H], Ma)
     spline_second(vb, P.fpar[1, F_H], Mb)
     a, b, mode, nx, ny = find_pair(va, Ma, vb, Mb, P.fpar[0], P.fpar[1], guess[0], guess[1])
-    xa, ya = material_point(P, 0, a, theta[0], u, 0, 0.0, 0.0)
-    xb, yb = material_point(P, 1, b, theta[1], u, 0, 0.0, 0.0)
+    xa, ya = material_point(P, np.int64(0), a, theta[0], u, np.int64(0), 0.0, 0.0)
+    xb, yb = material_point(P, np.int64(1), b, theta[1], u, np.int64(0), 0.0, 0.0)
     s = nx * (xa - xb) + ny * (ya - yb)
     return a, b, mode, nx, ny, s
 
@@ -136,8 +139,8 @@ def sliding(P, theta, omega, u, v, a, b, mode, nx, ny, va, vb, Ma, Mb):
     wb = np.empty((na, 2))
     Wa = np.empty((na, 2))
     Wb = np.empty((na, 2))
-    data_positions(P, 0, theta[0], omega[0], v, wa, 1)
-    data_positions(P, 1, theta[1], omega[1], v, wb, 1)
+    data_positions(P, np.int64(0), theta[0], omega[0], v, wa, np.int64(1))
+    data_positions(P, np.int64(1), theta[1], omega[1], v, wb, np.int64(1))
     spline_second(wa, P.fpar[0, F_H], Wa)
     spline_second(wb, P.fpar[1, F_H], Wb)
     ea = np.empty(6)
@@ -504,7 +507,7 @@ def step(P, S, cfg):
     acc3 = np.zeros(n)
     acc4 = np.zeros(n)
     h2 = 0.5 * h * h
-    _columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, 0, m, Wq, Wv, scratch, mark, touched,
+    _columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, np.int64(0), m, Wq, Wv, scratch, mark, touched,
              nz_nodes, zu, acc3, acc4)
 
     # relevant rows of the free state
@@ -588,7 +591,7 @@ def step(P, S, cfg):
     p_bar = x[m - 1]
 
     # full positions at t + dt by superposition
-    th1, u1, _, _ = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, False)
+    th1, u1, _, _ = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, np.bool_(False))
     cn1 = np.empty(6, dtype=np.int64)
     cw1 = np.empty(6)
     contact_rows(P, a_c, b_c, cn1, cw1)
@@ -611,8 +614,8 @@ def step(P, S, cfg):
             px, py = root_phi_theta(P, th1, k)
             e[2 * k] = -(v_try[2 * i] + px * om_try[g])
             e[2 * k + 1] = -(v_try[2 * i + 1] + py * om_try[g])
-        pax, pay = material_point(P, 0, a_c, th1[0], v_try, 1, om_try[0], 0.0)
-        pbx, pby = material_point(P, 1, b_c, th1[1], v_try, 1, om_try[1], 0.0)
+        pax, pay = material_point(P, np.int64(0), a_c, th1[0], v_try, np.int64(1), om_try[0], 0.0)
+        pbx, pby = material_point(P, np.int64(1), b_c, th1[1], v_try, np.int64(1), om_try[1], 0.0)
         sh = nxc * (pax - pbx) + nyc * (pay - pby)
         e[m - 1] = sh if (p_bar < 0.0 and (sh > 0.0 or x[m - 1] < 0.0)) else 0.0
         res = 0.0
@@ -632,7 +635,7 @@ def step(P, S, cfg):
     S.res[1] = res
     S.its[1] = it
 
-    _, _, om1, v1 = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, True)
+    _, _, om1, v1 = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, np.bool_(True))
 
     # -- stage 3: accelerations at t + dt -----------------------------------------------
     zero2 = np.zeros(2)
@@ -664,8 +667,8 @@ def step(P, S, cfg):
             i = cn1[j]
             a_try[2 * i] = a_free[2 * i] + fu[2 * i] / P.mass[2 * i]
             a_try[2 * i + 1] = a_free[2 * i + 1] + fu[2 * i + 1] / P.mass[2 * i + 1]
-        pax, pay = material_point(P, 0, a_c, th1[0], a_try, 2, om1[0], al_try[0])
-        pbx, pby = material_point(P, 1, b_c, th1[1], a_try, 2, om1[1], al_try[1])
+        pax, pay = material_point(P, np.int64(0), a_c, th1[0], a_try, np.int64(2), om1[0], al_try[0])
+        pbx, pby = material_point(P, np.int64(1), b_c, th1[1], a_try, np.int64(2), om1[1], al_try[1])
         st = nxc * (pax - pbx) + nyc * (pay - pby) + extra
         e[m - 1] = st if (p_bar < 0.0 and (st > 0.0 or x[m - 1] < 0.0)) else 0.0
         res = 0.0
@@ -733,8 +736,8 @@ def advance(P, S, cfg, n_steps, angle_end, save_every, rows, frames_every, frame
 
 @njit(cache=True)
 def write_row(P, S, row):
-    ta, _ = torque(P.tpar, 0, S.theta[0])
-    tb, _ = torque(P.tpar, 1, S.theta[1])
+    ta, _ = torque(P.tpar, np.int64(0), S.theta[0])
+    tb, _ = torque(P.tpar, np.int64(1), S.theta[1])
     row[0] = S.t[0]
     row[1] = S.theta[0]
     row[2] = S.theta[1]

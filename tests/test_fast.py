@@ -124,3 +124,37 @@ def test_a_stage_that_does_not_converge_stops_both_backends_and_keeps_the_steps_
         assert r.steps == 2 and r.time.size == 3      # t = 0 and the two steps made
     assert np.allclose(runs["numba"].omega, runs["numpy"].omega, rtol=1e-9)
     assert np.allclose(runs["numba"].contact_force, runs["numpy"].contact_force, rtol=1e-6, atol=1e-6)
+
+
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_a_nan_stops_the_run_and_keeps_the_steps_before(backend, monkeypatch):
+    """A NaN in the state (here put into one nodal velocity after the first chunk of 20
+    steps) stops the run with status ``incomplete``, a reason naming the NaN and the
+    step, and the 20 steps made before it; no row of the history holds a NaN."""
+    from spurdyn.integrate import run as run_module
+
+    make = run_module.make_stepper
+
+    def poisoned(system, case):
+        stepper = make(system, case)
+        advance = stepper.advance
+        calls = []
+
+        def advance_then_poison(*args):
+            if calls:  # the second chunk starts from a state with a NaN in it
+                state = stepper.S if backend == "numba" else stepper.state
+                state.v[7] = np.nan
+            calls.append(1)
+            return advance(*args)
+
+        stepper.advance = advance_then_poison
+        return stepper
+
+    monkeypatch.setattr(run_module, "make_stepper", poisoned)
+    case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, backend=backend,
+                   angle=0.004, frames_every=0)
+    r = simulate(PAIR, case, chunk=20)
+    assert r.status == "incomplete"
+    assert "NaN" in r.reason and "step 21" in r.reason, r.reason
+    assert r.steps == 20 and r.time.size == 21
+    assert np.all(np.isfinite(r.contact_force)) and np.all(np.isfinite(r.omega))

@@ -47,6 +47,17 @@ def _rot(P, theta, g):
 
 
 @njit(cache=True)
+def max_abs(e):
+    """``max |e_i|``, NaN if any entry is NaN (Python's ``max`` would drop it)."""
+    r = 0.0
+    for i in range(e.size):
+        a = abs(e[i])
+        if a > r or a != a:
+            r = a
+    return r
+
+
+@njit(cache=True)
 def data_positions(P, g, th, omega_or_zero, uget, out, kind):
     """Positions (kind 0) or velocities (kind 1) of the data points of gear ``g``.
 
@@ -563,9 +574,7 @@ def step(P, S, cfg):
         a_c, b_c, mode, nxc, nyc, sc = search(P, th_try, u_try, guess, va, vb, Ma, Mb)
         guess[0], guess[1] = a_c, b_c
         e[m - 1] = sc if (x[m - 1] < 0.0 or sc > 0.0) else 0.0
-        res = 0.0
-        for i in range(m):
-            res = max(res, abs(e[i]))
+        res = max_abs(e)
         if not math.isfinite(res):
             S.res[0] = res
             return FAIL_NAN
@@ -618,9 +627,7 @@ def step(P, S, cfg):
         pbx, pby = material_point(P, np.int64(1), b_c, th1[1], v_try, np.int64(1), om_try[1], 0.0)
         sh = nxc * (pax - pbx) + nyc * (pay - pby)
         e[m - 1] = sh if (p_bar < 0.0 and (sh > 0.0 or x[m - 1] < 0.0)) else 0.0
-        res = 0.0
-        for i in range(m):
-            res = max(res, abs(e[i]))
+        res = max_abs(e)
         if not math.isfinite(res):
             S.res[1] = res
             return FAIL_NAN
@@ -671,9 +678,7 @@ def step(P, S, cfg):
         pbx, pby = material_point(P, np.int64(1), b_c, th1[1], a_try, np.int64(2), om1[1], al_try[1])
         st = nxc * (pax - pbx) + nyc * (pay - pby) + extra
         e[m - 1] = st if (p_bar < 0.0 and (st > 0.0 or x[m - 1] < 0.0)) else 0.0
-        res = 0.0
-        for i in range(m):
-            res = max(res, abs(e[i]))
+        res = max_abs(e)
         if not math.isfinite(res):
             S.res[2] = res
             return FAIL_NAN
@@ -689,6 +694,13 @@ def step(P, S, cfg):
     S.its[2] = it
 
     # -- the new state ------------------------------------------------------------------
+    # A NaN may sit in DOFs no residual reads (the constraints see only the root and flank
+    # nodes): check the whole state once before keeping it.
+    total = th1[0] + th1[1] + om1[0] + om1[1]
+    for i in range(n):
+        total += u1[i] + v1[i]
+    if not math.isfinite(total):
+        return FAIL_NAN
     constraint_force(P, th1, cn1, cw1, n1, x, fth, fu)
     for g in range(2):
         S.alpha_n[g] = al_free[g] + fth[g] / P.J[g]

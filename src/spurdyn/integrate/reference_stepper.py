@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.solver.case import RunCase
-from spurdyn.solver.reference import ConvergenceError, ReferenceStepper, initial_state
+from spurdyn.solver.reference import ConvergenceError, NonFiniteError, ReferenceStepper, initial_state
 from spurdyn.solver.system import PairSystem
 
 
@@ -50,7 +50,7 @@ class ReferenceLoopStepper:
                 break
             try:
                 self.state, rep = self.method.step(self.state, self.index + 1)
-            except ConvergenceError as err:
+            except (ConvergenceError, NonFiniteError) as err:
                 # What was computed before the failing step stays in ``rows``.
                 return _count(self, n), written, str(err)
             self.index += 1

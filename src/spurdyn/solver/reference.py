@@ -47,6 +47,14 @@ class ConvergenceError(RuntimeError):
                          f"iterations (residual {residual:.3e}, tolerance {tol:.3e})")
 
 
+class NonFiniteError(RuntimeError):
+    """The state became NaN (or infinite) within a step."""
+
+    def __init__(self, step: int) -> None:
+        self.step = step
+        super().__init__(f"the solution became NaN at step {step}")
+
+
 def rot(phi: float) -> NDArray[np.float64]:
     c, s = np.cos(phi), np.sin(phi)
     return np.array([[c, -s], [s, c]])
@@ -282,7 +290,10 @@ class ReferenceStepper:
         moves = 0
         for m in range(cap + 1):
             f_theta, f_u = constraint_force(sys_, st.theta, c_force, x)
-            th1, _, u1, _ = self.rk4(st, f_theta, f_u)
+            th1, om1_, u1, v1_ = self.rk4(st, f_theta, f_u)
+            if not (np.isfinite(th1).all() and np.isfinite(u1).all()
+                    and np.isfinite(om1_).all() and np.isfinite(v1_).all()):
+                raise NonFiniteError(index)  # before the spline refuses it
             c1 = self.contact_at(th1, u1, guess)
             pi = c1.s if (x[-1] < 0.0 or c1.s > 0.0) else 0.0
             e = np.append(self.root_errors(th1, u1), pi)

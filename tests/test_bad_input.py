@@ -74,6 +74,16 @@ CASES = [
                  "gear_a.root_radius", "", id="root_radius=0"),
     pytest.param(edit("root_radius = 0.04048", "root_radius = nan"),
                  "gear_a.root_radius", "", id="root_radius=nan"),
+    # -- lengths written in millimetres -------------------------------------------
+    pytest.param(PAPER.replace("pitch_radius = 0.04445", "pitch_radius = 44.45")
+                 .replace("tip_radius = 0.047625", "tip_radius = 47.625")
+                 .replace("root_radius = 0.04048", "root_radius = 40.48")
+                 .replace("face_width = 0.00635", "face_width = 6.35"),
+                 "gear_a.pitch_radius", "lengths are in metres", id="radii-mm"),
+    pytest.param(PAIR_TABLE + gear("gear_a", 28, 3.175, 3.175, 3.97) + MATERIAL_TABLE,
+                 "gear_a.module", "lengths are in metres", id="module-mm"),
+    pytest.param(edit("face_width = 0.00635", "face_width = 6.35"),
+                 "gear_a.face_width", "lengths are in metres", id="face_width-mm"),
     pytest.param(edit("face_width = 0.00635", "face_width = -0.00635"),
                  "gear_a.face_width", "must be a positive number", id="face_width<0"),
     pytest.param(edit("face_width = 0.00635", "face_width = 0"),

@@ -252,6 +252,44 @@ def test_overwrite_guard_and_force(fake, here, capsys):
     assert code == 2 and "is a file" in err
 
 
+def test_a_folder_filled_during_the_run_is_kept(fake, here, capsys, monkeypatch):
+    """The folder was free when the run started but another run filled it meanwhile:
+    without --force neither result is lost (the new one goes beside it, and says so);
+    with --force it is replaced."""
+    d = here / "out" / "paper-fig9"
+    execute = runner.execute
+
+    def fill_then_execute(plan, simulate, progress=True):
+        def simulate_while_another_writes(pair, case, bar=None):
+            d.mkdir(parents=True, exist_ok=True)
+            (d / "other.txt").write_text("another run's result")
+            return simulate(pair, case, bar)
+        return execute(plan, simulate_while_another_writes, progress)
+
+    monkeypatch.setattr(runner, "execute", fill_then_execute)
+    code, out, err = run(capsys, "run", "paper-fig9", *SHORT)
+    assert code == 0, err
+    assert sorted(p.name for p in d.iterdir()) == ["other.txt"]
+    moved = Path("out") / "paper-fig9-2"
+    assert f"written to {moved} instead" in err and f"-> {moved}" in out
+    check_run_folder(moved)
+    code, _, err = run(capsys, "run", "paper-fig9", *SHORT, "--force", "--out", d)
+    assert code == 0, err
+    assert not (d / "other.txt").exists()
+    check_run_folder(d)
+    assert leftovers(here / "out") == []
+
+
+def test_jobs_show_the_cases_finished_on_a_terminal_only():
+    tty = _Terminal()
+    bar = runner._cases_bar(4, True, tty)
+    bar.update(1)
+    bar.close()
+    assert "cases finished" in tty.getvalue() and "1/4" in tty.getvalue()
+    assert runner._cases_bar(4, True, io.StringIO()) is None   # a pipe
+    assert runner._cases_bar(4, False, _Terminal()) is None    # --quiet
+
+
 def test_interrupted_run_keeps_what_was_computed(fake, here, capsys, monkeypatch):
     calls = []
 
@@ -315,6 +353,8 @@ BAD_ARGS = [
     (["paper-fig8", "--method", "magic"], "--method: must be one of paper"),
     (["paper-fig8", "--backend", "cuda"], "--backend: must be one of numba, numpy"),
     (["paper-all", "--jobs", "0"], "--jobs: must be a whole number >= 1"),
+    (["paper-fig9", "--vtu", "--frames-every", "0"], "--vtu: needs tooth frames"),
+    (["paper-fig9", "--vtu", "--model", "lumped"], "--vtu: draws the FE teeth"),
     (["missing.toml"], "missing.toml: no such file"),
     ([str(EXAMPLES / "paper_pair.toml")], "run.speed_a_rpm: is missing"),
 ]

@@ -25,7 +25,7 @@ from typing import Any, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.fem.material import Material
-from spurdyn.geometry.gear import DEFAULT_CUTTER_TIP_RADIUS, Gear, GearPair
+from spurdyn.geometry.gear import DEFAULT_CUTTER_TIP_RADIUS, MAX_MODULE, Gear, GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
 from spurdyn.solver.case import BACKENDS, METHODS, RPM, RunCase
 
@@ -128,6 +128,10 @@ def gear_from_table(table: dict[str, Any], where: str) -> Gear:
         raise InputError(f"{where}.{size}", f"must be a positive number (got {module!r})")
     if size == "pitch_radius":
         module = 2.0 * module / teeth
+    if module > MAX_MODULE:  # the usual slip: millimetres
+        raise InputError(f"{where}.{size}", f"{table[size]:g} m gives a module of {module:g} m, "
+                         f"beyond any gear (at most {MAX_MODULE:g} m); lengths are in metres, "
+                         "not millimetres")
     r_p = module * teeth / 2.0
     top = _one_of(table, "addendum", "tip_radius", where)
     addendum = _number(table, top, where)

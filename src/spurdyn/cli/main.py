@@ -116,6 +116,14 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise InputError("--jobs", f"must be a whole number >= 1 (got {args.jobs})")
     overrides, labels = run_overrides(args)
     cases = resolve_cases(args.case, overrides, labels)
+    if args.vtu:  # a ParaView series is made of tooth frames: refuse a run that keeps none
+        if args.model != "fe":
+            raise InputError("--vtu", "draws the FE teeth; the lumped model has none "
+                             "(leave out --vtu or use --model fe)")
+        for case in cases:
+            if case.run.frames_every < 1:
+                raise InputError("--vtu", f"needs tooth frames, but {case.name} keeps none "
+                                 "(frames_every = 0); give --frames-every M with M >= 1")
     simulate = runner.load_simulate() if args.model == "fe" else runner.simulate_lumped_run
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,

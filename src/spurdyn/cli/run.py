@@ -204,17 +204,36 @@ class _Interrupts:
 
 # -- one run ---------------------------------------------------------------------------
 
-def _move_into_place(tmp: Path, target: Path) -> None:
+def _free_name(target: Path) -> Path:
+    """``target`` itself, or ``<target>-2``, ``<target>-3``, ... whichever is free."""
+    k = 2
+    while True:
+        alt = target.with_name(f"{target.name}-{k}")
+        if not alt.exists():
+            return alt
+        k += 1
+
+
+def _move_into_place(tmp: Path, target: Path, force: bool = True) -> Path:
+    """Move the written folder ``tmp`` to ``target``; return where it went.
+
+    ``target`` was checked before the run, but another run may have filled it since:
+    without ``force`` that folder is kept and the results go beside it under a free
+    name, so neither is lost.
+    """
     if target.exists():
         if target.is_dir() and not any(target.iterdir()):
             target.rmdir()
+        elif not force:
+            target = _free_name(target)
         else:
             old = target.with_name(f".{target.name}.old-{os.getpid()}")
             target.rename(old)
             tmp.rename(target)
             shutil.rmtree(old, ignore_errors=True)
-            return
+            return target
     tmp.rename(target)
+    return target
 
 
 def execute(plan: RunPlan, simulate: Simulate, progress: bool = True) -> dict[str, Any]:
@@ -249,7 +268,11 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True) -> dict[st
 
                 summary["model"] = model
                 write_summary(summary, tmp / SUMMARY_FILE)
-            _move_into_place(tmp, target)
+            final = _move_into_place(tmp, target, plan.force)
+            if final != target:
+                print(f"spurdyn: {target} was filled by another run meanwhile; "
+                      f"{plan.case.name} written to {final} instead", file=sys.stderr)
+                target = final
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
@@ -282,6 +305,17 @@ def _report(summary: dict[str, Any], quiet: bool) -> None:
 
 
 # -- several runs ----------------------------------------------------------------------
+
+def _cases_bar(total: int, enabled: bool, stream: Any = None) -> Any:
+    """A tqdm bar of the cases finished by ``--jobs`` workers (None in pipes or off)."""
+    stream = sys.stderr if stream is None else stream
+    if not (enabled and getattr(stream, "isatty", lambda: False)()):
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc="cases finished", unit="case", file=stream,
+                dynamic_ncols=True, leave=True)
+
 
 _WORKER_SIMULATE: Simulate | None = None
 
@@ -324,6 +358,9 @@ def run_plans(plans: Sequence[RunPlan], simulate: Simulate, *, jobs: int = 1,
                 _report(summary, quiet)
         else:
             # The solver goes to the workers as an importable function (by reference).
+            # The workers draw no bars of their own (they would overwrite each other):
+            # the command shows the cases finished instead.
+            cases_bar = _cases_bar(len(plans), progress)
             with ProcessPoolExecutor(max_workers=min(jobs, len(plans)),
                                      initializer=_init_worker, initargs=(simulate,)) as pool:
                 futures = {pool.submit(_worker, p): p for p in plans}
@@ -333,6 +370,8 @@ def run_plans(plans: Sequence[RunPlan], simulate: Simulate, *, jobs: int = 1,
                         for fut in as_completed(pending):
                             pending.discard(fut)
                             plan = futures[fut]
+                            if cases_bar is not None:
+                                cases_bar.update(1)
                             try:
                                 summary = fut.result()
                             except Exception as err:  # a worker died: report and go on
@@ -354,6 +393,8 @@ def run_plans(plans: Sequence[RunPlan], simulate: Simulate, *, jobs: int = 1,
                                 statuses.append("not run")
                                 print(f"spurdyn: {futures[fut].case.name} not run (interrupted)",
                                       file=sys.stderr)
+            if cases_bar is not None:
+                cases_bar.close()
     if statuses and all(s == "complete" for s in statuses):
         return EXIT_OK
     return EXIT_INCOMPLETE

@@ -40,6 +40,12 @@ MAX_RELIEF_MODULES = 0.1
 DEFAULT_FILLET_CUT_ANGLE = math.radians(45.0)
 
 
+#: Plausibility bounds that catch lengths written in millimetres: the largest industrial
+#: gears have modules of some 50 mm, and face widths of some tens of modules.
+MAX_MODULE = 0.1
+MAX_FACE_WIDTH_MODULES = 200.0
+
+
 def _positive(name: str, value: float) -> None:
     if not isinstance(value, (int, float)) or isinstance(value, bool):
         raise InputError(name, f"must be a number (got {type(value).__name__})")
@@ -101,6 +107,13 @@ class Gear:
         for name in ("module", "pressure_angle", "face_width", "addendum", "dedendum",
                      "cutter_tip_radius", "disk_inertia"):
             _positive(name, getattr(self, name))
+        if self.module > MAX_MODULE:
+            raise InputError("module", f"{self.module:g} m is beyond any gear (at most "
+                             f"{MAX_MODULE:g} m); lengths are in metres, not millimetres")
+        if self.face_width > MAX_FACE_WIDTH_MODULES * self.module:
+            raise InputError("face_width", f"{self.face_width:g} m is more than "
+                             f"{MAX_FACE_WIDTH_MODULES:g} modules; lengths are in metres, "
+                             "not millimetres")
         deg = math.degrees(self.pressure_angle)
         if not 12.0 <= deg <= 35.0:
             raise InputError("pressure_angle", f"must lie between 12 and 35 degrees (got {deg:.4g})")
@@ -206,6 +219,10 @@ class Gear:
         _positive("root_radius", root_radius)
         if not isinstance(teeth, int) or isinstance(teeth, bool) or teeth <= 0:
             raise InputError("teeth", f"must be a positive whole number (got {teeth!r})")
+        if 2.0 * pitch_radius / teeth > MAX_MODULE:
+            raise InputError("pitch_radius", f"{pitch_radius:g} m gives a module of "
+                             f"{2.0 * pitch_radius / teeth:g} m, beyond any gear (at most "
+                             f"{MAX_MODULE:g} m); lengths are in metres, not millimetres")
         if tip_radius <= pitch_radius:
             raise InputError("tip_radius", f"must be above the pitch radius {pitch_radius:g} m")
         if root_radius >= pitch_radius:

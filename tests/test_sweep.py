@@ -450,3 +450,30 @@ def test_unreachable_scheduler_refused(tmp_path):
     with pytest.raises(InputError, match="no Dask scheduler answers"):
         with scheduler_backend(f"tcp://127.0.0.1:{port}", timeout_s=1.0):
             pass
+
+
+def test_sweep_progress_on_a_terminal_only():
+    """Points done and not complete, and the time left (weighted by steps), on a terminal;
+    nothing in a pipe or with --quiet."""
+    import io
+
+    from spurdyn.sweep.runner import SweepProgress
+
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    tty = Terminal()
+    bar = SweepProgress("fe sweep", total_cost=1000, n_points=3, stream=tty)
+    bar.update(600, ok=True)
+    bar.update(100, ok=False)
+    bar.close()
+    text = tty.getvalue()
+    assert "fe sweep: 2/3 points, 1 not complete" in text
+    assert " 70%|" in text        # 700 of the 1,000 steps: the long point counts for more
+    for stream, enabled in ((io.StringIO(), True), (Terminal(), False)):
+        quiet = SweepProgress("fe sweep", total_cost=1000, n_points=3, enabled=enabled,
+                              stream=stream)
+        quiet.update(600, ok=True)
+        quiet.close()
+        assert stream.getvalue() == ""

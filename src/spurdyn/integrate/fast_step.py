@@ -25,7 +25,7 @@ from numba import njit
 from spurdyn.integrate.kernels import (
     CORNER_A, CORNER_B, F_H, F_T0, FLANK, accelerated_update, accelerations, constraint_force,
     delta_at, edge_at, elastic, find_pair, gram, gram_contact, root_phi_theta, spline_eval, spline_second,
-    tangent, torque,
+    torque,
 )
 
 # Constant arguments of compiled calls are written ``np.int64(0)``, ``np.bool_(True)``:

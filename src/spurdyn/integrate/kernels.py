@@ -1,7 +1,9 @@
 """Compiled kernels of the fast stepper (Numba): arrays and scalars in, arrays out.
 
 Each kernel has a NumPy counterpart in :mod:`spurdyn.solver.reference` or
-:mod:`spurdyn.contact.reference` and is tested against it (tests/test_fast.py, tests/test_contact.py).
+:mod:`spurdyn.contact.reference` (or, where the reference has none, the formula of
+docs/solver.md written in NumPy) and is tested against it: tests/test_kernels.py, and
+the splines and the contact search in tests/test_contact.py.
 
 Conventions: ``u``-vectors stack both teeth (A's nodes first, node ``n`` owns DOFs
 ``2n``, ``2n+1``); ``theta``, ``omega`` are ``(2,)``; ``x = [lambda_A, lambda_B, p]``.
@@ -112,50 +114,6 @@ def accelerations(theta, u, f_th, f_u, P, w, kw, el, q, alpha, a):
         alpha[g] = (tau + q[g] + f_th[g]) / P.J[g]
     for i in range(a.size):
         a[i] = (el[i] + f_u[i]) / P.mass[i]
-
-
-@njit(cache=True)
-def tangent(theta, w, kw, d_th, d_u, P, dw, kdw, out_th, out_u):
-    """Exact ``dF/dq . (d_th, d_u)`` at a state whose ``w``, ``K w`` are given.
-
-    ``F`` = (tau + Q, f_u): ``dw = R^T du - sense d_th Jz (w + Y)``,
-    ``df = -sense d_th R Jz K w - R K dw``,
-    ``dQ = sense sum (dw x K w + w x K dw)``, ``dtau = tau' d_th``.
-    """
-    nn = P.node_gear.size
-    c = np.empty(2)
-    s = np.empty(2)
-    for g in range(2):
-        c[g] = math.cos(P.sense[g] * theta[g])
-        s[g] = math.sin(P.sense[g] * theta[g])
-    for i in range(nn):
-        g = P.node_gear[i]
-        dux, duy = d_u[2 * i], d_u[2 * i + 1]
-        rx = c[g] * dux + s[g] * duy
-        ry = -s[g] * dux + c[g] * duy
-        k = P.sense[g] * d_th[g]
-        wx = w[2 * i] + P.Y[2 * i]
-        wy = w[2 * i + 1] + P.Y[2 * i + 1]
-        dw[2 * i] = rx + k * wy
-        dw[2 * i + 1] = ry - k * wx
-    bsr_matvec(P.indptr, P.indices, P.data, dw, kdw)
-    out_th[0] = 0.0
-    out_th[1] = 0.0
-    for i in range(nn):
-        g = P.node_gear[i]
-        k = P.sense[g] * d_th[g]
-        # Jz K w = (-Kw_y, Kw_x); total = -k R Jz Kw - R K dw = -R (k Jz Kw + K dw)
-        vx = -k * kw[2 * i + 1] + kdw[2 * i]
-        vy = k * kw[2 * i] + kdw[2 * i + 1]
-        out_u[2 * i] = -(c[g] * vx - s[g] * vy)
-        out_u[2 * i + 1] = -(s[g] * vx + c[g] * vy)
-        if P.keep:
-            out_th[g] += (dw[2 * i] * kw[2 * i + 1] - dw[2 * i + 1] * kw[2 * i]
-                          + w[2 * i] * kdw[2 * i + 1] - w[2 * i + 1] * kdw[2 * i])
-    for g in range(2):
-        out_th[g] *= P.sense[g]
-        _, slope = torque(P.tpar, g, theta[g])
-        out_th[g] += slope * d_th[g]
 
 
 # -- constraint forces ----------------------------------------------------------------------

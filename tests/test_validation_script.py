@@ -107,6 +107,19 @@ def test_frequency_estimators_find_a_short_sinusoid(mv):
     assert fp == pytest.approx(120e3, rel=0.01) and ap == pytest.approx(4, rel=0.1)
 
 
+def test_least_squares_spectrum_of_two_tones(mv):
+    """On a record of ~6 periods of the main tone (an FFT bin is 1.3 kHz there), the
+    least-squares spectrum gives each tone's amplitude at its frequency, little where
+    there is none, and nothing for a mean and a linear trend."""
+    t = np.arange(0.0, 775e-6, 1.5e-7)
+    x = 50 * np.cos(2 * math.pi * 7300 * t) + 10 * np.sin(2 * math.pi * 15000 * t) + 3e5 * t + 500
+    f = np.array([7300.0, 15000.0, 22000.0])
+    amp = mv.ls_spectrum(t, x, f)
+    assert amp[0] == pytest.approx(50, rel=0.05) and amp[1] == pytest.approx(10, rel=0.2)
+    assert amp[2] < 2.0
+    assert mv.ls_spectrum(t, 3e5 * t + 500, f).max() < 1e-6
+
+
 def test_first_crossing_and_formatting(mv):
     x = np.array([0.0, 1.0, 2.0, 3.0])
     assert mv.first_crossing(x, np.array([0.0, 2.0, 4.0, 6.0]), 3.0) == pytest.approx(1.5)

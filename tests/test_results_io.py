@@ -342,3 +342,22 @@ def test_separations_count_losses_not_the_end_of_engagement(short_case):
     # Contact lost for good before the end is a separation.
     result.contact_force[np.degrees(result.angle) > 15.0] = 0.0
     assert summarize(result_to_dataset(result, case))["separations"] == 3
+
+
+def test_a_loss_of_contact_that_opens_no_gap_is_not_a_separation(short_case):
+    """Contact lost while the surfaces stay within SEPARATION_GAP (1 nm) of each other
+    (numerical flicker of an unloaded contact) is not counted; the same loss with the gap
+    opening to 2 nm is."""
+    from spurdyn.results.io import SEPARATION_GAP
+
+    case = preset_case("paper-fig9", {"run.save_every": 10, "run.frames_every": 0},
+                       check_step=False)
+    result = fake_simulate(case.pair, case.run, separations=((3.0, 3.5), (9.0, 9.2)))
+    early = (np.degrees(result.angle) >= 3.0) & (np.degrees(result.angle) < 3.5)
+    assert not np.any(result.contact_force[early] > 0)
+    result.gap[early] = 0.5 * SEPARATION_GAP
+    s = summarize(result_to_dataset(result, case))
+    assert s["separations"] == 1
+    assert math.degrees(s["separation_times_s"][0] * case.run.speed_a) == pytest.approx(9.0, abs=0.04)
+    result.gap[early] = 2.0 * SEPARATION_GAP
+    assert summarize(result_to_dataset(result, case))["separations"] == 2

@@ -225,24 +225,43 @@ def _in_contact(force: NDArray[np.float64]) -> NDArray[np.bool_]:
     return np.nan_to_num(force, nan=0.0) > 0.0
 
 
+#: A loss of contact counts as a separation only if the gap then opens wider than this
+#: (m): ten thousand times the displacement tolerance, and under a hundredth of the
+#: micrometre deflection of loaded steel teeth. Narrower partings are the settling of
+#: the unloaded teeth in the first microseconds of a run (a 3 nm bounce in paper-fig8,
+#: while the ramped torque is still ~0) and the flicker of the spline surfaces where
+#: they miss the involute by ~1e-10 m (a 20-tooth pinion; docs/solver.md, section 4).
+SEPARATION_GAP = 1e-8
+
+
 def separation_times(ds: xr.Dataset) -> NDArray[np.float64]:
-    """Times (s) where contact was lost after first being made.
+    """Times (s) where contact was lost after first being made and the teeth separated.
 
     Contact is a positive contact force; samples whose force is not finite are left out.
-    A final loss of contact within :data:`END_OF_ENGAGEMENT` of the end of the angle of
-    action (the tip leaving the flank) is not counted. With ``save_every > 1`` only the
-    saved samples are seen, so separations shorter than the saving interval are missed.
+    A loss counts when the gap opens beyond :data:`SEPARATION_GAP` before contact is made
+    again. A final loss of contact within :data:`END_OF_ENGAGEMENT` of the end of the
+    angle of action (the tip leaving the flank) is not counted. With ``save_every > 1``
+    only the saved samples are seen, so separations shorter than the saving interval are
+    missed.
     """
     force = ds["contact_force"].values.astype(float)
     keep = np.isfinite(force)
     contact = force[keep] > 0.0
     time = ds["time"].values[keep]
     angle = ds["angle_deg"].values[keep]
+    gap = np.nan_to_num(ds["gap"].values.astype(float)[keep], nan=np.inf) if "gap" in ds \
+        else np.full(contact.size, np.inf)
     lost = np.flatnonzero(contact[:-1] & ~contact[1:]) + 1
     if lost.size and not contact[lost[-1]:].any() and \
             angle[lost[-1]] >= (1.0 - END_OF_ENGAGEMENT) * float(ds.attrs["theta_s_deg"]):
         lost = lost[:-1]
-    return time[lost]
+    made = np.flatnonzero(~contact[:-1] & contact[1:]) + 1
+    wide = []
+    for i in lost:
+        j = made[made > i]
+        end = int(j[0]) if j.size else contact.size
+        wide.append(bool(np.max(gap[i:end]) > SEPARATION_GAP))
+    return time[lost[np.array(wide, dtype=bool)]] if lost.size else time[lost]
 
 
 def summarize(ds: xr.Dataset) -> dict[str, Any]:

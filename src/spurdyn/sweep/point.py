@@ -45,8 +45,8 @@ FIGURES: dict[str, tuple[str, str]] = {
     "mean_force_single_zone": ("N", "mean contact force in the single-contact zone"),
     "rms_force": ("N", "root mean square of the contact force over the saved steps of the "
                   "engagement (contact-free steps count as zero)"),
-    "separations": ("1", "times contact was lost after first being made (the tip leaving "
-                    "at the end not counted)"),
+    "separations": ("1", "times contact was lost after first being made and the gap opened "
+                    "beyond 10 nm (the tip leaving at the end not counted)"),
     "static_force": ("N", "quasi-static tooth force torque / r_b of the driver"),
     "angle_reached_deg": ("degree", "rotation of A the run reached"),
     "steps": ("1", "time steps (FE) or integrator steps (lumped) taken"),

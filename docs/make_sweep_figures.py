@@ -180,9 +180,12 @@ def reading(rf: np.ndarray, df_fe: np.ndarray, df_fs: np.ndarray, rl: np.ndarray
         f"{np.max(np.abs(rel_s[mid])):.1%}); the raw FE peak lies above the lumped one at "
         f"{int((rel > 0).sum())} of {rf.size} speeds (mean {np.mean(rel):+.1%}): the ripple of "
         "local tooth modes, which the lumped model has not got, adds to the peak. The "
-        f"averaged curves part at the ends: {ends}. The FE contact force drops to zero at "
-        f"least once after first contact at {int((fe_sep > 0).sum())} of {rf.size} speeds, "
-        f"the lumped one at {int((lump_sep > 0).sum())} of {rl.size}.")
+        f"averaged curves part at the ends: {ends}. The FE teeth separate (contact lost and "
+        f"the gap opening beyond 10 nm) at least once after first contact at "
+        f"{int((fe_sep > 0).sum())} of {rf.size} speeds, the lumped model's at "
+        f"{int((lump_sep > 0).sum())} of {rl.size}: in the FE model the tooth-level ripple "
+        "takes the force to zero where the ramped torque is low, which the lumped model's "
+        "smooth force does not.")
     return " ".join(out) + "\n"
 
 

@@ -411,3 +411,41 @@ def test_contact_at_the_very_start_is_at_Bs_tip_corner(paper20k):
         # by 1e-7 rad, to 4e-7: the angle between the two grows as the rotation)
         print("normal against -n_B at the tip:", np.abs(c.normal + outward_normal(pb(fb.t1, 1))).max())
         assert np.allclose(c.normal, -outward_normal(pb(fb.t1, 1)), rtol=0, atol=2e-6)
+
+
+# -- 5. the "pinned" gap ----------------------------------------------------------------------
+
+def test_pinned_gap_is_the_gap_between_the_material_points_under_the_force(paper20k):
+    """The ``"pinned"`` method's gap (where the force acts, along its normal): in the
+    reference code (:meth:`ReferenceStepper.pinned`) and in the compiled step's way
+    (``material_point`` at the force's flank coordinates), on a loaded state. Where the
+    force acts at the contact pair found afresh, it is that pair's gap; moved off it by
+    a tenth of an element it differs, and both codes still agree."""
+    from spurdyn.integrate.fast_step import material_point
+
+    system, case, ref = paper20k
+    fast = FastStepper(system, case)
+    for _ in range(1500):
+        assert fast.step() == 0
+    st = reference_state(system, fast)
+    S, P = fast.S, fast.P
+    fresh = ref.contact_at(S.theta, S.u, (st.contact.alpha, st.contact.beta))
+
+    def compiled_gap(c):
+        xa = material_point(P, np.int64(0), c.alpha, S.theta[0], S.u, np.int64(0), 0.0, 0.0)
+        xb = material_point(P, np.int64(1), c.beta, S.theta[1], S.u, np.int64(0), 0.0, 0.0)
+        return float(c.normal @ (np.array(xa) - np.array(xb)))
+
+    pinned = ref.pinned(fresh, S.theta, S.u)
+    assert abs(pinned.s - fresh.s) <= 1e-17
+    assert abs(compiled_gap(fresh) - pinned.s) <= 1e-17
+    fa = system.gears[0].flank
+    for shift in (0.1, -0.1):
+        a = fresh.alpha + shift
+        nodes, w, _ = fa.locate(a)
+        off = ContactPair(alpha=a, beta=fresh.beta, mode=fresh.mode, normal=fresh.normal,
+                          s=0.0, nodes_a=nodes, weights_a=w, nodes_b=fresh.nodes_b,
+                          weights_b=fresh.weights_b, delta_a=fa.delta(a), delta_b=fresh.delta_b)
+        moved = ref.pinned(off, S.theta, S.u)
+        assert abs(moved.s - fresh.s) > 1e-9             # a different gap: the test can fail
+        assert abs(compiled_gap(off) - moved.s) <= 1e-15

@@ -111,7 +111,7 @@ class FastStepper:
             C=(gmat * ref.minv) @ gmat.T, res=np.zeros(3), its=np.zeros(3, dtype=np.int64),
         )
         self.cfg = np.array([case.dt, case.tol_disp, case.tol_vel, case.tol_acc, case.max_iter,
-                             case.accel_levels, root_eigenvalue(system, ref, st)])
+                             case.accel_levels, root_eigenvalue(system, ref, st), case.pin_after])
         self.index = 0
         self._row = np.empty((1, 18))
 

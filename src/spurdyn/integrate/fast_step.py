@@ -484,13 +484,16 @@ def _columns(P, h, pred, theta, cn, cw, normal, j0, j1, Wq, Wv, scratch, mark, t
 def step(P, S, cfg):
     """Advance the state ``S`` by one step of the paper's method; returns a status code.
 
-    ``cfg = [dt, tol_disp, tol_vel, tol_acc, max_iter, levels, eps_root]``.
+    ``cfg = [dt, tol_disp, tol_vel, tol_acc, max_iter, levels, eps_root, pin_after]``;
+    ``pin_after`` 0 is the paper's method, ``k > 0`` the ``"pinned"`` one (see
+    :data:`spurdyn.solver.case.METHODS`).
     """
     h = cfg[0]
     tol1, tol2, tol3 = cfg[1], cfg[2], cfg[3]
     cap = int(cfg[4])
     nlev = int(cfg[5])
     eps_root = cfg[6]
+    pin_after = int(cfg[7])
     n = S.u.size
     m = S.x.size
     nn = n // 2
@@ -558,6 +561,7 @@ def step(P, S, cfg):
     a_c, b_c, mode, nxc, nyc, sc = 0.0, 0.0, 0, 0.0, 0.0, 0.0
     it = 0
     moves = 0
+    mode_f = int(S.cpar[2])
     while True:
         rel = qs_rel + Wq @ x
         th_try[0], th_try[1] = rel[0], rel[1]
@@ -572,6 +576,12 @@ def step(P, S, cfg):
             e[2 * k] = -(u_try[2 * i] - (c * yx - s * yy - yx))
             e[2 * k + 1] = -(u_try[2 * i + 1] - (s * yx + c * yy - yy))
         a_c, b_c, mode, nxc, nyc, sc = search(P, th_try, u_try, guess, va, vb, Ma, Mb)
+        if pin_after > 0 and it >= pin_after and moves >= MAX_RELOCATE:
+            # "pinned": the gap where the force acts, along its normal
+            a_c, b_c, mode, nxc, nyc = loc_f[0], loc_f[1], mode_f, n_f[0], n_f[1]
+            xa, ya = material_point(P, np.int64(0), a_c, th_try[0], u_try, np.int64(0), 0.0, 0.0)
+            xb, yb = material_point(P, np.int64(1), b_c, th_try[1], u_try, np.int64(0), 0.0, 0.0)
+            sc = nxc * (xa - xb) + nyc * (ya - yb)
         guess[0], guess[1] = a_c, b_c
         e[m - 1] = sc if (x[m - 1] < 0.0 or sc > 0.0) else 0.0
         res = max_abs(e)
@@ -589,6 +599,7 @@ def step(P, S, cfg):
             # the contact force acts where the contact now is
             moves += 1
             loc_f[0], loc_f[1] = a_c, b_c
+            mode_f = mode
             contact_rows(P, a_c, b_c, cn_f, cw_f)
             n_f[0], n_f[1] = nxc, nyc
             _columns(P, h, pred, S.theta, cn_f, cw_f, n_f, m - 1, m, Wq, Wv, scratch, mark,

@@ -140,6 +140,9 @@ def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
                 progress(steps, stepper.theta_a, angle)
             if stop:
                 status, reason = "incomplete", stop
+                if "did not converge" in stop and case.method == "paper":
+                    reason += ("; method \"pinned\" (--method pinned) may carry it through "
+                               "(docs/solver.md, section 6, says when to trust it)")
                 break
     except KeyboardInterrupt:
         status, reason = "incomplete", f"interrupted by the user at step {steps}"

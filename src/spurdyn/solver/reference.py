@@ -248,6 +248,14 @@ class ReferenceStepper:
             out.append(-(ab.reshape(-1, 2)[gb.root_nodes] + pt * alpha[g] + (y @ r.T) * omega[g] ** 2).ravel())
         return np.concatenate(out)
 
+    def pinned(self, c: ContactPair, theta: NDArray[np.float64], u: NDArray[np.float64]) -> ContactPair:
+        """The contact pair ``c`` (where the force acts) with its penetration measured
+        along its normal between its material points at ``(theta, u)``: the gap the
+        ``"pinned"`` method closes once the deepest point will not settle."""
+        pos = np.concatenate([g.X.ravel() for g in self.system.gears]) + u
+        mats = tuple(rot(g.sense * th) for g, th in zip(self.system.gears, theta))
+        return replace(c, s=self.normal_of(c, pos, mats))
+
     def normal_of(self, c: ContactPair, vec: NDArray[np.float64], mats: tuple[NDArray[np.float64], NDArray[np.float64]]) -> float:
         """``n . (a_A - a_B)`` of the contact material points for a stacked nodal vector
         (velocities or accelerations), with ``mats`` the disks' action on the offsets ``delta``."""
@@ -295,6 +303,8 @@ class ReferenceStepper:
                     and np.isfinite(om1_).all() and np.isfinite(v1_).all()):
                 raise NonFiniteError(index)  # before the spline refuses it
             c1 = self.contact_at(th1, u1, guess)
+            if case.pin_after and m >= case.pin_after and moves >= MAX_RELOCATE:
+                c1 = self.pinned(c_force, th1, u1)   # "pinned": the gap where the force acts
             pi = c1.s if (x[-1] < 0.0 or c1.s > 0.0) else 0.0
             e = np.append(self.root_errors(th1, u1), pi)
             residual[0] = np.abs(e).max()

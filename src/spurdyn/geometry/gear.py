@@ -219,10 +219,6 @@ class Gear:
         _positive("root_radius", root_radius)
         if not isinstance(teeth, int) or isinstance(teeth, bool) or teeth <= 0:
             raise InputError("teeth", f"must be a positive whole number (got {teeth!r})")
-        if 2.0 * pitch_radius / teeth > MAX_MODULE:
-            raise InputError("pitch_radius", f"{pitch_radius:g} m gives a module of "
-                             f"{2.0 * pitch_radius / teeth:g} m, beyond any gear (at most "
-                             f"{MAX_MODULE:g} m); lengths are in metres, not millimetres")
         if tip_radius <= pitch_radius:
             raise InputError("tip_radius", f"must be above the pitch radius {pitch_radius:g} m")
         if root_radius >= pitch_radius:

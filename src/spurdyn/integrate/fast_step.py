@@ -575,6 +575,8 @@ def step(P, S, cfg):
             yx, yy = P.Y[2 * i], P.Y[2 * i + 1]
             e[2 * k] = -(u_try[2 * i] - (c * yx - s * yy - yx))
             e[2 * k + 1] = -(u_try[2 * i + 1] - (s * yx + c * yy - yy))
+        # The search also refits the flank splines (va, vb, Ma, Mb) that the later stages'
+        # sliding terms read, so it runs even when the pair is then pinned.
         a_c, b_c, mode, nxc, nyc, sc = search(P, th_try, u_try, guess, va, vb, Ma, Mb)
         if pin_after > 0 and it >= pin_after and moves >= MAX_RELOCATE:
             # "pinned": the gap where the force acts, along its normal

@@ -1,0 +1,106 @@
+"""Prove that a change leaves every result bit-identical.
+
+Runs every preset, every example case file and the first 300 steps of Fig. 8 on the
+NumPy backend through the ``spurdyn`` command, then either records the ``result.nc``
+files in a folder or compares them with a folder recorded earlier: every data variable
+and coordinate must be equal to the last bit (NaNs in the same places). Attributes are
+not compared (they hold times and versions).
+
+Usage::
+
+    python scripts/results_identical.py record /tmp/before     # on the old commit
+    python scripts/results_identical.py compare /tmp/before    # on the new one
+
+Both take ``--only NAME`` (repeatable) to restrict the runs. A full pass takes a few
+minutes on two cores.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+ROOT = Path(__file__).resolve().parents[1]
+PRESETS = ("paper-fig8", "paper-fig9", "paper-fig10", "paper-fig11",
+           "paper-fig10-bdrive", "paper-fig11-bdrive")
+#: 300 steps of dt = 3e-8 s at 4,000 rpm: 300 * 3e-8 s * 24,000 deg/s.
+NUMPY_ANGLE_DEG = 300 * 3e-8 * 4000.0 * 6.0
+
+
+def runs() -> dict[str, list[str]]:
+    """Name -> arguments of ``spurdyn run`` (without ``--out``)."""
+    table = {name: [name] for name in PRESETS}
+    table.update({f"lumped-{name}": [name, "--model", "lumped"] for name in PRESETS[:2]})
+    for toml in sorted((ROOT / "examples").glob("*.toml")):
+        table[f"example-{toml.stem}"] = [str(toml)]
+    table["numpy-fig8-300"] = ["paper-fig8", "--backend", "numpy",
+                               "--angle", repr(NUMPY_ANGLE_DEG)]
+    return table
+
+
+def run_all(folder: Path, only: list[str]) -> None:
+    spurdyn = shutil.which("spurdyn") or str(Path(sys.executable).parent / "spurdyn")
+    for name, args in runs().items():
+        if only and name not in only:
+            continue
+        out = folder / name
+        cmd = [spurdyn, "run", *args, "--out", str(out), "--force", "--quiet",
+               "--frames-every", "50"]
+        code = subprocess.run(cmd).returncode
+        print(f"{name}: exit {code}", flush=True)
+
+
+def compare(before: Path, after: Path) -> list[str]:
+    problems = []
+    for old in sorted(before.glob("*/result.nc")):
+        name = old.parent.name
+        new = after / name / "result.nc"
+        if not new.exists():
+            problems.append(f"{name}: no result.nc after the change")
+            continue
+        with xr.open_dataset(old) as a, xr.open_dataset(new) as b:
+            names = set(a.variables) | set(b.variables)
+            for var in sorted(names):
+                if var not in a.variables or var not in b.variables:
+                    problems.append(f"{name}: variable {var} only on one side")
+                    continue
+                x, y = a[var].values, b[var].values
+                if x.shape != y.shape:
+                    problems.append(f"{name}: {var} shape {x.shape} -> {y.shape}")
+                elif x.dtype.kind in "fc":
+                    same = np.array_equal(x.view(np.uint8) if x.dtype.kind == "f" else x,
+                                          y.view(np.uint8) if y.dtype.kind == "f" else y)
+                    if not same:
+                        diff = np.nanmax(np.abs(x - y)) if x.size else 0.0
+                        problems.append(f"{name}: {var} differs (max |diff| {diff:.3g})")
+                elif not np.array_equal(x, y):
+                    problems.append(f"{name}: {var} differs")
+        print(f"{name}: compared", flush=True)
+    return problems
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("action", choices=("record", "compare"))
+    parser.add_argument("folder", type=Path)
+    parser.add_argument("--only", action="append", default=[])
+    args = parser.parse_args()
+    if args.action == "record":
+        run_all(args.folder, args.only)
+        return 0
+    with tempfile.TemporaryDirectory() as tmp:
+        run_all(Path(tmp), args.only)
+        problems = compare(args.folder, Path(tmp))
+    print("\n".join(problems) if problems else "every result is bit-identical")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -40,6 +40,8 @@ def runs() -> dict[str, list[str]]:
     table.update({f"lumped-{name}": [name, "--model", "lumped"] for name in PRESETS[:2]})
     for toml in sorted((ROOT / "examples").glob("*.toml")):
         table[f"example-{toml.stem}"] = [str(toml)]
+    # a pair-only file: the run settings come from the command line
+    table["example-paper_pair"] += ["--speed-a", "4000", "--torque", "22.25"]
     table["numpy-fig8-300"] = ["paper-fig8", "--backend", "numpy",
                                "--angle", repr(NUMPY_ANGLE_DEG)]
     return table

@@ -59,10 +59,12 @@ def run_all(folder: Path, only: list[str]) -> None:
         print(f"{name}: exit {code}", flush=True)
 
 
-def compare(before: Path, after: Path) -> list[str]:
+def compare(before: Path, after: Path, only: list[str]) -> list[str]:
     problems = []
     for old in sorted(before.glob("*/result.nc")):
         name = old.parent.name
+        if only and name not in only:
+            continue
         new = after / name / "result.nc"
         if not new.exists():
             problems.append(f"{name}: no result.nc after the change")
@@ -99,7 +101,7 @@ def main() -> int:
         return 0
     with tempfile.TemporaryDirectory() as tmp:
         run_all(Path(tmp), args.only)
-        problems = compare(args.folder, Path(tmp))
+        problems = compare(args.folder, Path(tmp), args.only)
     print("\n".join(problems) if problems else "every result is bit-identical")
     return 1 if problems else 0
 

@@ -34,8 +34,8 @@ CHILD = r"""
 import json, math, resource, sys, time
 import numpy as np
 from spurdyn.geometry.presets import paper_pair, PAPER_TORQUE
-from spurdyn.integrate import simulate
-from spurdyn.solver.case import RunCase, RPM
+from spurdyn.solvers.loop import simulate
+from spurdyn.settings import RunCase, RPM
 a, b, backend, steps = float(sys.argv[1]), float(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 pair = paper_pair()
 case = RunCase(speed_a=a * RPM, speed_b=b * RPM, torque=PAPER_TORQUE, backend=backend)
@@ -56,8 +56,8 @@ COLD = r"""
 import json, time
 t0 = time.perf_counter()
 from spurdyn.geometry.presets import paper_pair, PAPER_TORQUE
-from spurdyn.integrate import simulate
-from spurdyn.solver.case import RunCase, RPM
+from spurdyn.solvers.loop import simulate
+from spurdyn.settings import RunCase, RPM
 case = RunCase(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
 t1 = time.perf_counter()
 r = simulate(paper_pair(), case)
@@ -92,14 +92,16 @@ def breakdown(reps: int) -> dict[str, float]:
     from numba import njit
 
     from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-    from spurdyn.integrate import fast_step as fs
-    from spurdyn.integrate import kernels as k
-    from spurdyn.integrate.fast import FastStepper
-    from spurdyn.solver.case import RPM, RunCase
-    from spurdyn.solver.system import build_system
+    from spurdyn.contact import search_compiled as sc_
+    from spurdyn.solvers.paper import dynamics_compiled as k
+    from spurdyn.solvers.paper import response_compiled as rc
+    from spurdyn.solvers.paper import step_compiled as fs
+    from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
+    from spurdyn.settings import RPM, RunCase
+    from spurdyn.model.system import build_system
 
     case = RunCase(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
-    f = FastStepper(build_system(paper_pair(), case), case)
+    f = CompiledStepper(build_system(paper_pair(), case), case)
     for _ in range(3000):
         f.step()
     P, S, h = f.P, f.S, case.dt
@@ -114,11 +116,11 @@ def breakdown(reps: int) -> dict[str, float]:
     @njit
     def t_predict(N, P, S, h):
         for _ in range(N):
-            fs.predict(P, S, h)
+            rc.predict(P, S, h)
 
     @njit
     def t_columns(N, P, S, h):
-        pred = fs.predict(P, S, h)
+        pred = rc.predict(P, S, h)
         R = 2 + 2 * P.rel_nodes.size
         m = S.x.size
         n = S.u.size
@@ -127,20 +129,20 @@ def breakdown(reps: int) -> dict[str, float]:
         tch, nz = np.empty(n // 2, dtype=np.int64), np.empty(n // 2, dtype=np.int64)
         zu, a3, a4 = np.zeros(n), np.zeros(n), np.zeros(n)
         for _ in range(N):
-            fs._columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, 0, m, Wq, Wv, sc, mk, tch, nz, zu, a3, a4)
+            rc.response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, 0, m, Wq, Wv, sc, mk, tch, nz, zu, a3, a4)
 
     @njit
     def t_superpose(N, P, S, h):
-        pred = fs.predict(P, S, h)
+        pred = rc.predict(P, S, h)
         for _ in range(N):
-            fs.superpose(P, S, h, pred, S.x, S.cn, S.cw, S.normal, True)
+            rc.superpose(P, S, h, pred, S.x, S.cn, S.cw, S.normal, True)
 
     @njit
     def t_search(N, P, S, nd):
         va, vb, ma, mb = np.empty((nd, 2)), np.empty((nd, 2)), np.empty((nd, 2)), np.empty((nd, 2))
         g = np.array([S.cpar[0], S.cpar[1]])
         for _ in range(N):
-            fs.search(P, S.theta, S.u, g, va, vb, ma, mb)
+            sc_.search(P, S.theta, S.u, g, va, vb, ma, mb)
 
     @njit
     def t_matvec(N, P, v):

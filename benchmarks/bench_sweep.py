@@ -78,8 +78,8 @@ def main() -> None:
           f"{os.cpu_count()} cores, Python {platform.python_version()}")
     print(f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     t0 = time.perf_counter()
-    from spurdyn.integrate import simulate
-    from spurdyn.solver.case import RPM
+    from spurdyn.solvers.loop import simulate
+    from spurdyn.settings import RPM
 
     case = preset_case("paper-fig9")
     simulate(case.pair, case.run.with_(angle=30 * case.run.dt * 20000 * RPM, frames_every=0))

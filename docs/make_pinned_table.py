@@ -19,11 +19,11 @@ import time
 import numpy as np
 
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.integrate import simulate
-from spurdyn.integrate.run import stable_step
-from spurdyn.results.result import Result
-from spurdyn.solver.case import RPM, RunCase
-from spurdyn.solver.system import build_system
+from spurdyn.solvers.loop import simulate
+from spurdyn.solvers.check import stable_step
+from spurdyn.result import Result
+from spurdyn.settings import RPM, RunCase
+from spurdyn.model.system import build_system
 
 #: (label, rpm A, rpm B, nx, ny, spline points, compare with the paper's method at 241 points)
 CASES = (("Fig. 9, 8 × 28", 20000.0, 20000.0, 8, 28, 61, True),

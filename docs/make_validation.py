@@ -7,7 +7,7 @@ Run from the repository root::
     .venv/bin/python docs/make_validation.py --runs-only
 
 Every number in ``docs/validation.md`` is computed here: the script runs the FE solver
-(``spurdyn.integrate.simulate``), the lumped model (``spurdyn.model.lumped``) and the
+(``spurdyn.solvers.loop.simulate``), the lumped model (``spurdyn.lumped``) and the
 momentum/energy bookkeeping (``spurdyn.results.balances``) on the paper's pair, keeps
 each run in ``docs/validation_data/<name>.npz`` (git-ignored; a run is redone when its
 settings change or with ``--rerun``), then writes the markdown from the templates in
@@ -291,7 +291,7 @@ class Spec:
     """One run of the report.
 
     ``kind``: ``fe`` (``simulate``), ``lumped`` (``simulate_lumped``) or ``balance``
-    (a FastStepper stepped by ``spurdyn.results.balances.track``). ``dt`` None is the
+    (a CompiledStepper stepped by ``spurdyn.results.balances.track``). ``dt`` None is the
     paper's 3e-8 s; a negative ``dt`` means that fraction of the mesh's stable RK4 step.
     ``relief`` is the tip relief (m) on both gears, 0 for none.
     """
@@ -325,9 +325,9 @@ def make_pair(spec: Spec):
 
 
 def make_case(spec: Spec, pair):
-    from spurdyn.integrate.run import stable_step
-    from spurdyn.solver.case import PAPER_DT, RunCase
-    from spurdyn.solver.system import build_system
+    from spurdyn.solvers.check import stable_step
+    from spurdyn.settings import PAPER_DT, RunCase
+    from spurdyn.model.system import build_system
 
     case = RunCase(speed_a=spec.speed_a_rpm * RPM, speed_b=spec.speed_b_rpm * RPM,
                    torque=spec.torque, nx=spec.nx, ny=spec.ny, n_spline=spec.n_spline,
@@ -382,11 +382,11 @@ def execute(spec: Spec) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
     case = make_case(spec, pair)
     t0 = time.perf_counter()
     if spec.kind == "balance":
-        from spurdyn.integrate.fast import FastStepper
+        from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
         from spurdyn.results.balances import track
-        from spurdyn.solver.system import build_system
+        from spurdyn.model.system import build_system
 
-        rec = track(FastStepper(build_system(pair, case), case), angle=pair.theta_s)
+        rec = track(CompiledStepper(build_system(pair, case), case), angle=pair.theta_s)
         arrays = {k: np.asarray(getattr(rec, k)) for k in (
             "t", "angle", "contact_force", "momentum", "angular_impulse", "energy", "strain",
             "torque_work", "contact_work")}
@@ -394,11 +394,11 @@ def execute(spec: Spec) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
                 "steps": int(len(rec.t) - 1)}
     else:
         if spec.kind == "lumped":
-            from spurdyn.model.lumped import simulate_lumped
+            from spurdyn.lumped import simulate_lumped
 
             r = simulate_lumped(pair, case)
         else:
-            from spurdyn.integrate.run import simulate
+            from spurdyn.solvers.loop import simulate
 
             r = simulate(pair, case)
         arrays = {"time": r.time, "angle": r.angle, "contact_force": r.contact_force,
@@ -689,7 +689,7 @@ def section_paper(ctx: Ctx) -> str:
     f8 = R["fig8"]
     eps8 = contact_episodes(f8["time"], f8["angle"], f8["contact_force"])
     eps9 = contact_episodes(R["fig9"]["time"], R["fig9"]["angle"], R["fig9"]["contact_force"])
-    from spurdyn.model.lumped import mesh_stiffness_table, torsional_natural_frequency
+    from spurdyn.lumped import mesh_stiffness_table, torsional_natural_frequency
 
     f_n = float(torsional_natural_frequency(
         ctx.pair, mesh_stiffness_table(ctx.pair).mean(*ctx.pair.single_contact_roll_a)))
@@ -870,8 +870,8 @@ def clamped_tooth_modes(pair, nx: int, ny: int, n: int = 2) -> NDArray[np.float6
 
 def points_per_element(pair, nx: int, ny: int, n_spline: int) -> float:
     """Spline data points per element edge along the active flank (``1 / h``)."""
-    from spurdyn.solver.case import RunCase
-    from spurdyn.solver.system import build_system
+    from spurdyn.settings import RunCase
+    from spurdyn.model.system import build_system
 
     system = build_system(pair, RunCase(speed_a=1.0, speed_b=1.0, torque=1.0, nx=nx, ny=ny,
                                         n_spline=n_spline))
@@ -892,8 +892,8 @@ def ripple(ctx: Ctx, name: str) -> tuple[float, float, float, float]:
 
 def crossing_rate(ctx: Ctx, name: str, nx: int, ny: int) -> float:
     """Element edges the contact point crosses per second on tooth A (single zone, mean)."""
-    from spurdyn.solver.case import RunCase
-    from spurdyn.solver.system import build_system
+    from spurdyn.settings import RunCase
+    from spurdyn.model.system import build_system
 
     system = build_system(ctx.pair, RunCase(speed_a=1.0, speed_b=1.0, torque=1.0, nx=nx, ny=ny))
     fl = system.gears[0].flank
@@ -907,7 +907,7 @@ def crossing_rate(ctx: Ctx, name: str, nx: int, ny: int) -> float:
 def section_convergence(ctx: Ctx) -> str:
     from spurdyn.model.stiffness import pitch_point_stiffness
     from spurdyn.model.tooth import build_tooth
-    from spurdyn.model.lumped import torsional_natural_frequency
+    from spurdyn.lumped import torsional_natural_frequency
 
     plt = _plt()
     R = ctx.runs
@@ -987,9 +987,9 @@ def section_convergence(ctx: Ctx) -> str:
     clamped = clamped_tooth_modes(ctx.pair, 4, 14)
     cross = crossing_rate(ctx, "fig8", 4, 14)
     rip8 = ripple(ctx, "fig8")
-    from spurdyn.integrate.run import stable_step
-    from spurdyn.solver.case import RunCase
-    from spurdyn.solver.system import build_system
+    from spurdyn.solvers.check import stable_step
+    from spurdyn.settings import RunCase
+    from spurdyn.model.system import build_system
 
     sysm = build_system(ctx.pair, RunCase(speed_a=1.0, speed_b=1.0, torque=1.0))
     f_max = 2 * math.sqrt(2) / stable_step(sysm) / (2 * math.pi)
@@ -1318,10 +1318,10 @@ def mean_mesh_stiffness(pair, roll: NDArray[np.float64], k: NDArray[np.float64],
 
 
 def section_physics(ctx: Ctx) -> str:
-    from spurdyn.model.lumped import equivalent_mass, torsional_natural_frequency
+    from spurdyn.lumped import equivalent_mass, torsional_natural_frequency
     from spurdyn.model.stiffness import iso_6336_stiffness
-    from spurdyn.solver.case import RunCase
-    from spurdyn.solver.system import build_system
+    from spurdyn.settings import RunCase
+    from spurdyn.model.system import build_system
 
     plt = _plt()
     R = ctx.runs
@@ -1710,9 +1710,9 @@ def section_lumped(ctx: Ctx) -> str:
                           "FE average vs lumped", "impacts FE (+ brief touches) / lumped",
                           "first impact (≥ 10 µs) FE / lumped", "RMS difference of the averages (N, of τ0/r_b)"], rows)
     # the same lumped model with an assumed spring instead of the FE table (0.1 s each)
-    from spurdyn.model.lumped import MeshStiffnessTable, mesh_stiffness_table, simulate_lumped
+    from spurdyn.lumped import MeshStiffnessTable, mesh_stiffness_table, simulate_lumped
     from spurdyn.model.stiffness import iso_6336_stiffness
-    from spurdyn.solver.case import RunCase
+    from spurdyn.settings import RunCase
 
     c1, cga = iso_6336_stiffness(ctx.pair).per_face_width(ctx.pair.gear_a.face_width)
     fe_table = mesh_stiffness_table(ctx.pair)
@@ -1748,7 +1748,7 @@ def section_lumped(ctx: Ctx) -> str:
     text = f"""
 ## 4. The lumped model beside it
 
-`spurdyn.model.lumped.simulate_lumped` (`spurdyn run CASE --model lumped`): the two
+`spurdyn.lumped.simulate_lumped` (`spurdyn run CASE --model lumped`): the two
 disks J coupled by a massless spring along the line of action whose stiffness is the FE
 model's own static single-pair stiffness at the rigid-kinematics contact point (41-point
 table, PCHIP), compression only, no damping, the same Fig. 7 torques and the same
@@ -1842,7 +1842,7 @@ def free_approach(ctx: Ctx, phi: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def section_relief(ctx: Ctx) -> str:
     from spurdyn.geometry.presets import NASA_LIKE_TIP_RELIEF
-    from spurdyn.model.lumped import mesh_stiffness_table
+    from spurdyn.lumped import mesh_stiffness_table
 
     plt = _plt()
     R = ctx.runs
@@ -2144,7 +2144,7 @@ def build_report(runs: dict[str, Run], wall: float) -> str:
 then every case it needs (cached in
 `docs/validation_data/<run>.npz`, git-ignored; a run is redone when its settings
 change, or all with `--rerun`), then writes this page and the figures. Helpers it uses:
-`spurdyn.integrate.simulate`, `spurdyn.model.lumped.simulate_lumped`,
+`spurdyn.solvers.loop.simulate`, `spurdyn.lumped.simulate_lumped`,
 `spurdyn.results.balances.track`, `spurdyn.model.stiffness` and the pure functions at the
 top of the script (moving average, dynamic factor, zone masks, contact episodes,
 frequencies), which `tests/test_validation_script.py` checks on synthetic data.

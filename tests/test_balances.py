@@ -6,17 +6,17 @@ import numpy as np
 import pytest
 
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.integrate.fast import FastStepper
+from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
 from spurdyn.results.balances import BalanceRecord, snapshot, state_snapshot, track
-from spurdyn.solver.case import RPM, RunCase
-from spurdyn.solver.system import build_system
+from spurdyn.settings import RPM, RunCase
+from spurdyn.model.system import build_system
 
 PAIR = paper_pair()
 
 
 def _stepper(speed_a, speed_b, torque):
     case = RunCase(speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque, frames_every=0)
-    return FastStepper(build_system(PAIR, case), case)
+    return CompiledStepper(build_system(PAIR, case), case)
 
 
 def test_rigidly_turning_teeth_have_the_momentum_and_energy_of_a_rigid_body():

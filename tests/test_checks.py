@@ -16,21 +16,19 @@ import math
 import numpy as np
 import pytest
 
-import spurdyn.solver.reference as reference
-from spurdyn.contact.reference import (
+import spurdyn.solvers.paper.step_numpy as reference
+from spurdyn.contact.search_numpy import (
     CORNER_A, CORNER_B, FLANK, ContactPair, find_contact, flank_spline, outward_normal,
     sliding_acceleration,
 )
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.integrate.fast import FastStepper, pack
-from spurdyn.integrate.fast_step import search
-from spurdyn.integrate.run import stable_step
-from spurdyn.solver.case import RPM, RunCase
-from spurdyn.solver.reference import (
-    ReferenceStepper, State, blocks, constraint_force, initial_contact_guess, jacobian, rot,
-    root_phi,
-)
-from spurdyn.solver.system import build_system
+from spurdyn.solvers.paper.stepper_compiled import CompiledStepper, pack
+from spurdyn.solvers.paper.step_compiled import search
+from spurdyn.solvers.check import stable_step
+from spurdyn.settings import RPM, RunCase
+from spurdyn.solvers.paper.step_numpy import PaperMethod, State, initial_contact_guess
+from spurdyn.solvers.paper.dynamics_numpy import blocks, constraint_force, jacobian, rot, root_phi
+from spurdyn.model.system import build_system
 
 PAIR = paper_pair()
 JZ = np.array([[0.0, -1.0], [1.0, 0.0]])
@@ -41,7 +39,7 @@ def paper20k():
     """The paper pair at 20,000 rpm under the paper's torque (default mesh and dt)."""
     case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
-    return system, case, ReferenceStepper(system, case)
+    return system, case, PaperMethod(system, case)
 
 
 def rigid(system, theta):
@@ -85,7 +83,7 @@ def test_constraints_of_a_real_run_recomputed_with_the_reference_code(paper20k):
     # is ~0.996e-12 m); the superposed positions carry ~1e-16 m of round-off
     # (tests/test_fast.py), so allow that much, 1e-4 of the tolerance, and no more.
     tol = tol * (1.0 + 1e-4)
-    fast = FastStepper(system, case)
+    fast = CompiledStepper(system, case)
     fa, fb = (g.flank for g in system.gears)
     guess = initial_contact_guess(system)    # the reference search follows its own pair
     # The whole engagement (5,851 steps, until A has turned theta_s): every step of the
@@ -171,7 +169,7 @@ def test_constraints_of_a_real_run_recomputed_with_the_reference_code(paper20k):
 def loaded20k(paper20k):
     """A reference state in contact under a real force, 1,500 compiled steps into the run."""
     system, case, ref = paper20k
-    fast = FastStepper(system, case)
+    fast = CompiledStepper(system, case)
     for _ in range(1500):
         assert fast.step() == 0
     st = reference_state(system, fast)
@@ -417,14 +415,14 @@ def test_contact_at_the_very_start_is_at_Bs_tip_corner(paper20k):
 
 def test_pinned_gap_is_the_gap_between_the_material_points_under_the_force(paper20k):
     """The ``"pinned"`` method's gap (where the force acts, along its normal): in the
-    reference code (:meth:`ReferenceStepper.pinned`) and in the compiled step's way
+    reference code (:meth:`PaperMethod.pinned`) and in the compiled step's way
     (``material_point`` at the force's flank coordinates), on a loaded state. Where the
     force acts at the contact pair found afresh, it is that pair's gap; moved off it by
     a tenth of an element it differs, and both codes still agree."""
-    from spurdyn.integrate.fast_step import material_point
+    from spurdyn.solvers.paper.step_compiled import material_point
 
     system, case, ref = paper20k
-    fast = FastStepper(system, case)
+    fast = CompiledStepper(system, case)
     for _ in range(1500):
         assert fast.step() == 0
     st = reference_state(system, fast)

@@ -2,7 +2,7 @@
 
 Most tests run the command with a synthetic solver (``fake``, see ``test_results_io.py``)
 so that they test the run layer quickly. ``test_real_solver_short_run`` runs the real
-``spurdyn.integrate.simulate`` on a short case; it skips itself while the solver (or one
+``spurdyn.solvers.loop.simulate`` on a short case; it skips itself while the solver (or one
 of its backends) is not importable.
 """
 
@@ -24,7 +24,7 @@ import xarray as xr
 
 from spurdyn.cli import run as runner
 from spurdyn.cli.main import main
-from spurdyn.solver.case import METHODS
+from spurdyn.settings import METHODS
 from test_results_io import PNG_MAGIC, fake_simulate
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -412,9 +412,9 @@ def test_console_script_refuses_without_traceback(tmp_path):
 
 @pytest.fixture
 def real_solver():
-    """``spurdyn.integrate.simulate`` if it exists, else skip."""
+    """``spurdyn.solvers.loop.simulate`` if it exists, else skip."""
     try:
-        from spurdyn.integrate import simulate
+        from spurdyn.solvers.loop import simulate
     except ImportError as err:
         pytest.skip(f"the solver is not there yet ({err})")
     return simulate
@@ -455,7 +455,7 @@ def test_real_solver_interrupted(real_solver, here, capsys, monkeypatch):
 def test_model_lumped_writes_a_run_folder(here, capsys):
     """``--model lumped`` runs the two-disk, one-spring model through the same run layer."""
     from spurdyn.cases import preset_case
-    from spurdyn.model.lumped import simulate_lumped
+    from spurdyn.lumped import simulate_lumped
     from spurdyn.results.io import load_run
 
     code, out, err = run(capsys, "run", "paper-fig9", "--angle", "3", "--model", "lumped",

@@ -7,13 +7,14 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline
 
-from spurdyn.contact.reference import FLANK, find_contact, flank_spline, sliding_acceleration
+from spurdyn.contact.search_numpy import FLANK, find_contact, flank_spline, sliding_acceleration
 from spurdyn.geometry.presets import paper_pair
-from spurdyn.integrate import kernels
-from spurdyn.integrate.run import _roll
-from spurdyn.solver.case import RunCase
-from spurdyn.solver.reference import ReferenceStepper, blocks, jacobian, rot, root_phi, root_phi_theta
-from spurdyn.solver.system import build_system
+from spurdyn.contact import search_compiled as search_c
+from spurdyn.solvers.loop import _roll
+from spurdyn.settings import RunCase
+from spurdyn.solvers.paper.step_numpy import PaperMethod
+from spurdyn.solvers.paper.dynamics_numpy import blocks, jacobian, rot, root_phi, root_phi_theta
+from spurdyn.model.system import build_system
 
 JZ = np.array([[0.0, -1.0], [1.0, 0.0]])
 
@@ -23,7 +24,7 @@ def system():
     pair = paper_pair()
     case = RunCase(speed_a=400.0, speed_b=400.0, torque=22.25)
     s = build_system(pair, case)
-    return s, ReferenceStepper(s, case)
+    return s, PaperMethod(s, case)
 
 
 def rigid(system, theta, omega=(0.0, 0.0), alpha=(0.0, 0.0)):
@@ -66,7 +67,7 @@ def test_rigid_teeth_stay_in_contact_on_the_line_of_action(system):
     # 61 points: the contact point sits within ~1e-7 rad of roll (a few nm on the flank).
     assert worst_roll < 1e-6
     fine = build_system(s.pair, ref.case.with_(n_spline=241))
-    fine_s, fine_roll = _rigid_roll_errors(fine, ReferenceStepper(fine, ref.case.with_(n_spline=241)))
+    fine_s, fine_roll = _rigid_roll_errors(fine, PaperMethod(fine, ref.case.with_(n_spline=241)))
     assert fine_s < 1e-14
     assert fine_roll < worst_roll / 8.0
 
@@ -150,7 +151,7 @@ def test_appendix_a_terms_converge_with_spline_points(system):
     """At 2,000 rad/s the 61-point error (~1e-5 of the sliding terms) falls with more points."""
     s61, ref61 = system
     errors = []
-    for ref in (ref61, ReferenceStepper(build_system(s61.pair, ref61.case.with_(n_spline=241)),
+    for ref in (ref61, PaperMethod(build_system(s61.pair, ref61.case.with_(n_spline=241)),
                                         ref61.case.with_(n_spline=241))):
         s = ref.system
         th0, om, al = np.array([0.12, 0.12]), np.array([2000.0, 2000.0]), np.array([0.0, 5e4])
@@ -180,11 +181,11 @@ def test_compiled_spline_matches_scipy_not_a_knot():
     t = t0 + h * np.arange(n)
     vals = np.column_stack([np.sin(t) + 0.01 * rng.standard_normal(n), np.cos(2 * t)])
     m = np.empty_like(vals)
-    kernels.spline_second(vals, h, m)
+    search_c.spline_second(vals, h, m)
     ref = CubicSpline(t, vals, bc_type="not-a-knot")
     out = np.empty(6)
     for x in np.concatenate([rng.uniform(t[0], t[-1], 50), [t[0], t[-1], t[-1] + 0.05, t[0] - 0.05]]):
-        kernels.spline_eval(vals, m, t0, h, x, out)
+        search_c.spline_eval(vals, m, t0, h, x, out)
         assert np.allclose(out[0:2], ref(x), atol=1e-12)
         assert np.allclose(out[2:4], ref(x, 1), atol=1e-10)
         assert np.allclose(out[4:6], ref(x, 2), atol=1e-8)
@@ -192,8 +193,8 @@ def test_compiled_spline_matches_scipy_not_a_knot():
 
 def test_compiled_contact_search_matches_reference(system):
     s, ref = system
-    from spurdyn.integrate.fast import pack
-    from spurdyn.integrate.fast_step import search
+    from spurdyn.solvers.paper.stepper_compiled import pack
+    from spurdyn.solvers.paper.step_compiled import search
 
     p = pack(s, ref.case)
     rng = np.random.default_rng(5)
@@ -218,7 +219,7 @@ def test_flank_surface_passes_through_the_outline_nodes(relief):
     compiled versions agree."""
     from spurdyn.geometry.gear import GearPair
     from spurdyn.geometry.presets import nasa_like_relief
-    from spurdyn.integrate.fast import pack
+    from spurdyn.solvers.paper.stepper_compiled import pack
 
     pair = paper_pair()
     if relief:
@@ -233,7 +234,7 @@ def test_flank_surface_passes_through_the_outline_nodes(relief):
         for k in range(int(np.ceil(2 * f.t0)), 2 * f.ny + 1):
             t = k / 2.0
             assert np.hypot(*f.delta(t)) < 1e-12
-            assert np.allclose(kernels.delta_at(p.fpar[g], p.sideY[g], t), f.delta(t), atol=1e-15)
+            assert np.allclose(search_c.delta_at(p.fpar[g], p.sideY[g], t), f.delta(t), atol=1e-15)
         # between the nodes the quadratic edges miss the involute by nanometres
         mid = [np.hypot(*f.delta(t + 0.25)) for t in range(int(np.ceil(f.t0)), f.ny)]
         assert 0 < max(mid) < 1e-6
@@ -245,7 +246,7 @@ def _wavy_flanks(system):
     locally nearly conforming, and Newton's iteration for the pair cycles."""
     from pathlib import Path
 
-    from spurdyn.contact import reference as cref
+    from spurdyn.contact import search_numpy as cref
 
     s, ref = system
     data = np.load(Path(__file__).parent / "data" / "wavy_flanks_fig11_bdrive.npz")
@@ -258,7 +259,7 @@ def _wavy_flanks(system):
 
 
 def test_contact_search_finds_the_deepest_point_where_newton_cycles(system):
-    from spurdyn.contact import reference as cref
+    from spurdyn.contact import search_numpy as cref
 
     s, ref = system
     th, u, guess, pa, pb, fa, fb = _wavy_flanks(system)
@@ -282,8 +283,8 @@ def test_contact_search_finds_the_deepest_point_where_newton_cycles(system):
 
 
 def test_compiled_search_matches_reference_where_newton_cycles(system):
-    from spurdyn.integrate.fast import pack
-    from spurdyn.integrate.fast_step import search
+    from spurdyn.solvers.paper.stepper_compiled import pack
+    from spurdyn.solvers.paper.step_compiled import search
 
     s, ref = system
     th, u, guess, *_ = _wavy_flanks(system)
@@ -297,7 +298,7 @@ def test_compiled_search_matches_reference_where_newton_cycles(system):
 
 
 def test_compiled_search_constants_are_the_reference_ones():
-    from spurdyn.contact import reference as cref
+    from spurdyn.contact import search_numpy as cref
 
-    assert ((kernels.GOLDEN, kernels.GOLDEN_TOL, kernels.EDGE, kernels.POLISH)
+    assert ((search_c.GOLDEN, search_c.GOLDEN_TOL, search_c.EDGE, search_c.POLISH)
             == (cref.GOLDEN, cref.GOLDEN_TOL, cref.EDGE, cref.POLISH))

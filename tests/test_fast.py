@@ -14,14 +14,16 @@ import math
 import numpy as np
 import pytest
 
-from spurdyn.contact.reference import ContactPair
+from spurdyn.contact.search_numpy import ContactPair
 from spurdyn.geometry.gear import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.integrate import fast_step, simulate
-from spurdyn.integrate.fast import FastStepper
-from spurdyn.solver.case import RPM, RunCase
-from spurdyn.solver.reference import ReferenceStepper, State, constraint_force, initial_state
-from spurdyn.solver.system import build_system
+from spurdyn.solvers.loop import simulate
+from spurdyn.solvers.paper import response_compiled as resp_c
+from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
+from spurdyn.settings import RPM, RunCase
+from spurdyn.solvers.paper.step_numpy import PaperMethod, State, initial_state
+from spurdyn.solvers.paper.dynamics_numpy import constraint_force
+from spurdyn.model.system import build_system
 
 PAIR = paper_pair()
 
@@ -30,12 +32,12 @@ PAIR = paper_pair()
 def pair_of_steppers():
     case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
-    return system, case, FastStepper(system, case), ReferenceStepper(system, case)
+    return system, case, CompiledStepper(system, case), PaperMethod(system, case)
 
 
 def test_compiled_and_reference_steps_agree_over_300_steps(pair_of_steppers):
     system, case, fast, ref = pair_of_steppers
-    st = initial_state(ref)
+    st = initial_state(ref.system, ref.case)
     worst = np.zeros(4)
     peak = 0.0
     for i in range(300):
@@ -63,7 +65,7 @@ def test_superposition_equals_reintegration(pair_of_steppers):
     """The predicted step plus the linear response to a force change equals RK4 re-run
     with the changed force, to the round-off floor."""
     system, case, _, ref = pair_of_steppers
-    fast = FastStepper(system, case)
+    fast = CompiledStepper(system, case)
     for _ in range(80):
         fast.step()
     S, P = fast.S, fast.P
@@ -77,23 +79,23 @@ def test_superposition_equals_reintegration(pair_of_steppers):
     # RK4's first slope: give both the same (the reference recomputes it, the fast stepper
     # carries it over from the last acceleration stage)
     S.alpha_n[:], S.a_n[:] = ref.accelerations(st.theta, st.u, *constraint_force(system, st.theta, c, st.x))
-    pred = fast_step.predict(P, S, case.dt)
+    pred = resp_c.predict(P, S, case.dt)
     rng = np.random.default_rng(0)
     scale = np.abs(S.x).max()
     # the round-off floor of accelerations (module docstring), from this model
-    from spurdyn.integrate.run import stable_step
+    from spurdyn.solvers.check import stable_step
     omega_max = 2.0 * math.sqrt(2.0) / stable_step(system)
     floor_a = np.finfo(float).eps * np.abs(P.Y).max() * omega_max**2
     for trial in range(3):
         x = S.x + 0.3 * scale * rng.standard_normal(S.x.size)
-        th1, u1, om1, v1 = fast_step.superpose(P, S, case.dt, pred, x, S.cn, S.cw, S.normal, True)
+        th1, u1, om1, v1 = resp_c.superpose(P, S, case.dt, pred, x, S.cn, S.cw, S.normal, True)
         rth, rom, ru, rv = ref.rk4(st, *constraint_force(system, st.theta, c, x))
         assert np.abs(u1 - ru).max() < 1e-16          # m; displacements ~1e-2 m
         assert np.abs(th1 - rth).max() < 1e-16        # rad
         assert np.abs(v1 - rv).max() < 4 * case.dt * floor_a     # m/s; velocities ~1e2 m/s
         assert np.abs(om1 - rom).max() < 1e-9                    # rad/s; speeds ~2e3 rad/s
         # and the response is far from negligible: a wrong superposition would show
-        assert np.abs(u1 - fast_step.superpose(P, S, case.dt, pred, S.x, S.cn, S.cw, S.normal,
+        assert np.abs(u1 - resp_c.superpose(P, S, case.dt, pred, S.x, S.cn, S.cw, S.normal,
                                                True)[1]).max() > 1e-12
 
 
@@ -131,7 +133,7 @@ def test_a_nan_stops_the_run_and_keeps_the_steps_before(backend, monkeypatch):
     """A NaN in the state (here put into one nodal velocity after the first chunk of 20
     steps) stops the run with status ``incomplete``, a reason naming the NaN and the
     step, and the 20 steps made before it; no row of the history holds a NaN."""
-    from spurdyn.integrate import run as run_module
+    from spurdyn.solvers import loop as run_module
 
     make = run_module.make_stepper
 

@@ -1,10 +1,10 @@
 """The compiled kernels one by one against their NumPy counterparts.
 
 Each test calls one kernel of :mod:`spurdyn.integrate.kernels` or
-:mod:`spurdyn.integrate.fast_step` on a realistic state of the paper's pair (1,500 steps
+:mod:`spurdyn.solvers.paper.step_compiled` on a realistic state of the paper's pair (1,500 steps
 of the 20,000 rpm run: the torque is on its ramp and the teeth carry ~200 N) and compares
-it with the same quantity computed by :mod:`spurdyn.solver.reference`,
-:mod:`spurdyn.contact.reference`, :mod:`spurdyn.solver.iteration`,
+it with the same quantity computed by :mod:`spurdyn.solvers.paper.step_numpy`,
+:mod:`spurdyn.contact.search_numpy`, :mod:`spurdyn.solvers.paper.iteration_numpy`,
 :mod:`spurdyn.model.loading`, or, where there is no NumPy counterpart, by the formula of
 docs/solver.md written out here in NumPy/SciPy. (The spline kernels, ``delta_at`` and the
 contact search are compared in tests/test_contact.py; ``predict``/``superpose`` in
@@ -29,15 +29,20 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from spurdyn.contact import reference as cref
+from spurdyn.contact import search_numpy as cref
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.integrate import fast_step, kernels
-from spurdyn.integrate.fast import FastStepper
+from spurdyn.solvers.paper import dynamics_compiled as dyn_c
+from spurdyn.solvers.paper import iteration_compiled as it_c
+from spurdyn.solvers.paper import response_compiled as resp_c
+from spurdyn.contact import search_compiled as search_c
+from spurdyn.contact.constants import F
+from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
 from spurdyn.model.loading import gear_angles, gear_torques
-from spurdyn.solver import iteration
-from spurdyn.solver import reference as sref
-from spurdyn.solver.case import RPM, RunCase
-from spurdyn.solver.system import build_system
+from spurdyn.solvers.paper import iteration_numpy as iteration
+from spurdyn.solvers.paper import dynamics_numpy as dyn_np
+from spurdyn.solvers.paper import step_numpy as sref
+from spurdyn.settings import RPM, RunCase
+from spurdyn.model.system import build_system
 
 EPS = np.finfo(float).eps
 JZ = np.array([[0.0, -1.0], [1.0, 0.0]])
@@ -49,11 +54,11 @@ class Loaded:
     def __init__(self, steps: int = 1500) -> None:
         self.case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
         self.system = build_system(paper_pair(), self.case)
-        self.fast = FastStepper(self.system, self.case)
+        self.fast = CompiledStepper(self.system, self.case)
         for _ in range(steps):
             assert self.fast.step() == 0
         self.S, self.P = self.fast.S, self.fast.P
-        self.ref = sref.ReferenceStepper(self.system, self.case)
+        self.ref = sref.PaperMethod(self.system, self.case)
         self.na = self.system.gears[0].mesh.n_nodes          # nodes of A (B's are offset by it)
         self.K = sp.block_diag([g.stiffness for g in self.system.gears], format="csr")
         self.absK = abs(self.K)
@@ -83,7 +88,7 @@ def elastic_np(system, theta, u):
     w = np.empty_like(u)
     for g, gb in enumerate(system.gears):
         o = system.offsets
-        r = sref.rot(gb.sense * theta[g])
+        r = dyn_np.rot(gb.sense * theta[g])
         w[o[g]:o[g + 1]] = ((gb.Y + u[o[g]:o[g + 1]]).reshape(-1, 2) @ r).ravel() - gb.Y
     return w
 
@@ -96,7 +101,7 @@ def tangent_np(st, theta, w, kw, d_th, d_u, keep=True):
     for g, gb in enumerate(st.system.gears):
         o = st.system.offsets
         sl = slice(o[g], o[g + 1])
-        s, r = gb.sense, sref.rot(gb.sense * theta[g])
+        s, r = gb.sense, dyn_np.rot(gb.sense * theta[g])
         w2, kw2 = w[sl].reshape(-1, 2), kw[sl].reshape(-1, 2)
         dw = d_u[sl].reshape(-1, 2) @ r - s * d_th[g] * (w2 + gb.Y.reshape(-1, 2)) @ JZ.T
         kdw = (gb.stiffness @ dw.ravel()).reshape(-1, 2)
@@ -139,7 +144,7 @@ def rigid_plus_noise(st, theta, size, seed):
     u = np.empty(st.system.n_u)
     for g, gb in enumerate(st.system.gears):
         y = gb.Y.reshape(-1, 2)
-        st.block(g, u)[:] = (y @ sref.rot(gb.sense * theta[g]).T - y).ravel()
+        st.block(g, u)[:] = (y @ dyn_np.rot(gb.sense * theta[g]).T - y).ravel()
     return u + size * rng.standard_normal(u.size)
 
 
@@ -153,19 +158,19 @@ def test_bsr_matvec_is_the_sparse_stiffness_product(loaded):
     w = elastic_np(st.system, st.S.theta, st.S.u)
     for v in (w, 1e-6 * rng.standard_normal(w.size)):
         out = np.empty_like(v)
-        kernels.bsr_matvec(P.indptr, P.indices, P.data, v, out)
+        dyn_c.bsr_matvec(P.indptr, P.indices, P.data, v, out)
         tol = 8 * EPS * (st.absK @ np.abs(v)).max()
         assert worst(out, st.K @ v) <= tol
         print(f"bsr_matvec: {worst(out, st.K @ v):.2e} N (tol {tol:.1e}, "
               f"max |Kv| {np.abs(st.K @ v).max():.1e})")
         # the block orientation matters: data[k, a, b] is row a, column b of the block
         out_t = np.empty_like(v)
-        kernels.bsr_matvec(P.indptr, P.indices, np.ascontiguousarray(P.data.transpose(0, 2, 1)), v, out_t)
+        dyn_c.bsr_matvec(P.indptr, P.indices, np.ascontiguousarray(P.data.transpose(0, 2, 1)), v, out_t)
         assert worst(out_t, out) > 1e6 * tol
         # and one block changed by a part in 1e9 shows
         data = P.data.copy()
         data[P.indptr[100]] *= 1.0 + 1e-9
-        kernels.bsr_matvec(P.indptr, P.indices, data, v, out_t)
+        dyn_c.bsr_matvec(P.indptr, P.indices, data, v, out_t)
         assert worst(out_t, out) > 10 * tol
 
 
@@ -181,7 +186,7 @@ def test_torque_follows_the_fig7_schedule(loaded):
         kinks = [0.0, t2, ts - t2, ts]
         th = np.concatenate([np.linspace(-0.05, ts + 0.05, 401), kinks])
         want = gear_torques(pair, tau0, th, th)[g]
-        got = np.array([kernels.torque(P.tpar, g, t)[0] for t in th])
+        got = np.array([dyn_c.torque(P.tpar, g, t)[0] for t in th])
         amp = abs(want).max()
         ratio = 1.0 if g == 0 else pair.gear_b.base_radius / pair.gear_a.base_radius
         assert amp == pytest.approx(tau0 * ratio)
@@ -191,7 +196,7 @@ def test_torque_follows_the_fig7_schedule(loaded):
         mids = np.array([-0.02, 0.3 * t2, 0.9 * t2, 0.5 * ts, ts - 0.7 * t2, ts - 0.1 * t2, ts + 0.02])
         fd = (gear_torques(pair, tau0, mids + h, mids + h)[g]
               - gear_torques(pair, tau0, mids - h, mids - h)[g]) / ((mids + h) - (mids - h))
-        slope = np.array([kernels.torque(P.tpar, g, t)[1] for t in mids])
+        slope = np.array([dyn_c.torque(P.tpar, g, t)[1] for t in mids])
         tol = 4 * EPS * amp / h + 4 * EPS * amp / t2
         assert worst(slope, fd) <= tol
         assert np.abs(slope).max() == pytest.approx(amp / t2, rel=1e-12)   # the ramps are there
@@ -200,33 +205,33 @@ def test_torque_follows_the_fig7_schedule(loaded):
         # the start of the ramp moved by 1e-9 rad shows in the values
         tpar = P.tpar.copy()
         tpar[g, 2] *= 1.0 + 1e-9
-        moved = np.array([kernels.torque(tpar, g, t)[0] for t in th])
+        moved = np.array([dyn_c.torque(tpar, g, t)[0] for t in th])
         assert worst(moved, got) > 100 * 4 * EPS * amp
 
 
 def test_root_phi_theta_matches_reference(loaded):
-    """``root_phi_theta(P, theta, k)`` is row ``k`` of :func:`spurdyn.solver.reference.root_phi_theta`
+    """``root_phi_theta(P, theta, k)`` is row ``k`` of :func:`spurdyn.solvers.paper.step_numpy.root_phi_theta`
     (``-s R Jz Y_i``), node by node for both gears, to ``EPS |Y|``."""
     st, P = loaded, loaded.P
     nra = st.system.gears[0].root_nodes.size
     big = 0.0
     for theta in (st.S.theta, np.array([0.3, -1.2])):
-        got = np.array([kernels.root_phi_theta(P, theta, k) for k in range(P.rnode.size)])
-        want = np.concatenate([sref.root_phi_theta(gb, theta[g]) for g, gb in enumerate(st.system.gears)])
+        got = np.array([dyn_c.root_phi_theta(P, theta, k) for k in range(P.rnode.size)])
+        want = np.concatenate([dyn_np.root_phi_theta(gb, theta[g]) for g, gb in enumerate(st.system.gears)])
         tol = 4 * EPS * np.abs(P.Y).max()
         big = max(big, worst(got, want))
         assert worst(got, want) <= tol
         # the kernel's rows are in the order of P.rnode: A's root nodes, then B's
         assert np.array_equal(P.rnode[nra:] - st.na, st.system.gears[1].root_nodes)
-        moved = np.array([kernels.root_phi_theta(P, theta + 1e-12, k) for k in range(P.rnode.size)])
+        moved = np.array([dyn_c.root_phi_theta(P, theta + 1e-12, k) for k in range(P.rnode.size)])
         assert worst(moved, got) > 100 * tol
     print(f"root_phi_theta: {big:.1e} m (tol {tol:.1e})")
 
 
 def test_edge_rows_and_surface_points_match_the_flank(loaded):
     """``edge_at``/``contact_rows`` are :meth:`Flank.locate`; ``data_positions`` (positions,
-    velocities) is :func:`spurdyn.contact.reference.data_values`; ``material_point``
-    (positions, velocities, accelerations) is :func:`~spurdyn.contact.reference.surface_point`,
+    velocities) is :func:`spurdyn.contact.search_numpy.data_values`; ``material_point``
+    (positions, velocities, accelerations) is :func:`~spurdyn.contact.search_numpy.surface_point`,
     each to ``EPS`` times the size of the terms summed."""
     st, P, S = loaded, loaded.P, loaded.S
     rng = np.random.default_rng(2)
@@ -239,37 +244,37 @@ def test_edge_rows_and_surface_points_match_the_flank(loaded):
     big = np.zeros(5)
     for g, gb in enumerate(st.system.gears):
         fl = gb.flank
-        r = sref.rot(gb.sense * S.theta[g])
+        r = dyn_np.rot(gb.sense * S.theta[g])
         xg = gb.X + st.block(g, S.u).reshape(-1, 2)
         vg, ag = st.block(g, S.v).reshape(-1, 2), st.block(g, acc).reshape(-1, 2)
         tol_x = 4 * EPS * np.abs(xg).max()
         tol_v = 4 * EPS * (np.abs(vg).max() + abs(S.omega[g]) * 1e-6)
         tol_a = 4 * EPS * (np.abs(ag).max() + (abs(al[g]) + S.omega[g] ** 2) * 1e-6)
-        fast_step.data_positions(P, g, S.theta[g], 0.0, S.u, out, 0)
+        search_c.data_positions(P, g, S.theta[g], 0.0, S.u, out, 0)
         big[0] = max(big[0], worst(out, cref.data_values(fl, xg, r)))
         assert worst(out, cref.data_values(fl, xg, r)) <= tol_x
-        fast_step.data_positions(P, g, S.theta[g], S.omega[g], S.v, out, 1)
+        search_c.data_positions(P, g, S.theta[g], S.omega[g], S.v, out, 1)
         big[1] = max(big[1], worst(out, cref.data_values(fl, vg, vmats[g])))
         assert worst(out, cref.data_values(fl, vg, vmats[g])) <= tol_v
         for t in (fl.t0, 3.0, 4.3, 7.5, 9.99, fl.t1 - 1e-9, fl.t1):
-            nodes, w, row = kernels.edge_at(P.fpar[g], P.side[g], t)
+            nodes, w, row = search_c.edge_at(P.fpar[g], P.side[g], t)
             ln, lw, _ = fl.locate(t)
             assert np.array_equal(nodes, ln + g * st.na) and row == min(int(t), fl.ny - 1)
             assert worst(w, lw) <= 4 * EPS
-            got = [fast_step.material_point(P, g, t, S.theta[g], S.u, 0, 0.0, 0.0),
-                   fast_step.material_point(P, g, t, S.theta[g], S.v, 1, S.omega[g], 0.0),
-                   fast_step.material_point(P, g, t, S.theta[g], acc, 2, S.omega[g], al[g])]
+            got = [search_c.material_point(P, g, t, S.theta[g], S.u, 0, 0.0, 0.0),
+                   search_c.material_point(P, g, t, S.theta[g], S.v, 1, S.omega[g], 0.0),
+                   search_c.material_point(P, g, t, S.theta[g], acc, 2, S.omega[g], al[g])]
             want = [cref.surface_point(fl, t, xg, r), cref.surface_point(fl, t, vg, vmats[g]),
                     cref.surface_point(fl, t, ag, amats[g])]
             for kind, tol in enumerate((tol_x, tol_v, tol_a)):
                 big[2 + kind] = max(big[2 + kind], worst(got[kind], want[kind]))
                 assert worst(got[kind], want[kind]) <= tol
         # displacements 1e-12 m larger show
-        fast_step.data_positions(P, g, S.theta[g], 0.0, S.u + 1e-12, out, 0)
+        search_c.data_positions(P, g, S.theta[g], 0.0, S.u + 1e-12, out, 0)
         assert worst(out, cref.data_values(fl, xg, r)) > 100 * tol_x
     cn, cw = np.empty(6, np.int64), np.empty(6)
     c = st.contact
-    fast_step.contact_rows(P, c.alpha, c.beta, cn, cw)
+    search_c.contact_rows(P, c.alpha, c.beta, cn, cw)
     assert np.array_equal(cn, st.rows(c)[0]) and worst(cw, st.rows(c)[1]) <= 4 * EPS
     print("data/material points (positions m, velocities m/s; points: m, m/s, m/s^2):", big)
 
@@ -279,7 +284,7 @@ def test_edge_rows_and_surface_points_match_the_flank(loaded):
 @pytest.mark.parametrize("where", ["stepped", "random"])
 @pytest.mark.parametrize("keep", [1, 0])
 def test_elastic_forces_and_disk_torques_match_reference(loaded, where, keep):
-    """``elastic`` against :func:`spurdyn.solver.reference.elastic` (``f_u = -R K w``,
+    """``elastic`` against :func:`spurdyn.solvers.paper.step_numpy.elastic` (``f_u = -R K w``,
     ``Q = s sum w x K w``), on the stepped state and on teeth turned by large angles with
     random 1e-6 m displacements, with and without the disk torque term.
 
@@ -296,7 +301,7 @@ def test_elastic_forces_and_disk_torques_match_reference(loaded, where, keep):
         u = rigid_plus_noise(st, theta, 1e-6, 3)
     n = u.size
     w, kw, f, q = np.empty(n), np.empty(n), np.empty(n), np.empty(2)
-    kernels.elastic(theta, u, P.Y, P.node_gear, P.sense, P.indptr, P.indices, P.data, P.keep, w, kw, f, q)
+    dyn_c.elastic(theta, u, P.Y, P.node_gear, P.sense, P.indptr, P.indices, P.data, P.keep, w, kw, f, q)
     y = np.abs(P.Y + u)
     ky = st.absK @ node_size(y)              # |K| |y|, y turned by the disk
     # w and K w
@@ -304,13 +309,13 @@ def test_elastic_forces_and_disk_torques_match_reference(loaded, where, keep):
     assert worst(kw, st.K @ w) <= 8 * EPS * (st.absK @ np.abs(w)).max()
     diffs = {}
     for g, gb in enumerate(st.system.gears):
-        r = sref.rot(gb.sense * theta[g])
+        r = dyn_np.rot(gb.sense * theta[g])
         fg = st.block(g, f)
         # -R K w from the kernel's w: the product's round-off
         own = -(st.block(g, st.K @ w).reshape(-1, 2) @ r.T).ravel()
         assert worst(fg, own) <= 8 * EPS * (st.block(g, st.absK @ np.abs(w))).max()
         # the reference's own w
-        q_ref, f_ref = sref.elastic(gb, theta[g], st.block(g, u), bool(keep))
+        q_ref, f_ref = dyn_np.elastic(gb, theta[g], st.block(g, u), bool(keep))
         tol_f = 4 * EPS * st.block(g, ky).max()
         assert worst(fg, f_ref) <= tol_f
         tol_q = q_bound(st, g, y, w, kw)
@@ -323,7 +328,7 @@ def test_elastic_forces_and_disk_torques_match_reference(loaded, where, keep):
         w_, kw_, f_, q_ = np.empty(n), np.empty(n), np.empty(n), np.empty(2)
         u_ = u.copy()
         st.block(g, u_)[2 * 100] += 1e-9
-        kernels.elastic(theta, u_, P.Y, P.node_gear, P.sense, P.indptr, P.indices, P.data, P.keep,
+        dyn_c.elastic(theta, u_, P.Y, P.node_gear, P.sense, P.indptr, P.indices, P.data, P.keep,
                         w_, kw_, f_, q_)
         assert worst(st.block(g, f_), fg) > 100 * tol_f
         if keep:
@@ -334,12 +339,12 @@ def test_elastic_forces_and_disk_torques_match_reference(loaded, where, keep):
 
 def test_accelerations_match_reference(loaded):
     """``accelerations`` (torque schedule, elastic forces, a given constraint force) against
-    :meth:`ReferenceStepper.accelerations`, with the contact and root forces of the state."""
+    :meth:`PaperMethod.accelerations`, with the contact and root forces of the state."""
     st, P, S = loaded, loaded.P, loaded.S
-    fth, fu = sref.constraint_force(st.system, S.theta, st.contact, S.x)
+    fth, fu = dyn_np.constraint_force(st.system, S.theta, st.contact, S.x)
     n = S.u.size
     w, kw, el, q, alpha, a = (np.empty(n), np.empty(n), np.empty(n), np.empty(2), np.empty(2), np.empty(n))
-    kernels.accelerations(S.theta, S.u, fth, fu, P, w, kw, el, q, alpha, a)
+    dyn_c.accelerations(S.theta, S.u, fth, fu, P, w, kw, el, q, alpha, a)
     alpha_ref, a_ref = st.ref.accelerations(S.theta, S.u, fth, fu)
     y = np.abs(P.Y + S.u)
     ky = st.absK @ node_size(y)
@@ -354,17 +359,17 @@ def test_accelerations_match_reference(loaded):
           f"alpha {worst(alpha, alpha_ref):.1e} rad/s^2 (tol {tol_al.max():.1e}, "
           f"|alpha| {np.abs(alpha_ref).max():.1e})")
     # the constraint force enters: without the contact force the teeth accelerate differently
-    fth0, fu0 = sref.constraint_force(st.system, S.theta, st.contact, np.append(S.x[:-1], 0.0))
+    fth0, fu0 = dyn_np.constraint_force(st.system, S.theta, st.contact, np.append(S.x[:-1], 0.0))
     a0 = np.empty(n)
-    kernels.accelerations(S.theta, S.u, fth0, fu0, P, w, kw, el, q, np.empty(2), a0)
+    dyn_c.accelerations(S.theta, S.u, fth0, fu0, P, w, kw, el, q, np.empty(2), a0)
     assert worst(a0, a) > 100 * tol_a
 
 
 def test_tangent_formula_is_the_derivative_of_the_forces(loaded):
     """The tangent ``dF/dq . (d_theta, d_u)`` (F the disk torques and tooth forces) of
-    docs/solver.md, in NumPy (``tangent_np``, which ``fast_step.sparse_tangent`` is checked
+    docs/solver.md, in NumPy (``tangent_np``, which ``resp_c.sparse_tangent`` is checked
     against below), against differences of the reference forces
-    (:func:`spurdyn.solver.reference.elastic` plus the Fig. 7 torques): along ``u`` the
+    (:func:`spurdyn.solvers.paper.step_numpy.elastic` plus the Fig. 7 torques): along ``u`` the
     central difference is exact (``f_u`` is affine and ``Q`` quadratic in ``u``), so it
     agrees to the round-off of the forces; along ``theta`` a fourth-order difference
     agrees to its truncation error, bounded by its change when the step is doubled."""
@@ -372,8 +377,8 @@ def test_tangent_formula_is_the_derivative_of_the_forces(loaded):
     n = S.u.size
     rng = np.random.default_rng(4)
     w, kw, el, q = np.empty(n), np.empty(n), np.empty(n), np.empty(2)
-    kernels.elastic(S.theta, S.u, P.Y, P.node_gear, P.sense, P.indptr, P.indices, P.data, P.keep, w, kw, el, q)
-    slopes = np.array([kernels.torque(P.tpar, g, S.theta[g])[1] for g in range(2)])
+    dyn_c.elastic(S.theta, S.u, P.Y, P.node_gear, P.sense, P.indptr, P.indices, P.data, P.keep, w, kw, el, q)
+    slopes = np.array([dyn_c.torque(P.tpar, g, S.theta[g])[1] for g in range(2)])
     assert np.all(slopes != 0.0)
 
     def kernel(d_th, d_u):
@@ -384,7 +389,7 @@ def test_tangent_formula_is_the_derivative_of_the_forces(loaded):
     y = np.abs(P.Y + S.u)
 
     def forces(theta, u):
-        qf = [sref.elastic(gb, theta[g], st.block(g, u), True) for g, gb in enumerate(st.system.gears)]
+        qf = [dyn_np.elastic(gb, theta[g], st.block(g, u), True) for g, gb in enumerate(st.system.gears)]
         return st.ref.torques(theta) + np.array([x[0] for x in qf]), np.concatenate([x[1] for x in qf])
 
     # along u: exact central difference
@@ -419,7 +424,7 @@ def test_tangent_formula_is_the_derivative_of_the_forces(loaded):
 
 
 def test_sparse_tangent_is_the_tangent_on_a_few_nodes(loaded):
-    """``fast_step.sparse_tangent`` adds ``coef T(0, z_u)`` for a ``z_u`` living on a few nodes
+    """``resp_c.sparse_tangent`` adds ``coef T(0, z_u)`` for a ``z_u`` living on a few nodes
     (as ``M^-1 G^T x`` does: the root and contact nodes), which is ``tangent``'s NumPy
     formula with ``d_theta = 0``; its work arrays come back zero and ``touched`` lists the
     nodes of the stiffness rows reached."""
@@ -427,7 +432,7 @@ def test_sparse_tangent_is_the_tangent_on_a_few_nodes(loaded):
     n, nn = S.u.size, S.u.size // 2
     rng = np.random.default_rng(5)
     w, kw, el, q = np.empty(n), np.empty(n), np.empty(n), np.empty(2)
-    kernels.elastic(S.theta, S.u, P.Y, P.node_gear, P.sense, P.indptr, P.indices, P.data, P.keep, w, kw, el, q)
+    dyn_c.elastic(S.theta, S.u, P.Y, P.node_gear, P.sense, P.indptr, P.indices, P.data, P.keep, w, kw, el, q)
     nodes = np.unique(np.concatenate([P.rnode, st.rows(st.contact)[0]])).astype(np.int64)
     zu = np.zeros(n)
     zu[np.ravel(np.column_stack([2 * nodes, 2 * nodes + 1]))] = 1e5 * rng.standard_normal(2 * nodes.size)
@@ -436,7 +441,7 @@ def test_sparse_tangent_is_the_tangent_on_a_few_nodes(loaded):
     scratch, mark = np.zeros(n), np.zeros(nn, np.int64)
     touched = np.empty(nn, np.int64)
     coef = 0.7
-    nt = fast_step.sparse_tangent(P, S.theta, w, kw, zu, nodes, nodes.size, scratch, mark, touched,
+    nt = resp_c.sparse_tangent(P, S.theta, w, kw, zu, nodes, nodes.size, scratch, mark, touched,
                                   out_th, out_u, coef)
     rth, ru = tangent_np(st, S.theta, w, kw, np.zeros(2), zu)
     tol_u = 8 * EPS * coef * (st.absK @ node_size(zu)).max() + 4 * EPS * np.abs(out_u0).max()
@@ -453,7 +458,7 @@ def test_sparse_tangent_is_the_tangent_on_a_few_nodes(loaded):
     zu2 = zu.copy()
     zu2[2 * nodes[3]] *= 1.0 + 1e-9
     o2 = out_u0.copy()
-    fast_step.sparse_tangent(P, S.theta, w, kw, zu2, nodes, nodes.size, scratch, mark, touched,
+    resp_c.sparse_tangent(P, S.theta, w, kw, zu2, nodes, nodes.size, scratch, mark, touched,
                              out_th0.copy(), o2, coef)
     assert worst(o2, out_u) > 10 * tol_u
 
@@ -463,16 +468,16 @@ def test_sparse_tangent_is_the_tangent_on_a_few_nodes(loaded):
 def test_constraint_force_matches_reference(loaded):
     """``constraint_force`` (``G^T x``: ``-lambda`` on the root nodes, their moments on the
     disks, ``p n`` through the contact weights) against
-    :func:`spurdyn.solver.reference.constraint_force`, for the state's ``x`` and random ones."""
+    :func:`spurdyn.solvers.paper.step_numpy.constraint_force`, for the state's ``x`` and random ones."""
     st, P, S = loaded, loaded.P, loaded.S
     c = st.contact
     cn, cw = st.rows(c)
     rng = np.random.default_rng(6)
-    pt = np.abs(np.array([kernels.root_phi_theta(P, S.theta, k) for k in range(P.rnode.size)]))
+    pt = np.abs(np.array([dyn_c.root_phi_theta(P, S.theta, k) for k in range(P.rnode.size)]))
     for x in (S.x, np.abs(S.x).max() * rng.standard_normal(S.x.size)):
         fth, fu = np.empty(2), np.empty(S.u.size)
-        kernels.constraint_force(P, S.theta, cn, cw, c.normal, x, fth, fu)
-        rth, ru = sref.constraint_force(st.system, S.theta, c, x)
+        dyn_c.constraint_force(P, S.theta, cn, cw, c.normal, x, fth, fu)
+        rth, ru = dyn_np.constraint_force(st.system, S.theta, c, x)
         lam = np.abs(x[:-1]).reshape(-1, 2)
         tol_th = 4 * EPS * np.array([np.sum((pt * lam)[P.rgear == g]) for g in range(2)])
         tol_u = 4 * EPS * np.abs(x).max()
@@ -482,7 +487,7 @@ def test_constraint_force_matches_reference(loaded):
               f"(tol {tol_th.max():.1e}, |f_theta| {np.abs(rth).max():.1e})")
     # the contact force on the neighbouring material point is a different force
     fu2 = np.empty(S.u.size)
-    kernels.constraint_force(P, S.theta, cn, np.roll(cw, 1), c.normal, S.x, np.empty(2), fu2)
+    dyn_c.constraint_force(P, S.theta, cn, np.roll(cw, 1), c.normal, S.x, np.empty(2), fu2)
     assert worst(fu2, fu) > 100 * tol_u
 
 
@@ -502,8 +507,8 @@ def _gram_ref(st, theta, c):
     """``G M^-1 G^T`` and the size of its terms, ``|G| M^-1 |G|^T`` with the disk entries of
     the root rows (components of ``-s R Jz Y_i``, each rounded to ``EPS |Y_i|``) taken as
     ``|Y_i|``."""
-    g = sref.jacobian(st.system, theta, c)
-    minv = sref.inverse_mass(st.system)
+    g = dyn_np.jacobian(st.system, theta, c)
+    minv = dyn_np.inverse_mass(st.system)
     size = np.abs(g)
     ynorm = np.abs(st.P.Y[2 * st.P.rnode]) + np.abs(st.P.Y[2 * st.P.rnode + 1])
     size[np.arange(2 * ynorm.size), np.repeat(st.P.rgear, 2)] = np.repeat(ynorm, 2)
@@ -511,7 +516,7 @@ def _gram_ref(st, theta, c):
 
 
 def test_gram_is_G_Minv_GT(loaded):
-    """``gram`` against ``G M^-1 G^T`` from :func:`spurdyn.solver.reference.jacobian`, entry
+    """``gram`` against ``G M^-1 G^T`` from :func:`spurdyn.solvers.paper.step_numpy.jacobian`, entry
     by entry to ``EPS (|G| M^-1 |G|^T)``: at the state, at other rotations, and with the
     contact on the flank's first element row, where A's and B's root end nodes carry it
     (the coupling of root and contact rows, never met in a run)."""
@@ -524,7 +529,7 @@ def test_gram_is_G_Minv_GT(loaded):
     for theta, c in cases:
         cn, cw = st.rows(c)
         C = np.empty((m, m))
-        kernels.gram(P, theta, cn, cw, c.normal, C)
+        dyn_c.gram(P, theta, cn, cw, c.normal, C)
         want, size = _gram_ref(st, theta, c)
         assert np.all(np.abs(C - want) <= 4 * EPS * size)
         print(f"gram: {worst(C, want):.1e} (max entry {np.abs(want).max():.1e}, "
@@ -532,7 +537,7 @@ def test_gram_is_G_Minv_GT(loaded):
     assert np.abs(C[-1, :-1]).max() > 0                    # the last case couples
     # a rotation 1e-9 rad off moves the disk part of the root blocks beyond the tolerance
     C2 = np.empty((m, m))
-    kernels.gram(P, S.theta + 1e-9, *st.rows(st.contact), st.contact.normal, C2)
+    dyn_c.gram(P, S.theta + 1e-9, *st.rows(st.contact), st.contact.normal, C2)
     want, size = _gram_ref(st, S.theta, st.contact)
     assert np.max(np.abs(C2 - want) - 4 * EPS * size) > 0
 
@@ -545,17 +550,17 @@ def test_gram_contact_refreshes_the_contact_row(loaded):
     m = S.x.size
     c0 = st.contact
     C = np.empty((m, m))
-    kernels.gram(P, S.theta, *st.rows(c0), c0.normal, C)
+    dyn_c.gram(P, S.theta, *st.rows(c0), c0.normal, C)
     root = C[:-1, :-1].copy()
     for c in (_synthetic_contact(st, c0.alpha + 1.3, c0.beta - 0.7, 0.9),
               _synthetic_contact(st, 0.4, 0.7, 0.3), c0):
-        kernels.gram_contact(P, *st.rows(c), c.normal, C)
+        dyn_c.gram_contact(P, *st.rows(c), c.normal, C)
         want, size = _gram_ref(st, S.theta, c)
         assert np.array_equal(C[:-1, :-1], root)
         assert np.all(np.abs(C - want) <= 4 * EPS * size)
         print(f"gram_contact: {worst(C, want):.1e} (contact entry {want[-1, -1]:.3e})")
     # the weights matter (a refresh that kept the old row would fail here)
-    kernels.gram_contact(P, *st.rows(_synthetic_contact(st, c0.alpha + 0.25, c0.beta, 0.0)), c0.normal, C)
+    dyn_c.gram_contact(P, *st.rows(_synthetic_contact(st, c0.alpha + 0.25, c0.beta, 0.0)), c0.normal, C)
     assert abs(C[-1, -1] - want[-1, -1]) > 100 * 4 * EPS * size[-1, -1]
 
 
@@ -563,7 +568,7 @@ def test_gram_contact_refreshes_the_contact_row(loaded):
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_accelerated_update_matches_appendix_b_reference(loaded, n):
-    """``accelerated_update`` against :func:`spurdyn.solver.iteration.accelerated_update` with
+    """``accelerated_update`` against :func:`spurdyn.solvers.paper.iteration_numpy.accelerated_update` with
     ``C = scale G M^-1 G^T`` for the three stages' scales and error sizes, from ``x = 0``
     (the update alone), from the state's ``x``, with the contact inactive (``e_p = 0``), and
     with the contact row made the smallest eigenvalue (the other branch of the kernel's
@@ -579,7 +584,7 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
     h = st.case.dt
     eps_root = st.fast.cfg[6]
     C = np.empty((m, m))
-    kernels.gram(st.P, S.theta, *st.rows(st.contact), st.contact.normal, C)
+    dyn_c.gram(st.P, S.theta, *st.rows(st.contact), st.contact.normal, C)
     rng = np.random.default_rng(10 + n)
     # contact row scaled: still G M^-1 G^T of a (lighter-looking) contact, p's eigenvalue smallest
     Cs = C.copy()
@@ -595,7 +600,7 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
                 e[-1] = 0.0
             want = iteration.accelerated_update(x0, e, scale * cmat, n)
             got = x0.copy()
-            kernels.accelerated_update(got, e, cmat, scale, n, eps_root, np.empty((m, m)), np.empty(m))
+            it_c.accelerated_update(got, e, cmat, scale, n, eps_root, np.empty((m, m)), np.empty(m))
             tol = 1e-12 * np.abs(want - x0).max() + 4 * EPS * np.abs(x0).max()
             assert worst(got, want) <= tol
             k = int(np.abs(x0).max() > 0)     # the update alone, or on top of x
@@ -608,19 +613,19 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
     # eps_1 matters (b_bar and the b_k depend on it): 1 % off changes the update beyond the tolerance
     e = 1e-12 * rng.standard_normal(m)
     got, got2 = np.zeros(m), np.zeros(m)
-    kernels.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m))
-    kernels.accelerated_update(got2, e, C, 0.5 * h * h, n, 1.01 * eps_root, np.empty((m, m)), np.empty(m))
+    it_c.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m))
+    it_c.accelerated_update(got2, e, C, 0.5 * h * h, n, 1.01 * eps_root, np.empty((m, m)), np.empty(m))
     assert worst(got, got2) > 1e3 * 1e-12 * np.abs(got).max()
     # the recursions themselves
     c1 = C / np.abs(C).sum(1).max()
     b, _, _, _ = iteration.coefficients(n, 0.02)
     for k in range(1, n + 1):
         out = np.empty(m)
-        kernels.apply_c(c1, b, k, e, out)
+        it_c.apply_c(c1, b, k, e, out)
         want = iteration.apply_c(c1, b, k, e)
         assert worst(out, want) <= 1e-13 * np.abs(want).max()
     out = np.empty(m)
-    kernels.apply_a(c1, b, n, e, out)
+    it_c.apply_a(c1, b, n, e, out)
     assert worst(out, iteration.apply_a(c1, b, n, e)) <= 1e-13 * np.abs(out).max()
 
 
@@ -628,7 +633,7 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
 
 @pytest.mark.parametrize("mode", [cref.FLANK, cref.CORNER_A, cref.CORNER_B])
 def test_sliding_terms_match_appendix_a_reference(loaded, mode):
-    """``fast_step.sliding`` against :func:`spurdyn.contact.reference.sliding_acceleration` at
+    """``search_c.sliding`` against :func:`spurdyn.contact.search_numpy.sliding_acceleration` at
     the state's contact pair (the state's positions and velocities; the position splines
     left by ``search``), in each mode's formula for ``alpha_dot``, ``beta_dot``.
 
@@ -640,17 +645,17 @@ def test_sliding_terms_match_appendix_a_reference(loaded, mode):
     c = dataclasses.replace(st.contact, mode=mode)
     nd = P.fl_nodes.shape[1]
     va, vb, Ma, Mb = (np.empty((nd, 2)) for _ in range(4))
-    a, b, mode_s, _, _, _ = fast_step.search(P, S.theta, S.u, np.array([c.alpha, c.beta]), va, vb, Ma, Mb)
+    a, b, mode_s, _, _, _ = search_c.search(P, S.theta, S.u, np.array([c.alpha, c.beta]), va, vb, Ma, Mb)
     assert mode_s == cref.FLANK and abs(a - c.alpha) < 1e-9 and abs(b - c.beta) < 1e-9
-    got = fast_step.sliding(P, S.theta, S.omega, S.u, S.v, c.alpha, c.beta, mode, c.normal[0], c.normal[1],
+    got = search_c.sliding(P, S.theta, S.omega, S.u, S.v, c.alpha, c.beta, mode, c.normal[0], c.normal[1],
                             va, vb, Ma, Mb)
     gb = st.system.gears
     pos = [gb[g].X + st.block(g, S.u).reshape(-1, 2) for g in range(2)]
     vel = [st.block(g, S.v).reshape(-1, 2) for g in range(2)]
-    rots = [sref.rot(gb[g].sense * S.theta[g]) for g in range(2)]
+    rots = [dyn_np.rot(gb[g].sense * S.theta[g]) for g in range(2)]
     want, ad, bd = cref.sliding_acceleration(gb[0].flank, gb[1].flank, *pos, *rots, *vel,
                                              *st.ref.velocity_mats(S.theta, S.omega), c)
-    hs = P.fpar[:, kernels.F_H].min()
+    hs = P.fpar[:, F.h].min()
     psize = max(np.abs(va).max(), np.abs(vb).max())
     vsize = np.abs(S.v).max()
     tol = 6 * EPS * ((ad * ad + bd * bd) * psize / hs**2 + 2 * (abs(ad) + abs(bd)) * vsize / hs)
@@ -658,7 +663,7 @@ def test_sliding_terms_match_appendix_a_reference(loaded, mode):
     assert abs(want) > 1e6 * tol
     print(f"sliding mode {mode}: {abs(got - want):.1e} m/s^2 (tol {tol:.1e}, extra {want:.3e})")
     # velocities a part in 1e9 larger change the terms (quadratic in them) beyond that
-    got2 = fast_step.sliding(P, S.theta, S.omega, S.u, S.v * (1 + 1e-9), c.alpha, c.beta, mode,
+    got2 = search_c.sliding(P, S.theta, S.omega, S.u, S.v * (1 + 1e-9), c.alpha, c.beta, mode,
                              c.normal[0], c.normal[1], va, vb, Ma, Mb)
     assert abs(got2 - got) > 10 * tol
 
@@ -677,25 +682,25 @@ def test_z_and_response_columns_match_the_rk4_response_formula(loaded):
     h = st.case.dt
     c = st.contact
     cn, cw = st.rows(c)
-    gmat = sref.jacobian(st.system, S.theta, c)
-    minv = sref.inverse_mass(st.system)
+    gmat = dyn_np.jacobian(st.system, S.theta, c)
+    minv = dyn_np.inverse_mass(st.system)
     # Z for the state's x
     zth, zu, nz, mark = np.empty(2), np.zeros(n), np.empty(nn, np.int64), np.zeros(nn, np.int64)
-    nnz = fast_step._z_of(P, S.theta, cn, cw, c.normal, S.x, zth, zu, nz, mark)
+    nnz = resp_c._z_of(P, S.theta, cn, cw, c.normal, S.x, zth, zu, nz, mark)
     want = minv * (gmat.T @ S.x)
     size = minv * (np.abs(gmat.T) @ np.abs(S.x))
     assert np.all(np.abs(np.concatenate([zth, zu]) - want) <= 4 * EPS * size)
     assert np.array_equal(np.sort(nz[:nnz]), np.unique(np.concatenate([P.rnode, cn])))
     assert not mark.any()
     # response columns
-    pred = fast_step.predict(P, S, h)
+    pred = resp_c.predict(P, S, h)
     q3th, w3, kw3, q4th, w4, kw4, sl3, sl4 = pred[4:]
     rel = P.rel_nodes
     R = 2 + 2 * rel.size
     Wq, Wv = np.zeros((R, m)), np.zeros((R, m))
     scratch, touched, acc3, acc4 = np.zeros(n), np.empty(nn, np.int64), np.zeros(n), np.zeros(n)
     zu = np.zeros(n)
-    fast_step._columns(P, h, pred, S.theta, cn, cw, c.normal, 0, m, Wq, Wv, scratch, mark, touched,
+    resp_c.response_columns(P, h, pred, S.theta, cn, cw, c.normal, 0, m, Wq, Wv, scratch, mark, touched,
                        nz, zu, acc3, acc4)
     assert not (scratch.any() or mark.any() or zu.any() or acc3.any() or acc4.any())
     rows = np.concatenate([[0, 1], 2 + np.ravel(np.column_stack([2 * rel, 2 * rel + 1]))])
@@ -704,7 +709,7 @@ def test_z_and_response_columns_match_the_rk4_response_formula(loaded):
     for j in range(m):
         z = minv * gmat[j]                       # M^-1 G^T e_j
         zcol_th, zcol_u, nzc = np.empty(2), np.zeros(n), np.empty(nn, np.int64)
-        k = fast_step._z_col(P, S.theta, cn, cw, c.normal, j, zcol_th, zcol_u, nzc)
+        k = resp_c._z_col(P, S.theta, cn, cw, c.normal, j, zcol_th, zcol_u, nzc)
         assert np.all(np.abs(np.concatenate([zcol_th, zcol_u]) - z) <= 4 * EPS * np.abs(z))
         assert set(nzc[:k]) == set(np.flatnonzero(z[2:]) // 2)
         t3th, t3u = tangent_np(st, q3th, w3, kw3, np.zeros(2), z[2:])

@@ -1,4 +1,4 @@
-"""The two-disk, one-spring lumped model (spurdyn.model.lumped)."""
+"""The two-disk, one-spring lumped model (spurdyn.lumped)."""
 
 import copy
 import math
@@ -10,14 +10,14 @@ import pytest
 from spurdyn.geometry import paper_pair
 from spurdyn.geometry.gear import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_gear
-from spurdyn.model.lumped import (
+from spurdyn.lumped import (
     MeshStiffnessTable,
     equivalent_mass,
     mesh_stiffness_table,
     simulate_lumped,
     torsional_natural_frequency,
 )
-from spurdyn.solver.case import RPM, RunCase
+from spurdyn.settings import RPM, RunCase
 
 
 @pytest.fixture(scope="module")

@@ -28,12 +28,12 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 
 from spurdyn.casefile import load_case
-from spurdyn.integrate import simulate
-from spurdyn.integrate.fast import FastStepper
-from spurdyn.integrate.run import stable_step
+from spurdyn.solvers.loop import simulate
+from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
+from spurdyn.solvers.check import stable_step
 from spurdyn.results.balances import snapshot, track
-from spurdyn.solver.case import RPM
-from spurdyn.solver.system import build_system
+from spurdyn.settings import RPM
+from spurdyn.model.system import build_system
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 PINION_TOML = EXAMPLES / "pinion_gear.toml"
@@ -138,7 +138,7 @@ def test_unequal_pair_angular_momentum_balance():
     """Each gear's angular momentum changes by the angular impulse of its centre torque and
     of the contact force (to 1 % of the largest impulse), through the ramp at 10,000 rpm."""
     case = pinion_case(**COARSE, **{"run.speed_a_rpm": 10000.0, "run.frames_every": 0})
-    stepper = FastStepper(build_system(case.pair, case.run), case.run)
+    stepper = CompiledStepper(build_system(case.pair, case.run), case.run)
     rec = track(stepper, steps=4000)
     assert rec.status == 0
     assert math.degrees(rec.angle[-1]) > 10.0 and rec.contact_force.max() > 1000.0

@@ -22,8 +22,8 @@ from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
 from spurdyn.mesh.tooth import tooth_mesh
 from spurdyn.results.io import (CSV_FILE, PNG_FILE, RESULT_FILE, SUMMARY_FILE, case_from_run,
                                 load_run, result_to_dataset, summarize, tooth_frames, write_run)
-from spurdyn.results.result import STAGES, Result
-from spurdyn.solver.case import RunCase
+from spurdyn.result import STAGES, Result
+from spurdyn.settings import RunCase
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -39,7 +39,7 @@ def _rot(angle: float) -> np.ndarray:
 def fake_simulate(pair: GearPair, case: RunCase, progress=None, *, status: str = "complete",
                   reason: str = "", separations: tuple[tuple[float, float], ...] = (),
                   elastic: float = 2e-7, chunk: int = 20) -> Result:
-    """A stand-in for ``spurdyn.integrate.simulate`` with the same contract.
+    """A stand-in for ``spurdyn.solvers.loop.simulate`` with the same contract.
 
     Gear A turns at its initial speed; the force follows the torque schedule with a
     ripple and drops to zero in the windows ``separations`` (deg). Frames hold the rigid

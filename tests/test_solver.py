@@ -7,13 +7,12 @@ import numpy as np
 import pytest
 
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.integrate import simulate
-from spurdyn.integrate.fast import FastStepper
-from spurdyn.solver.case import RPM, RunCase
-from spurdyn.solver.reference import (
-    ReferenceStepper, State, blocks, constraint_force, elastic, initial_state, jacobian, rot,
-)
-from spurdyn.solver.system import build_system
+from spurdyn.solvers.loop import simulate
+from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
+from spurdyn.settings import RPM, RunCase
+from spurdyn.solvers.paper.step_numpy import PaperMethod, State, initial_state
+from spurdyn.solvers.paper.dynamics_numpy import blocks, constraint_force, elastic, jacobian, rot
+from spurdyn.model.system import build_system
 
 PAIR = paper_pair()
 
@@ -32,8 +31,8 @@ def loaded_state():
     """A reference state in contact, 60 steps into a 20,000 rpm run."""
     case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
-    ref = ReferenceStepper(system, case)
-    st = initial_state(ref)
+    ref = PaperMethod(system, case)
+    st = initial_state(ref.system, ref.case)
     for i in range(60):
         st, _ = ref.step(st, i + 1)
     assert st.x[-1] < 0.0
@@ -138,7 +137,7 @@ def test_free_spinning_pair_conserves_energy_and_angular_momentum():
     """No torque and the teeth apart (B runs away at once): each gear's angular momentum
     and the total kinetic plus elastic energy stay constant."""
     case = RunCase(speed_a=4000 * RPM, speed_b=4400 * RPM, torque=0.0)
-    f = FastStepper(build_system(PAIR, case), case)
+    f = CompiledStepper(build_system(PAIR, case), case)
     L0, e0 = _momentum_and_energy(f)
     for _ in range(400):
         assert f.step() == 0
@@ -157,7 +156,7 @@ def test_the_free_energy_drift_is_first_order_in_dt_and_vanishes_with_it():
 
     def gain(rpm: float, dt: float) -> float:
         case = RunCase(speed_a=rpm * RPM, speed_b=1.1 * rpm * RPM, torque=0.0, dt=dt)
-        f = FastStepper(build_system(PAIR, case), case)
+        f = CompiledStepper(build_system(PAIR, case), case)
         _, e0 = _momentum_and_energy(f)
         for _ in range(int(round(12e-6 / dt))):
             assert f.step() == 0
@@ -175,8 +174,8 @@ def test_angular_momentum_balance_with_contact():
     of the contact force about its centre."""
     case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
-    f = FastStepper(system, case)
-    ref = ReferenceStepper(system, case)
+    f = CompiledStepper(system, case)
+    ref = PaperMethod(system, case)
     L0, _ = _momentum_and_energy(f)
 
     def torques():
@@ -287,7 +286,7 @@ def test_pinned_method_carries_a_fine_mesh_through_the_point_contact_stall():
     stalls in a displacement stage (the point-contact limit, docs/solver.md section 6);
     the "pinned" method runs to the end, and its 10-us-averaged peak force agrees within
     1 % with the paper's method run with 241 spline points, which reaches the peak."""
-    from spurdyn.integrate.run import stable_step
+    from spurdyn.solvers.check import stable_step
 
     base = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, nx=8, ny=28,
                    frames_every=0)

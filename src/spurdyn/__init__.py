@@ -1,8 +1,12 @@
 """spurdyn: dynamic contact analysis of spur gears by the method of Lee and Jang.
 
-The package follows the order of the work: ``geometry`` (involute teeth and trochoidal
-fillets) → ``mesh`` (Q8 tooth meshes) → ``fem`` (elements, assembly, lumped mass) →
-``model`` → ``contact`` → ``solver`` → ``integrate`` → ``results`` → ``cli``.
+Floors, each using only those below it (docs/architecture.md): ``errors``, ``settings``,
+``result`` → ``fem`` (elements, assembly, stable step) → ``geometry`` (involute teeth,
+fillets, relief, pairs) → ``mesh`` (Q8 tooth meshes) → ``model`` (what a run builds once:
+bodies, flanks, loading, stiffness) → ``contact`` (flank search, NumPy and compiled) →
+``solvers`` (the stepper contract, the paper's method in NumPy and compiled, the time
+loop) → ``lumped`` → ``results`` (files, plots) → ``sweep`` → ``casefile``/``cases`` →
+``cli``. Compiled code comes in through one gate, :mod:`spurdyn.jit`.
 """
 
 from typing import Any
@@ -17,7 +21,7 @@ __all__ = ["InputError", "__version__", "simulate"]
 def __getattr__(name: str) -> Any:
     # ``spurdyn.simulate`` is the solver's entry point, imported only when asked for.
     if name == "simulate":
-        from spurdyn.integrate import simulate
+        from spurdyn.solvers.loop import simulate
 
         return simulate
     raise AttributeError(f"module 'spurdyn' has no attribute {name!r}")

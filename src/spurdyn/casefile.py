@@ -10,7 +10,7 @@ in kg m^2, moduli in Pa, density in kg/m^3. A gear table may hold a tip relief:
 ``tip_relief_shape`` (``"linear"``/``"parabolic"``). Every problem is raised as an
 :class:`~spurdyn.errors.InputError` naming the key.
 
-A :class:`Case` (pair + :class:`~spurdyn.solver.case.RunCase`) turns back into the same
+A :class:`Case` (pair + :class:`~spurdyn.settings.RunCase`) turns back into the same
 dictionary with :func:`case_to_dict`, so a run can store its whole description and be
 rebuilt from it (:func:`case_from_dict`).
 """
@@ -27,7 +27,7 @@ from spurdyn.errors import InputError
 from spurdyn.fem.material import Material
 from spurdyn.geometry.gear import DEFAULT_CUTTER_TIP_RADIUS, MAX_MODULE, Gear, GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
-from spurdyn.solver.case import BACKENDS, METHODS, RPM, RunCase
+from spurdyn.settings import BACKENDS, METHODS, RPM, RunCase
 
 GEAR_KEYS = {
     "teeth", "module", "pitch_radius", "tip_radius", "root_radius", "addendum", "dedendum",
@@ -300,8 +300,9 @@ class Case:
     @property
     def static_force(self) -> float:
         """Quasi-static tooth force (N): torque over the driver's base radius."""
-        driver = self.pair.gear_a if self.pair.driver == "a" else self.pair.gear_b
-        return self.run.torque / driver.base_radius
+        from spurdyn.model.loading import static_force
+
+        return static_force(self.pair, self.run.torque)
 
 
 class _Source:

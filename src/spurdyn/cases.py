@@ -21,7 +21,7 @@ from spurdyn.casefile import Case, PairCase, case_from_pair, load_case
 from spurdyn.errors import InputError
 from spurdyn.geometry.gear import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.solver.case import PAPER_DT
+from spurdyn.settings import PAPER_DT
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from typing import NoReturn, Sequence
 from spurdyn.casefile import PairCase, load_pair
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
-from spurdyn.solver.case import BACKENDS, METHODS
+from spurdyn.settings import BACKENDS, METHODS
 
 EXIT_BAD_INPUT = 2
 

@@ -25,8 +25,8 @@ from typing import Any, Callable, Iterator, Protocol, Sequence
 from spurdyn.casefile import Case
 from spurdyn.errors import InputError
 from spurdyn.geometry.gear import GearPair
-from spurdyn.results.result import Result
-from spurdyn.solver.case import RunCase
+from spurdyn.result import Result
+from spurdyn.settings import RunCase
 
 #: Exit statuses of ``spurdyn run``.
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
@@ -40,7 +40,7 @@ class Simulate(Protocol):
 
 
 def load_simulate() -> Simulate:
-    """The solver's entry point ``spurdyn.integrate.simulate``.
+    """The solver's entry point ``spurdyn.solvers.loop.simulate``.
 
     Raises
     ------
@@ -48,9 +48,9 @@ def load_simulate() -> Simulate:
         If this installation has no solver yet.
     """
     try:
-        from spurdyn.integrate import simulate
+        from spurdyn.solvers.loop import simulate
     except ImportError as err:
-        raise InputError("solver", f"spurdyn.integrate.simulate is not available ({err})") from None
+        raise InputError("solver", f"spurdyn.solvers.loop.simulate is not available ({err})") from None
     return simulate
 
 
@@ -59,13 +59,13 @@ MODELS = ("fe", "lumped")
 
 
 def simulate_lumped_run(pair: GearPair, case: RunCase, progress: Progress | None = None) -> Result:
-    """The lumped model (:func:`spurdyn.model.lumped.simulate_lumped`, no damping) with the
+    """The lumped model (:func:`spurdyn.lumped.simulate_lumped`, no damping) with the
     solver's call signature, for ``spurdyn run --model lumped``.
 
     Module-level so that ``--jobs`` can hand it to worker processes. The progress callback
     is called once, at the end (a lumped run takes a fraction of a second).
     """
-    from spurdyn.model.lumped import simulate_lumped
+    from spurdyn.lumped import simulate_lumped
 
     result = simulate_lumped(pair, case)
     if progress is not None and len(result.angle):

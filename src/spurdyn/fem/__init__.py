@@ -1,9 +1,6 @@
-"""Plane-stress finite elements: 8-node serendipity quads, assembly, time step."""
+"""Plane-stress finite elements: the Q8 element and its edge, material, assembly, stable step."""
 
 from spurdyn.fem.assembly import (
-    CENTRAL_DIFFERENCE_STABILITY_LIMIT,
-    RK4_STABILITY_LIMIT,
-    StableStep,
     assemble_consistent_mass,
     assemble_lumped_mass,
     assemble_stiffness,
@@ -13,11 +10,13 @@ from spurdyn.fem.assembly import (
     element_stress,
     hrz_lump,
     jacobian_determinants,
-    stable_time_step,
     von_mises_plane_stress,
 )
 from spurdyn.fem.element import ElementQuadS2, gauss_2d
 from spurdyn.fem.material import STEEL, Material, plane_stress_matrix
+from spurdyn.fem.stable_step import (
+    CENTRAL_DIFFERENCE_STABILITY_LIMIT, RK4_STABILITY_LIMIT, StableStep, stable_time_step,
+)
 
 __all__ = [
     "CENTRAL_DIFFERENCE_STABILITY_LIMIT",

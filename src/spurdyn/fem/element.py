@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["ElementQuadS2", "gauss_2d"]
+__all__ = ["ElementQuadS2", "edge_dweights", "edge_weights", "gauss_2d"]
 
 
 def _frozen(a: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -156,3 +156,17 @@ def gauss_2d(n: int = 3) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     points = np.column_stack([xi.ravel(), eta.ravel()])
     weights = (wx * we).ravel()
     return points, weights
+
+
+def edge_weights(eta: float) -> NDArray[np.float64]:
+    """Quadratic shape functions of an element edge (root, middle, tip) at ``eta``.
+
+    The trace of :class:`ElementQuadS2` on one of its sides, the one home of this
+    formula (its compiled twin is :func:`spurdyn.contact.search_compiled.edge_shape`).
+    """
+    return np.array([0.5 * eta * (eta - 1.0), 1.0 - eta * eta, 0.5 * eta * (eta + 1.0)])
+
+
+def edge_dweights(eta: float) -> NDArray[np.float64]:
+    """``d/deta`` of :func:`edge_weights`."""
+    return np.array([eta - 0.5, -2.0 * eta, eta + 0.5])

@@ -125,3 +125,10 @@ def gear_torques(
     fb = torque_schedule(phi_b, tsb, t2b)
     fa, fb = np.broadcast_arrays(fa, fb)
     return amp_a * fa, amp_b * fb
+
+
+def static_force(pair: GearPair, torque: float) -> float:
+    """Quasi-static tooth force (N) of the driver's torque ``tau_0``: ``tau_0 / r_b`` of the
+    driving gear, the one home of this figure."""
+    driver = pair.gear_a if pair.driver == "a" else pair.gear_b
+    return torque / driver.base_radius

@@ -9,7 +9,9 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
-from spurdyn.fem.assembly import StableStep, assemble_lumped_mass, assemble_stiffness, stable_time_step
+from spurdyn.fem.element import edge_weights
+from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
+from spurdyn.fem.stable_step import StableStep, stable_time_step
 from spurdyn.geometry.gear import Gear
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY, ToothMesh, tooth_mesh
 
@@ -68,15 +70,12 @@ class ToothModel:
         edge = nodes[2 * row:2 * row + 3]
         p = xy[edge]
 
-        def weights(eta: float) -> NDArray[np.float64]:
-            return np.array([0.5 * eta * (eta - 1.0), 1.0 - eta * eta, 0.5 * eta * (eta + 1.0)])
-
         def gap(eta: float) -> float:
-            return float(np.hypot(*(weights(eta) @ p))) - r
+            return float(np.hypot(*(edge_weights(eta) @ p))) - r
 
         eta = brentq(gap, -1.0, 1.0, xtol=1e-15) if gap(-1.0) * gap(1.0) < 0 else \
             (-1.0 if abs(gap(-1.0)) < abs(gap(1.0)) else 1.0)
-        return edge, weights(eta)
+        return edge, edge_weights(eta)
 
 
 def build_tooth(gear: Gear, nx: int = DEFAULT_NX, ny: int = DEFAULT_NY) -> ToothModel:

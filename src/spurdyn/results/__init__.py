@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spurdyn.results.result import STAGES, Result
+from spurdyn.result import STAGES, Result
 
 __all__ = ["Result", "STAGES", "load_run"]
 

@@ -19,7 +19,7 @@ kept the balance is exact up to the time discretisation; an impact that the velo
 stage stops within one step takes out the kinetic energy of the relative normal motion
 of the contact region, which shows up as a drop of ``E`` not matched by any work.
 
-Everything is computed from a :class:`~spurdyn.integrate.fast.FastStepper`'s state
+Everything is computed from a :class:`~spurdyn.solvers.paper.stepper_compiled.CompiledStepper`'s state
 (``stepper.S``) after each step; :func:`track` steps the stepper itself and integrates
 the moments and powers by the trapezoidal rule. World z is counter-clockwise positive;
 ``theta``, ``omega`` and the torques of the run are along each gear's own sense.
@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.model.loading import gear_torques
-from spurdyn.solver.system import PairSystem
+from spurdyn.model.system import PairSystem
 
 
 @dataclass(frozen=True)
@@ -139,9 +139,9 @@ def state_snapshot(system: PairSystem, tau0: float, t: float, theta: NDArray[np.
 
 
 def snapshot(stepper: Any) -> Snapshot:
-    """The balance quantities of a :class:`~spurdyn.integrate.fast.FastStepper` now."""
+    """The balance quantities of a :class:`~spurdyn.solvers.paper.stepper_compiled.CompiledStepper` now."""
     S = stepper.S
-    return state_snapshot(stepper.system, stepper.case.torque, float(S.t[0]), S.theta, S.omega,
+    return state_snapshot(stepper.system, stepper.settings.torque, float(S.t[0]), S.theta, S.omega,
                           S.u, S.v, float(S.x[-1]), S.cn, S.cw, S.normal)
 
 
@@ -193,8 +193,8 @@ def track(stepper: Any, steps: int | None = None, angle: float | None = None) ->
     Parameters
     ----------
     stepper
-        A fresh :class:`~spurdyn.integrate.fast.FastStepper` (or anything with the same
-        ``S``, ``system``, ``case`` and ``step()``).
+        A fresh :class:`~spurdyn.solvers.paper.stepper_compiled.CompiledStepper` (or anything with the same
+        ``S``, ``system``, ``settings`` and ``step()``).
     steps
         Number of steps to take, or
     angle
@@ -205,7 +205,7 @@ def track(stepper: Any, steps: int | None = None, angle: float | None = None) ->
     """
     if (steps is None) == (angle is None):
         raise ValueError("give exactly one of steps and angle")
-    dt = stepper.case.dt
+    dt = stepper.settings.dt
     n_max = steps if steps is not None else int(np.ceil(angle / (stepper.S.omega[0] * dt) * 1.5)) + 10
     rows = [snapshot(stepper)]
     status = 0

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from spurdyn.casefile import Case, case_from_dict, case_to_dict
 from spurdyn.errors import InputError
-from spurdyn.results.result import STAGES, Result
+from spurdyn.result import STAGES, Result
 
 RESULT_FILE = "result.nc"
 CSV_FILE = "contact_force.csv"

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from spurdyn.casefile import Case
-from spurdyn.results.result import Result
+from spurdyn.result import Result
 from spurdyn.sweep.spec import PointKey
 
 #: Outcomes of a point, in the order of their codes in ``sweep.nc`` (see
@@ -121,11 +121,11 @@ def simulate_model(model: str, case: Case) -> Result:
     the points of a sweep share it.
     """
     if model == "fe":
-        from spurdyn.integrate import simulate
+        from spurdyn.solvers.loop import simulate
 
         return simulate(case.pair, case.run)
     if model == "lumped":
-        from spurdyn.model.lumped import mesh_stiffness_table, simulate_lumped
+        from spurdyn.lumped import mesh_stiffness_table, simulate_lumped
 
         key = (case.pair, case.run.nx, case.run.ny)
         try:

@@ -1,9 +1,9 @@
 """Where a sweep should find its main resonance: the torsional natural frequency estimate.
 
 Two rigid disks coupled by the mesh spring have one torsional mode,
-``f_n = sqrt(k / m_e) / (2 pi)`` (:func:`spurdyn.model.lumped.torsional_natural_frequency`).
+``f_n = sqrt(k / m_e) / (2 pi)`` (:func:`spurdyn.lumped.torsional_natural_frequency`).
 With ``k`` the mean of the FE single-pair mesh stiffness over the path of contact
-(:func:`spurdyn.model.lumped.mesh_stiffness_table`, the case's tooth mesh), the main
+(:func:`spurdyn.lumped.mesh_stiffness_table`, the case's tooth mesh), the main
 resonance is expected where the tooth mesh frequency ``z_a n / 60`` equals ``f_n``:
 ``n_res = 60 f_n / z_a`` rpm.
 """
@@ -60,7 +60,7 @@ class ResonanceEstimate:
 
 def resonance_estimate(case: Case) -> ResonanceEstimate:
     """The estimate for the pair and tooth mesh of ``case`` (a fraction of a second)."""
-    from spurdyn.model.lumped import (equivalent_mass, mesh_stiffness_table,
+    from spurdyn.lumped import (equivalent_mass, mesh_stiffness_table,
                                       torsional_natural_frequency)
 
     pair = case.pair

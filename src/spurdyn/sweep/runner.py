@@ -24,7 +24,7 @@ from typing import Any, Iterator, TextIO
 import xarray as xr
 
 from spurdyn.casefile import Case
-from spurdyn.results.result import Result
+from spurdyn.result import Result
 from spurdyn.sweep import point as _point
 from spurdyn.sweep.backends import Backend, PointFn
 from spurdyn.sweep.point import COMPLETE, FAILED, INCOMPLETE, PointOutcome, PointTask

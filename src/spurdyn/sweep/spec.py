@@ -21,7 +21,7 @@ from typing import Any
 
 from spurdyn.casefile import Case, case_to_dict
 from spurdyn.errors import InputError
-from spurdyn.solver.case import RPM
+from spurdyn.settings import RPM
 
 #: Models a sweep can run.
 MODELS = ("fe", "lumped")

@@ -1,8 +1,8 @@
-"""Contact between the two deformed flanks: the straightforward NumPy/SciPy version.
+"""Contact between the two deformed flanks in NumPy/SciPy: the twin of :mod:`spurdyn.contact.search_compiled`.
 
 Each flank is a not-a-knot cubic spline (SciPy's :class:`~scipy.interpolate.CubicSpline`)
 through the current positions of its data points, parameterised by the flank
-coordinate ``t`` (see :class:`~spurdyn.solver.system.Flank`). The contact pair is the
+coordinate ``t`` (see :class:`~spurdyn.model.flank.Flank`). The contact pair is the
 pair of points with the minimum normal distance: tangents parallel and the connecting
 vector normal to both (docs/contact.md). Where that pair would lie beyond a tooth's tip,
 the tip corner is projected onto the other flank instead ("corner contact").
@@ -14,16 +14,14 @@ towards B, ``s > 0`` penetration.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
-from spurdyn.solver.system import Flank
-
-FLANK, CORNER_A, CORNER_B = 0, 1, 2
+from spurdyn.contact.constants import CORNER_A, CORNER_B, EDGE, FLANK, GOLDEN, GOLDEN_TOL, POLISH
+from spurdyn.model.flank import Flank
 
 
 def cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
@@ -140,15 +138,6 @@ def _scan(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank, b_guess: float
         if gap < best:
             best, best_ab = gap, (float(a), float(b))
     return best_ab
-
-
-#: Golden-section ratio and the bracket width (flank coordinate) at which it stops.
-GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
-GOLDEN_TOL = 1e-10
-#: A point this close to a tip (flank coordinate) is that tip's corner.
-EDGE = 1e-9
-#: Newton's polish of the golden-section point is kept if it moved less than this.
-POLISH = 1e-4
 
 
 def _deepest(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank,

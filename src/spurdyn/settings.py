@@ -1,4 +1,7 @@
-"""What to simulate: the run settings of a dynamic contact analysis (SI units)."""
+"""What to simulate: the run settings of a dynamic contact analysis (SI units).
+
+The bottom floor of the solvers: it imports only the error type and the mesh defaults.
+"""
 
 from __future__ import annotations
 
@@ -25,6 +28,8 @@ RPM = 2.0 * math.pi / 60.0
 METHODS = ("paper", "pinned")
 PIN_AFTER = 50
 BACKENDS = ("numba", "numpy")
+#: Time integrators (:data:`spurdyn.solvers.loop.STEPPERS`): the paper's classical RK4.
+INTEGRATORS = ("rk4",)
 
 
 @dataclass(frozen=True)
@@ -60,6 +65,8 @@ class RunCase:
         ``"pinned"``: the same with the stall fallback of :data:`METHODS`.
     backend
         ``"numba"`` (compiled, superposed) or ``"numpy"`` (the straightforward reference).
+    integrator
+        The time integrator, one of :data:`INTEGRATORS`.
     save_every
         Keep every k-th step in the time history.
     frames_every
@@ -83,6 +90,7 @@ class RunCase:
     accel_levels: int = 3
     method: str = "paper"
     backend: str = "numba"
+    integrator: str = "rk4"
     save_every: int = 1
     frames_every: int = 100
     keep_theta_term: bool = True
@@ -106,6 +114,9 @@ class RunCase:
             raise InputError("method", f"must be one of {', '.join(METHODS)} (got {self.method!r})")
         if self.backend not in BACKENDS:
             raise InputError("backend", f"must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
+        if self.integrator not in INTEGRATORS:
+            raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)} "
+                             f"(got {self.integrator!r})")
 
     @property
     def pin_after(self) -> int:

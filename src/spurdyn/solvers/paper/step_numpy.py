@@ -1,4 +1,4 @@
-"""The paper's step in plain NumPy: the reference the compiled solver is tested against.
+"""The paper's step in plain NumPy: the twin the compiled step is tested against.
 
 One step ``t -> t + dt`` (paper section 3, docs/solver.md):
 
@@ -22,42 +22,16 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.contact.reference import ContactPair, find_contact, sliding_acceleration
-from spurdyn.model.loading import gear_torques
-from spurdyn.solver.case import RunCase
-from spurdyn.solver.iteration import accelerated_update
-from spurdyn.solver.system import GearBody, PairSystem
-
-
-#: The contact force moves to the contact pair found by an iterate when the pair has moved
-#: by more than this (flank coordinate, i.e. elements) from where the force acts, at most
-#: MAX_RELOCATE times a step. Smooth meshing moves the pair ~1e-4 element a step and never
-#: triggers it; after an impact, waves on the flanks can make the pair jump a large part
-#: of an element within a step, and a force left behind cannot close the gap there.
-RELOCATE = 0.05
-MAX_RELOCATE = 4
-
-
-class ConvergenceError(RuntimeError):
-    """A stage did not converge within its iteration cap."""
-
-    def __init__(self, step: int, stage: str, residual: float, tol: float, iterations: int) -> None:
-        self.step, self.stage, self.residual, self.tol = step, stage, residual, tol
-        super().__init__(f"step {step}: the {stage} stage did not converge in {iterations} "
-                         f"iterations (residual {residual:.3e}, tolerance {tol:.3e})")
-
-
-class NonFiniteError(RuntimeError):
-    """The state became NaN (or infinite) within a step."""
-
-    def __init__(self, step: int) -> None:
-        self.step = step
-        super().__init__(f"the solution became NaN at step {step}")
-
-
-def rot(phi: float) -> NDArray[np.float64]:
-    c, s = np.cos(phi), np.sin(phi)
-    return np.array([[c, -s], [s, c]])
+from spurdyn.contact.search_numpy import ContactPair, sliding_acceleration
+from spurdyn.model.system import PairSystem
+from spurdyn.settings import RunCase
+from spurdyn.solvers.layout import FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_VEL, OK
+from spurdyn.solvers.paper.constants import MAX_RELOCATE, RELOCATE
+from spurdyn.solvers.paper.dynamics_numpy import (
+    accelerations, blocks, constraint_force, contact_at, inverse_mass, jacobian, rigid_velocities,
+    root_acceleration_errors, root_phi, root_phi_theta, rot, torques,
+)
+from spurdyn.solvers.paper.iteration_numpy import accelerated_update
 
 
 @dataclass
@@ -79,99 +53,20 @@ class State:
 
 @dataclass
 class StepReport:
-    """What a step leaves besides the new state."""
+    """What a step leaves besides the new state: its status
+    (:data:`~spurdyn.solvers.layout.OK` or the failure code), and each stage's residual
+    and iterations (those of the failing stage where it failed)."""
 
     residual: NDArray[np.float64]     # (3,)
     iterations: NDArray[np.int64]     # (3,)
     p_bar: float
     s: float
+    status: int = OK
 
 
-# -- the model ---------------------------------------------------------------------------
-
-def blocks(system: PairSystem, u: NDArray[np.float64]) -> list[NDArray[np.float64]]:
-    o = system.offsets
-    return [u[o[0]:o[1]], u[o[1]:o[2]]]
-
-
-def elastic(gb: GearBody, theta: float, u: NDArray[np.float64],
-            keep_theta_term: bool = True) -> tuple[float, NDArray[np.float64]]:
-    """Elastic generalised forces ``(Q_theta, f_u)`` of one gear: ``-(dw/dq)^T K w``."""
-    r = rot(gb.sense * theta)
-    y = (gb.Y + u).reshape(-1, 2)
-    w = (y @ r).ravel() - gb.Y                 # R^T y - Y, node by node
-    kw = gb.stiffness @ w
-    f = -(kw.reshape(-1, 2) @ r.T).ravel()     # -R K w
-    q = 0.0
-    if keep_theta_term:
-        w2, k2 = w.reshape(-1, 2), kw.reshape(-1, 2)
-        q = gb.sense * float(np.sum(w2[:, 0] * k2[:, 1] - w2[:, 1] * k2[:, 0]))
-    return q, f
-
-
-def root_phi_theta(gb: GearBody, theta: float) -> NDArray[np.float64]:
-    """``dPhi/dtheta`` of the root constraints ``(n_root, 2)``: ``-s R Jz Y_i``."""
-    r = rot(gb.sense * theta)
-    y = gb.Y.reshape(-1, 2)[gb.root_nodes]
-    jy = np.column_stack([-y[:, 1], y[:, 0]])
-    return -gb.sense * jy @ r.T
-
-
-def root_phi(gb: GearBody, theta: float, u: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Root constraints ``Phi_i = u_i - (R - I) Y_i`` ``(n_root, 2)``."""
-    r = rot(gb.sense * theta)
-    y = gb.Y.reshape(-1, 2)[gb.root_nodes]
-    return u.reshape(-1, 2)[gb.root_nodes] - (y @ r.T - y)
-
-
-def constraint_force(system: PairSystem, theta: NDArray[np.float64], contact: ContactPair,
-                     x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Generalised constraint force ``G^T x = -Phi_q^T lambda + s_q^T p`` ``(f_theta, f_u)``."""
-    f_theta = np.zeros(2)
-    f_u = np.zeros(system.n_u)
-    fu = blocks(system, f_u)
-    k = 0
-    for g, gb in enumerate(system.gears):
-        nr = gb.root_nodes.size
-        lam = x[k:k + 2 * nr].reshape(-1, 2)
-        k += 2 * nr
-        fb = fu[g].reshape(-1, 2)
-        fb[gb.root_nodes] -= lam
-        f_theta[g] = -float(np.sum(root_phi_theta(gb, theta[g]) * lam))
-    p = x[-1]
-    fa, fb = fu[0].reshape(-1, 2), fu[1].reshape(-1, 2)
-    np.add.at(fa, contact.nodes_a, np.outer(contact.weights_a, contact.normal) * p)
-    np.add.at(fb, contact.nodes_b, -np.outer(contact.weights_b, contact.normal) * p)
-    return f_theta, f_u
-
-
-def jacobian(system: PairSystem, theta: NDArray[np.float64], contact: ContactPair) -> NDArray[np.float64]:
-    """Dense ``G = [-Phi_q; s_q]`` over ``q = [theta_A, theta_B, u]``."""
-    g_mat = np.zeros((system.n_x, 2 + system.n_u))
-    k = 0
-    for g, gb in enumerate(system.gears):
-        off = 2 + system.offsets[g]
-        pt = root_phi_theta(gb, theta[g])
-        for i, node in enumerate(gb.root_nodes):
-            for d in range(2):
-                g_mat[k, g] = -pt[i, d]
-                g_mat[k, off + 2 * node + d] = -1.0
-                k += 1
-    for nodes, w, sign, g in ((contact.nodes_a, contact.weights_a, 1.0, 0),
-                              (contact.nodes_b, contact.weights_b, -1.0, 1)):
-        off = 2 + system.offsets[g]
-        for node, wk in zip(nodes, w):
-            g_mat[-1, off + 2 * node:off + 2 * node + 2] += sign * wk * contact.normal
-    return g_mat
-
-
-def inverse_mass(system: PairSystem) -> NDArray[np.float64]:
-    return np.concatenate([[1.0 / system.gears[0].inertia, 1.0 / system.gears[1].inertia],
-                           1.0 / system.mass])
-
-
-class ReferenceStepper:
-    """The paper's method, step by step, in NumPy (slow, plain, the reference)."""
+class PaperMethod:
+    """The paper's method, step by step, in NumPy (slow, plain): the twin of
+    :func:`spurdyn.solvers.paper.step_compiled.step`."""
 
     def __init__(self, system: PairSystem, case: RunCase) -> None:
         self.system = system
@@ -181,23 +76,12 @@ class ReferenceStepper:
 
     # -- equations of motion -----------------------------------------------------------
     def torques(self, theta: NDArray[np.float64]) -> NDArray[np.float64]:
-        ta, tb = gear_torques(self.system.pair, self.tau0, theta[0], theta[1])
-        return np.array([float(ta), float(tb)])
+        return torques(self.system, self.tau0, theta)
 
     def accelerations(self, theta: NDArray[np.float64], u: NDArray[np.float64],
                       f_theta: NDArray[np.float64], f_u: NDArray[np.float64]
                       ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        s = self.system
-        tau = self.torques(theta)
-        alpha = np.zeros(2)
-        a = np.empty(s.n_u)
-        for g, (gb, ub, ab) in enumerate(zip(s.gears, blocks(s, u), blocks(s, a))):
-            q, f = elastic(gb, theta[g], ub, self.case.keep_theta_term)
-            alpha[g] = (tau[g] + q + f_theta[g]) / gb.inertia
-            ab[:] = f
-        a += f_u
-        a /= s.mass
-        return alpha, a
+        return accelerations(self.system, self.case, theta, u, f_theta, f_u)
 
     def rk4(self, st: State, f_theta: NDArray[np.float64], f_u: NDArray[np.float64]
             ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -219,12 +103,7 @@ class ReferenceStepper:
 
     # -- constraint errors -------------------------------------------------------------
     def contact_at(self, theta: NDArray[np.float64], u: NDArray[np.float64], guess: tuple[float, float]) -> ContactPair:
-        s = self.system
-        ua, ub = blocks(s, u)
-        xa = s.gears[0].X + ua.reshape(-1, 2)
-        xb = s.gears[1].X + ub.reshape(-1, 2)
-        ra, rb = (rot(g.sense * th) for g, th in zip(s.gears, theta))
-        return find_contact(s.gears[0].flank, s.gears[1].flank, xa, xb, ra, rb, guess)
+        return contact_at(self.system, theta, u, guess)
 
     def root_errors(self, theta: NDArray[np.float64], u: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.concatenate([-root_phi(gb, theta[g], ub).ravel()
@@ -240,13 +119,7 @@ class ReferenceStepper:
 
     def root_acceleration_errors(self, theta: NDArray[np.float64], omega: NDArray[np.float64],
                                  alpha: NDArray[np.float64], a: NDArray[np.float64]) -> NDArray[np.float64]:
-        out = []
-        for g, (gb, ab) in enumerate(zip(self.system.gears, blocks(self.system, a))):
-            pt = root_phi_theta(gb, theta[g])
-            r = rot(gb.sense * theta[g])
-            y = gb.Y.reshape(-1, 2)[gb.root_nodes]
-            out.append(-(ab.reshape(-1, 2)[gb.root_nodes] + pt * alpha[g] + (y @ r.T) * omega[g] ** 2).ravel())
-        return np.concatenate(out)
+        return root_acceleration_errors(self.system, theta, omega, alpha, a)
 
     def pinned(self, c: ContactPair, theta: NDArray[np.float64], u: NDArray[np.float64]) -> ContactPair:
         """The contact pair ``c`` (where the force acts) with its penetration measured
@@ -301,7 +174,7 @@ class ReferenceStepper:
             th1, om1_, u1, v1_ = self.rk4(st, f_theta, f_u)
             if not (np.isfinite(th1).all() and np.isfinite(u1).all()
                     and np.isfinite(om1_).all() and np.isfinite(v1_).all()):
-                raise NonFiniteError(index)  # before the spline refuses it
+                return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_NAN)
             c1 = self.contact_at(th1, u1, guess)
             if case.pin_after and m >= case.pin_after and moves >= MAX_RELOCATE:
                 c1 = self.pinned(c_force, th1, u1)   # "pinned": the gap where the force acts
@@ -311,7 +184,8 @@ class ReferenceStepper:
             if residual[0] <= case.tol_disp:
                 break
             if m == cap:
-                raise ConvergenceError(index, "displacement", residual[0], case.tol_disp, m)
+                iters[0] = m
+                return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_DISP)
             x = accelerated_update(x, e, 0.5 * h * h * cbase, nlev)
             if abs(c1.alpha - c_force.alpha) + abs(c1.beta - c_force.beta) > RELOCATE \
                     and moves < MAX_RELOCATE:
@@ -333,7 +207,8 @@ class ReferenceStepper:
             if residual[1] <= case.tol_vel:
                 break
             if m == cap:
-                raise ConvergenceError(index, "velocity", residual[1], case.tol_vel, m)
+                iters[1] = m
+                return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_VEL)
             x = accelerated_update(x, e, h * cbase, nlev)
             if p_bar == 0.0:
                 x[-1] = 0.0
@@ -362,7 +237,8 @@ class ReferenceStepper:
             if residual[2] <= case.tol_acc:
                 break
             if m == cap:
-                raise ConvergenceError(index, "acceleration", residual[2], case.tol_acc, m)
+                iters[2] = m
+                return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_ACC)
             x = accelerated_update(x, e, ca, nlev)
             if p_bar == 0.0:
                 x[-1] = 0.0
@@ -382,34 +258,26 @@ def initial_contact_guess(system: PairSystem) -> tuple[float, float]:
     return float(np.interp(r_start, radii, ts)), system.gears[1].flank.t1
 
 
-def rigid_velocities(system: PairSystem, omega: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Nodal velocities of both teeth turning rigidly with their disks at ``theta = 0``."""
-    v = np.empty(system.n_u)
-    for g, (gb, vb) in enumerate(zip(system.gears, blocks(system, v))):
-        y = gb.Y.reshape(-1, 2)
-        vb.reshape(-1, 2)[:] = gb.sense * omega[g] * np.column_stack([-y[:, 1], y[:, 0]])
-    return v
-
-
-def initial_state(stepper: ReferenceStepper) -> State:
+def initial_state(system: PairSystem, settings: RunCase) -> State:
     """Teeth just touching at the start of contact, rigid rotation, consistent root forces.
 
     The forces come from the acceleration stage at ``t = 0`` with the contact inactive
-    (the torques are zero there).
+    (the torques are zero there). Both steppers start from this state.
     """
-    sys_, case = stepper.system, stepper.case
+    sys_, case = system, settings
+    minv = inverse_mass(sys_)
     theta = np.zeros(2)
     omega = np.array([case.speed_a, case.speed_b])
     u = np.zeros(sys_.n_u)
     v = rigid_velocities(sys_, omega)
-    contact = stepper.contact_at(theta, u, initial_contact_guess(sys_))
+    contact = contact_at(sys_, theta, u, initial_contact_guess(sys_))
     g0 = jacobian(sys_, theta, contact)
-    ca = (g0 * stepper.minv) @ g0.T
-    alpha0, a0 = stepper.accelerations(theta, u, np.zeros(2), np.zeros(sys_.n_u))
+    ca = (g0 * minv) @ g0.T
+    alpha0, a0 = accelerations(sys_, case, theta, u, np.zeros(2), np.zeros(sys_.n_u))
     x = np.zeros(sys_.n_x)
     for _ in range(case.max_iter):
-        dq = stepper.minv * (g0.T @ x)
-        e = np.append(stepper.root_acceleration_errors(theta, omega, alpha0 + dq[:2], a0 + dq[2:]), 0.0)
+        dq = minv * (g0.T @ x)
+        e = np.append(root_acceleration_errors(sys_, theta, omega, alpha0 + dq[:2], a0 + dq[2:]), 0.0)
         if np.abs(e).max() <= case.tol_acc:
             break
         x = accelerated_update(x, e, ca, case.accel_levels)

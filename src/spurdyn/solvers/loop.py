@@ -1,97 +1,45 @@
-"""The time loop: from a pair and run settings to a :class:`~spurdyn.results.result.Result`.
+"""The time loop: from a pair and run settings to a :class:`~spurdyn.result.Result`.
 
-The loop owns the bookkeeping (history, frames, progress, stopping); a stepper owns the
-method. Two steppers compute the same thing: :class:`~spurdyn.solver.reference.ReferenceStepper`
-(NumPy, re-integrates every iterate) and :class:`~spurdyn.integrate.fast.FastStepper`
-(Numba, superposes the response to the forces). A run that cannot go on (a stage that
-does not converge, a NaN, Ctrl-C) returns what it has with ``status = "incomplete"``.
+The loop owns the run (history, frames, progress, stopping); a stepper
+(:class:`~spurdyn.solvers.base.Stepper`) owns the method. :data:`STEPPERS` maps a time
+integrator and a backend to the stepper that computes it: today the paper's RK4 in NumPy
+(:class:`~spurdyn.solvers.paper.stepper_numpy.NumpyStepper`, re-integrates every
+iterate) and compiled (:class:`~spurdyn.solvers.paper.stepper_compiled.CompiledStepper`,
+superposes the response to the forces). A run that cannot go on (a stage that does not
+converge, a NaN, Ctrl-C) returns what it has with ``status = "incomplete"``.
 """
 
 from __future__ import annotations
 
-import math
+import importlib
 import time
-from typing import Callable, Protocol
+from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.errors import InputError
 from spurdyn.geometry.gear import GearPair
-from spurdyn.results.result import Result
-from spurdyn.solver.case import RunCase
-from spurdyn.solver.system import PairSystem, build_system
+from spurdyn.model.loading import static_force
+from spurdyn.model.system import PairSystem, build_system
+from spurdyn.result import Result
+from spurdyn.settings import RunCase
+from spurdyn.solvers.base import Frames, Stepper
+from spurdyn.solvers.check import check_run
+from spurdyn.solvers.layout import HISTORY, NCOL
 
 Progress = Callable[[int, float, float], None]
 
-#: History columns kept per saved step (see :func:`_to_result`).
-COLUMNS = ("t", "theta_a", "theta_b", "omega_a", "omega_b", "tau_a", "tau_b", "p", "s",
-           "alpha", "beta", "mode", "res1", "res2", "res3", "it1", "it2", "it3")
-NCOL = len(COLUMNS)
+#: ``(integrator, backend) -> "module:class"`` of the stepper, imported when first used.
+STEPPERS: dict[tuple[str, str], str] = {
+    ("rk4", "numba"): "spurdyn.solvers.paper.stepper_compiled:CompiledStepper",
+    ("rk4", "numpy"): "spurdyn.solvers.paper.stepper_numpy:NumpyStepper",
+}
 
 
-class Stepper(Protocol):
-    """What the loop needs of a method."""
-
-    system: PairSystem
-
-    def advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
-                frames_every: int, frames: list[tuple[float, NDArray[np.float64], NDArray[np.float64]]]
-                ) -> tuple[int, int, str]:
-        """Take up to ``n`` steps (stop once gear A has turned ``angle_end``).
-
-        Appends saved rows to ``rows`` (a preallocated ``(k, NCOL)`` array, returns how many)
-        and frames ``(t, theta(2), u)`` to ``frames``. Returns ``(steps, rows_written,
-        stop_reason)``; ``stop_reason`` is ``""`` unless the run cannot go on.
-        """
-        ...
-
-    def row(self) -> NDArray[np.float64]:
-        """The history row of the current state."""
-        ...
-
-    @property
-    def theta_a(self) -> float: ...
-
-    @property
-    def u(self) -> NDArray[np.float64]: ...
-
-    @property
-    def theta(self) -> NDArray[np.float64]: ...
-
-    @property
-    def t(self) -> float: ...
-
-
-def stable_step(system: PairSystem) -> float:
-    """Largest stable RK4 step of either free tooth (s)."""
-    from spurdyn.fem.assembly import stable_time_step
-
-    return min(stable_time_step(g.stiffness, g.mass).dt_rk4 for g in system.gears)
-
-
-def make_stepper(system: PairSystem, case: RunCase) -> Stepper:
-    if case.backend == "numpy":
-        from spurdyn.integrate.reference_stepper import ReferenceLoopStepper
-
-        return ReferenceLoopStepper(system, case)
-    from spurdyn.integrate.fast import FastStepper
-
-    return FastStepper(system, case)
-
-
-def check_case(pair: GearPair, case: RunCase, system: PairSystem) -> float:
-    """Refuse settings the model cannot run; return the angle to simulate (rad)."""
-    limit = stable_step(system)
-    if case.dt > limit:
-        raise InputError("dt", f"{case.dt:.3g} s is above the stable RK4 step {limit:.3g} s of this "
-                         "mesh; use a smaller dt or a coarser mesh")
-    angle = pair.theta_s if case.angle is None else case.angle
-    # Beyond theta_s the teeth leave the modelled contact region (and the torque schedule).
-    if angle > pair.theta_s * 1.02:
-        raise InputError("angle", f"{math.degrees(angle):.4g} deg is longer than the engagement "
-                         f"(theta_s = {math.degrees(pair.theta_s):.4g} deg)")
-    return angle
+def make_stepper(system: PairSystem, settings: RunCase) -> Stepper:
+    """The stepper of ``settings.integrator`` on ``settings.backend``."""
+    module, name = STEPPERS[(settings.integrator, settings.backend)].split(":")
+    return getattr(importlib.import_module(module), name)(system, settings)
 
 
 def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
@@ -118,13 +66,13 @@ def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
         return _simulate_driven_by_b(pair, case, progress, chunk)
     wall0 = time.perf_counter()
     system = build_system(pair, case)
-    angle = check_case(pair, case, system)
+    plan = check_run(pair, case, system)
+    angle = plan.angle
     stepper = make_stepper(system, case)
-    n_est = int(math.ceil(angle / (case.speed_a * case.dt))) + 2
-    rows = np.empty((n_est // case.save_every + 8, NCOL))
+    rows = np.empty(((plan.steps + 2) // case.save_every + 8, NCOL))
     rows[0] = stepper.row()
     n_rows = 1
-    frames: list[tuple[float, NDArray[np.float64], NDArray[np.float64]]] = []
+    frames: Frames = []
     if case.frames_every:
         frames.append((stepper.t, stepper.theta.copy(), stepper.u.copy()))
     steps, status, reason = 0, "complete", ""
@@ -191,8 +139,8 @@ def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.floa
 
 
 def _to_result(pair: GearPair, case: RunCase, system: PairSystem, rows: NDArray[np.float64],
-               frames: list, status: str, reason: str, steps: int, wall: float) -> Result:
-    col = {name: rows[:, i] for i, name in enumerate(COLUMNS)}
+               frames: Frames, status: str, reason: str, steps: int, wall: float) -> Result:
+    col = {name: rows[:, i] for i, name in enumerate(HISTORY)}
     n_u = system.n_u
     if frames:
         ft = np.array([f[0] for f in frames])
@@ -222,7 +170,7 @@ def _to_result(pair: GearPair, case: RunCase, system: PairSystem, rows: NDArray[
             "nodes": [g.mesh.n_nodes for g in system.gears],
             "theta_s": pair.theta_s,
             "theta_2": pair.theta_2,
-            "static_force": case.torque / pair.gear_a.base_radius,
+            "static_force": static_force(pair, case.torque),
             "single_zone": (single[0] - pair.start_roll_a, single[1] - pair.start_roll_a),
             "theta0": system.theta0,
             "method": case.method,

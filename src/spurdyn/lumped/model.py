@@ -35,11 +35,11 @@ from scipy.interpolate import CubicSpline, PchipInterpolator, PPoly
 
 from spurdyn.geometry.gear import GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
-from spurdyn.model.loading import gear_angles, gear_torques, torque_amplitudes, torque_fraction
+from spurdyn.model.loading import gear_angles, gear_torques, static_force, torque_amplitudes, torque_fraction
 from spurdyn.model.stiffness import pair_stiffness
 from spurdyn.model.tooth import build_tooth
-from spurdyn.results.result import Result
-from spurdyn.solver.case import RunCase
+from spurdyn.result import Result
+from spurdyn.settings import RunCase
 
 #: Interpolations offered for the stiffness table.
 INTERPOLATIONS = ("pchip", "cubic")
@@ -297,8 +297,8 @@ def simulate_lumped(
     v0 = s * (ra * w_a0 - rb * w_b0)
     k_ref = table.k_max
     f_n = float(torsional_natural_frequency(pair, k_ref))
-    static_force = case.torque / (ra if pair.driver == "a" else rb)
-    delta_ref = max(static_force / k_ref, abs(v0) / (2 * math.pi * f_n), 1e-9)
+    static = static_force(pair, case.torque)
+    delta_ref = max(static / k_ref, abs(v0) / (2 * math.pi * f_n), 1e-9)
     atol = np.array([1e-13, 1e-10 * w_a0, RTOL * delta_ref, RTOL * delta_ref * 2 * math.pi * f_n])
     mesh_period = 2.0 * math.pi / (ga.teeth * w_a0)
     max_step = min(mesh_period / 40.0, 0.25 / f_n)
@@ -339,7 +339,7 @@ def simulate_lumped(
         "theta_2": pair.theta_2,
         "theta_s_b": tsb,
         "theta_2_b": t2b,
-        "static_force": static_force,
+        "static_force": static,
         "single_zone": single,
         "mesh_stiffness_table": table.as_dict(),
         "mesh_stiffness_single_zone": table.mean(*sorted(float(v) for v in _contact_roll_a(pair, np.array(single)))),

@@ -1,0 +1,166 @@
+"""The two-gear system: everything about a run that is constant, as plain arrays.
+
+Generalised coordinates (paper eq. 1): per gear ``g`` (0 = A, 1 = B) the disk rotation
+``theta[g]`` since the start of contact, positive along the gear's own sense of
+rotation (A clockwise, B counter-clockwise), and the *absolute* displacements ``u`` of
+the tooth nodes in the world frame, measured from their initial positions ``X``.
+Both teeth's displacements live in one vector, A's block first.
+
+Frames. The world frame is the one of :mod:`spurdyn.geometry.placement`: A's centre
+at the origin, B's at ``(0, a)``. A gear turning by ``theta`` along its sense turns its
+material by the world angle ``sense * theta`` (``sense`` = -1 for A, +1 for B), so a
+point fixed to the disk moves from ``c + Y`` to ``c + R(sense theta) Y``.
+
+The stiffness ``K`` of each tooth is assembled once on the initial world positions
+(the disk frame at ``theta = 0``); the elastic displacement is
+``w = R^T (Y + u) - Y`` (docs/solver.md derives it and the forces).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from spurdyn.errors import InputError
+from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
+from spurdyn.geometry.gear import Gear, GearPair
+from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
+from spurdyn.mesh.tooth import ToothMesh, tooth_mesh
+from spurdyn.model.flank import Flank, make_flank
+from spurdyn.settings import RunCase
+
+#: Sense of rotation of each gear: the world angle is ``SENSE[g] * theta[g]``.
+SENSE = np.array([-1.0, 1.0])
+
+
+@dataclass(frozen=True)
+class GearBody:
+    """One gear of the system: rigid disk plus elastic tooth, in the world frame.
+
+    Attributes
+    ----------
+    sense
+        -1 (clockwise, gear A) or +1 (counter-clockwise, gear B).
+    centre
+        Disk centre (m).
+    inertia
+        Disk moment of inertia ``J`` (kg m^2).
+    mesh
+        The tooth mesh (gear frame).
+    X
+        ``(N, 2)`` initial world positions of the nodes.
+    Y
+        ``(2N,)`` initial positions relative to the centre, interleaved.
+    stiffness
+        ``(2N, 2N)`` stiffness on the initial world positions (CSR).
+    mass
+        ``(2N,)`` HRZ-lumped nodal masses.
+    root_nodes
+        Nodes tied to the disk.
+    flank
+        The active flank.
+    base_radius
+        Base radius of the gear (m), for roll angles.
+    """
+
+    sense: float
+    centre: NDArray[np.float64]
+    inertia: float
+    mesh: ToothMesh
+    X: NDArray[np.float64]
+    Y: NDArray[np.float64]
+    stiffness: sp.csr_matrix
+    mass: NDArray[np.float64]
+    root_nodes: NDArray[np.intp]
+    flank: Flank
+    base_radius: float
+
+    @property
+    def n_u(self) -> int:
+        return int(self.mass.size)
+
+    @property
+    def root_dofs(self) -> NDArray[np.intp]:
+        r = self.root_nodes
+        return np.column_stack([2 * r, 2 * r + 1]).ravel()
+
+
+@dataclass(frozen=True)
+class PairSystem:
+    """Both gears, placed so that their teeth just touch at the start of contact.
+
+    Attributes
+    ----------
+    pair
+        The gear pair (gear A drives).
+    gears
+        ``(A, B)``.
+    offsets
+        Start of each gear's block in the stacked displacement vector, and its end.
+    theta0
+        Placement rotations of the tooth meshes (A clockwise, B counter-clockwise).
+    """
+
+    pair: GearPair
+    gears: tuple[GearBody, GearBody]
+    offsets: tuple[int, int, int]
+    theta0: tuple[float, float]
+
+    @property
+    def n_u(self) -> int:
+        return self.offsets[2]
+
+    @property
+    def n_lambda(self) -> tuple[int, int]:
+        return tuple(2 * g.root_nodes.size for g in self.gears)  # type: ignore[return-value]
+
+    @property
+    def n_x(self) -> int:
+        """Length of ``x = [lambda_A, lambda_B, p]``."""
+        return sum(self.n_lambda) + 1
+
+    @property
+    def n_dof(self) -> int:
+        """Degrees of freedom: two disk rotations and every tooth displacement."""
+        return 2 + self.n_u
+
+    @property
+    def mass(self) -> NDArray[np.float64]:
+        return np.concatenate([g.mass for g in self.gears])
+
+
+def _body(gear: Gear, mesh: ToothMesh, X: NDArray[np.float64], centre: NDArray[np.float64],
+          sense: float, ref_angle: float, n_spline: int) -> GearBody:
+    k = assemble_stiffness(X, mesh.elements, gear.material, gear.face_width).tocsr()
+    k.sort_indices()
+    m = assemble_lumped_mass(X, mesh.elements, gear.material, gear.face_width)
+    flank = make_flank(mesh, gear, X, centre, ref_angle, n_spline)
+    return GearBody(sense=sense, centre=centre, inertia=gear.disk_inertia, mesh=mesh, X=X,
+                    Y=(X - centre).ravel(), stiffness=k, mass=m, root_nodes=mesh.root_nodes.copy(),
+                    flank=flank, base_radius=gear.base_radius)
+
+
+def build_system(pair: GearPair, case: RunCase) -> PairSystem:
+    """Mesh both teeth, place them just touching at the start of contact, assemble K and M.
+
+    The surfaces of :class:`Flank` are the exact involutes, which touch at the start of
+    the path of contact at the rotations of :func:`~spurdyn.geometry.placement.mesh_angles`
+    (to round-off; with a tip relief they stand apart by the relief there).
+    """
+    if pair.driver != "a":
+        raise InputError("pair.driver", "only gear A driving is supported by the solver yet; "
+                         "swap gear_a and gear_b")
+    theta_a, theta_b = mesh_angles(pair, pair.start_roll_a)
+    mesh_a = tooth_mesh(pair.gear_a, case.nx, case.ny)
+    mesh_b = tooth_mesh(pair.gear_b, case.nx, case.ny)
+    ca, cb = np.array([0.0, 0.0]), np.array([0.0, pair.centre_distance])
+    xa = to_world_a(mesh_a.nodes, theta_a)
+    xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)
+    gears = (_body(pair.gear_a, mesh_a, xa, ca, float(SENSE[0]), -theta_a, case.n_spline),
+             _body(pair.gear_b, mesh_b, xb, cb, float(SENSE[1]), math.pi + theta_b, case.n_spline))
+    na, nb = gears[0].n_u, gears[1].n_u
+    return PairSystem(pair=pair, gears=gears, offsets=(0, na, na + nb), theta0=(theta_a, theta_b))

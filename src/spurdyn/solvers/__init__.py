@@ -1,0 +1,11 @@
+"""Time stepping: the stepper contract, the methods, the run check and the time loop.
+
+- :mod:`~spurdyn.solvers.base`: :class:`~spurdyn.solvers.base.Stepper` owns the step count
+  and the failure status; each method supplies its steps.
+- :mod:`~spurdyn.solvers.layout`: typed packs for compiled code (model arrays, state,
+  configuration, prediction, history columns), each defined once.
+- :mod:`~spurdyn.solvers.check`: the one run check (stable step, angle, step count).
+- :mod:`~spurdyn.solvers.paper`: the paper's method, NumPy and compiled twins side by side.
+- :mod:`~spurdyn.solvers.loop`: ``simulate(pair, settings) -> Result`` and the registry of
+  steppers by integrator and backend.
+"""

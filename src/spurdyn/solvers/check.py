@@ -1,0 +1,91 @@
+"""The one run check: stable time step, angle of the run, step count.
+
+Both the case file (refusing bad settings before anything is written, naming the key the
+user wrote) and :func:`spurdyn.solvers.loop.simulate` call :func:`check_run`; the stable
+step is eigen-solved once per system (:func:`stable_step` caches it on the system).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+from spurdyn.errors import InputError
+from spurdyn.geometry.gear import GearPair
+from spurdyn.model.system import PairSystem
+from spurdyn.settings import RunCase
+
+#: How far beyond the angle of action ``theta_s`` (as a fraction of it) a run may go:
+#: beyond it the tip of A has left B's flank for good and the modelled teeth no longer
+#: describe the meshing (the next pair, not modelled, carries the load).
+ANGLE_MARGIN = 0.02
+
+
+@dataclass(frozen=True)
+class RunPlan:
+    """What a checked run will do: gear A's rotation (rad), the steps it takes, and the
+    largest stable RK4 step of the mesh (s)."""
+
+    angle: float
+    steps: int
+    stable_dt: float
+
+
+def steps_for(angle: float, speed: float, dt: float) -> int:
+    """Time steps for gear A to turn ``angle`` (rad) at ``speed`` (rad/s) with step ``dt``."""
+    return int(math.ceil(angle / (speed * dt)))
+
+
+def stable_step(system: PairSystem) -> float:
+    """Largest stable RK4 step of either free tooth (s), eigen-solved once per system."""
+    cached = system.__dict__.get("_stable_dt")
+    if cached is None:
+        from spurdyn.fem.stable_step import stable_time_step
+
+        cached = min(stable_time_step(g.stiffness, g.mass).dt_rk4 for g in system.gears)
+        object.__setattr__(system, "_stable_dt", cached)
+    return cached
+
+
+def _round_down(x: float, digits: int) -> float:
+    """``x > 0`` rounded down to ``digits`` significant digits."""
+    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return math.floor(x / scale) * scale
+
+
+def check_run(pair: GearPair, settings: RunCase, system: PairSystem,
+              field: Callable[[str], str] = str) -> RunPlan:
+    """Refuse settings the model cannot run; return what the run will do.
+
+    Parameters
+    ----------
+    pair, settings, system
+        The pair, the run settings and the system built from them.
+    field
+        Maps a settings name (``"dt"``, ``"angle"``) to the key the user wrote
+        (``"run.dt"``, ``"--dt"``), for the message.
+
+    Raises
+    ------
+    InputError
+        A ``dt`` above the stable RK4 step of the mesh, an angle beyond ``theta_s`` plus
+        :data:`ANGLE_MARGIN` or shorter than one step.
+    """
+    s = settings
+    limit = stable_step(system)
+    if s.dt > limit:
+        nx, ny = s.nx, s.ny
+        raise InputError(field("dt"), f"dt {s.dt:g} s is above the stable RK4 step {limit:.4g} s "
+                         f"of the {nx}x{ny} tooth mesh; use a dt of at most "
+                         f"{_round_down(limit, 3):g} s or a coarser mesh")
+    theta_s = pair.theta_s
+    angle = theta_s if s.angle is None else s.angle
+    if angle > theta_s * (1.0 + ANGLE_MARGIN):
+        raise InputError(field("angle"), f"{math.degrees(angle):g} deg goes beyond the angle of "
+                         f"action theta_s = {math.degrees(theta_s):.3f} deg (+{ANGLE_MARGIN:.0%}): "
+                         "the teeth would leave the modelled region")
+    if angle < s.speed_a * s.dt:
+        raise InputError(field("angle"), f"{math.degrees(angle):g} deg is shorter than one time "
+                         f"step ({math.degrees(s.speed_a * s.dt):.3g} deg at this speed)")
+    return RunPlan(angle=angle, steps=steps_for(angle, s.speed_a, s.dt), stable_dt=limit)

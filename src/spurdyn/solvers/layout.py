@@ -1,0 +1,64 @@
+"""Typed packs of the solvers, each defined once: what compiled code passes around.
+
+Numba takes namedtuples of arrays and scalars, so every pack that used to be a bare
+array read by index is a namedtuple here, and every column layout is a tuple of names
+with a namedtuple of indices beside it (``row[H.theta_a]``). Nothing here imports
+spurdyn: the compiled modules read these globals, and the compiled-code gate
+(:mod:`spurdyn.jit`) keys its cache on this file.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+#: Columns of the time history, one row per saved step. Every writer (the compiled
+#: ``write_row``, the NumPy stepper's ``row``) and the reader (the time loop's result)
+#: index rows by these names.
+HISTORY = ("t", "theta_a", "theta_b", "omega_a", "omega_b", "tau_a", "tau_b", "p", "s",
+           "alpha", "beta", "mode", "res1", "res2", "res3", "it1", "it2", "it3")
+#: Column indices of :data:`HISTORY` by name.
+H = namedtuple("HistoryColumns", HISTORY)(*range(len(HISTORY)))
+NCOL = len(HISTORY)
+
+#: Status of a step (the compiled step returns it; the NumPy step reports it): a stage
+#: that did not converge (in the order of :data:`spurdyn.result.STAGES`), or a NaN.
+OK, FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NAN = 0, 1, 2, 3, 4
+
+#: The run settings a compiled step reads (SI units; ``eps_root`` is the smallest
+#: eigenvalue of the root blocks of ``G M^-1 G^T``; ``pin_after`` 0 is the paper's method).
+Config = namedtuple("Config", ["dt", "tol_disp", "tol_vel", "tol_acc", "max_iter", "levels",
+                               "eps_root", "pin_after"])
+
+#: The model as plain arrays, the nodes of both teeth stacked (A first):
+#: ``Y`` (2N,) initial offsets from the centres; ``mass`` (2N,) nodal masses;
+#: ``node_gear`` (N,) the gear of each node; ``sense``, ``J``, ``centre`` per gear;
+#: ``indptr``, ``indices``, ``data`` the stiffness in 2x2 block rows; ``keep`` 1 to keep the
+#: elastic torque on the disks; ``tpar`` (2, 3) the torque schedule (amplitude, theta_s,
+#: theta_2); ``rnode``, ``rgear`` root nodes and their gears; ``fpar`` (2, 13) flank
+#: parameter rows (columns :data:`spurdyn.contact.constants.F`); ``fl_nodes``, ``fl_w``,
+#: ``fl_delta`` the spline data points' edge nodes, weights and involute offsets;
+#: ``side``, ``sideY`` the outline nodes and their offsets; ``rel_nodes`` the nodes the
+#: constraints read and ``rel_pos`` their position in that list (-1 elsewhere).
+Packed = namedtuple("Packed", [
+    "Y", "mass", "node_gear", "sense", "J", "centre", "indptr", "indices", "data", "keep",
+    "tpar", "rnode", "rgear", "fpar", "fl_nodes", "fl_w", "fl_delta", "side", "sideY",
+    "rel_nodes", "rel_pos",
+])
+
+#: The state a compiled step updates in place: time, rotations, speeds, nodal
+#: displacements and velocities, the forces ``x = [lambda; p]`` and the accelerations
+#: they give, the contact rows (nodes ``cn``, weights ``cw``, ``normal``), the contact
+#: pair (``cpar``, columns :data:`CP`), ``C = G M^-1 G^T``, and the last step's stage
+#: residuals and iterations.
+CompiledState = namedtuple("CompiledState", [
+    "t", "theta", "omega", "u", "v", "x", "alpha_n", "a_n", "cn", "cw", "normal", "cpar", "C",
+    "res", "its",
+])
+#: Columns of ``cpar``: flank coordinates on A and B, contact mode, penetration.
+CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s"))(0, 1, 2, 3)
+
+#: RK4 over a step with the last step's forces: the end state (``qs_*`` positions,
+#: ``vs_*`` velocities) and what the linear response to a change of the forces needs (the
+#: third and fourth stage rotations, ``w`` and ``K w``, and the torque schedule's slopes).
+Prediction = namedtuple("Prediction", ["qs_th", "qs_u", "vs_th", "vs_u", "q3th", "w3", "kw3",
+                                       "q4th", "w4", "kw4", "sl3", "sl4"])

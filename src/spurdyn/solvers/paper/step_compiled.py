@@ -1,0 +1,327 @@
+"""The paper's step compiled with Numba, the response to the forces superposed.
+
+The twin of :meth:`spurdyn.solvers.paper.step_numpy.PaperMethod.step` (which
+re-integrates every iterate); tests/test_paper_step.py checks the two step by step. The
+superposition is in :mod:`spurdyn.solvers.paper.response_compiled`, the contact search
+in :mod:`spurdyn.contact.search_compiled`. Constant arguments of compiled calls are
+written ``np.int64(0)``, ``np.bool_(True)``: a bare literal makes Numba compile a separate
+copy of the callee per literal value (docs/performance.md).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from spurdyn.contact.search_compiled import contact_rows, material_point, search, sliding
+from spurdyn.jit import njit
+from spurdyn.solvers.layout import CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_VEL, OK, H
+from spurdyn.solvers.paper.constants import MAX_RELOCATE, RELOCATE
+from spurdyn.solvers.paper.dynamics_compiled import (
+    accelerations, constraint_force, gram, gram_contact, max_abs, root_phi_theta, rotation, torque,
+)
+from spurdyn.solvers.paper.iteration_compiled import accelerated_update
+from spurdyn.solvers.paper.response_compiled import response_columns, predict, superpose
+
+
+@njit
+def step(P, S, cfg):
+    """Advance the state ``S`` by one step of the paper's method; returns a status code.
+
+    ``cfg`` is a :class:`~spurdyn.solvers.layout.Config`; ``pin_after`` 0 is the paper's
+    method, ``k > 0`` the ``"pinned"`` one (see :data:`spurdyn.settings.METHODS`).
+    """
+    h = cfg.dt
+    tol1, tol2, tol3 = cfg.tol_disp, cfg.tol_vel, cfg.tol_acc
+    cap = cfg.max_iter
+    nlev = cfg.levels
+    eps_root = cfg.eps_root
+    pin_after = cfg.pin_after
+    n = S.u.size
+    m = S.x.size
+    nn = n // 2
+    th, om, u, v = S.theta, S.omega, S.u, S.v
+    x0 = S.x.copy()
+
+    pred = predict(P, S, h)
+    zero_u = np.zeros(n)
+    w = np.empty(n)
+    kw = np.empty(n)
+    el = np.empty(n)
+    qq = np.empty(2)
+
+    # -- response matrices on the rows the constraints read ----------------------------
+    nrel = P.rel_nodes.size
+    R = 2 + 2 * nrel
+    Wq = np.zeros((R, m))
+    Wv = np.zeros((R, m))
+    scratch = np.zeros(n)
+    mark = np.zeros(nn, dtype=np.int64)
+    touched = np.empty(nn, dtype=np.int64)
+    nz_nodes = np.empty(nn, dtype=np.int64)
+    zu = np.zeros(n)
+    acc3 = np.zeros(n)
+    acc4 = np.zeros(n)
+    h2 = 0.5 * h * h
+    response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, np.int64(0), m, Wq, Wv, scratch, mark, touched,
+             nz_nodes, zu, acc3, acc4)
+
+    # relevant rows of the free state
+    qs_rel = np.empty(R)
+    vs_rel = np.empty(R)
+    qs_rel[0], qs_rel[1] = pred.qs_th[0], pred.qs_th[1]
+    vs_rel[0], vs_rel[1] = pred.vs_th[0], pred.vs_th[1]
+    for k in range(nrel):
+        i = P.rel_nodes[k]
+        for d in range(2):
+            qs_rel[2 + 2 * k + d] = pred.qs_u[2 * i + d]
+            vs_rel[2 + 2 * k + d] = pred.vs_u[2 * i + d]
+
+    # The forces are G^T x with the contact row where the contact now is; the prediction
+    # used the last step's forces, so rel(x) = rel* - W0 x0 + W x.
+    qs_rel -= Wq @ x0
+    vs_rel -= Wv @ x0
+    cn_f = S.cn.copy()
+    cw_f = S.cw.copy()
+    n_f = S.normal.copy()
+    loc_f = np.array([S.cpar[CP.alpha], S.cpar[CP.beta]])
+    C = S.C
+    Cp = np.empty((m, m))
+    work = np.empty(m)
+    e = np.empty(m)
+    nd = P.fl_nodes.shape[1]
+    va = np.empty((nd, 2))
+    vb = np.empty((nd, 2))
+    Ma = np.empty((nd, 2))
+    Mb = np.empty((nd, 2))
+    guess = np.array([S.cpar[CP.alpha], S.cpar[CP.beta]])
+    u_try = pred.qs_u.copy()
+    th_try = np.empty(2)
+
+    # -- stage 1: displacements ---------------------------------------------------------
+    x = x0.copy()
+    a_c, b_c, mode, nxc, nyc, sc = 0.0, 0.0, 0, 0.0, 0.0, 0.0
+    it = 0
+    moves = 0
+    mode_f = int(S.cpar[CP.mode])
+    while True:
+        rel = qs_rel + Wq @ x
+        th_try[0], th_try[1] = rel[0], rel[1]
+        for k in range(nrel):
+            i = P.rel_nodes[k]
+            u_try[2 * i] = rel[2 + 2 * k]
+            u_try[2 * i + 1] = rel[3 + 2 * k]
+        for k in range(P.rnode.size):
+            i = P.rnode[k]
+            c, s = rotation(P, th_try, P.rgear[k])
+            yx, yy = P.Y[2 * i], P.Y[2 * i + 1]
+            e[2 * k] = -(u_try[2 * i] - (c * yx - s * yy - yx))
+            e[2 * k + 1] = -(u_try[2 * i + 1] - (s * yx + c * yy - yy))
+        # The search also refits the flank splines (va, vb, Ma, Mb) that the later stages'
+        # sliding terms read, so it runs even when the pair is then pinned.
+        a_c, b_c, mode, nxc, nyc, sc = search(P, th_try, u_try, guess, va, vb, Ma, Mb)
+        if pin_after > 0 and it >= pin_after and moves >= MAX_RELOCATE:
+            # "pinned": the gap where the force acts, along its normal
+            a_c, b_c, mode, nxc, nyc = loc_f[0], loc_f[1], mode_f, n_f[0], n_f[1]
+            xa, ya = material_point(P, np.int64(0), a_c, th_try[0], u_try, np.int64(0), 0.0, 0.0)
+            xb, yb = material_point(P, np.int64(1), b_c, th_try[1], u_try, np.int64(0), 0.0, 0.0)
+            sc = nxc * (xa - xb) + nyc * (ya - yb)
+        guess[0], guess[1] = a_c, b_c
+        e[m - 1] = sc if (x[m - 1] < 0.0 or sc > 0.0) else 0.0
+        res = max_abs(e)
+        if not math.isfinite(res):
+            S.res[0] = res
+            return FAIL_NAN
+        if res <= tol1:
+            break
+        if it >= cap:
+            S.res[0] = res
+            S.its[0] = it
+            return FAIL_DISP
+        accelerated_update(x, e, C, h2, nlev, eps_root, Cp, work)
+        if abs(a_c - loc_f[0]) + abs(b_c - loc_f[1]) > RELOCATE and moves < MAX_RELOCATE:
+            # the contact force acts where the contact now is
+            moves += 1
+            loc_f[0], loc_f[1] = a_c, b_c
+            mode_f = mode
+            contact_rows(P, a_c, b_c, cn_f, cw_f)
+            n_f[0], n_f[1] = nxc, nyc
+            response_columns(P, h, pred, S.theta, cn_f, cw_f, n_f, m - 1, m, Wq, Wv, scratch, mark,
+                     touched, nz_nodes, zu, acc3, acc4)
+            gram_contact(P, cn_f, cw_f, n_f, C)
+        it += 1
+    S.res[0] = res
+    S.its[0] = it
+    p_bar = x[m - 1]
+
+    # full positions at t + dt by superposition
+    th1, u1, _, _ = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, np.bool_(False))
+    cn1 = np.empty(6, dtype=np.int64)
+    cw1 = np.empty(6)
+    contact_rows(P, a_c, b_c, cn1, cw1)
+    n1 = np.array([nxc, nyc])
+
+    # -- stage 2: velocities (positions from stage 1, same force directions) ---------------
+    it = 0
+    v_try = pred.vs_u.copy()
+    om_try = np.empty(2)
+    while True:
+        rel = vs_rel + Wv @ x
+        om_try[0], om_try[1] = rel[0], rel[1]
+        for k in range(nrel):
+            i = P.rel_nodes[k]
+            v_try[2 * i] = rel[2 + 2 * k]
+            v_try[2 * i + 1] = rel[3 + 2 * k]
+        for k in range(P.rnode.size):
+            i = P.rnode[k]
+            g = P.rgear[k]
+            px, py = root_phi_theta(P, th1, k)
+            e[2 * k] = -(v_try[2 * i] + px * om_try[g])
+            e[2 * k + 1] = -(v_try[2 * i + 1] + py * om_try[g])
+        pax, pay = material_point(P, np.int64(0), a_c, th1[0], v_try, np.int64(1), om_try[0], 0.0)
+        pbx, pby = material_point(P, np.int64(1), b_c, th1[1], v_try, np.int64(1), om_try[1], 0.0)
+        sh = nxc * (pax - pbx) + nyc * (pay - pby)
+        e[m - 1] = sh if (p_bar < 0.0 and (sh > 0.0 or x[m - 1] < 0.0)) else 0.0
+        res = max_abs(e)
+        if not math.isfinite(res):
+            S.res[1] = res
+            return FAIL_NAN
+        if res <= tol2:
+            break
+        if it >= cap:
+            S.res[1] = res
+            S.its[1] = it
+            return FAIL_VEL
+        accelerated_update(x, e, C, h, nlev, eps_root, Cp, work)
+        it += 1
+    S.res[1] = res
+    S.its[1] = it
+
+    _, _, om1, v1 = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, np.bool_(True))
+
+    # -- stage 3: accelerations at t + dt -----------------------------------------------
+    zero2 = np.zeros(2)
+    al_free = np.empty(2)
+    a_free = np.empty(n)
+    accelerations(th1, u1, zero2, zero_u, P, w, kw, el, qq, al_free, a_free)
+    gram(P, th1, cn1, cw1, n1, C)
+    extra = sliding(P, th1, om1, u1, v1, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb)
+    fth = np.empty(2)
+    fu = np.empty(n)
+    a_try = np.empty(n)
+    al_try = np.empty(2)
+    it = 0
+    while True:
+        constraint_force(P, th1, cn1, cw1, n1, x, fth, fu)
+        for g in range(2):
+            al_try[g] = al_free[g] + fth[g] / P.J[g]
+        for k in range(P.rnode.size):
+            i = P.rnode[k]
+            g = P.rgear[k]
+            px, py = root_phi_theta(P, th1, k)
+            c, s = rotation(P, th1, g)
+            yx, yy = P.Y[2 * i], P.Y[2 * i + 1]
+            ax = a_free[2 * i] + fu[2 * i] / P.mass[2 * i]
+            ay = a_free[2 * i + 1] + fu[2 * i + 1] / P.mass[2 * i + 1]
+            e[2 * k] = -(ax + px * al_try[g]) - (c * yx - s * yy) * om1[g] ** 2
+            e[2 * k + 1] = -(ay + py * al_try[g]) - (s * yx + c * yy) * om1[g] ** 2
+        for j in range(6):
+            i = cn1[j]
+            a_try[2 * i] = a_free[2 * i] + fu[2 * i] / P.mass[2 * i]
+            a_try[2 * i + 1] = a_free[2 * i + 1] + fu[2 * i + 1] / P.mass[2 * i + 1]
+        pax, pay = material_point(P, np.int64(0), a_c, th1[0], a_try, np.int64(2), om1[0], al_try[0])
+        pbx, pby = material_point(P, np.int64(1), b_c, th1[1], a_try, np.int64(2), om1[1], al_try[1])
+        st = nxc * (pax - pbx) + nyc * (pay - pby) + extra
+        e[m - 1] = st if (p_bar < 0.0 and (st > 0.0 or x[m - 1] < 0.0)) else 0.0
+        res = max_abs(e)
+        if not math.isfinite(res):
+            S.res[2] = res
+            return FAIL_NAN
+        if res <= tol3:
+            break
+        if it >= cap:
+            S.res[2] = res
+            S.its[2] = it
+            return FAIL_ACC
+        accelerated_update(x, e, C, 1.0, nlev, eps_root, Cp, work)
+        it += 1
+    S.res[2] = res
+    S.its[2] = it
+
+    # -- the new state ------------------------------------------------------------------
+    # A NaN may sit in DOFs no residual reads (the constraints see only the root and flank
+    # nodes): check the whole state once before keeping it.
+    total = th1[0] + th1[1] + om1[0] + om1[1]
+    for i in range(n):
+        total += u1[i] + v1[i]
+    if not math.isfinite(total):
+        return FAIL_NAN
+    constraint_force(P, th1, cn1, cw1, n1, x, fth, fu)
+    for g in range(2):
+        S.alpha_n[g] = al_free[g] + fth[g] / P.J[g]
+    for i in range(n):
+        S.a_n[i] = a_free[i] + fu[i] / P.mass[i]
+    th[:] = th1
+    om[:] = om1
+    u[:] = u1
+    v[:] = v1
+    S.x[:] = x
+    S.cn[:] = cn1
+    S.cw[:] = cw1
+    S.normal[:] = n1
+    S.cpar[CP.alpha], S.cpar[CP.beta], S.cpar[CP.mode], S.cpar[CP.s] = a_c, b_c, mode, sc
+    S.t[0] += h
+    return OK
+
+
+@njit
+def advance(P, S, cfg, n_steps, angle_end, save_every, rows, frames_every, frames, index0):
+    """Up to ``n_steps`` steps; stops when gear A has turned ``angle_end`` or a step fails.
+
+    Returns ``(steps, rows_written, frames_written, status)``.
+    """
+    nr = 0
+    nf = 0
+    for k in range(n_steps):
+        if S.theta[0] >= angle_end:
+            return k, nr, nf, 0
+        status = step(P, S, cfg)
+        if status != OK:
+            return k, nr, nf, status
+        idx = index0 + k + 1
+        if idx % save_every == 0:
+            write_row(P, S, rows[nr])
+            nr += 1
+        if frames_every > 0 and idx % frames_every == 0:
+            frames[nf, 0] = S.t[0]
+            frames[nf, 1] = S.theta[0]
+            frames[nf, 2] = S.theta[1]
+            frames[nf, 3:] = S.u
+            nf += 1
+    return n_steps, nr, nf, 0
+
+
+@njit
+def write_row(P, S, row):
+    """The history row (columns :data:`spurdyn.solvers.layout.H`) of the state ``S``."""
+    ta, _ = torque(P.tpar, np.int64(0), S.theta[0])
+    tb, _ = torque(P.tpar, np.int64(1), S.theta[1])
+    row[H.t] = S.t[0]
+    row[H.theta_a] = S.theta[0]
+    row[H.theta_b] = S.theta[1]
+    row[H.omega_a] = S.omega[0]
+    row[H.omega_b] = S.omega[1]
+    row[H.tau_a] = ta
+    row[H.tau_b] = tb
+    row[H.p] = S.x[S.x.size - 1]
+    row[H.s] = S.cpar[CP.s]
+    row[H.alpha] = S.cpar[CP.alpha]
+    row[H.beta] = S.cpar[CP.beta]
+    row[H.mode] = S.cpar[CP.mode]
+    row[H.res1] = S.res[0]
+    row[H.res2] = S.res[1]
+    row[H.res3] = S.res[2]
+    row[H.it1] = S.its[0]
+    row[H.it2] = S.its[1]
+    row[H.it3] = S.its[2]

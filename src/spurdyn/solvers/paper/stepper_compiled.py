@@ -1,0 +1,164 @@
+"""The paper's method compiled as a :class:`~spurdyn.solvers.base.Stepper` (``backend="numba"``).
+
+:func:`pack` turns a :class:`~spurdyn.model.system.PairSystem` into the typed packs of
+:mod:`spurdyn.solvers.layout`; :class:`CompiledStepper` drives
+:func:`spurdyn.solvers.paper.step_compiled.advance` chunk by chunk. The compiled modules
+are imported when the first stepper is made, so importing this module stays cheap.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.sparse import block_diag
+
+from spurdyn.contact.constants import flank_row
+from spurdyn.model.loading import gear_angles, torque_amplitudes
+from spurdyn.model.system import PairSystem
+from spurdyn.settings import RunCase
+from spurdyn.solvers.base import Frames, Stepper
+from spurdyn.solvers.layout import NCOL, CompiledState, Config, Packed
+from spurdyn.solvers.paper.dynamics_numpy import constraint_force, accelerations, inverse_mass, jacobian
+from spurdyn.solvers.paper.step_numpy import State, initial_state
+
+
+def pack(system: PairSystem, settings: RunCase) -> Packed:
+    """The model as plain arrays, nodes of both teeth stacked (A first)."""
+    ga, gb = system.gears
+    na = ga.mesh.n_nodes
+    k = block_diag([ga.stiffness, gb.stiffness], format="csr").tobsr(blocksize=(2, 2))
+    k.sort_indices()
+    node_gear = np.concatenate([np.zeros(na, np.int64), np.ones(gb.mesh.n_nodes, np.int64)])
+    offs = (0, na)
+    rnode = np.concatenate([ga.root_nodes + offs[0], gb.root_nodes + offs[1]]).astype(np.int64)
+    rgear = np.concatenate([np.zeros(ga.root_nodes.size, np.int64), np.ones(gb.root_nodes.size, np.int64)])
+    fl_nodes, fl_w, fl_delta, side, side_y, rel = [], [], [], [], [], [set(rnode.tolist())]
+    for g, body in enumerate(system.gears):
+        f = body.flank
+        fl_nodes.append(f.data_nodes + offs[g])
+        fl_w.append(f.data_weights)
+        fl_delta.append(f.data_delta)
+        side.append(f.side_nodes + offs[g])
+        side_y.append(f.side_Y)
+        # Flank nodes the contact can reach: every outline node from the row of t0 up.
+        first = 2 * int(np.floor(f.t0))
+        rel.append(set((f.side_nodes[first:] + offs[g]).tolist()))
+    rel_nodes = np.array(sorted(set().union(*rel)), dtype=np.int64)
+    rel_pos = -np.ones(node_gear.size, dtype=np.int64)
+    rel_pos[rel_nodes] = np.arange(rel_nodes.size)
+    amp = torque_amplitudes(system.pair, settings.torque)
+    angles = gear_angles(system.pair)
+    tpar = np.array([[amp[0], angles[0][0], angles[0][1]], [amp[1], angles[1][0], angles[1][1]]])
+    return Packed(
+        Y=np.concatenate([ga.Y, gb.Y]), mass=system.mass, node_gear=node_gear,
+        sense=np.array([ga.sense, gb.sense]), J=np.array([ga.inertia, gb.inertia]),
+        centre=np.array([ga.centre, gb.centre]), indptr=k.indptr.astype(np.int64),
+        indices=k.indices.astype(np.int64), data=np.ascontiguousarray(k.data, dtype=np.float64),
+        keep=1 if settings.keep_theta_term else 0, tpar=tpar, rnode=rnode, rgear=rgear,
+        fpar=np.array([flank_row(g.flank) for g in system.gears]),
+        fl_nodes=np.array(fl_nodes, dtype=np.int64), fl_w=np.array(fl_w), fl_delta=np.array(fl_delta),
+        side=np.array(side, dtype=np.int64), sideY=np.array(side_y),
+        rel_nodes=rel_nodes, rel_pos=rel_pos,
+    )
+
+
+def root_eigenvalue(system: PairSystem, state: State) -> float:
+    """Smallest eigenvalue of the root blocks of ``G M^-1 G^T``.
+
+    The disk rotations turn each root block by an orthogonal similarity (the nodal
+    masses are equal in x and y), so its spectrum is constant over a run.
+    """
+    g = jacobian(system, state.theta, state.contact)[:-1]
+    c = (g * inverse_mass(system)) @ g.T
+    return float(np.linalg.eigvalsh(c)[0])
+
+
+def compiled_start(system: PairSystem, settings: RunCase, st: State) -> CompiledState:
+    """The compiled state of the NumPy start state ``st`` (with its accelerations and ``C``)."""
+    c = st.contact
+    na = system.gears[0].mesh.n_nodes
+    cn = np.concatenate([c.nodes_a, c.nodes_b + na]).astype(np.int64)
+    cw = np.concatenate([c.weights_a, c.weights_b])
+    # Accelerations at t = 0 with the initial forces: RK4's first slope of step 1.
+    alpha0, a0 = accelerations(system, settings, st.theta, st.u,
+                               *constraint_force(system, st.theta, c, st.x))
+    gmat = jacobian(system, st.theta, c)
+    return CompiledState(
+        t=np.zeros(1), theta=st.theta.copy(), omega=st.omega.copy(), u=st.u.copy(),
+        v=st.v.copy(), x=st.x.copy(), alpha_n=alpha0, a_n=a0, cn=cn, cw=cw,
+        normal=c.normal.copy(), cpar=np.array([c.alpha, c.beta, float(c.mode), c.s]),
+        C=(gmat * inverse_mass(system)) @ gmat.T, res=np.zeros(3), its=np.zeros(3, dtype=np.int64),
+    )
+
+
+def config(settings: RunCase, eps_root: float) -> Config:
+    """The run settings a compiled step reads."""
+    s = settings
+    return Config(dt=float(s.dt), tol_disp=float(s.tol_disp), tol_vel=float(s.tol_vel),
+                  tol_acc=float(s.tol_acc), max_iter=int(s.max_iter), levels=int(s.accel_levels),
+                  eps_root=float(eps_root), pin_after=int(s.pin_after))
+
+
+class CompiledStepper(Stepper):
+    """The paper's method compiled with Numba, superposing the response to the forces."""
+
+    def __init__(self, system: PairSystem, settings: RunCase) -> None:
+        from spurdyn.solvers.paper import step_compiled
+
+        super().__init__(system, settings)
+        self._kernel = step_compiled
+        self.P = pack(system, settings)
+        start = initial_state(system, settings)
+        self.S = compiled_start(system, settings, start)
+        self.cfg = config(settings, root_eigenvalue(system, start))
+        self.residual = self.S.res
+        self.iterations = self.S.its
+        self._row = np.empty((1, NCOL))
+
+    @property
+    def state(self) -> CompiledState:
+        return self.S
+
+    @property
+    def t(self) -> float:
+        return float(self.S.t[0])
+
+    @property
+    def theta(self) -> NDArray[np.float64]:
+        return self.S.theta
+
+    @property
+    def omega(self) -> NDArray[np.float64]:
+        return self.S.omega
+
+    @property
+    def u(self) -> NDArray[np.float64]:
+        return self.S.u
+
+    @property
+    def v(self) -> NDArray[np.float64]:
+        return self.S.v
+
+    @property
+    def x(self) -> NDArray[np.float64]:
+        return self.S.x
+
+    def row(self) -> NDArray[np.float64]:
+        self._kernel.write_row(self.P, self.S, self._row[0])
+        return self._row[0].copy()
+
+    def step(self) -> int:
+        """One step (for tests); returns the kernel's status."""
+        status = self._kernel.step(self.P, self.S, self.cfg)
+        self.index += 1
+        return int(status)
+
+    def _advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
+                 frames_every: int, frames: Frames) -> tuple[int, int, int]:
+        nf_max = n // frames_every + 1 if frames_every else 0
+        fr = np.empty((nf_max, 3 + self.S.u.size))
+        done, nr, nf, status = self._kernel.advance(self.P, self.S, self.cfg, n, angle_end,
+                                                    save_every, rows, frames_every, fr, self.index)
+        for i in range(int(nf)):
+            frames.append((float(fr[i, 0]), fr[i, 1:3].copy(), fr[i, 3:].copy()))
+        return int(done), int(nr), int(status)

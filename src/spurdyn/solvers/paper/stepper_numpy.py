@@ -1,0 +1,80 @@
+"""The paper's method in NumPy as a :class:`~spurdyn.solvers.base.Stepper` (``backend="numpy"``)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.model.system import PairSystem
+from spurdyn.settings import RunCase
+from spurdyn.solvers.base import Frames, Stepper
+from spurdyn.solvers.layout import FAIL_NAN, NCOL, OK, H
+from spurdyn.solvers.paper.step_numpy import PaperMethod, State, initial_state
+
+
+class NumpyStepper(Stepper):
+    """Steps :class:`~spurdyn.solvers.paper.step_numpy.PaperMethod` one by one."""
+
+    def __init__(self, system: PairSystem, settings: RunCase) -> None:
+        super().__init__(system, settings)
+        self.method = PaperMethod(system, settings)
+        self.state: State = initial_state(system, settings)
+
+    @property
+    def t(self) -> float:
+        return self.state.t
+
+    @property
+    def theta(self) -> NDArray[np.float64]:
+        return self.state.theta
+
+    @property
+    def omega(self) -> NDArray[np.float64]:
+        return self.state.omega
+
+    @property
+    def u(self) -> NDArray[np.float64]:
+        return self.state.u
+
+    @property
+    def v(self) -> NDArray[np.float64]:
+        return self.state.v
+
+    @property
+    def x(self) -> NDArray[np.float64]:
+        return self.state.x
+
+    def row(self) -> NDArray[np.float64]:
+        st, c = self.state, self.state.contact
+        tau = self.method.torques(st.theta)
+        row = np.empty(NCOL)
+        row[H.t] = st.t
+        row[H.theta_a], row[H.theta_b] = st.theta
+        row[H.omega_a], row[H.omega_b] = st.omega
+        row[H.tau_a], row[H.tau_b] = tau
+        row[H.p] = st.x[-1]
+        row[H.s], row[H.alpha], row[H.beta], row[H.mode] = c.s, c.alpha, c.beta, c.mode
+        row[H.res1], row[H.res2], row[H.res3] = self.residual
+        row[H.it1], row[H.it2], row[H.it3] = self.iterations
+        return row
+
+    def _advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
+                 frames_every: int, frames: Frames) -> tuple[int, int, int]:
+        written = 0
+        for k in range(n):
+            if self.state.theta[0] >= angle_end:
+                return k, written, OK
+            new, rep = self.method.step(self.state, self.index + k + 1)
+            self.residual, self.iterations = rep.residual, rep.iterations
+            if rep.status != OK:
+                return k, written, rep.status     # what was computed before stays in rows
+            if not np.all(np.isfinite(new.u)):
+                return k, written, FAIL_NAN
+            self.state = new
+            index = self.index + k + 1
+            if index % save_every == 0:
+                rows[written] = self.row()
+                written += 1
+            if frames_every and index % frames_every == 0:
+                frames.append((new.t, new.theta.copy(), new.u.copy()))
+        return n, written, OK

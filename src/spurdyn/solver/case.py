@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from spurdyn.errors import InputError
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+
+if TYPE_CHECKING:  # pragma: no cover - for annotations only
+    from spurdyn.geometry.pair import GearPair
 
 #: The paper's time step (s).
 PAPER_DT = 3e-8
@@ -15,6 +18,22 @@ PAPER_DT = 3e-8
 PAPER_TOL = 1e-12
 
 RPM = 2.0 * math.pi / 60.0
+
+#: Fraction of the stable RK4 step of the mesh (the smaller of the two free teeth's) a
+#: case run without a time step uses, rounded down to two significant digits: room for
+#: the contact constraints, which stiffen the pair a little (docs/casefile.md, [run]).
+DT_FRACTION = 0.8
+
+
+def round_down(x: float, digits: int) -> float:
+    """``x > 0`` rounded down to ``digits`` significant digits."""
+    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return math.floor(x / scale) * scale
+
+
+def default_dt(stable_step: float) -> float:
+    """The time step (s) of a case that gives none: :data:`DT_FRACTION` of ``stable_step``."""
+    return round_down(DT_FRACTION * stable_step, 2)
 
 #: ``"paper"``: the paper's method. ``"pinned"``: the same, except that a displacement
 #: stage still iterating after :data:`PIN_AFTER` iterations, with the contact force's
@@ -124,3 +143,23 @@ class RunCase:
     def with_(self, **changes: Any) -> "RunCase":
         """A copy with some settings changed."""
         return replace(self, **changes)
+
+
+def run_settings(pair: "GearPair", speed_a: float, torque: float, *,
+                 speed_b: float | None = None, dt: float | None = None,
+                 **kwargs: Any) -> RunCase:
+    """:class:`RunCase` with the command line's defaults (SI units: rad/s, N m, s).
+
+    ``speed_b`` defaults to the speed that meshes, ``speed_a z_a / z_b``; ``dt`` to
+    :func:`default_dt` of the stable step of the ``nx`` x ``ny`` tooth meshes (built here,
+    a fraction of a second). ``kwargs`` are the other fields of :class:`RunCase`.
+    """
+    if speed_b is None:
+        speed_b = speed_a * pair.gear_a.teeth / pair.gear_b.teeth
+    if dt is None:
+        from spurdyn.model.tooth import build_tooth
+
+        nx, ny = kwargs.get("nx", DEFAULT_NX), kwargs.get("ny", DEFAULT_NY)
+        dt = default_dt(min(build_tooth(g, nx, ny).stable_step().dt_rk4
+                            for g in (pair.gear_a, pair.gear_b)))
+    return RunCase(speed_a=speed_a, speed_b=speed_b, torque=torque, dt=dt, **kwargs)

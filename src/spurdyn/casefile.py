@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from spurdyn.errors import InputError
+from spurdyn.fem.material import bursting_speed
 from spurdyn.geometry.pair import GearPair
 from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-exported
     GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS, TOP_KEYS, PairCase, _check_keys,
@@ -200,6 +201,7 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
     speed_a = src.number("speed_a_rpm", None, required_hint=hint)
     speed_b = src.number("speed_b_rpm", speed_a * pair.gear_a.teeth / pair.gear_b.teeth)
     torque = src.number("torque", None, positive=False, required_hint=hint)
+    _check_bursting(pair, {"a": speed_a, "b": speed_b}, src)
     dt = src.number("dt", None)
     angle_deg = src.number("angle_deg", None)
     mesh = _Source({"nx": pair_case.nx, "ny": pair_case.ny}, "mesh", overrides, labels)
@@ -249,6 +251,16 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
                              f"{dt_max:.4g} s of the {nx}x{ny} tooth mesh; use a dt of at most "
                              f"{safe:g} s or a coarser mesh")
     return Case(name=name, pair=pair, run=run, description=description)
+
+
+def _check_bursting(pair: GearPair, speeds_rpm: Mapping[str, float], src: _Source) -> None:
+    """Refuse a speed at which either gear would burst: a unit slip (docs/casefile.md)."""
+    for key, gear in (("a", pair.gear_a), ("b", pair.gear_b)):
+        limit = bursting_speed(gear.material, gear.tip_radius) / RPM
+        if speeds_rpm[key] > limit:
+            raise InputError(src.field(f"speed_{key}_rpm"), f"{speeds_rpm[key]:g} rpm is above "
+                             f"the bursting speed {limit:.3g} rpm of gear {key.upper()}; speeds "
+                             "are in rpm, not rad/s or rad/min")
 
 
 def _stable_step(pair: GearPair, nx: int, ny: int, overrides: Mapping[str, Any],

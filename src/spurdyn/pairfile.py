@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from spurdyn.errors import InputError
-from spurdyn.fem.material import STEEL, Material
+from spurdyn.fem.material import STEEL, Material, check_plausible
 from spurdyn.geometry.blank import Blank
 from spurdyn.geometry.gear import MAX_MODULE, MAX_TEETH, Gear
 from spurdyn.geometry.pair import GearPair
@@ -94,7 +94,9 @@ def material_from_table(table: dict[str, Any], where: str) -> Material:
     values = {k: _number(table, k, where, getattr(STEEL, k) if k == "poisson" else None)
               for k in ("young", "poisson", "density")}
     try:
-        return Material(**values)
+        material = Material(**values)
+        check_plausible(material)
+        return material
     except InputError as err:
         raise err.prefixed(where) from None
     except ValueError as err:

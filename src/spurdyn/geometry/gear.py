@@ -174,7 +174,10 @@ class Gear:
 
     def _check_cutter(self) -> None:
         """Refuse a generating rack that cannot exist or cannot cut this gear."""
-        if self.cutter_tip_radius >= self.dedendum or self._straight_depth <= 0.0:
+        # The rounding must fit under the rack's straight flank (depths from its datum line).
+        h_fp = self.rack_dedendum
+        if self.cutter_tip_radius >= h_fp or h_fp - self.cutter_tip_radius * (
+                1.0 - math.sin(self.pressure_angle)) <= 0.0:
             raise InputError("cutter_tip_radius", "is too large for the dedendum; "
                              "lower cutter_tip_radius or deepen the root")
         if self.root_radius <= 0.0:
@@ -412,8 +415,7 @@ class Gear:
         """Where ``disk_inertia`` came from, in one line (``spurdyn info`` prints it)."""
         if self.blank is None:
             return "given"
-        return (f"computed: {self.blank.describe()}, plus {self.teeth - 1} rigid teeth "
-                f"(the elastic tooth carries its own mass), density "
+        return (f"computed: {self.blank.describe()} + {self.teeth - 1} rigid teeth, "
                 f"{self.material.density:g} kg/m^3")
 
     # -- tip relief --------------------------------------------------------------------

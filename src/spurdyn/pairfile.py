@@ -159,11 +159,12 @@ def gear_from_table(table: dict[str, Any], where: str) -> Gear:
                 if key in table}
     base_radius = r_p * math.cos(math.radians(alpha))
     relief, start_key = _relief_from_table(table, where, base_radius)
+    rack, blank = _rack_from_table(table, where), _blank_from_table(table, where)
     try:
         return Gear(
             teeth=teeth, module=module, pressure_angle=math.radians(alpha),
             face_width=face_width, addendum=addendum, dedendum=dedendum, material=material,
-            basic_rack=_rack_from_table(table, where), blank=_blank_from_table(table, where),
+            basic_rack=rack, blank=blank,
             **optional, **relief,
         )
     except InputError as err:

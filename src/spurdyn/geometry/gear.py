@@ -137,13 +137,29 @@ class Gear:
             raise InputError("basic_rack", "must be a BasicRack")
         m = self.module
         derived_top = self.addendum is None
+        derived_bottom = self.dedendum is None
         for name, value in (("basic_rack", rack), ("addendum", m * (rack.addendum + x)),
                             ("dedendum", m * (rack.dedendum - self.generating_shift)),
                             ("cutter_tip_radius", m * rack.fillet_radius)):
             if getattr(self, name) is None:
                 object.__setattr__(self, name, value)
+        if self.dedendum <= 0.0 and derived_bottom and self.profile_shift > 0.0:
+            raise InputError("profile_shift", f"{self.profile_shift:g} puts the root circle at "
+                             f"or above the pitch circle (beyond the rack's dedendum "
+                             f"{rack.dedendum:g}); lower the profile shift")
         for name in ("addendum", "dedendum", "cutter_tip_radius"):
             _positive(name, getattr(self, name))
+        if self.cutter_tip_radius > self.dedendum - 1e-6 * self.module:
+            # The rounding's centre would reach the pitch line, where the trochoid of
+            # involute.fillet_point turns over (docs/geometry.md, section 8).
+            x_max = (self.rack_dedendum - self.cutter_tip_radius) / self.module \
+                + self.profile_shift - self.generating_shift
+            if derived_bottom and self.profile_shift > 0.0:
+                raise InputError("profile_shift", f"{self.profile_shift:g} lifts the cutter's "
+                                 f"tip rounding to the pitch circle; at most "
+                                 f"{math.floor((x_max - 1e-6) * 1000) / 1000:.3f} with this rack")
+            raise InputError("cutter_tip_radius", "is too large for the dedendum; "
+                             "lower cutter_tip_radius or deepen the root")
         if self.module > MAX_MODULE:
             raise InputError("module", f"{self.module:g} m is beyond any gear (at most "
                              f"{MAX_MODULE:g} m); lengths are in metres, not millimetres")

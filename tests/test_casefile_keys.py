@@ -94,7 +94,7 @@ def test_shift_allowance_rack_and_blank_keys_are_read_and_reported():
 
 
 @pytest.mark.parametrize("where, key, value, field, words", [
-    ("gear_a", "teeth", 100000, "gear_a.teeth", "1000"),
+    ("gear_a", "teeth", 100000, "gear_a.teeth", "at most 1000"),
     ("gear_b", "pressure_angle_deg", 20.0, "gear_b.pressure_angle_deg", "differs"),
     ("gear_a", "profile_shift", 3.0, "gear_a.profile_shift", "-2 to 2"),
     ("gear_a", "profile_shift", 1.0, "gear_a.profile_shift", "at most 0.939"),

@@ -91,8 +91,7 @@ def material_from_table(table: dict[str, Any], where: str) -> Material:
     if not isinstance(table, dict):
         raise InputError(where, "must be a table with young, poisson and density")
     _check_keys(table, MATERIAL_KEYS, where)
-    values = {k: _number(table, k, where, getattr(STEEL, k) if k == "poisson" else None)
-              for k in ("young", "poisson", "density")}
+    values = {k: _number(table, k, where) for k in ("young", "poisson", "density")}
     try:
         material = Material(**values)
         check_plausible(material)
@@ -109,9 +108,10 @@ def gear_from_table(table: dict[str, Any], where: str) -> Gear:
         raise InputError(where, "must be a table")
     _check_keys(table, GEAR_KEYS, where)
     teeth = _integer(table, "teeth", where)
-    if not 1 <= teeth <= MAX_TEETH:
-        raise InputError(f"{where}.teeth", f"must be a whole number from 8 to {MAX_TEETH} "
-                         f"(got {teeth})")
+    if teeth < 1:
+        raise InputError(f"{where}.teeth", f"must be a positive whole number (got {teeth})")
+    if teeth > MAX_TEETH:  # before the radii, which a huge count would put out of reach
+        raise InputError(f"{where}.teeth", f"must be at most {MAX_TEETH} (got {teeth})")
     size = _one_of(table, "module", "pitch_radius", where)
     module = _number(table, size, where)
     if module <= 0 or not math.isfinite(module):

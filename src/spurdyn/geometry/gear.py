@@ -117,8 +117,10 @@ class Gear:
     def __post_init__(self) -> None:
         if not isinstance(self.teeth, int) or isinstance(self.teeth, bool):
             raise InputError("teeth", f"must be a whole number (got {self.teeth!r})")
-        if not 8 <= self.teeth <= MAX_TEETH:
-            raise InputError("teeth", f"must lie between 8 and {MAX_TEETH} (got {self.teeth})")
+        if self.teeth < 8:
+            raise InputError("teeth", f"must be at least 8 (got {self.teeth})")
+        if self.teeth > MAX_TEETH:
+            raise InputError("teeth", f"must be at most {MAX_TEETH} (got {self.teeth})")
         for name in ("module", "pressure_angle", "face_width"):
             _positive(name, getattr(self, name))
         deg = math.degrees(self.pressure_angle)
@@ -147,6 +149,15 @@ class Gear:
             raise InputError("profile_shift", f"{self.profile_shift:g} puts the root circle at "
                              f"or above the pitch circle (beyond the rack's dedendum "
                              f"{rack.dedendum:g}); lower the profile shift")
+        if self.root_radius <= 0.0:
+            raise InputError("dedendum", "puts the root circle at or below the gear centre")
+        # The generating rack's tooth must still have a tip land at its addendum (checked
+        # first: no rounding at all fits a pointed rack tooth).
+        if math.pi / 4.0 - self.rack_dedendum / m * math.tan(self.pressure_angle) <= 0.0:
+            deepest = math.pi / 4.0 / math.tan(self.pressure_angle)
+            raise InputError("dedendum", f"is too deep for the pressure angle: the generating "
+                             f"rack's tooth comes to a point (the rack's dedendum must stay "
+                             f"below {deepest:.3g} x module)")
         for name in ("addendum", "dedendum", "cutter_tip_radius"):
             _positive(name, getattr(self, name))
         if self.cutter_tip_radius > self.dedendum - 1e-6 * self.module:
@@ -196,17 +207,9 @@ class Gear:
                 1.0 - math.sin(self.pressure_angle)) <= 0.0:
             raise InputError("cutter_tip_radius", "is too large for the dedendum; "
                              "lower cutter_tip_radius or deepen the root")
-        if self.root_radius <= 0.0:
-            raise InputError("dedendum", "puts the root circle at or below the gear centre")
         if not isinstance(self.material, Material):
             raise InputError("material", "must be a Material")
-        # The generating rack's tooth must still have a tip land at its addendum.
         depth = self.rack_dedendum / self.module
-        if math.pi / 4.0 - depth * math.tan(self.pressure_angle) <= 0.0:
-            deepest = math.pi / 4.0 / math.tan(self.pressure_angle)
-            raise InputError("dedendum", f"is too deep for the pressure angle: the generating "
-                             f"rack's tooth comes to a point (the rack's dedendum must stay "
-                             f"below {deepest:.3g} x module)")
         # The rounding must fit on the cutter tooth: its centre may not pass the
         # cutter tooth's centre line.
         x_c, _ = self.cutter_centre

@@ -27,7 +27,11 @@ DT_FRACTION = 0.8
 
 def round_down(x: float, digits: int) -> float:
     """``x > 0`` rounded down to ``digits`` significant digits."""
-    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    exponent = math.floor(math.log10(x)) - digits + 1
+    if exponent < 0:  # divide by a power of ten held exactly: 15 / 1e9, not 15 * 1e-9
+        scale = 10.0 ** -exponent
+        return math.floor(x * scale) / scale
+    scale = 10.0 ** exponent
     return math.floor(x / scale) * scale
 
 

@@ -133,3 +133,17 @@ def test_the_23_47_example_runs_at_first_try(tmp_path, capsys):
                  "--quiet"])
     assert code == 0
     assert (tmp_path / "out" / "result.nc").exists()
+
+
+def test_a_shifted_backlashed_pair_runs(tmp_path):
+    data = (EXAMPLE.read_text()
+            .replace("face_width = 0.020            # m",
+                     "face_width = 0.020            # m\nprofile_shift = 0.35\n"
+                     "thickness_allowance = 40e-6\nbasic_rack = \"B\"")
+            .replace("[run]", "[pair]\ncentre_distance = 0.0708\n\n[run]"))
+    path = tmp_path / "shifted.toml"
+    path.write_text(data)
+    case = load_case(path)
+    assert case.pair.gear_a.profile_shift == 0.35 and case.pair.backlash_normal > 40e-6
+    assert main(["run", str(path), "--angle", "0.3", "--out", str(tmp_path / "out"),
+                 "--quiet"]) == 0

@@ -172,3 +172,20 @@ def test_blank_inertia_counts_the_disk_and_the_rigid_teeth():
     assert err.value.field == "blank.rim_radius"
     with pytest.raises(InputError, match="not both"):
         gear(23, disk_inertia=1e-4, blank=Blank())
+
+
+@pytest.mark.parametrize("x1, x2, allowance, extra", [(0.4, -0.1, 0.0, 0.0), (0.3, 0.2, 30e-6, 50e-6)])
+def test_shifted_backlashed_teeth_touch_where_they_are_placed(x1, x2, allowance, extra):
+    from spurdyn.geometry.placement import line_of_action_point, mesh_angles, to_world_a, to_world_b
+
+    tight = GearPair(gear(14, x1, thickness_allowance=allowance), gear(31, x2))
+    pair = GearPair(tight.gear_a, tight.gear_b, centre_distance=tight.centre_distance + extra)
+    assert pair.backlash_normal >= -1e-15
+    for roll in np.linspace(pair.start_roll_a, pair.end_roll_a, 5):
+        q = line_of_action_point(pair, float(roll))
+        ta, tb = mesh_angles(pair, float(roll))
+        pa = to_world_a(pair.gear_a.flank_point(np.asarray(np.hypot(*q))), ta)
+        rb = float(np.hypot(q[0], q[1] - pair.centre_distance))
+        pb = to_world_b(pair.gear_b.flank_point(np.asarray(rb)), tb, pair.centre_distance)
+        np.testing.assert_allclose(pa, q, atol=1e-13)
+        np.testing.assert_allclose(pb, q, atol=1e-13)

@@ -147,3 +147,16 @@ def test_a_shifted_backlashed_pair_runs(tmp_path):
     assert case.pair.gear_a.profile_shift == 0.35 and case.pair.backlash_normal > 40e-6
     assert main(["run", str(path), "--angle", "0.3", "--out", str(tmp_path / "out"),
                  "--quiet"]) == 0
+
+
+def test_a_stored_case_rebuilds_the_same_shifted_pair():
+    from spurdyn.casefile import case_to_dict
+
+    data = _designer_pair()
+    data["gear_b"]["basic_rack"] = {"dedendum": 1.3, "fillet_radius": 0.2}
+    data["gear_a"].update(profile_shift=0.25, thickness_allowance=20e-6, basic_rack="C",
+                          blank={"bore_radius": 0.006, "hub_radius": 0.01, "rim_radius": 0.018,
+                                 "web_width": 0.008})
+    case = case_from_dict(data, name="p")
+    again = case_from_dict(case_to_dict(case), name="p")
+    assert again.pair == case.pair and again.run == case.run

@@ -20,7 +20,7 @@ from spurdyn.fem.material import STEEL, Material, check_plausible
 from spurdyn.geometry.blank import Blank
 from spurdyn.geometry.gear import MAX_MODULE, MAX_TEETH, Gear
 from spurdyn.geometry.pair import GearPair
-from spurdyn.geometry.rack import ISO_53, BasicRack
+from spurdyn.geometry.rack import ISO_53, BasicRack, default_rack
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
 
 GEAR_KEYS = {
@@ -342,6 +342,10 @@ def _gear_to_dict(gear: Gear) -> dict[str, Any]:
     for key in ("profile_shift", "thickness_allowance"):
         if getattr(gear, key) != 0.0:
             table[key] = getattr(gear, key)
+    rack = gear.basic_rack
+    if rack != default_rack(gear.pressure_angle):
+        table["basic_rack"] = rack.name if ISO_53.get(rack.name) == rack else {
+            k: getattr(rack, k) for k in sorted(RACK_KEYS)}
     if gear.blank is not None:
         del table["disk_inertia"]
         table["blank"] = {k: getattr(gear.blank, k) for k in sorted(BLANK_KEYS)

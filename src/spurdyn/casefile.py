@@ -258,7 +258,9 @@ def _check_bursting(pair: GearPair, speeds_rpm: Mapping[str, float], src: _Sourc
     for key, gear in (("a", pair.gear_a), ("b", pair.gear_b)):
         limit = bursting_speed(gear.material, gear.tip_radius) / RPM
         if speeds_rpm[key] > limit:
-            raise InputError(src.field(f"speed_{key}_rpm"), f"{speeds_rpm[key]:g} rpm is above "
+            # B's default speed comes from A's: name the key the user wrote.
+            written = f"speed_{key}_rpm" if src.get(f"speed_{key}_rpm")[0] else "speed_a_rpm"
+            raise InputError(src.field(written), f"{speeds_rpm[key]:g} rpm is above "
                              f"the bursting speed {limit:.3g} rpm of gear {key.upper()}; speeds "
                              "are in rpm, not rad/s or rad/min")
 

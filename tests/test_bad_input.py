@@ -157,7 +157,7 @@ CASES = [
     pytest.param(gear("gear_a", 28, 0.003, 0.003, 0.00375)
                  + gear("gear_b", 28, 0.003, 0.003, 0.00375, 22.0).replace(
                      "disk_inertia", "cutter_tip_radius = 0.0006\ndisk_inertia"),
-                 "gear_b.pressure_angle", "differs", id="alpha-mismatch"),
+                 "gear_b.pressure_angle_deg", "differs", id="alpha-mismatch"),
     # -- unknown keys ----------------------------------------------------------------------
     pytest.param(edit("[gear_a]", 'title = "paper"\n\n[gear_a]'),
                  "title", "unknown key", id="unknown-top-key"),

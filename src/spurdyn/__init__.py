@@ -15,13 +15,17 @@ from spurdyn.errors import InputError
 
 __version__ = "0.1.0"
 
-__all__ = ["InputError", "__version__", "simulate"]
+__all__ = ["InputError", "__version__", "run_settings", "simulate"]
 
 
 def __getattr__(name: str) -> Any:
-    # ``spurdyn.simulate`` is the solver's entry point, imported only when asked for.
+    # ``simulate`` and ``run_settings`` are the solver's entry points, imported when asked for.
     if name == "simulate":
         from spurdyn.solvers.loop import simulate
 
         return simulate
+    if name == "run_settings":
+        from spurdyn.solvers.check import run_settings
+
+        return run_settings
     raise AttributeError(f"module 'spurdyn' has no attribute {name!r}")

@@ -2,8 +2,8 @@
 
 A file holds the tables ``[gear_a]``, ``[gear_b]`` (optional: a copy of gear A),
 ``[pair]`` (optional), ``[mesh]`` (optional) and ``[run]`` (the run settings, needed by
-``spurdyn run``); ``examples/paper_pair.toml`` shows every pair key and
-``examples/paper_fig8.toml`` every run key. Lengths are in metres, angles in degrees (keys
+``spurdyn run``); ``docs/casefile.md`` lists every key, and :mod:`spurdyn.pairfile`
+reads the pair tables. Lengths are in metres, angles in degrees (keys
 ending ``_deg``), speeds in rpm (keys ending ``_rpm``), torque in N m, time in s, inertia
 in kg m^2, moduli in Pa, density in kg/m^3. A gear table may hold a tip relief:
 ``tip_relief`` (m), ``tip_relief_start_roll_deg`` (deg) or ``tip_relief_start_radius`` (m),
@@ -18,250 +18,27 @@ rebuilt from it (:func:`case_from_dict`).
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, Mapping
 
 from spurdyn.errors import InputError
-from spurdyn.fem.material import Material
-from spurdyn.geometry.gear import DEFAULT_CUTTER_TIP_RADIUS, MAX_MODULE, Gear, GearPair
-from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+from spurdyn.fem.material import bursting_speed
+from spurdyn.geometry.pair import GearPair
+from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-exported
+    GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS, TOP_KEYS, PairCase, _check_keys,
+    _gear_to_dict, _read_toml, gear_from_table, load_pair, material_from_table, pair_from_dict,
+)
+from spurdyn.model.system import PairSystem, system_for
 from spurdyn.settings import BACKENDS, METHODS, RPM, RunCase
+from spurdyn.solvers.check import check_run, default_dt, stable_step
 
-GEAR_KEYS = {
-    "teeth", "module", "pitch_radius", "tip_radius", "root_radius", "addendum", "dedendum",
-    "pressure_angle_deg", "face_width", "disk_inertia", "cutter_tip_radius", "material",
-    "tip_relief", "tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape",
-}
-#: Keys that only make sense with ``tip_relief`` in the same table.
-RELIEF_KEYS = ("tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape")
-MATERIAL_KEYS = {"young", "poisson", "density"}
-PAIR_KEYS = {"centre_distance", "driver"}
-MESH_KEYS = {"nx", "ny"}
 RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
     "max_iter", "accel_levels", "method", "backend", "save_every", "frames_every",
     "keep_theta_term",
 }
-TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run"}
 
-#: How far past the angle of action ``theta_s`` a run may go (fraction of ``theta_s``):
-#: beyond it the tip of A has left B's flank for good and the modelled teeth no longer
-#: describe the meshing (the next pair, not modelled, carries the load).
-ANGLE_MARGIN = 0.02
-
-
-@dataclass(frozen=True)
-class PairCase:
-    """A gear pair and the mesh density to model it with."""
-
-    pair: GearPair
-    nx: int = DEFAULT_NX
-    ny: int = DEFAULT_NY
-    name: str = "pair"
-
-
-def _check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
-    for key in table:
-        if key not in allowed:
-            hint = ", ".join(sorted(allowed))
-            raise InputError(f"{where}.{key}" if where else key,
-                             f"unknown key; expected one of: {hint}")
-
-
-def _number(table: dict[str, Any], key: str, where: str, default: float | None = None) -> float:
-    if key not in table:
-        if default is None:
-            raise InputError(f"{where}.{key}", "is missing")
-        return default
-    value = table[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"{where}.{key}", f"must be a number (got {value!r})")
-    return float(value)
-
-
-def _integer(table: dict[str, Any], key: str, where: str, default: int | None = None) -> int:
-    if key not in table:
-        if default is None:
-            raise InputError(f"{where}.{key}", "is missing")
-        return default
-    value = table[key]
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise InputError(f"{where}.{key}", f"must be a whole number (got {value!r})")
-    return value
-
-
-def _one_of(table: dict[str, Any], a: str, b: str, where: str) -> str:
-    if a in table and b in table:
-        raise InputError(f"{where}.{b}", f"give either {a} or {b}, not both")
-    if a not in table and b not in table:
-        raise InputError(f"{where}.{a}", f"is missing (or give {b})")
-    return a if a in table else b
-
-
-def material_from_table(table: dict[str, Any], where: str) -> Material:
-    """Build a :class:`Material` from a TOML table."""
-    if not isinstance(table, dict):
-        raise InputError(where, "must be a table with young, poisson and density")
-    _check_keys(table, MATERIAL_KEYS, where)
-    values = {k: _number(table, k, where) for k in ("young", "poisson", "density")}
-    try:
-        return Material(**values)
-    except InputError as err:
-        raise err.prefixed(where) from None
-    except ValueError as err:
-        raise InputError(where, str(err)) from None
-
-
-def gear_from_table(table: dict[str, Any], where: str) -> Gear:
-    """Build a :class:`Gear` from a TOML table (see the module docstring for units)."""
-    if not isinstance(table, dict):
-        raise InputError(where, "must be a table")
-    _check_keys(table, GEAR_KEYS, where)
-    teeth = _integer(table, "teeth", where)
-    if teeth < 1:
-        raise InputError(f"{where}.teeth", f"must be a positive whole number (got {teeth})")
-    size = _one_of(table, "module", "pitch_radius", where)
-    module = _number(table, size, where)
-    if module <= 0 or not math.isfinite(module):
-        raise InputError(f"{where}.{size}", f"must be a positive number (got {module!r})")
-    if size == "pitch_radius":
-        module = 2.0 * module / teeth
-    if module > MAX_MODULE:  # the usual slip: millimetres
-        raise InputError(f"{where}.{size}", f"{table[size]:g} m gives a module of {module:g} m, "
-                         f"beyond any gear (at most {MAX_MODULE:g} m); lengths are in metres, "
-                         "not millimetres")
-    r_p = module * teeth / 2.0
-    top = _one_of(table, "addendum", "tip_radius", where)
-    addendum = _number(table, top, where)
-    if top == "tip_radius":
-        if not math.isfinite(addendum) or addendum <= r_p:
-            raise InputError(f"{where}.tip_radius", f"must be above the pitch radius {r_p:g} m "
-                             f"(got {addendum!r})")
-        if addendum - r_p > 2.0 * module:
-            raise InputError(f"{where}.tip_radius", f"is more than two modules above the pitch "
-                             f"radius; at most {r_p + 2.0 * module:g} m")
-        addendum -= r_p
-    elif not math.isfinite(addendum) or addendum <= 0.0:
-        raise InputError(f"{where}.addendum", f"must be a positive number (got {addendum!r})")
-    bottom = _one_of(table, "dedendum", "root_radius", where)
-    dedendum = _number(table, bottom, where)
-    if bottom == "root_radius":
-        if not math.isfinite(dedendum) or dedendum <= 0.0:
-            raise InputError(f"{where}.root_radius", f"must be a positive number (got {dedendum!r})")
-        if dedendum >= r_p:
-            raise InputError(f"{where}.root_radius", f"must be below the pitch radius {r_p:g} m")
-        if "tip_radius" in table and dedendum >= table["tip_radius"]:
-            raise InputError(f"{where}.tip_radius", "must be above root_radius")
-        dedendum = r_p - dedendum
-    elif not math.isfinite(dedendum) or dedendum <= 0.0:
-        raise InputError(f"{where}.dedendum", f"must be a positive number (got {dedendum!r})")
-    alpha = _number(table, "pressure_angle_deg", where, 20.0)
-    if not 12.0 <= alpha <= 35.0:
-        raise InputError(f"{where}.pressure_angle_deg", f"must lie between 12 and 35 (got {alpha:g})")
-    material = material_from_table(table["material"], f"{where}.material") \
-        if "material" in table else Material(210e9, 0.3, 7800.0)
-    # Read outside the try below: their refusals already name the table.
-    face_width = _number(table, "face_width", where)
-    cutter = _number(table, "cutter_tip_radius", where, DEFAULT_CUTTER_TIP_RADIUS * module)
-    inertia = _number(table, "disk_inertia", where)
-    base_radius = module * teeth / 2.0 * math.cos(math.radians(alpha))
-    relief, start_key = _relief_from_table(table, where, base_radius)
-    try:
-        return Gear(
-            teeth=teeth, module=module, pressure_angle=math.radians(alpha),
-            face_width=face_width, addendum=addendum, dedendum=dedendum,
-            cutter_tip_radius=cutter, disk_inertia=inertia, material=material, **relief,
-        )
-    except InputError as err:
-        # Name the key the user wrote, not the one it was turned into.
-        if err.field == "addendum" and top != "addendum":
-            raise InputError(f"{where}.{top}", err.reason) from None
-        if err.field == "dedendum" and bottom != "dedendum":
-            raise InputError(f"{where}.{bottom}", err.reason) from None
-        if err.field == "tip_relief_start_roll":
-            raise InputError(f"{where}.{start_key}", err.reason) from None
-        raise err.prefixed(where) from None
-
-
-def _relief_from_table(table: dict[str, Any], where: str,
-                       base_radius: float) -> tuple[dict[str, Any], str]:
-    """The tip-relief arguments of :class:`Gear` from a gear table, and the start key used.
-
-    ``tip_relief`` (m), ``tip_relief_start_roll_deg`` (deg) or ``tip_relief_start_radius``
-    (m, the radius of the involute point where the relief begins), ``tip_relief_shape``.
-    """
-    if "tip_relief" not in table:
-        for key in RELIEF_KEYS:
-            if key in table:
-                raise InputError(f"{where}.{key}", "needs tip_relief (the relief amount, m) "
-                                 "in the same table")
-        return {}, "tip_relief_start_roll_deg"
-    amount = _number(table, "tip_relief", where)
-    if not math.isfinite(amount) or amount < 0.0:
-        raise InputError(f"{where}.tip_relief", f"must be zero or a positive number of metres "
-                         f"(got {amount!r})")
-    relief: dict[str, Any] = {"tip_relief": amount}
-    start_key = "tip_relief_start_roll_deg"
-    if "tip_relief_start_roll_deg" in table or "tip_relief_start_radius" in table:
-        start_key = _one_of(table, "tip_relief_start_roll_deg", "tip_relief_start_radius", where)
-        value = _number(table, start_key, where)
-        if not math.isfinite(value):
-            raise InputError(f"{where}.{start_key}", f"must be a finite number (got {value!r})")
-        if start_key == "tip_relief_start_roll_deg":
-            relief["tip_relief_start_roll"] = math.radians(value)
-        else:
-            if value <= base_radius:
-                raise InputError(f"{where}.tip_relief_start_radius", f"must be above the base "
-                                 f"radius {base_radius:g} m, on the involute (got {value!r})")
-            relief["tip_relief_start_roll"] = math.sqrt(value * value - base_radius**2) / base_radius
-    elif amount > 0.0:
-        raise InputError(f"{where}.tip_relief_start_roll_deg", "is missing (or give "
-                         "tip_relief_start_radius): a tip relief needs the point where it begins")
-    if "tip_relief_shape" in table:
-        shape = table["tip_relief_shape"]
-        if not isinstance(shape, str):
-            raise InputError(f"{where}.tip_relief_shape", f"must be \"linear\" or \"parabolic\" "
-                             f"(got {shape!r})")
-        relief["tip_relief_shape"] = shape
-    return relief, start_key
-
-
-def pair_from_dict(data: dict[str, Any], name: str = "pair") -> PairCase:
-    """Build a :class:`PairCase` from the parsed TOML document."""
-    _check_keys(data, TOP_KEYS, "")
-    if "gear_a" not in data:
-        raise InputError("gear_a", "table is missing")
-    gear_a = gear_from_table(data["gear_a"], "gear_a")
-    gear_b = gear_from_table(data["gear_b"], "gear_b") if "gear_b" in data else gear_a
-    pair_table = data.get("pair", {})
-    if not isinstance(pair_table, dict):
-        raise InputError("pair", "must be a table")
-    _check_keys(pair_table, PAIR_KEYS, "pair")
-    centre = None
-    if "centre_distance" in pair_table:
-        centre = _number(pair_table, "centre_distance", "pair")
-        if not math.isfinite(centre) or centre <= 0.0:
-            raise InputError("pair.centre_distance", f"must be a positive number (got {centre!r})")
-    driver = pair_table.get("driver", "a")
-    try:
-        pair = GearPair(gear_a=gear_a, gear_b=gear_b, centre_distance=centre, driver=driver)
-    except InputError as err:
-        raise err if err.field.startswith("gear_") else err.prefixed("pair") from None
-    mesh_table = data.get("mesh", {})
-    if not isinstance(mesh_table, dict):
-        raise InputError("mesh", "must be a table")
-    _check_keys(mesh_table, MESH_KEYS, "mesh")
-    nx = _integer(mesh_table, "nx", "mesh", DEFAULT_NX)
-    ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
-    return PairCase(pair=pair, nx=nx, ny=ny, name=name)
-
-
-def load_pair(path: str | Path) -> PairCase:
-    """Read a gear-pair TOML file."""
-    path = Path(path)
-    return pair_from_dict(_read_toml(path), name=path.stem)
 
 
 # -- runs ------------------------------------------------------------------------------
@@ -373,11 +150,6 @@ class _Source:
         return value
 
 
-def _round_down(x: float, digits: int) -> float:
-    """``x > 0`` rounded down to ``digits`` significant digits."""
-    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
-    return math.floor(x / scale) * scale
-
 
 _RUN_DEFAULTS = {f.name: f.default for f in fields(RunCase)}
 
@@ -411,7 +183,7 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
     ------
     InputError
         Unknown keys, wrong types, non-physical values, a ``dt`` above the stable step,
-        an angle beyond ``theta_s`` plus :data:`ANGLE_MARGIN`.
+        an angle beyond ``theta_s`` plus :data:`spurdyn.solvers.check.ANGLE_MARGIN`.
     """
     overrides = dict(overrides or {})
     labels = dict(labels or {})
@@ -425,15 +197,20 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
     speed_a = src.number("speed_a_rpm", None, required_hint=hint)
     speed_b = src.number("speed_b_rpm", speed_a * pair.gear_a.teeth / pair.gear_b.teeth)
     torque = src.number("torque", None, positive=False, required_hint=hint)
-    dt = src.number("dt", _RUN_DEFAULTS["dt"])
+    _check_bursting(pair, {"a": speed_a, "b": speed_b}, src)
+    dt = src.number("dt", None)
     angle_deg = src.number("angle_deg", None)
     mesh = _Source({"nx": pair_case.nx, "ny": pair_case.ny}, "mesh", overrides, labels)
     nx = mesh.integer("nx", pair_case.nx, 1)
     ny = mesh.integer("ny", pair_case.ny, 1)
+    n_spline = src.integer("n_spline", _RUN_DEFAULTS["n_spline"], 8)
+    system = _system(pair, nx, ny, n_spline, overrides, labels) if check_step or dt is None else None
+    if dt is None:  # a stated fraction of the stable step of this mesh
+        dt = default_dt(stable_step(system))
     settings = dict(
         speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque, dt=dt,
         angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
-        n_spline=src.integer("n_spline", _RUN_DEFAULTS["n_spline"], 8),
+        n_spline=n_spline,
         tol_disp=src.number("tol_disp", _RUN_DEFAULTS["tol_disp"]),
         max_iter=src.integer("max_iter", _RUN_DEFAULTS["max_iter"], 1),
         accel_levels=src.integer("accel_levels", _RUN_DEFAULTS["accel_levels"], 1),
@@ -449,39 +226,38 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
     except InputError as err:  # pragma: no cover - every value was checked above
         raise InputError(src.field(err.field), err.reason) from None
 
-    theta_s = pair.theta_s
-    if run.angle is not None:
-        limit = theta_s * (1.0 + ANGLE_MARGIN)
-        field_ = src.field("angle_deg")
-        if run.angle > limit:
-            raise InputError(field_, f"{angle_deg:g} deg goes beyond the angle of action "
-                             f"theta_s = {math.degrees(theta_s):.3f} deg (+{ANGLE_MARGIN:.0%}): "
-                             "the teeth would leave the modelled region")
-        if run.angle < run.speed_a * run.dt:
-            raise InputError(field_, f"{angle_deg:g} deg is shorter than one time step "
-                             f"({math.degrees(run.speed_a * run.dt):.3g} deg at this speed)")
-    if check_step:
-        from spurdyn.model.tooth import build_tooth
+    if system is not None:
+        def field(name: str) -> str:
+            if name == "dt" and "run.dt" not in overrides and "mesh.nx" in overrides:
+                return labels.get("mesh.nx", "mesh")     # the mesh made the step too large
+            return src.field("angle_deg" if name == "angle" else name)
 
-        stable = []
-        for gear in (pair.gear_a, pair.gear_b):
-            try:
-                stable.append(build_tooth(gear, nx, ny).stable_step().dt_rk4)
-            except InputError as err:
-                if "mesh.nx" in overrides and err.field.startswith("mesh."):
-                    label = labels.get("mesh.nx", "mesh")
-                    raise InputError(label, f"{err.field[5:]} {err.reason}") from None
-                raise
-        dt_max = min(stable)
-        if run.dt > dt_max:
-            field_ = src.field("dt")
-            if "run.dt" not in overrides and "mesh.nx" in overrides:
-                field_ = labels.get("mesh.nx", "mesh")
-            safe = _round_down(dt_max, 3)
-            raise InputError(field_, f"dt {run.dt:g} s is above the stable RK4 step "
-                             f"{dt_max:.4g} s of the {nx}x{ny} tooth mesh; use a dt of at most "
-                             f"{safe:g} s or a coarser mesh")
+        check_run(pair, run, system, field)
     return Case(name=name, pair=pair, run=run, description=description)
+
+
+def _check_bursting(pair: GearPair, speeds_rpm: Mapping[str, float], src: _Source) -> None:
+    """Refuse a speed at which either gear would burst: a unit slip (docs/casefile.md)."""
+    for key, gear in (("a", pair.gear_a), ("b", pair.gear_b)):
+        limit = bursting_speed(gear.material, gear.tip_radius) / RPM
+        if speeds_rpm[key] > limit:
+            # B's default speed comes from A's: name the key the user wrote.
+            written = f"speed_{key}_rpm" if src.get(f"speed_{key}_rpm")[0] else "speed_a_rpm"
+            raise InputError(src.field(written), f"{speeds_rpm[key]:g} rpm is above "
+                             f"the bursting speed {limit:.3g} rpm of gear {key.upper()}; speeds "
+                             "are in rpm, not rad/s or rad/min")
+
+
+def _system(pair: GearPair, nx: int, ny: int, n_spline: int, overrides: Mapping[str, Any],
+            labels: Mapping[str, str]) -> PairSystem:
+    """The system the run will use (kept for it: built once); refuses a bad mesh."""
+    try:
+        return system_for(pair, nx, ny, n_spline)
+    except InputError as err:
+        if "mesh.nx" in overrides and err.field.startswith("mesh."):
+            label = labels.get("mesh.nx", "mesh")
+            raise InputError(label, f"{err.field[5:]} {err.reason}") from None
+        raise
 
 
 def case_from_dict(data: dict[str, Any], name: str = "case",
@@ -496,42 +272,12 @@ def case_from_dict(data: dict[str, Any], name: str = "case",
                           check_step=check_step)
 
 
-def _read_toml(path: Path) -> dict[str, Any]:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(str(path), "no such file; give a preset name or a TOML file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as err:
-        raise InputError(str(path), f"cannot be read ({type(err).__name__})") from None
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(str(path), f"is not valid TOML ({err})") from None
-
-
 def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
               labels: Mapping[str, str] | None = None, check_step: bool = True) -> Case:
     """Read a case TOML file: the pair tables and the ``[run]`` table."""
     path = Path(path)
     return case_from_dict(_read_toml(path), name=path.stem, overrides=overrides,
                           labels=labels, check_step=check_step)
-
-
-def _gear_to_dict(gear: Gear) -> dict[str, Any]:
-    table: dict[str, Any] = {
-        "teeth": gear.teeth, "module": gear.module, "addendum": gear.addendum,
-        "dedendum": gear.dedendum, "pressure_angle_deg": math.degrees(gear.pressure_angle),
-        "face_width": gear.face_width, "disk_inertia": gear.disk_inertia,
-        "cutter_tip_radius": gear.cutter_tip_radius,
-        "material": {"young": gear.material.young, "poisson": gear.material.poisson,
-                     "density": gear.material.density},
-    }
-    if gear.tip_relief > 0.0 or gear.tip_relief_start_roll is not None:
-        table["tip_relief"] = gear.tip_relief
-        if gear.tip_relief_start_roll is not None:
-            table["tip_relief_start_roll_deg"] = math.degrees(gear.tip_relief_start_roll)
-        table["tip_relief_shape"] = gear.tip_relief_shape
-    return table
 
 
 def case_to_dict(case: Case) -> dict[str, Any]:

@@ -6,7 +6,7 @@ The bottom floor of the solvers: it imports only the error type and the mesh def
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 from spurdyn.errors import InputError

@@ -5,11 +5,12 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from spurdyn.casefile import PairCase
 from spurdyn.model.stiffness import iso_6336_stiffness, pair_stiffness
 from spurdyn.model.tooth import build_tooth
-
-PAPER_DT = 3e-8
+from spurdyn.pairfile import PairCase
+from spurdyn.model.system import system_for
+from spurdyn.settings import PAPER_DT, RunCase
+from spurdyn.solvers.check import DT_FRACTION, default_dt, stable_step
 
 
 def pair_info(case: PairCase) -> dict[str, Any]:
@@ -18,6 +19,8 @@ def pair_info(case: PairCase) -> dict[str, Any]:
     teeth = {"a": build_tooth(pair.gear_a, case.nx, case.ny),
              "b": build_tooth(pair.gear_b, case.nx, case.ny)}
     steps = {k: t.stable_step() for k, t in teeth.items()}
+    # the stable step a run checks against and takes its default from (the run's system)
+    stable = stable_step(system_for(pair, case.nx, case.ny, RunCase.n_spline))
     rolls = [pair.start_roll_a, *pair.single_contact_roll_a, pair.end_roll_a, pair.pitch_roll_a]
     stiff = pair_stiffness(pair, teeth["a"], teeth["b"], rolls).stiffness
     gears = {"a": pair.gear_a, "b": pair.gear_b}
@@ -39,6 +42,17 @@ def pair_info(case: PairCase) -> dict[str, Any]:
         "root_radius_m": per(lambda k: gears[k].root_radius),
         "form_radius_m": per(lambda k: gears[k].form_radius),
         "tip_thickness_m": per(lambda k: gears[k].tip_thickness),
+        "profile_shift": per(lambda k: gears[k].profile_shift),
+        "thickness_allowance_m": per(lambda k: gears[k].thickness_allowance),
+        "basic_rack": per(lambda k: gears[k].basic_rack.name),
+        "cutter_tip_radius_m": per(lambda k: gears[k].cutter_tip_radius),
+        "working_pitch_radius_m": dict(zip("ab", pair.working_pitch_radii)),
+        "disk_inertia_kg_m2": per(lambda k: gears[k].disk_inertia),
+        "disk_inertia_source": per(lambda k: gears[k].inertia_source),
+        # For the sector model's back-flank contact (a later issue) and the designer.
+        "backlash_circumferential_m": pair.backlash_circumferential,
+        "backlash_normal_m": pair.backlash_normal,
+        "tight_centre_distance_m": pair.tight_centre_distance,
         "base_pitch_m": pair.gear_a.base_pitch,
         "path_of_contact_m": pair.path_of_contact,
         "contact_ratio": pair.contact_ratio,
@@ -59,9 +73,10 @@ def pair_info(case: PairCase) -> dict[str, Any]:
         "n_dof": per(lambda k: teeth[k].mesh.n_dof + 1),
         "tooth_mass_kg": per(lambda k: teeth[k].tooth_mass),
         "omega_max_rad_s": per(lambda k: steps[k].omega_max),
-        "stable_dt_s": min(s.dt_rk4 for s in steps.values()),
+        "stable_dt_s": stable,
         "stable_dt_central_s": min(s.dt_central for s in steps.values()),
-        "paper_dt_stable": min(s.dt_rk4 for s in steps.values()) >= PAPER_DT,
+        "paper_dt_stable": stable >= PAPER_DT,
+        "default_dt_s": default_dt(stable),
         "pair_stiffness_N_per_m": {
             "start_of_contact": float(stiff[0]),
             "single_contact_start": float(stiff[1]),
@@ -73,6 +88,11 @@ def pair_info(case: PairCase) -> dict[str, Any]:
         "iso_6336_single_pair_N_per_m": iso_single,
         "iso_6336_mesh_N_per_m": iso_mesh,
     }
+
+
+def _um(x: float) -> str:
+    """Metres as micrometres to 0.01, without a minus sign on a round-off zero."""
+    return f"{round(x * 1e6, 2) + 0.0:.2f}"
 
 
 def format_info(info: dict[str, Any]) -> str:
@@ -89,10 +109,21 @@ def format_info(info: dict[str, Any]) -> str:
           for label, key in (("pitch radius", "pitch_radius_m"), ("base radius", "base_radius_m"),
                              ("tip radius", "tip_radius_m"), ("root radius", "root_radius_m"),
                              ("form radius (fillet end)", "form_radius_m"),
-                             ("tip land", "tip_thickness_m"))),
+                             ("tip land", "tip_thickness_m"),
+                             ("cutter tip radius", "cutter_tip_radius_m"),
+                             ("working pitch radius", "working_pitch_radius_m"))),
+        f"  profile shift x            {info['profile_shift'][a]:>8.4f}      {info['profile_shift'][b]:>8.4f}",
+        f"  thickness allowance      {info['thickness_allowance_m'][a] * 1e6:>8.2f}      "
+        f"{info['thickness_allowance_m'][b] * 1e6:>8.2f}    um",
+        f"  basic rack: gear A {info['basic_rack'][a]}; gear B {info['basic_rack'][b]}",
         f"  module {info['module_m'] * 1e3:.4g} mm, pressure angle {info['pressure_angle_deg']:.4g} deg"
         f" (working {info['working_pressure_angle_deg']:.4g} deg), centre distance "
         f"{info['centre_distance_m'] * 1e3:.4f} mm, gear {info['driver'].upper()} drives",
+        f"  backlash: circumferential {_um(info['backlash_circumferential_m'])} um, normal "
+        f"{_um(info['backlash_normal_m'])} um (none at centre distance "
+        f"{info['tight_centre_distance_m'] * 1e3:.4f} mm)",
+        *(f"  disk inertia {g.upper()} {info['disk_inertia_kg_m2'][g]:.4e} kg m^2 "
+          f"({info['disk_inertia_source'][g]})" for g in (a, b)),
         "",
         "contact",
         f"  base pitch {info['base_pitch_m'] * 1e3:.4f} mm, path of contact "
@@ -109,6 +140,8 @@ def format_info(info: dict[str, Any]) -> str:
         f"  stable RK4 step {info['stable_dt_s']:.3e} s (central difference "
         f"{info['stable_dt_central_s']:.3e} s); the paper's 3e-8 s is "
         + ("stable" if info["paper_dt_stable"] else "NOT stable: use a smaller --dt or a coarser mesh"),
+        f"  a case without dt runs at {info['default_dt_s']:.3g} s ({DT_FRACTION:g} of the stable "
+        "step, rounded down)",
         "",
         "static single-pair stiffness (teeth clamped at the root)",
         f"  pitch point {info['pair_stiffness_pitch_N_per_m']:.4e} N/m "

@@ -10,7 +10,19 @@ from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
 
-__all__ = ["Material", "STEEL", "plane_stress_matrix"]
+__all__ = ["Material", "STEEL", "bursting_speed", "check_plausible", "plane_stress_matrix"]
+
+#: Bounds that catch a value in the wrong unit (docs/casefile.md, "Plausibility"). The
+#: softest gear plastics (PE-UHMW, some 0.7 GPa) and the stiffest solids (diamond,
+#: 1.1 TPa) bound Young's modulus; a modulus in MPa (210000 for steel) falls far below.
+YOUNG_RANGE = (1e8, 1.2e12)
+#: Lightest plastic (some 900 kg/m^3) to densest metal (osmium, 22600 kg/m^3), with room;
+#: a density in g/cm^3 (7.8 for steel) falls far below.
+DENSITY_RANGE = (500.0, 25e3)
+#: Generous bound on the strength of a gear material as a fraction of its Young's modulus
+#: (2.1 GPa for steel, above the strongest gear steels): the bursting speed is reckoned
+#: from it, so any speed refused is beyond what the material can carry.
+STRENGTH_OVER_YOUNG = 0.01
 
 
 @dataclass(frozen=True)
@@ -54,6 +66,35 @@ class Material:
         nu = self.poisson
         if not -1.0 < nu < 0.5:
             raise InputError("poisson", f"must be in (-1, 0.5) (got {nu})")
+
+
+def check_plausible(material: Material) -> None:
+    """Refuse constants that are almost certainly in the wrong unit (MPa, g/cm^3).
+
+    Kept apart from :class:`Material`, which accepts any physical numbers (unit tests use
+    ``E = 200``); the case file calls it on what a user wrote. Errors name the field.
+    """
+    lo, hi = YOUNG_RANGE
+    if not lo <= material.young <= hi:
+        raise InputError("young", f"{material.young:g} Pa is outside any gear material "
+                         f"({lo:g} to {hi:g} Pa); it is in Pa, not MPa or GPa "
+                         f"(steel: 210e9)")
+    lo, hi = DENSITY_RANGE
+    if not lo <= material.density <= hi:
+        raise InputError("density", f"{material.density:g} kg/m^3 is outside any gear material "
+                         f"({lo:g} to {hi:g}); it is in kg/m^3, not g/cm^3 (steel: 7800)")
+
+
+def bursting_speed(material: Material, outer_radius: float) -> float:
+    """Angular speed (rad/s) at which a solid disk of this material would burst.
+
+    The hoop stress at the centre of a spinning solid disk is ``(3 + nu) rho w^2 R^2 / 8``
+    (thin-disk plane stress); it reaches the bound :data:`STRENGTH_OVER_YOUNG` ``E`` at
+    ``w = sqrt(8 s / ((3 + nu) rho)) / R``. Some 800 m/s at the rim for steel: a speed
+    above it is a unit slip, not a gear.
+    """
+    strength = STRENGTH_OVER_YOUNG * material.young
+    return math.sqrt(8.0 * strength / ((3.0 + material.poisson) * material.density)) / outer_radius
 
 
 STEEL = Material(young=210e9, poisson=0.3, density=7800.0)

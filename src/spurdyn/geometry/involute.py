@@ -76,18 +76,23 @@ def rotate(points: NDArray[np.float64], angle: float) -> NDArray[np.float64]:
 
 
 def cutter_tip_centre(
-    module: float, pressure_angle: float, dedendum: float, tip_radius: float
+    module: float, pressure_angle: float, dedendum: float, tip_radius: float,
+    shift: float = 0.0,
 ) -> tuple[float, float]:
     """Centre ``(x_c, y_c)`` of the rack cutter's tip rounding, in the rack frame.
 
     Rack frame: x along the pitch line, y away from the gear centre, origin on the
-    pitch line at the centre of the gear tooth being cut (a cutter space). The cutter
-    flank through ``(pi m / 4, 0)`` leans outwards with depth; the tip line is at
-    ``y = -dedendum``. The rounding circle touches both.
+    pitch line at the centre of the gear tooth being cut (a cutter space). The cutter's
+    datum line lies ``shift * module`` above the pitch line; its flank through
+    ``(pi m / 4, shift m)`` leans outwards with depth; the tip line is at
+    ``y = -dedendum`` (the gear's dedendum below its pitch circle). The rounding circle
+    touches both.
     """
     ca, sa = np.cos(pressure_angle), np.sin(pressure_angle)
     y_c = -dedendum + tip_radius
-    x_c = np.pi * module / 4.0 + dedendum * sa / ca + tip_radius * (1.0 - sa) / ca
+    # The flank's depth below the datum line at the tip line is dedendum + shift * module.
+    x_c = np.pi * module / 4.0 + (dedendum + shift * module) * sa / ca \
+        + tip_radius * (1.0 - sa) / ca
     return float(x_c), float(y_c)
 
 

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.geometry import involute as ivl
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 
 
 def line_of_action_point(pair: GearPair, roll_a: float) -> NDArray[np.float64]:

@@ -6,7 +6,8 @@ import dataclasses
 import math
 
 from spurdyn.fem.material import Material
-from spurdyn.geometry.gear import Gear, GearPair
+from spurdyn.geometry.gear import Gear
+from spurdyn.geometry.pair import GearPair
 
 #: The NASA Lewis test-rig gear of the paper's example (Lee & Jang, section 4).
 PAPER_MATERIAL = Material(young=210e9, poisson=0.3, density=7.8e3)

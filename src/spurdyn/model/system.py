@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import scipy.sparse as sp
@@ -27,7 +28,8 @@ from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
 from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
-from spurdyn.geometry.gear import Gear, GearPair
+from spurdyn.geometry.gear import Gear
+from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
 from spurdyn.mesh.tooth import ToothMesh, tooth_mesh
 from spurdyn.model.flank import Flank, make_flank
@@ -144,23 +146,49 @@ def _body(gear: Gear, mesh: ToothMesh, X: NDArray[np.float64], centre: NDArray[n
                     flank=flank, base_radius=gear.base_radius)
 
 
+def solver_pair(pair: GearPair) -> GearPair:
+    """The pair the solver runs: ``pair`` itself when A drives, its mirror image when B drives.
+
+    With A turning clockwise and B counter-clockwise, a driving B pushes on the other
+    flanks. Mirrored about the line between the centres, the pair is a pair whose first
+    gear (B) drives clockwise on its right flank, which is what the solver models
+    (:func:`spurdyn.solvers.loop.simulate` maps the results back).
+    """
+    if pair.driver == "a":
+        return pair
+    return GearPair(gear_a=pair.gear_b, gear_b=pair.gear_a, centre_distance=pair.centre_distance,
+                    driver="a")
+
+
 def build_system(pair: GearPair, case: RunCase) -> PairSystem:
+    """The system of ``pair`` (gear A driving) on the tooth meshes of ``case``; see
+    :func:`system_for`."""
+    if pair.driver != "a":
+        raise InputError("pair.driver", "only gear A driving is supported by the solver yet; "
+                         "swap gear_a and gear_b")
+    return system_for(pair, case.nx, case.ny, case.n_spline)
+
+
+@lru_cache(maxsize=2)
+def system_for(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
     """Mesh both teeth, place them just touching at the start of contact, assemble K and M.
+
+    The system of the pair the solver runs (:func:`solver_pair`). The last two systems built
+    are kept, so the run check of a case file and the run itself share one assembly and one
+    stable-step eigen-solve; nothing mutates a system.
 
     The surfaces of :class:`Flank` are the exact involutes, which touch at the start of
     the path of contact at the rotations of :func:`~spurdyn.geometry.placement.mesh_angles`
     (to round-off; with a tip relief they stand apart by the relief there).
     """
-    if pair.driver != "a":
-        raise InputError("pair.driver", "only gear A driving is supported by the solver yet; "
-                         "swap gear_a and gear_b")
+    pair = solver_pair(pair)
     theta_a, theta_b = mesh_angles(pair, pair.start_roll_a)
-    mesh_a = tooth_mesh(pair.gear_a, case.nx, case.ny)
-    mesh_b = tooth_mesh(pair.gear_b, case.nx, case.ny)
+    mesh_a = tooth_mesh(pair.gear_a, nx, ny)
+    mesh_b = tooth_mesh(pair.gear_b, nx, ny)
     ca, cb = np.array([0.0, 0.0]), np.array([0.0, pair.centre_distance])
     xa = to_world_a(mesh_a.nodes, theta_a)
     xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)
-    gears = (_body(pair.gear_a, mesh_a, xa, ca, float(SENSE[0]), -theta_a, case.n_spline),
-             _body(pair.gear_b, mesh_b, xb, cb, float(SENSE[1]), math.pi + theta_b, case.n_spline))
+    gears = (_body(pair.gear_a, mesh_a, xa, ca, float(SENSE[0]), -theta_a, n_spline),
+             _body(pair.gear_b, mesh_b, xb, cb, float(SENSE[1]), math.pi + theta_b, n_spline))
     na, nb = gears[0].n_u, gears[1].n_u
     return PairSystem(pair=pair, gears=gears, offsets=(0, na, na + nb), theta0=(theta_a, theta_b))

@@ -1,19 +1,21 @@
-"""The one run check: stable time step, angle of the run, step count.
+"""The one run check: stable time step, the default time step, angle of the run, step count.
 
 Both the case file (refusing bad settings before anything is written, naming the key the
-user wrote) and :func:`spurdyn.solvers.loop.simulate` call :func:`check_run`; the stable
-step is eigen-solved once per system (:func:`stable_step` caches it on the system).
+user wrote) and :func:`spurdyn.solvers.loop.simulate` call :func:`check_run` on the same
+system (:func:`spurdyn.model.system.build_system` keeps the last ones it built), and the
+stable step is eigen-solved once per system (:func:`stable_step` caches it on the system).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable
 
 from spurdyn.errors import InputError
-from spurdyn.geometry.gear import GearPair
-from spurdyn.model.system import PairSystem
+from spurdyn.geometry.pair import GearPair
+from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+from spurdyn.model.system import PairSystem, system_for
 from spurdyn.settings import RunCase
 
 #: How far beyond the angle of action ``theta_s`` (as a fraction of it) a run may go:
@@ -48,10 +50,45 @@ def stable_step(system: PairSystem) -> float:
     return cached
 
 
-def _round_down(x: float, digits: int) -> float:
+#: Fraction of the stable RK4 step of the mesh (the smaller of the two free teeth's) a
+#: case run without a time step uses, rounded down to two significant digits: room for
+#: the contact constraints, which stiffen the pair a little (docs/casefile.md, [run]).
+DT_FRACTION = 0.8
+
+
+def round_down(x: float, digits: int) -> float:
     """``x > 0`` rounded down to ``digits`` significant digits."""
-    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    exponent = math.floor(math.log10(x)) - digits + 1
+    if exponent < 0:  # divide by a power of ten held exactly: 15 / 1e9, not 15 * 1e-9
+        scale = 10.0 ** -exponent
+        return math.floor(x * scale) / scale
+    scale = 10.0 ** exponent
     return math.floor(x / scale) * scale
+
+
+def default_dt(stable_dt: float) -> float:
+    """The time step (s) of a case that gives none: :data:`DT_FRACTION` of ``stable_dt``."""
+    return round_down(DT_FRACTION * stable_dt, 2)
+
+
+def run_settings(pair: GearPair, speed_a: float, torque: float, *,
+                 speed_b: float | None = None, dt: float | None = None,
+                 **kwargs: Any) -> RunCase:
+    """:class:`~spurdyn.settings.RunCase` with the command line's defaults (SI units:
+    rad/s, N m, s).
+
+    ``speed_b`` defaults to the speed that meshes, ``speed_a z_a / z_b``; ``dt`` to
+    :func:`default_dt` of the stable step of the ``nx`` x ``ny`` tooth meshes (built here,
+    a fraction of a second, and kept for the run). ``kwargs`` are the other fields of
+    :class:`~spurdyn.settings.RunCase`.
+    """
+    if speed_b is None:
+        speed_b = speed_a * pair.gear_a.teeth / pair.gear_b.teeth
+    if dt is None:
+        system = system_for(pair, kwargs.get("nx", DEFAULT_NX), kwargs.get("ny", DEFAULT_NY),
+                            kwargs.get("n_spline", RunCase.n_spline))
+        dt = default_dt(stable_step(system))
+    return RunCase(speed_a=speed_a, speed_b=speed_b, torque=torque, dt=dt, **kwargs)
 
 
 def check_run(pair: GearPair, settings: RunCase, system: PairSystem,
@@ -75,10 +112,9 @@ def check_run(pair: GearPair, settings: RunCase, system: PairSystem,
     s = settings
     limit = stable_step(system)
     if s.dt > limit:
-        nx, ny = s.nx, s.ny
         raise InputError(field("dt"), f"dt {s.dt:g} s is above the stable RK4 step {limit:.4g} s "
-                         f"of the {nx}x{ny} tooth mesh; use a dt of at most "
-                         f"{_round_down(limit, 3):g} s or a coarser mesh")
+                         f"of the {s.nx}x{s.ny} tooth mesh; use a dt of at most "
+                         f"{round_down(limit, 3):g} s or a coarser mesh")
     theta_s = pair.theta_s
     angle = theta_s if s.angle is None else s.angle
     if angle > theta_s * (1.0 + ANGLE_MARGIN):

@@ -18,9 +18,9 @@ from typing import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 from spurdyn.model.loading import static_force
-from spurdyn.model.system import PairSystem, build_system
+from spurdyn.model.system import PairSystem, build_system, solver_pair
 from spurdyn.result import Result
 from spurdyn.settings import RunCase
 from spurdyn.solvers.base import Frames, Stepper
@@ -108,8 +108,7 @@ def _simulate_driven_by_b(pair: GearPair, case: RunCase, progress: Progress | No
     rotation, speed and torque keeps its sense relative to its own gear, so the results
     map back by swapping the gears' columns. Tooth frames are not mapped back (none kept).
     """
-    inner_pair = GearPair(gear_a=pair.gear_b, gear_b=pair.gear_a,
-                          centre_distance=pair.centre_distance, driver="a")
+    inner_pair = solver_pair(pair)
     ratio = pair.gear_a.base_radius / pair.gear_b.base_radius   # theta_B / theta_A
     inner_case = case.with_(speed_a=case.speed_b, speed_b=case.speed_a, frames_every=0,
                             angle=None if case.angle is None else case.angle * ratio)

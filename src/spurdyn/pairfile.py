@@ -1,0 +1,355 @@
+"""Read the gear, material, pair and mesh tables of a case file (TOML units in, SI out).
+
+``docs/casefile.md`` lists every key with its unit and default. A gear needs only its
+teeth, module (or pitch radius), face width and, unless 20 deg, pressure angle: the
+heights and the cutter tip radius come from the basic rack (``basic_rack``, ISO 53
+profile A by default) and the profile shift, the disk inertia from the blank. Every
+problem is raised as an :class:`~spurdyn.errors.InputError` naming the key as written.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from spurdyn.errors import InputError
+from spurdyn.fem.material import STEEL, Material, check_plausible
+from spurdyn.geometry.blank import Blank
+from spurdyn.geometry.gear import MAX_MODULE, MAX_TEETH, Gear
+from spurdyn.geometry.pair import GearPair
+from spurdyn.geometry.rack import ISO_53, BasicRack, default_rack
+from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+
+GEAR_KEYS = {
+    "teeth", "module", "pitch_radius", "tip_radius", "root_radius", "addendum", "dedendum",
+    "pressure_angle_deg", "face_width", "disk_inertia", "cutter_tip_radius", "material",
+    "tip_relief", "tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape",
+    "profile_shift", "thickness_allowance", "basic_rack", "blank",
+}
+RACK_KEYS = {"addendum", "dedendum", "fillet_radius"}
+BLANK_KEYS = {"bore_radius", "hub_radius", "rim_radius", "web_width"}
+#: Keys that only make sense with ``tip_relief`` in the same table.
+RELIEF_KEYS = ("tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape")
+MATERIAL_KEYS = {"young", "poisson", "density"}
+PAIR_KEYS = {"centre_distance", "driver"}
+MESH_KEYS = {"nx", "ny"}
+TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run"}
+
+@dataclass(frozen=True)
+class PairCase:
+    """A gear pair and the mesh density to model it with."""
+
+    pair: GearPair
+    nx: int = DEFAULT_NX
+    ny: int = DEFAULT_NY
+    name: str = "pair"
+
+
+def _check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
+    for key in table:
+        if key not in allowed:
+            hint = ", ".join(sorted(allowed))
+            raise InputError(f"{where}.{key}" if where else key,
+                             f"unknown key; expected one of: {hint}")
+
+
+def _number(table: dict[str, Any], key: str, where: str, default: float | None = None) -> float:
+    if key not in table:
+        if default is None:
+            raise InputError(f"{where}.{key}", "is missing")
+        return default
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{where}.{key}", f"must be a number (got {value!r})")
+    return float(value)
+
+
+def _integer(table: dict[str, Any], key: str, where: str, default: int | None = None) -> int:
+    if key not in table:
+        if default is None:
+            raise InputError(f"{where}.{key}", "is missing")
+        return default
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise InputError(f"{where}.{key}", f"must be a whole number (got {value!r})")
+    return value
+
+
+def _one_of(table: dict[str, Any], a: str, b: str, where: str) -> str:
+    if a in table and b in table:
+        raise InputError(f"{where}.{b}", f"give either {a} or {b}, not both")
+    if a not in table and b not in table:
+        raise InputError(f"{where}.{a}", f"is missing (or give {b})")
+    return a if a in table else b
+
+
+def material_from_table(table: dict[str, Any], where: str) -> Material:
+    """Build a :class:`Material` from a TOML table."""
+    if not isinstance(table, dict):
+        raise InputError(where, "must be a table with young, poisson and density")
+    _check_keys(table, MATERIAL_KEYS, where)
+    values = {k: _number(table, k, where) for k in ("young", "poisson", "density")}
+    try:
+        material = Material(**values)
+        check_plausible(material)
+        return material
+    except InputError as err:
+        raise err.prefixed(where) from None
+    except ValueError as err:
+        raise InputError(where, str(err)) from None
+
+
+def gear_from_table(table: dict[str, Any], where: str) -> Gear:
+    """Build a :class:`Gear` from a TOML table (see ``docs/casefile.md`` for the keys)."""
+    if not isinstance(table, dict):
+        raise InputError(where, "must be a table")
+    _check_keys(table, GEAR_KEYS, where)
+    teeth = _integer(table, "teeth", where)
+    if teeth < 1:
+        raise InputError(f"{where}.teeth", f"must be a positive whole number (got {teeth})")
+    if teeth > MAX_TEETH:  # before the radii, which a huge count would put out of reach
+        raise InputError(f"{where}.teeth", f"must be at most {MAX_TEETH} (got {teeth})")
+    size = _one_of(table, "module", "pitch_radius", where)
+    module = _number(table, size, where)
+    if module <= 0 or not math.isfinite(module):
+        raise InputError(f"{where}.{size}", f"must be a positive number (got {module!r})")
+    if size == "pitch_radius":
+        module = 2.0 * module / teeth
+    if module > MAX_MODULE:  # the usual slip: millimetres
+        raise InputError(f"{where}.{size}", f"{table[size]:g} m gives a module of {module:g} m, "
+                         f"beyond any gear (at most {MAX_MODULE:g} m); lengths are in metres, "
+                         "not millimetres")
+    r_p = module * teeth / 2.0
+    top = _at_most_one(table, "addendum", "tip_radius", where)
+    addendum = None if top is None else _number(table, top, where)
+    if top == "tip_radius":
+        if not math.isfinite(addendum) or addendum <= r_p:
+            raise InputError(f"{where}.tip_radius", f"must be above the pitch radius {r_p:g} m "
+                             f"(got {addendum!r})")
+        if addendum - r_p > 2.0 * module:
+            raise InputError(f"{where}.tip_radius", f"is more than two modules above the pitch "
+                             f"radius; at most {r_p + 2.0 * module:g} m")
+        addendum -= r_p
+    elif top is not None and (not math.isfinite(addendum) or addendum <= 0.0):
+        raise InputError(f"{where}.addendum", f"must be a positive number (got {addendum!r})")
+    bottom = _at_most_one(table, "dedendum", "root_radius", where)
+    dedendum = None if bottom is None else _number(table, bottom, where)
+    if bottom == "root_radius":
+        if not math.isfinite(dedendum) or dedendum <= 0.0:
+            raise InputError(f"{where}.root_radius", f"must be a positive number (got {dedendum!r})")
+        if dedendum >= r_p:
+            raise InputError(f"{where}.root_radius", f"must be below the pitch radius {r_p:g} m")
+        if "tip_radius" in table and dedendum >= table["tip_radius"]:
+            raise InputError(f"{where}.tip_radius", "must be above root_radius")
+        dedendum = r_p - dedendum
+    elif bottom is not None and (not math.isfinite(dedendum) or dedendum <= 0.0):
+        raise InputError(f"{where}.dedendum", f"must be a positive number (got {dedendum!r})")
+    alpha = _number(table, "pressure_angle_deg", where, 20.0)
+    if not 12.0 <= alpha <= 35.0:
+        raise InputError(f"{where}.pressure_angle_deg", f"must lie between 12 and 35 (got {alpha:g})")
+    material = material_from_table(table["material"], f"{where}.material") \
+        if "material" in table else STEEL
+    # Read outside the try below: their refusals already name the table.
+    face_width = _number(table, "face_width", where)
+    optional = {key: _number(table, key, where) for key in
+                ("cutter_tip_radius", "disk_inertia", "profile_shift", "thickness_allowance")
+                if key in table}
+    base_radius = r_p * math.cos(math.radians(alpha))
+    relief, start_key = _relief_from_table(table, where, base_radius)
+    rack, blank = _rack_from_table(table, where), _blank_from_table(table, where)
+    try:
+        return Gear(
+            teeth=teeth, module=module, pressure_angle=math.radians(alpha),
+            face_width=face_width, addendum=addendum, dedendum=dedendum, material=material,
+            basic_rack=rack, blank=blank,
+            **optional, **relief,
+        )
+    except InputError as err:
+        # Name the key the user wrote, not the one it was turned into.
+        written = {"addendum": top, "dedendum": bottom, "module": size,
+                   "pressure_angle": "pressure_angle_deg",
+                   "tip_relief_start_roll": start_key}
+        field = err.field.split(".")[0]
+        if field in written and written[field] is not None and written[field] != field:
+            raise InputError(f"{where}.{written[field]}", err.reason) from None
+        if field in ("addendum", "dedendum", "cutter_tip_radius") and field not in table:
+            # Made from the basic rack and the shift: point at what the user can change.
+            key = "profile_shift" if "profile_shift" in table else "basic_rack"
+            raise InputError(f"{where}.{key}", f"gives a {field.replace('_', ' ')} that "
+                             f"{err.reason}") from None
+        raise err.prefixed(where) from None
+
+
+def _at_most_one(table: dict[str, Any], a: str, b: str, where: str) -> str | None:
+    if a in table and b in table:
+        raise InputError(f"{where}.{b}", f"give either {a} or {b}, not both")
+    return a if a in table else b if b in table else None
+
+
+def _rack_from_table(table: dict[str, Any], where: str) -> BasicRack | None:
+    """``basic_rack``: an ISO 53 profile letter or a table of heights in modules."""
+    if "basic_rack" not in table:
+        return None
+    value = table["basic_rack"]
+    if isinstance(value, str):
+        if value.upper() not in ISO_53:
+            raise InputError(f"{where}.basic_rack", f"must be one of the ISO 53 profiles "
+                             f"{', '.join(ISO_53)} or a table {{{', '.join(sorted(RACK_KEYS))}}} "
+                             f"in modules (got {value!r})")
+        return ISO_53[value.upper()]
+    if not isinstance(value, dict):
+        raise InputError(f"{where}.basic_rack", "must be \"A\", \"B\", \"C\", \"D\" or a table")
+    _check_keys(value, RACK_KEYS, f"{where}.basic_rack")
+    a = ISO_53["A"]
+    try:
+        return BasicRack("custom", *(_number(value, k, f"{where}.basic_rack", getattr(a, k))
+                                     for k in ("addendum", "dedendum", "fillet_radius")))
+    except InputError as err:
+        raise err.prefixed(where) from None
+
+
+def _blank_from_table(table: dict[str, Any], where: str) -> Blank | None:
+    """``blank``: the dimensions the disk inertia is computed from (m)."""
+    if "blank" not in table:
+        return None
+    value = table["blank"]
+    if not isinstance(value, dict):
+        raise InputError(f"{where}.blank", "must be a table of radii and a web width (m)")
+    _check_keys(value, BLANK_KEYS, f"{where}.blank")
+    if "disk_inertia" in table:
+        raise InputError(f"{where}.blank", "give either disk_inertia or a blank, not both")
+    dims = {k: _number(value, k, f"{where}.blank") for k in BLANK_KEYS if k in value}
+    return Blank(**dims)
+
+
+def _relief_from_table(table: dict[str, Any], where: str,
+                       base_radius: float) -> tuple[dict[str, Any], str]:
+    """The tip-relief arguments of :class:`Gear` from a gear table, and the start key used.
+
+    ``tip_relief`` (m), ``tip_relief_start_roll_deg`` (deg) or ``tip_relief_start_radius``
+    (m, the radius of the involute point where the relief begins), ``tip_relief_shape``.
+    """
+    if "tip_relief" not in table:
+        for key in RELIEF_KEYS:
+            if key in table:
+                raise InputError(f"{where}.{key}", "needs tip_relief (the relief amount, m) "
+                                 "in the same table")
+        return {}, "tip_relief_start_roll_deg"
+    amount = _number(table, "tip_relief", where)
+    if not math.isfinite(amount) or amount < 0.0:
+        raise InputError(f"{where}.tip_relief", f"must be zero or a positive number of metres "
+                         f"(got {amount!r})")
+    relief: dict[str, Any] = {"tip_relief": amount}
+    start_key = "tip_relief_start_roll_deg"
+    if "tip_relief_start_roll_deg" in table or "tip_relief_start_radius" in table:
+        start_key = _one_of(table, "tip_relief_start_roll_deg", "tip_relief_start_radius", where)
+        value = _number(table, start_key, where)
+        if not math.isfinite(value):
+            raise InputError(f"{where}.{start_key}", f"must be a finite number (got {value!r})")
+        if start_key == "tip_relief_start_roll_deg":
+            relief["tip_relief_start_roll"] = math.radians(value)
+        else:
+            if value <= base_radius:
+                raise InputError(f"{where}.tip_relief_start_radius", f"must be above the base "
+                                 f"radius {base_radius:g} m, on the involute (got {value!r})")
+            relief["tip_relief_start_roll"] = math.sqrt(value * value - base_radius**2) / base_radius
+    elif amount > 0.0:
+        raise InputError(f"{where}.tip_relief_start_roll_deg", "is missing (or give "
+                         "tip_relief_start_radius): a tip relief needs the point where it begins")
+    if "tip_relief_shape" in table:
+        shape = table["tip_relief_shape"]
+        if not isinstance(shape, str):
+            raise InputError(f"{where}.tip_relief_shape", f"must be \"linear\" or \"parabolic\" "
+                             f"(got {shape!r})")
+        relief["tip_relief_shape"] = shape
+    return relief, start_key
+
+
+def pair_from_dict(data: dict[str, Any], name: str = "pair") -> PairCase:
+    """Build a :class:`PairCase` from the parsed TOML document."""
+    _check_keys(data, TOP_KEYS, "")
+    if "gear_a" not in data:
+        raise InputError("gear_a", "table is missing")
+    gear_a = gear_from_table(data["gear_a"], "gear_a")
+    gear_b = gear_from_table(data["gear_b"], "gear_b") if "gear_b" in data else gear_a
+    pair_table = data.get("pair", {})
+    if not isinstance(pair_table, dict):
+        raise InputError("pair", "must be a table")
+    _check_keys(pair_table, PAIR_KEYS, "pair")
+    centre = None
+    if "centre_distance" in pair_table:
+        centre = _number(pair_table, "centre_distance", "pair")
+        if not math.isfinite(centre) or centre <= 0.0:
+            raise InputError("pair.centre_distance", f"must be a positive number (got {centre!r})")
+    driver = pair_table.get("driver", "a")
+    try:
+        pair = GearPair(gear_a=gear_a, gear_b=gear_b, centre_distance=centre, driver=driver)
+    except InputError as err:
+        if not err.field.startswith("gear_"):
+            raise err.prefixed("pair") from None
+        # GearPair names the gear's field; name the key written in the file instead.
+        where, field = err.field.split(".", 1)
+        table = data.get(where, data["gear_a"])
+        written = {"pressure_angle": "pressure_angle_deg",
+                   "module": "module" if "module" in table else "pitch_radius"}
+        raise InputError(f"{where}.{written.get(field, field)}", err.reason) from None
+    mesh_table = data.get("mesh", {})
+    if not isinstance(mesh_table, dict):
+        raise InputError("mesh", "must be a table")
+    _check_keys(mesh_table, MESH_KEYS, "mesh")
+    nx = _integer(mesh_table, "nx", "mesh", DEFAULT_NX)
+    ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
+    return PairCase(pair=pair, nx=nx, ny=ny, name=name)
+
+
+def load_pair(path: str | Path) -> PairCase:
+    """Read a gear-pair TOML file."""
+    path = Path(path)
+    return pair_from_dict(_read_toml(path), name=path.stem)
+
+
+def _read_toml(path: Path) -> dict[str, Any]:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(str(path), "no such file; give a preset name or a TOML file") from None
+    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as err:
+        raise InputError(str(path), f"cannot be read ({type(err).__name__})") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(str(path), f"is not valid TOML ({err})") from None
+
+
+def _gear_to_dict(gear: Gear) -> dict[str, Any]:
+    table: dict[str, Any] = {
+        "teeth": gear.teeth, "module": gear.module, "addendum": gear.addendum,
+        "dedendum": gear.dedendum, "pressure_angle_deg": math.degrees(gear.pressure_angle),
+        "face_width": gear.face_width, "disk_inertia": gear.disk_inertia,
+        "cutter_tip_radius": gear.cutter_tip_radius,
+        "material": {"young": gear.material.young, "poisson": gear.material.poisson,
+                     "density": gear.material.density},
+    }
+    if gear.tip_relief > 0.0 or gear.tip_relief_start_roll is not None:
+        table["tip_relief"] = gear.tip_relief
+        if gear.tip_relief_start_roll is not None:
+            table["tip_relief_start_roll_deg"] = math.degrees(gear.tip_relief_start_roll)
+        table["tip_relief_shape"] = gear.tip_relief_shape
+    # Written only when used, so that older cases store the same description.
+    for key in ("profile_shift", "thickness_allowance"):
+        if getattr(gear, key) != 0.0:
+            table[key] = getattr(gear, key)
+    rack = gear.basic_rack
+    if rack != default_rack(gear.pressure_angle):
+        table["basic_rack"] = rack.name if ISO_53.get(rack.name) == rack else {
+            k: getattr(rack, k) for k in sorted(RACK_KEYS)}
+    if gear.blank is not None:
+        del table["disk_inertia"]
+        table["blank"] = {k: getattr(gear.blank, k) for k in sorted(BLANK_KEYS)
+                          if getattr(gear.blank, k) is not None}
+    return table
+
+

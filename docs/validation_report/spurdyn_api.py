@@ -1,0 +1,30 @@
+"""Every name the report takes from ``spurdyn``, imported here and nowhere else.
+
+The other modules import these names from this one, so that a move of a ``spurdyn``
+module is one edit here.
+"""
+
+from __future__ import annotations
+
+from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.presets import (NASA_LIKE_TIP_RELIEF, PAPER_TORQUE, nasa_like_relief,
+                                      paper_gear, paper_pair)
+from spurdyn.integrate.fast import FastStepper
+from spurdyn.integrate.run import simulate, stable_step
+from spurdyn.model.loading import gear_torques
+from spurdyn.model.lumped import (MeshStiffnessTable, mesh_stiffness_table, simulate_lumped,
+                                  torsional_natural_frequency)
+from spurdyn.model.stiffness import (ToothCompliance, iso_6336_stiffness, pair_stiffness,
+                                     pitch_point_stiffness)
+from spurdyn.model.tooth import build_tooth
+from spurdyn.results.balances import track
+from spurdyn.solver.case import PAPER_DT, RunCase
+from spurdyn.solver.system import build_system
+
+__all__ = [
+    "FastStepper", "GearPair", "MeshStiffnessTable", "NASA_LIKE_TIP_RELIEF", "PAPER_DT",
+    "PAPER_TORQUE", "RunCase", "ToothCompliance", "build_system", "build_tooth", "gear_torques",
+    "iso_6336_stiffness", "mesh_stiffness_table", "nasa_like_relief", "pair_stiffness",
+    "paper_gear", "paper_pair", "pitch_point_stiffness", "simulate", "simulate_lumped",
+    "stable_step", "torsional_natural_frequency", "track",
+]

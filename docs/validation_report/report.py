@@ -96,9 +96,10 @@ then every case it needs (cached in
 `docs/validation_data/<run>.npz`, git-ignored; a run is redone when its settings
 change, or all with `--rerun`), then writes this page and the figures. Helpers it uses:
 `spurdyn.integrate.simulate`, `spurdyn.model.lumped.simulate_lumped`,
-`spurdyn.results.balances.track`, `spurdyn.model.stiffness` and the pure functions at the
-top of the script (moving average, dynamic factor, zone masks, contact episodes,
-frequencies), which `tests/test_validation_script.py` checks on synthetic data.
+`spurdyn.results.balances.track`, `spurdyn.model.stiffness` and the pure functions of
+`docs/validation_report/helpers.py` (moving average, dynamic factor, zone masks, contact
+episodes, frequencies), which `tests/test_validation_script.py` checks on synthetic data.
+The script's code is the package `docs/validation_report/`, one module per section.
 Writing the page from the cache took {wall:.0f} s.
 """
     DATA.mkdir(parents=True, exist_ok=True)

@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from spurdyn.fem.material import Material
 from spurdyn.geometry import involute as ivl
 from spurdyn.geometry.gear import Gear, GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
@@ -308,4 +307,3 @@ def test_iso_pair_reads_the_model_pair():
 def test_softer_material_lowers_elasticity_factor():
     steel = contact.elasticity_factor(210e9, 0.3, 210e9, 0.3)
     assert contact.elasticity_factor(105e9, 0.3, 105e9, 0.3) == pytest.approx(steel / math.sqrt(2), rel=1e-15)
-    assert isinstance(Material(young=1e9, poisson=0.3, density=1.0), Material)

@@ -41,6 +41,8 @@ def test_paper_contact_figures_match_hand(paper):
     assert paper.z_e == pytest.approx(191.6457e3, rel=HAND)
     assert paper.z_eps == pytest.approx(0.8873173, rel=HAND)
     assert paper.sigma_h0 == pytest.approx(564.9117e6, rel=HAND)
+    assert paper.z_b == pytest.approx(1.006285, rel=HAND)
+    assert paper.z_d == paper.z_b
 
 
 def test_paper_root_figures_match_hand(paper):
@@ -74,6 +76,8 @@ def test_second_pair_matches_hand(second):
     assert second.z_h == pytest.approx(2.285088, rel=HAND)
     assert second.z_eps == pytest.approx(0.9162271, rel=HAND)
     assert second.sigma_h0 == pytest.approx(1064.504e6, rel=HAND)
+    assert second.z_b == pytest.approx(1.053054, rel=HAND)
+    assert second.z_d == 1.0  # M_2 = 0.9708033 < 1
     hand = ((47.28235, 4.367837e-3, 1.122112e-3, 47.19417e-3, 24.76725, 2.183424e-3,
              1.375957, 1.936094, 289.5632e6),
             (53.23473, 4.721826e-3, 1.032280e-3, 95.40833e-3, 25.25496, 2.258993e-3,
@@ -130,6 +134,26 @@ def test_single_pair_stiffness_matches_model_function(pair):
                                          ga.dedendum / ga.module)
     assert new == pytest.approx(old.single_pair * 1e9, rel=1e-14)
     assert dynamics.mesh_stiffness(new, pair.contact_ratio) == pytest.approx(old.mesh * 1e9, rel=1e-14)
+
+
+@pytest.mark.parametrize("pair", [paper_pair(), _pair(23, 47, 2e-3, 25.0, 1.25),
+                                  _pair(40, 31, 4e-3, 20.0, 1.3)])
+def test_single_pair_contact_factors_are_the_curvature_ratio(pair):
+    """Z_B^2 = (rho_1 rho_2 at the pitch point) / (rho_1 rho_2 at the start of single contact),
+    with the points from spurdyn.geometry; Z_D likewise at its end (the wheel's inner point)."""
+    ga, gb = pair.gear_a, pair.gear_b
+    eps = contact.transverse_contact_ratio(ga.teeth, gb.teeth, ga.module, ga.pressure_angle,
+                                           ga.tip_radius, gb.tip_radius)
+    z_b, z_d = contact.single_pair_contact_factors(ga.teeth, gb.teeth, ga.module, ga.pressure_angle,
+                                                   ga.tip_radius, gb.tip_radius, eps)
+
+    def curvature_product(roll_a):
+        return ga.base_radius * roll_a * gb.base_radius * float(pair.roll_b_from_roll_a(roll_a))
+
+    pitch = curvature_product(pair.pitch_roll_a)
+    inner_a, inner_b = pair.single_contact_roll_a
+    assert z_b == pytest.approx(max(1.0, math.sqrt(pitch / curvature_product(inner_a))), rel=1e-13)
+    assert z_d == pytest.approx(max(1.0, math.sqrt(pitch / curvature_product(inner_b))), rel=1e-13)
 
 
 # -- the 30 deg tangent ------------------------------------------------------------------
@@ -246,6 +270,12 @@ def test_dynamic_coefficients_continuous_in_contact_ratio():
     for edge in (1.5, 2.5):
         lo, hi = dynamics.dynamic_coefficients(edge - 1e-9), dynamics.dynamic_coefficients(edge + 1e-9)
         assert lo[6] == pytest.approx(hi[6], abs=1e-8)
+
+
+def test_modulus_ratio_scales_stiffness():
+    alpha = math.radians(20)
+    steel = dynamics.single_pair_stiffness(30, 60, alpha, 1.25)
+    assert dynamics.single_pair_stiffness(30, 60, alpha, 1.25, modulus_ratio=0.5) == pytest.approx(0.5 * steel, rel=1e-15)
 
 
 def test_low_load_bound_and_stiffness_correction():

@@ -13,7 +13,8 @@ Formulas, assumptions and hand-worked examples: ``docs/iso6336.md``. Run
 """
 
 from spurdyn.iso6336.contact import (contact_ratio_factor, elasticity_factor,
-                                     nominal_contact_stress, transverse_contact_ratio, zone_factor)
+                                     nominal_contact_stress, single_pair_contact_factors,
+                                     transverse_contact_ratio, zone_factor)
 from spurdyn.iso6336.dynamics import (dynamic_factor, mesh_stiffness, reduced_mass,
                                       resonance_speed, single_pair_stiffness)
 from spurdyn.iso6336.rating import IsoGear, IsoPair, IsoRating, dynamic_factor_at, iso_pair, rate
@@ -27,6 +28,7 @@ __all__ = [
     "contact_safety", "contact_stress", "dynamic_factor", "dynamic_factor_at",
     "elasticity_factor", "form_factor", "iso_pair", "mesh_stiffness", "nominal_contact_stress",
     "nominal_root_stress", "rate", "reduced_mass", "resonance_speed", "root_limit",
-    "root_safety", "root_section", "root_stress", "single_pair_stiffness",
+    "root_safety", "root_section", "root_stress", "single_pair_contact_factors",
+    "single_pair_stiffness",
     "stress_correction_factor", "transverse_contact_ratio", "zone_factor",
 ]

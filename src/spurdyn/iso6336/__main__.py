@@ -29,7 +29,7 @@ def report(name: str, r: IsoRating, speeds_rpm: tuple[float, ...]) -> str:
     lines = [name,
              f"  F_t = {r.tangential_force:.6g} N, K_A F_t/b = {r.line_load * 1e-3:.6g} N/mm",
              f"  eps_alpha = {r.eps_alpha:.6f}  Z_H = {r.z_h:.6f}  Z_E = {r.z_e * 1e-3:.6f} sqrt(MPa)"
-             f"  Z_eps = {r.z_eps:.6f}",
+             f"  Z_eps = {r.z_eps:.6f}  Z_B = {r.z_b:.6f}  Z_D = {r.z_d:.6f}",
              f"  sigma_H0 = {r.sigma_h0 * 1e-6:.6g} MPa"]
     for i, s in enumerate(r.sections):
         lines.append(f"  gear {i + 1}: theta = {math.degrees(s.theta):.6f} deg  s_Fn = {s.s_fn * 1e3:.6f} mm"

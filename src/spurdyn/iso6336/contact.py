@@ -4,7 +4,8 @@ Pure functions of numbers, SI units (m, rad, N, Pa). Spur gears only: helix angl
 ``beta = 0``, so ``Z_beta = 1`` and the transverse and normal sections coincide. The
 derivations and a worked example are in ``docs/iso6336.md``.
 
-Clauses are those of ISO 6336-2:2019 (5 basic formulae, 6 ``Z_H``, 7 ``Z_E``, 8 ``Z_eps``);
+Clauses are those of ISO 6336-2:2019 (5 basic formulae, 6 ``Z_H`` and ``Z_B``/``Z_D``,
+7 ``Z_E``, 8 ``Z_eps``);
 the standard's text was not at hand, so equations are named by what they compute rather
 than by number (``docs/iso6336.md``, section 8, lists what was checked against what).
 """
@@ -87,6 +88,36 @@ def contact_ratio_factor(eps_alpha: float) -> float:
     ``Z_eps = sqrt((4 - eps_alpha) / 3)``; 1 at ``eps_alpha = 1`` (one pair carries all).
     """
     return math.sqrt((4.0 - eps_alpha) / 3.0)
+
+
+def single_pair_contact_factors(z1: int, z2: int, module: float, pressure_angle: float,
+                                tip_radius1: float, tip_radius2: float, eps_alpha: float,
+                                centre_distance: float | None = None) -> tuple[float, float]:
+    """Single pair tooth contact factors ``(Z_B, Z_D)`` of a spur pair (ISO 6336-2:2019, clause 6).
+
+    ``M_1 = tan(alpha_w) / sqrt((tan(alpha_a1) - 2 pi/z1) (tan(alpha_a2) - (eps_alpha - 1) 2 pi/z2))``,
+    ``M_2`` the same with 1 and 2 swapped; ``Z_B = max(1, M_1)``, ``Z_D = max(1, M_2)``.
+    The brackets are the roll angles of pinion and wheel at the inner point of single
+    contact of the pinion (B; of the wheel, D), so ``M_1^2`` is the ratio of the products
+    of curvature radii at the pitch point and at B: ``Z_B sigma_H0`` is the Hertz stress
+    at B when that exceeds the pitch point's.
+
+    Parameters
+    ----------
+    z1, z2, module, pressure_angle, tip_radius1, tip_radius2, centre_distance
+        As :func:`transverse_contact_ratio`.
+    eps_alpha
+        The pair's transverse contact ratio.
+    """
+    a = 0.5 * module * (z1 + z2) if centre_distance is None else centre_distance
+    cos_a = math.cos(pressure_angle)
+    rb1, rb2 = 0.5 * module * z1 * cos_a, 0.5 * module * z2 * cos_a
+    tan_w = math.tan(math.acos((rb1 + rb2) / a))
+    tan_a1 = roll_length(tip_radius1, rb1) / rb1
+    tan_a2 = roll_length(tip_radius2, rb2) / rb2
+    m1 = tan_w / math.sqrt((tan_a1 - 2.0 * math.pi / z1) * (tan_a2 - (eps_alpha - 1.0) * 2.0 * math.pi / z2))
+    m2 = tan_w / math.sqrt((tan_a2 - 2.0 * math.pi / z2) * (tan_a1 - (eps_alpha - 1.0) * 2.0 * math.pi / z1))
+    return max(1.0, m1), max(1.0, m2)
 
 
 def nominal_contact_stress(tangential_force: float, pitch_diameter1: float, face_width: float,

@@ -29,7 +29,8 @@ REFERENCE_LINE_LOAD = 1e5
 
 def single_pair_stiffness(z1: int, z2: int, pressure_angle: float, rack_dedendum_ratio: float,
                           shift1: float = 0.0, shift2: float = 0.0, c_m: float = 0.8,
-                          c_r: float = 1.0, line_load: float | None = None) -> float:
+                          c_r: float = 1.0, line_load: float | None = None,
+                          modulus_ratio: float = 1.0) -> float:
     """Single-pair stiffness ``c'`` (N/m^2, per unit face width), ISO 6336-1:2019, clause 9 (method B).
 
     ``c' = c'_th C_M C_R C_B cos(beta)`` with ``c'_th = 1/q'``,
@@ -55,13 +56,16 @@ def single_pair_stiffness(z1: int, z2: int, pressure_angle: float, rack_dedendum
         Gear blank factor ``C_R`` = 1 for solid gears.
     line_load
         ``K_A F_t / b`` (N/m) for the low-load correction, or ``None``.
+    modulus_ratio
+        ``E / E_st`` for pairs other than steel on steel (``E = 2 E1 E2 / (E1 + E2)``,
+        ``E_st`` = 206 GPa); 1 (the default) for steel, whatever its exact modulus.
     """
     c = Q_COEFFICIENTS
     q = (c[0] + c[1] / z1 + c[2] / z2 + c[3] * shift1 + c[4] * shift1 / z1 + c[5] * shift2
          + c[6] * shift2 / z2 + c[7] * shift1**2 + c[8] * shift2**2)
     alpha_deg = math.degrees(pressure_angle)  # ISO's C_B is written in degrees
     c_b = (1.0 + 0.5 * (1.2 - rack_dedendum_ratio)) * (1.0 - 0.02 * (20.0 - alpha_deg))
-    stiffness = N_PER_MM_UM / q * c_m * c_r * c_b
+    stiffness = N_PER_MM_UM / q * c_m * c_r * c_b * modulus_ratio
     if line_load is not None and line_load < REFERENCE_LINE_LOAD:
         stiffness *= (line_load / REFERENCE_LINE_LOAD) ** 0.25
     return stiffness

@@ -76,6 +76,7 @@ class IsoPair:
 class IsoRating:
     """Nominal ISO 6336 figures of a pair under a pinion torque (SI units; per gear: (pinion, wheel)).
 
+    ``z_b``/``z_d`` are ISO's single pair contact factors (for :func:`safety.contact_stress`).
     ``single_pair``/``mesh`` are ``c'``/``c_gamma_alpha`` with ISO's low-load correction
     for this load (N/m^2); ``resonance_speed`` is ``Omega_E1`` (rad/s) of the pinion.
     """
@@ -86,6 +87,8 @@ class IsoRating:
     z_h: float
     z_e: float
     z_eps: float
+    z_b: float
+    z_d: float
     sigma_h0: float
     sections: tuple[root.RootSection, root.RootSection]
     y_f: tuple[float, float]
@@ -111,6 +114,8 @@ def rate(pair: IsoPair, torque: float, k_a: float = 1.0) -> IsoRating:
     z_h = contact.zone_factor(alpha)
     z_e = contact.elasticity_factor(g1.young, g1.poisson, g2.young, g2.poisson)
     z_eps = contact.contact_ratio_factor(eps)
+    z_b, z_d = contact.single_pair_contact_factors(g1.teeth, g2.teeth, m, alpha, g1.tip_radius,
+                                                    g2.tip_radius, eps)
     sigma_h0 = contact.nominal_contact_stress(f_t, d1, b, g2.teeth / g1.teeth, z_h, z_e, z_eps)
     sections = tuple(root.root_section(g.teeth, m, alpha, g.rack_dedendum, g.rack_tip_radius,
                                        g.tip_radius, eps) for g in (g1, g2))
@@ -125,7 +130,7 @@ def rate(pair: IsoPair, torque: float, k_a: float = 1.0) -> IsoRating:
                                   pair.base_radius(g1), pair.base_radius(g2))
     omega_e1 = dynamics.resonance_speed(g1.teeth, c_mesh * b, m_red)
     return IsoRating(tangential_force=f_t, line_load=line_load, eps_alpha=eps, z_h=z_h, z_e=z_e,
-                     z_eps=z_eps, sigma_h0=sigma_h0, sections=sections, y_f=y_f, y_s=y_s,
+                     z_eps=z_eps, z_b=z_b, z_d=z_d, sigma_h0=sigma_h0, sections=sections, y_f=y_f, y_s=y_s,
                      sigma_f0=sigma_f0, single_pair=c1, mesh=c_mesh, reduced_mass=m_red,
                      resonance_speed=omega_e1)
 

@@ -2,9 +2,12 @@
 
 Pure functions of numbers in SI units, one module per part of the standard:
 
-* :mod:`~spurdyn.iso6336.contact` - part 2: ``eps_alpha``, ``Z_H``, ``Z_E``, ``Z_eps``, ``sigma_H0``;
-* :mod:`~spurdyn.iso6336.root` - part 3, method B: ``s_Fn``, ``rho_F``, ``h_Fe``, ``Y_F``, ``Y_S``, ``sigma_F0``;
-* :mod:`~spurdyn.iso6336.dynamics` - part 1: ``c'``, ``c_gamma_alpha``, ``m_red``, ``n_E1``, ``K_v`` (method B);
+* :mod:`~spurdyn.iso6336.contact` - part 2: ``eps_alpha``, ``Z_H``, ``Z_E``, ``Z_eps``, ``Z_B``/``Z_D``,
+  ``sigma_H0``;
+* :mod:`~spurdyn.iso6336.root` - part 3, method B: ``s_Fn``, ``rho_F``, ``h_Fe``, ``Y_F``, ``Y_S``,
+  ``sigma_F0``;
+* :mod:`~spurdyn.iso6336.dynamics` - part 1: ``c'``, ``c_gamma_alpha``, ``m_red``, ``n_E1``,
+  ``K_v`` (method B);
 * :mod:`~spurdyn.iso6336.safety` - ``sigma_F``, ``sigma_H``, ``S_F``, ``S_H`` (from ISO or a simulated peak);
 * :mod:`~spurdyn.iso6336.rating` - all of them for one pair and load.
 

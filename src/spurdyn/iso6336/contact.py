@@ -83,7 +83,7 @@ def elasticity_factor(young1: float, poisson1: float, young2: float, poisson2: f
 
 
 def contact_ratio_factor(eps_alpha: float) -> float:
-    """Contact ratio factor ``Z_eps`` for spur gears (ISO 6336-2:2019, clause 8, the spur-gear ``Z_eps`` equation).
+    """Contact ratio factor ``Z_eps`` of spur gears (ISO 6336-2:2019, clause 8, spur-gear equation).
 
     ``Z_eps = sqrt((4 - eps_alpha) / 3)``; 1 at ``eps_alpha = 1`` (one pair carries all).
     """
@@ -123,7 +123,7 @@ def single_pair_contact_factors(z1: int, z2: int, module: float, pressure_angle:
 def nominal_contact_stress(tangential_force: float, pitch_diameter1: float, face_width: float,
                            ratio: float, z_h: float, z_e: float, z_eps: float,
                            z_beta: float = 1.0) -> float:
-    """Nominal contact stress ``sigma_H0`` (Pa) at the pitch point (ISO 6336-2:2019, clause 5, the ``sigma_H0`` equation).
+    """Nominal contact stress ``sigma_H0`` (Pa) at the pitch point (ISO 6336-2:2019, clause 5).
 
     ``sigma_H0 = Z_H Z_E Z_eps Z_beta sqrt(F_t / (d_1 b) (u + 1) / u)``; ``Z_beta = 1``
     for spur gears. The single-pair factors ``Z_B``/``Z_D`` and the load factors enter

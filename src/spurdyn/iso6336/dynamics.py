@@ -119,7 +119,10 @@ def lower_resonance_bound(line_load: float) -> float:
 
 
 def dynamic_coefficients(eps_gamma: float) -> tuple[float, ...]:
-    """``(C_v1, ..., C_v7)`` of ISO 6336-1:2019, clause 6, table of method B (spur: ``eps_gamma = eps_alpha``)."""
+    """``(C_v1, ..., C_v7)`` of ISO 6336-1:2019, clause 6, table of method B.
+
+    For spur gears ``eps_gamma = eps_alpha``.
+    """
     if eps_gamma <= 2.0:
         cv2, cv3, cv4, cv6 = 0.34, 0.23, 0.90, 0.47
     else:

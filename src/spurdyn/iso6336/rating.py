@@ -130,9 +130,9 @@ def rate(pair: IsoPair, torque: float, k_a: float = 1.0) -> IsoRating:
                                   pair.base_radius(g1), pair.base_radius(g2))
     omega_e1 = dynamics.resonance_speed(g1.teeth, c_mesh * b, m_red)
     return IsoRating(tangential_force=f_t, line_load=line_load, eps_alpha=eps, z_h=z_h, z_e=z_e,
-                     z_eps=z_eps, z_b=z_b, z_d=z_d, sigma_h0=sigma_h0, sections=sections, y_f=y_f, y_s=y_s,
-                     sigma_f0=sigma_f0, single_pair=c1, mesh=c_mesh, reduced_mass=m_red,
-                     resonance_speed=omega_e1)
+                     z_eps=z_eps, z_b=z_b, z_d=z_d, sigma_h0=sigma_h0, sections=sections,
+                     y_f=y_f, y_s=y_s, sigma_f0=sigma_f0, single_pair=c1, mesh=c_mesh,
+                     reduced_mass=m_red, resonance_speed=omega_e1)
 
 
 def dynamic_factor_at(rating: IsoRating, speed: float, pitch_deviation: float = 0.0,

@@ -33,7 +33,9 @@ def contact_stress(sigma_h0: float, k_a: float = 1.0, k_v: float = 1.0, k_hbeta:
 
 def root_limit(sigma_flim: float, y_nt: float = 1.0, y_delta_rel_t: float = 1.0,
                y_r_rel_t: float = 1.0, y_x: float = 1.0) -> float:
-    """Tooth-root stress limit ``sigma_FG = sigma_Flim Y_ST Y_NT Y_deltarelT Y_RrelT Y_X`` (ISO 6336-3:2019, clause 5).
+    """Tooth-root stress limit ``sigma_FG`` (ISO 6336-3:2019, clause 5).
+
+    ``sigma_FG = sigma_Flim Y_ST Y_NT Y_deltarelT Y_RrelT Y_X``.
 
     ``sigma_Flim`` is the nominal stress number (bending) of ISO 6336-5; ``Y_ST = 2``.
     Life ``Y_NT``, notch sensitivity ``Y_deltarelT``, surface ``Y_RrelT`` and size ``Y_X``

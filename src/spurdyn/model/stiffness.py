@@ -118,19 +118,16 @@ class IsoStiffness:
 
 
 def iso_6336_stiffness(pair: GearPair, correction: float = 0.8) -> IsoStiffness:
-    """ISO 6336-1 method B stiffness for unshifted solid spur gears.
+    """ISO 6336-1 method B stiffness of a solid spur pair, in N/(mm um).
 
-    ``c'_th = 1 / q'`` with ``q' = C1 + C2/z1 + C3/z2`` (profile shifts zero), then
-    ``c' = c'_th C_M C_B``: ``C_M`` (``correction``, 0.8) the theoretical-to-measured
-    factor, ``C_B = 1 + 0.5 (1.2 - h_fP/m)`` the basic-rack factor (dedendum of the basic
-    rack ``h_fP`` = gear addendum + clearance, taken here as the gear's dedendum).
+    The formula's one home is :func:`spurdyn.iso6336.dynamics.single_pair_stiffness`
+    (``C_M`` = ``correction``, no low-load reduction); the basic rack's dedendum ratio
+    is the gear's dedendum over the module plus its profile shift (``h_fP = h_f + x m``).
     """
-    za, zb = pair.gear_a.teeth, pair.gear_b.teeth
-    q = 0.04723 + 0.15551 / za + 0.25791 / zb
-    c_th = 1.0 / q
-    m = pair.gear_a.module
-    h_fp = pair.gear_a.dedendum / m
-    alpha_deg = np.degrees(pair.gear_a.pressure_angle)
-    c_b = (1.0 + 0.5 * (1.2 - h_fp)) * (1.0 - 0.02 * (20.0 - alpha_deg))
-    c1 = c_th * correction * c_b
-    return IsoStiffness(single_pair=float(c1), mesh=float(c1 * (0.75 * pair.contact_ratio + 0.25)))
+    from spurdyn.iso6336.dynamics import N_PER_MM_UM, mesh_stiffness, single_pair_stiffness
+
+    ga, gb = pair.gear_a, pair.gear_b
+    c1 = single_pair_stiffness(ga.teeth, gb.teeth, ga.pressure_angle,
+                               ga.dedendum / ga.module + ga.profile_shift, ga.profile_shift,
+                               gb.profile_shift, c_m=correction) / N_PER_MM_UM
+    return IsoStiffness(single_pair=float(c1), mesh=float(mesh_stiffness(c1, pair.contact_ratio)))

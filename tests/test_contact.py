@@ -217,7 +217,7 @@ def test_flank_surface_passes_through_the_outline_nodes(relief):
     """The exact (relieved) flank of the contact model runs through the mesh's outline
     nodes, where the offset ``delta`` from the element edges vanishes; Python and
     compiled versions agree."""
-    from spurdyn.geometry.gear import GearPair
+    from spurdyn.geometry.pair import GearPair
     from spurdyn.geometry.presets import nasa_like_relief
     from spurdyn.solvers.paper.stepper_compiled import pack
 

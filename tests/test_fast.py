@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from spurdyn.contact.search_numpy import ContactPair
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.solvers.loop import simulate
 from spurdyn.solvers.paper import response_compiled as resp_c

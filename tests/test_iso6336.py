@@ -13,7 +13,8 @@ import pytest
 from scipy.optimize import brentq
 
 from spurdyn.geometry import involute as ivl
-from spurdyn.geometry.gear import Gear, GearPair
+from spurdyn.geometry.gear import Gear
+from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.iso6336 import contact, dynamics, root, safety
 from spurdyn.iso6336.__main__ import RPM, example_pair

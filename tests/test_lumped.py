@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from spurdyn.geometry import paper_pair
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_gear
 from spurdyn.lumped import (
     MeshStiffnessTable,

@@ -17,7 +17,7 @@ import xarray as xr
 from spurdyn.cases import preset_case, resolve_cases
 from spurdyn.casefile import case_from_dict, case_to_dict, load_case
 from spurdyn.errors import InputError
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
 from spurdyn.mesh.tooth import tooth_mesh
 from spurdyn.results.io import (CSV_FILE, PNG_FILE, RESULT_FILE, SUMMARY_FILE, case_from_run,

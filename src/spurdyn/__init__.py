@@ -13,7 +13,7 @@ from typing import Any
 
 from spurdyn.errors import InputError
 
-__version__ = "0.1.0"
+from spurdyn.version import __version__
 
 __all__ = ["InputError", "__version__", "run_settings", "simulate"]
 

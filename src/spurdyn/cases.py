@@ -19,7 +19,7 @@ from typing import Any, Mapping
 
 from spurdyn.casefile import Case, PairCase, case_from_pair, load_case
 from spurdyn.errors import InputError
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.settings import PAPER_DT
 

@@ -24,7 +24,7 @@ from typing import Any, Callable, Iterator, Protocol, Sequence
 
 from spurdyn.casefile import Case
 from spurdyn.errors import InputError
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 from spurdyn.result import Result
 from spurdyn.settings import RunCase
 

@@ -479,12 +479,3 @@ class Gear:
         while gap(hi) <= 0.0:  # pragma: no cover - 2 C_a always suffices within the caps
             hi += 2.0 * self.tip_relief
         return float(brentq(gap, ra, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps))
-
-
-def __getattr__(name: str) -> object:
-    """``GearPair`` lives in :mod:`spurdyn.geometry.pair`; served here, lazily, for old imports."""
-    if name == "GearPair":
-        from spurdyn.geometry.pair import GearPair
-
-        return GearPair
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

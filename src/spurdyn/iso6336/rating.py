@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING
 from spurdyn.iso6336 import contact, dynamics, root
 
 if TYPE_CHECKING:  # typing only: the ISO code itself needs nothing from the model
-    from spurdyn.geometry.gear import Gear, GearPair
+    from spurdyn.geometry.gear import Gear
+    from spurdyn.geometry.pair import GearPair
 
 
 @dataclass(frozen=True)

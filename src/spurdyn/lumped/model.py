@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline, PchipInterpolator, PPoly
 
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
 from spurdyn.model.loading import gear_angles, gear_torques, static_force, torque_amplitudes, torque_fraction
 from spurdyn.model.stiffness import pair_stiffness

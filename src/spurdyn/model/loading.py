@@ -28,7 +28,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from spurdyn.geometry.gear import GearPair
+from spurdyn.geometry.pair import GearPair
 
 
 def torque_schedule(phi: ArrayLike, theta_s: float, theta_2: float) -> NDArray[np.float64]:

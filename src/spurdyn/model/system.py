@@ -40,8 +40,54 @@ SENSE = np.array([-1.0, 1.0])
 
 
 @dataclass(frozen=True)
+class ToothBody:
+    """One elastic tooth of a gear, meshed and placed in the world frame.
+
+    Attributes
+    ----------
+    mesh
+        The tooth mesh (gear frame).
+    X
+        ``(N, 2)`` initial world positions of the nodes.
+    Y
+        ``(2N,)`` initial positions relative to the gear's centre, interleaved.
+    stiffness
+        ``(2N, 2N)`` stiffness on the initial world positions (CSR).
+    mass
+        ``(2N,)`` HRZ-lumped nodal masses.
+    root_nodes
+        Nodes tied to the disk.
+    flank
+        The drive flank.
+    """
+
+    mesh: ToothMesh
+    X: NDArray[np.float64]
+    Y: NDArray[np.float64]
+    stiffness: sp.csr_matrix
+    mass: NDArray[np.float64]
+    root_nodes: NDArray[np.intp]
+    flank: Flank
+
+    @property
+    def n_u(self) -> int:
+        return int(self.mass.size)
+
+
+def _of_the_tooth(name: str) -> property:
+    """An attribute of a one-tooth gear's tooth, read through the gear."""
+    return property(lambda self: getattr(self.tooth, name),
+                    doc=f"The ``{name}`` of the gear's one tooth (:attr:`GearBody.tooth`).")
+
+
+@dataclass(frozen=True)
 class GearBody:
-    """One gear of the system: rigid disk plus elastic tooth, in the world frame.
+    """One gear of the system: a rigid disk carrying ``K`` elastic teeth, in the world frame.
+
+    The paper's model carries one tooth (``K = 1``) and reads it through :attr:`tooth` and
+    the attributes below (``mesh``, ``X``, ``Y``, ``stiffness``, ``mass``, ``root_nodes``,
+    ``flank``); a body of several teeth stacks their displacements in the order of
+    :attr:`teeth`.
 
     Attributes
     ----------
@@ -51,44 +97,60 @@ class GearBody:
         Disk centre (m).
     inertia
         Disk moment of inertia ``J`` (kg m^2).
-    mesh
-        The tooth mesh (gear frame).
-    X
-        ``(N, 2)`` initial world positions of the nodes.
-    Y
-        ``(2N,)`` initial positions relative to the centre, interleaved.
-    stiffness
-        ``(2N, 2N)`` stiffness on the initial world positions (CSR).
-    mass
-        ``(2N,)`` HRZ-lumped nodal masses.
-    root_nodes
-        Nodes tied to the disk.
-    flank
-        The active flank.
     base_radius
         Base radius of the gear (m), for roll angles.
+    teeth
+        The elastic teeth on the disk.
     """
 
     sense: float
     centre: NDArray[np.float64]
     inertia: float
-    mesh: ToothMesh
-    X: NDArray[np.float64]
-    Y: NDArray[np.float64]
-    stiffness: sp.csr_matrix
-    mass: NDArray[np.float64]
-    root_nodes: NDArray[np.intp]
-    flank: Flank
     base_radius: float
+    teeth: tuple[ToothBody, ...]
+
+    @property
+    def tooth(self) -> ToothBody:
+        """The one tooth of the paper's model."""
+        if len(self.teeth) != 1:
+            raise ValueError(f"this gear body carries {len(self.teeth)} teeth; the paper's "
+                             "one-tooth model reads exactly one")
+        return self.teeth[0]
+
+    mesh = _of_the_tooth("mesh")
+    X = _of_the_tooth("X")
+    Y = _of_the_tooth("Y")
+    stiffness = _of_the_tooth("stiffness")
+    root_nodes = _of_the_tooth("root_nodes")
+    flank = _of_the_tooth("flank")
+
+    @property
+    def mass(self) -> NDArray[np.float64]:
+        """``(n_u,)`` nodal masses of all teeth, stacked in the order of :attr:`teeth`."""
+        return self.teeth[0].mass if len(self.teeth) == 1 else np.concatenate([t.mass for t in self.teeth])
 
     @property
     def n_u(self) -> int:
-        return int(self.mass.size)
+        return sum(t.n_u for t in self.teeth)
 
     @property
     def root_dofs(self) -> NDArray[np.intp]:
         r = self.root_nodes
         return np.column_stack([2 * r, 2 * r + 1]).ravel()
+
+
+@dataclass(frozen=True)
+class FlankPair:
+    """Two facing flanks that may touch: the contact pairs a run constrains.
+
+    ``tooth_a``, ``tooth_b`` index the teeth of gears A and B; ``flanks`` says which
+    flanks face each other (``"drive"``: the loaded flanks; ``"back"`` is for bodies that
+    model backlash, not built yet).
+    """
+
+    tooth_a: int = 0
+    tooth_b: int = 0
+    flanks: str = "drive"
 
 
 @dataclass(frozen=True)
@@ -105,12 +167,15 @@ class PairSystem:
         Start of each gear's block in the stacked displacement vector, and its end.
     theta0
         Placement rotations of the tooth meshes (A clockwise, B counter-clockwise).
+    contacts
+        The flank pairs the run constrains (one in the paper's model).
     """
 
     pair: GearPair
     gears: tuple[GearBody, GearBody]
     offsets: tuple[int, int, int]
     theta0: tuple[float, float]
+    contacts: tuple[FlankPair, ...] = (FlankPair(),)
 
     @property
     def n_u(self) -> int:
@@ -118,12 +183,12 @@ class PairSystem:
 
     @property
     def n_lambda(self) -> tuple[int, int]:
-        return tuple(2 * g.root_nodes.size for g in self.gears)  # type: ignore[return-value]
+        return tuple(2 * sum(t.root_nodes.size for t in g.teeth) for g in self.gears)  # type: ignore[return-value]
 
     @property
     def n_x(self) -> int:
-        """Length of ``x = [lambda_A, lambda_B, p]``."""
-        return sum(self.n_lambda) + 1
+        """Length of ``x = [lambda_A, lambda_B, p_1 ... p_c]``: one multiplier per contact."""
+        return sum(self.n_lambda) + len(self.contacts)
 
     @property
     def n_dof(self) -> int:
@@ -134,16 +199,37 @@ class PairSystem:
     def mass(self) -> NDArray[np.float64]:
         return np.concatenate([g.mass for g in self.gears])
 
+    def flanks(self, contact: FlankPair) -> tuple[Flank, Flank]:
+        """The flanks of A and B that ``contact`` pairs."""
+        if contact.flanks != "drive":
+            raise ValueError(f"only drive flanks are modelled (got {contact.flanks!r})")
+        return self.gears[0].teeth[contact.tooth_a].flank, self.gears[1].teeth[contact.tooth_b].flank
 
-def _body(gear: Gear, mesh: ToothMesh, X: NDArray[np.float64], centre: NDArray[np.float64],
-          sense: float, ref_angle: float, n_spline: int) -> GearBody:
+
+def assemble_system(pair: GearPair, gears: tuple[GearBody, GearBody], theta0: tuple[float, float],
+                    contacts: tuple[FlankPair, ...] = (FlankPair(),)) -> PairSystem:
+    """A :class:`PairSystem` from its bodies and contact pairs (offsets counted over the teeth)."""
+    na, nb = gears[0].n_u, gears[1].n_u
+    return PairSystem(pair=pair, gears=gears, offsets=(0, na, na + nb), theta0=theta0,
+                      contacts=tuple(contacts))
+
+
+def tooth_body(gear: Gear, mesh: ToothMesh, X: NDArray[np.float64], centre: NDArray[np.float64],
+               ref_angle: float, n_spline: int) -> ToothBody:
+    """Assemble one placed tooth: stiffness and mass on its world positions, its drive flank."""
     k = assemble_stiffness(X, mesh.elements, gear.material, gear.face_width).tocsr()
     k.sort_indices()
     m = assemble_lumped_mass(X, mesh.elements, gear.material, gear.face_width)
     flank = make_flank(mesh, gear, X, centre, ref_angle, n_spline)
-    return GearBody(sense=sense, centre=centre, inertia=gear.disk_inertia, mesh=mesh, X=X,
-                    Y=(X - centre).ravel(), stiffness=k, mass=m, root_nodes=mesh.root_nodes.copy(),
-                    flank=flank, base_radius=gear.base_radius)
+    return ToothBody(mesh=mesh, X=X, Y=(X - centre).ravel(), stiffness=k, mass=m,
+                     root_nodes=mesh.root_nodes.copy(), flank=flank)
+
+
+def gear_body(gear: Gear, teeth: tuple[ToothBody, ...], centre: NDArray[np.float64],
+              sense: float) -> GearBody:
+    """A disk of ``gear`` (its inertia and base radius) carrying ``teeth``."""
+    return GearBody(sense=sense, centre=centre, inertia=gear.disk_inertia,
+                    base_radius=gear.base_radius, teeth=teeth)
 
 
 def solver_pair(pair: GearPair) -> GearPair:
@@ -188,7 +274,8 @@ def system_for(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
     ca, cb = np.array([0.0, 0.0]), np.array([0.0, pair.centre_distance])
     xa = to_world_a(mesh_a.nodes, theta_a)
     xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)
-    gears = (_body(pair.gear_a, mesh_a, xa, ca, float(SENSE[0]), -theta_a, n_spline),
-             _body(pair.gear_b, mesh_b, xb, cb, float(SENSE[1]), math.pi + theta_b, n_spline))
-    na, nb = gears[0].n_u, gears[1].n_u
-    return PairSystem(pair=pair, gears=gears, offsets=(0, na, na + nb), theta0=(theta_a, theta_b))
+    tooth_a = tooth_body(pair.gear_a, mesh_a, xa, ca, -theta_a, n_spline)
+    tooth_b = tooth_body(pair.gear_b, mesh_b, xb, cb, math.pi + theta_b, n_spline)
+    gears = (gear_body(pair.gear_a, (tooth_a,), ca, float(SENSE[0])),
+             gear_body(pair.gear_b, (tooth_b,), cb, float(SENSE[1])))
+    return assemble_system(pair, gears, (theta_a, theta_b))

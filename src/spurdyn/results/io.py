@@ -167,7 +167,7 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
         "static_force_N": figures["static_force"],
         "info": json.dumps(_jsonable(result.info)),
     }
-    from spurdyn import __version__
+    from spurdyn.version import __version__
 
     attrs["spurdyn_version"] = __version__
     coords = {"time": xr.Variable(t, np.asarray(result.time, float),

@@ -131,8 +131,9 @@ def _simulate_driven_by_b(pair: GearPair, case: RunCase, progress: Progress | No
 
 
 def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Roll angle (rad) of the involute point at flank coordinate ``t`` of gear ``g``."""
-    f = system.gears[g].flank
+    """Roll angle (rad) of the involute point at flank coordinate ``t`` of gear ``g``'s
+    flank in the (one) contact pair."""
+    f = system.flanks(system.contacts[0])[g]
     r = f.r0 + (f.r_tip - f.r0) * np.asarray(t, dtype=float) / f.ny
     return np.sqrt(np.maximum(r * r - f.base_radius**2, 0.0)) / f.base_radius
 

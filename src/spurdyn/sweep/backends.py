@@ -269,9 +269,9 @@ def _close(client: Any, cluster: Any = None) -> None:
 
 
 def _worker_spurdyn() -> str:
-    import spurdyn
+    from spurdyn.version import __version__
 
-    return spurdyn.__version__
+    return __version__
 
 
 def check_address(address: str) -> str:
@@ -318,7 +318,7 @@ def scheduler_backend(address: str, timeout_s: float = 10.0, workers_timeout_s: 
         except Exception as err:  # noqa: BLE001 - e.g. ModuleNotFoundError on a worker
             raise InputError("--scheduler", f"the workers at {address} cannot run spurdyn "
                              f"({type(err).__name__}: {err})") from None
-        from spurdyn import __version__
+        from spurdyn.version import __version__
 
         other = sorted({v for v in versions.values() if v != __version__})
         if other:

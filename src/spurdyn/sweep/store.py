@@ -89,7 +89,7 @@ def write_text_atomic(path: Path, text: str) -> None:
 
 def point_record(outcome: PointOutcome, settings: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """The JSON object of a point file."""
-    from spurdyn import __version__
+    from spurdyn.version import __version__
 
     record = {**outcome.key.as_dict(), "status": outcome.status, "reason": outcome.reason,
               **{name: outcome.figures.get(name) for name in FIGURES},
@@ -202,7 +202,7 @@ def sweep_dataset(plan: SweepPlan, records: Mapping[PointKey, Mapping[str, Any]]
         "mesh_frequency": ("rpm", teeth_a * rpms / 60.0,
                            {"units": "Hz", "long_name": "tooth mesh frequency z_a rpm / 60"}),
     }
-    from spurdyn import __version__
+    from spurdyn.version import __version__
 
     attrs: dict[str, Any] = {
         "title": f"spurdyn speed sweep: {plan.case.name} ({plan.model})",

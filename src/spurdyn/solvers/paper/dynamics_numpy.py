@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from spurdyn.contact.search_numpy import ContactPair, find_contact
 from spurdyn.model.loading import gear_torques
+from spurdyn.model.flank import Flank
 from spurdyn.model.system import GearBody, PairSystem
 from spurdyn.settings import RunCase
 
@@ -149,6 +150,14 @@ def root_acceleration_errors(system: PairSystem, theta: NDArray[np.float64], ome
     return np.concatenate(out)
 
 
+def paper_flanks(system: PairSystem) -> tuple[Flank, Flank]:
+    """The two flanks of the paper's method, which constrains exactly one contact pair."""
+    if len(system.contacts) != 1:
+        raise ValueError(f"the paper's method constrains one flank pair; this system has "
+                         f"{len(system.contacts)}")
+    return system.flanks(system.contacts[0])
+
+
 def contact_at(system: PairSystem, theta: NDArray[np.float64], u: NDArray[np.float64],
                guess: tuple[float, float]) -> ContactPair:
     """The contact pair on the flanks at ``(theta, u)``, searched from ``guess``."""
@@ -157,4 +166,4 @@ def contact_at(system: PairSystem, theta: NDArray[np.float64], u: NDArray[np.flo
     xa = s.gears[0].X + ua.reshape(-1, 2)
     xb = s.gears[1].X + ub.reshape(-1, 2)
     ra, rb = (rot(g.sense * th) for g, th in zip(s.gears, theta))
-    return find_contact(s.gears[0].flank, s.gears[1].flank, xa, xb, ra, rb, guess)
+    return find_contact(*paper_flanks(s), xa, xb, ra, rb, guess)

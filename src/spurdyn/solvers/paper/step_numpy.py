@@ -29,7 +29,7 @@ from spurdyn.solvers.layout import FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_VEL, OK
 from spurdyn.solvers.paper.constants import MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_numpy import (
     accelerations, blocks, constraint_force, contact_at, inverse_mass, jacobian, rigid_velocities,
-    root_acceleration_errors, root_phi, root_phi_theta, rot, torques,
+    paper_flanks, root_acceleration_errors, root_phi, root_phi_theta, rot, torques,
 )
 from spurdyn.solvers.paper.iteration_numpy import accelerated_update
 
@@ -222,7 +222,7 @@ class PaperMethod:
         ra, rb = (rot(g.sense * th) for g, th in zip(sys_.gears, th1))
         ma, mb = self.velocity_mats(th1, om2)
         extra, _, _ = sliding_acceleration(
-            sys_.gears[0].flank, sys_.gears[1].flank,
+            *paper_flanks(sys_),
             sys_.gears[0].X + ua.reshape(-1, 2), sys_.gears[1].X + ub.reshape(-1, 2), ra, rb,
             va.reshape(-1, 2), vb.reshape(-1, 2), ma, mb, c1)
         zero = np.zeros(sys_.n_x)
@@ -250,12 +250,12 @@ class PaperMethod:
 def initial_contact_guess(system: PairSystem) -> tuple[float, float]:
     """Flank coordinates where the teeth touch at the start of contact: B's tip on A."""
     pair = system.pair
-    fa = system.gears[0].flank
+    fa, fb = paper_flanks(system)
     r_start = float(pair.gear_a.radius_at_roll_angle(pair.start_roll_a))
     ts = np.linspace(fa.t0, fa.t1, 4 * fa.n_data)
     xa = system.gears[0].X
     radii = np.array([np.hypot(*(fa.locate(t)[1] @ xa[fa.locate(t)[0]])) for t in ts])
-    return float(np.interp(r_start, radii, ts)), system.gears[1].flank.t1
+    return float(np.interp(r_start, radii, ts)), fb.t1
 
 
 def initial_state(system: PairSystem, settings: RunCase) -> State:

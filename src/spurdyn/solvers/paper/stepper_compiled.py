@@ -18,7 +18,9 @@ from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunCase
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.layout import NCOL, CompiledState, Config, Packed
-from spurdyn.solvers.paper.dynamics_numpy import constraint_force, accelerations, inverse_mass, jacobian
+from spurdyn.solvers.paper.dynamics_numpy import (
+    accelerations, constraint_force, inverse_mass, jacobian, paper_flanks,
+)
 from spurdyn.solvers.paper.step_numpy import State, initial_state
 
 
@@ -33,8 +35,8 @@ def pack(system: PairSystem, settings: RunCase) -> Packed:
     rnode = np.concatenate([ga.root_nodes + offs[0], gb.root_nodes + offs[1]]).astype(np.int64)
     rgear = np.concatenate([np.zeros(ga.root_nodes.size, np.int64), np.ones(gb.root_nodes.size, np.int64)])
     fl_nodes, fl_w, fl_delta, side, side_y, rel = [], [], [], [], [], [set(rnode.tolist())]
-    for g, body in enumerate(system.gears):
-        f = body.flank
+    flanks = paper_flanks(system)
+    for g, f in enumerate(flanks):
         fl_nodes.append(f.data_nodes + offs[g])
         fl_w.append(f.data_weights)
         fl_delta.append(f.data_delta)
@@ -55,7 +57,7 @@ def pack(system: PairSystem, settings: RunCase) -> Packed:
         centre=np.array([ga.centre, gb.centre]), indptr=k.indptr.astype(np.int64),
         indices=k.indices.astype(np.int64), data=np.ascontiguousarray(k.data, dtype=np.float64),
         keep=1 if settings.keep_theta_term else 0, tpar=tpar, rnode=rnode, rgear=rgear,
-        fpar=np.array([flank_row(g.flank) for g in system.gears]),
+        fpar=np.array([flank_row(f) for f in flanks]),
         fl_nodes=np.array(fl_nodes, dtype=np.int64), fl_w=np.array(fl_w), fl_delta=np.array(fl_delta),
         side=np.array(side, dtype=np.int64), sideY=np.array(side_y),
         rel_nodes=rel_nodes, rel_pos=rel_pos,

@@ -379,6 +379,8 @@ def _round_down(x: float, digits: int) -> float:
 
 
 _RUN_DEFAULTS = {f.name: f.default for f in fields(RunCase)}
+#: The ``[run]`` key of a :class:`RunCase` field whose name differs.
+_RUN_KEY_OF = {"speed_a": "speed_a_rpm", "speed_b": "speed_b_rpm", "angle": "angle_deg"}
 
 
 def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, name: str,
@@ -445,9 +447,12 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
     )
     try:
         run = RunCase(**settings)
-    except InputError as err:  # pragma: no cover - every value was checked above
-        raise InputError(src.field(err.field), err.reason) from None
+    except InputError as err:  # the upper bounds are RunCase's own
+        raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
 
+    from spurdyn.limits import check_run_bounds
+
+    check_run_bounds(pair, run, src.field)
     theta_s = pair.theta_s
     if run.angle is not None:
         limit = theta_s * (1.0 + ANGLE_MARGIN)

@@ -15,7 +15,7 @@ from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
 from spurdyn.errors import InputError  # noqa: E402
-from spurdyn.results.io import ToothFrames, speeds_label, tooth_frames  # noqa: E402
+from spurdyn.results.frames import ToothFrames, speeds_label, tooth_frames  # noqa: E402
 from spurdyn.results.plots import draw_contact_force  # noqa: E402
 
 # Outline of a Q8 element through its mid-side nodes: corner, mid, corner, ...

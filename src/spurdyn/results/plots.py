@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from spurdyn.results.io import speeds_label  # noqa: E402
+from spurdyn.results.frames import speeds_label  # noqa: E402
 
 
 def _labels(runs: Sequence[xr.Dataset]) -> list[str]:

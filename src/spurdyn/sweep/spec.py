@@ -256,7 +256,9 @@ def point_case(case: Case, rpm: float, torque: float, keep_frames: bool = False)
 
 def expected_steps(case: Case) -> int:
     """Time steps the run of ``case`` needs (its cost, for ordering and time left)."""
-    return int(math.ceil(case.angle / (case.run.speed_a * case.run.dt)))
+    from spurdyn.limits import engagement_steps
+
+    return engagement_steps(case)
 
 
 def check_plan(plan: SweepPlan) -> None:

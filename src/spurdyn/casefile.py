@@ -450,7 +450,7 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
     except InputError as err:  # the upper bounds are RunCase's own
         raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
 
-    from spurdyn.limits import check_run_bounds
+    from spurdyn.limits import check_run_bounds, check_sampling
 
     check_run_bounds(pair, run, src.field)
     theta_s = pair.theta_s
@@ -464,6 +464,7 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
         if run.angle < run.speed_a * run.dt:
             raise InputError(field_, f"{angle_deg:g} deg is shorter than one time step "
                              f"({math.degrees(run.speed_a * run.dt):.3g} deg at this speed)")
+    check_sampling(pair, run, src.field)
     if check_step:
         from spurdyn.model.tooth import build_tooth
 

@@ -76,11 +76,16 @@ def check_run_bounds(pair: Any, run: Any, field: Callable[[str], str]) -> None:
             * driver.base_radius
         raise InputError(field("torque"), f"{run.torque:g} N m strains the driver's tooth by "
                          f"about {strain:.2g}, beyond any elastic tooth; at most {top:.4g} N m")
+
+
+def check_sampling(pair: Any, run: Any, field: Callable[[str], str]) -> None:
+    """Refuse a saving interval that keeps fewer than :data:`MIN_SAMPLES` samples of the
+    run (or fewer than its steps, for a run shorter than that)."""
     steps = engagement_steps_of(pair, run)
-    if steps // run.save_every < MIN_SAMPLES:
+    if steps // run.save_every < min(MIN_SAMPLES, steps):
         raise InputError(field("save_every"), f"{run.save_every:,} keeps fewer than "
-                         f"{MIN_SAMPLES} samples of this {steps:,}-step run; at most "
-                         f"{max(1, steps // MIN_SAMPLES):,}")
+                         f"{min(MIN_SAMPLES, steps)} samples of this {steps:,}-step run; at "
+                         f"most {max(1, steps // MIN_SAMPLES):,}")
 
 
 def engagement_steps_of(pair: Any, run: Any) -> int:
@@ -129,5 +134,5 @@ def check_size(case: Any, labels: Mapping[str, str], *, model: str = "fe",
                          f"{'tooth frames' if frames else 'steps'} or give {flag} to run it anyway")
 
 
-__all__ = ["MAX_BYTES", "MAX_STEPS", "check_run_bounds", "check_size", "engagement_steps",
+__all__ = ["MAX_BYTES", "MAX_STEPS", "check_run_bounds", "check_sampling", "check_size", "engagement_steps",
            "estimate"]

@@ -7,10 +7,12 @@ the command is:
 
 - *at work* (:meth:`Interrupts.installed`, the default): the signal raises
   ``KeyboardInterrupt`` where the program is;
-- *in a solver loop* (:meth:`Interrupts.checkpoints`): the signal is only counted, and
-  :meth:`Interrupts.checkpoint` (called by the progress callback, inside the solver's
-  loop) raises it. The solver catches it there and returns the run so far, so a signal
-  that lands after the loop has ended can no longer discard a finished result;
+- *in a solver* (:meth:`Interrupts.checkpoints`): until the solver's first progress
+  report the signal raises at once (it may be compiling for a minute); from then on it
+  is only counted, and :meth:`Interrupts.checkpoint` (called by the progress callback,
+  inside the solver's loop) raises it. The solver catches it there and returns the run
+  so far, so a signal that lands after the loop has ended can no longer discard a
+  finished result;
 - *writing* (:meth:`Interrupts.held`): the signal is only counted; whoever held it looks
   at :attr:`Interrupts.count` afterwards.
 
@@ -29,7 +31,7 @@ STOP_SIGNALS = {signal.SIGINT: "Ctrl-C", signal.SIGTERM: "SIGTERM"}
 #: Exit status of a command stopped by a signal before it kept any result: 128 + signal.
 EXIT_SIGINT, EXIT_SIGTERM = 128 + signal.SIGINT, 128 + signal.SIGTERM
 
-_WORK, _LOOP, _HELD = "work", "loop", "held"
+_WORK, _START, _LOOP, _HELD = "work", "start", "loop", "held"
 
 
 class Interrupts:
@@ -47,7 +49,7 @@ class Interrupts:
     def handler(cls, signum: int, frame: Any) -> None:
         cls.count += 1
         cls.last = signum
-        if cls.mode == _WORK:
+        if cls.mode in (_WORK, _START):
             raise KeyboardInterrupt
 
     @classmethod
@@ -87,8 +89,9 @@ class Interrupts:
 
     @classmethod
     def checkpoints(cls) -> Any:
-        """Signals are counted and raised only at :meth:`checkpoint` in this block."""
-        return cls._mode(_LOOP)
+        """After the first :meth:`checkpoint` in this block, signals are counted and
+        raised only at checkpoints."""
+        return cls._mode(_START)
 
     @classmethod
     def held(cls) -> Any:
@@ -98,6 +101,8 @@ class Interrupts:
     @classmethod
     def checkpoint(cls) -> None:
         """Raise ``KeyboardInterrupt`` if a stop signal came (in a solver loop)."""
+        if cls.mode == _START:
+            cls.mode = _LOOP
         if cls.count and cls.mode == _LOOP:
             raise KeyboardInterrupt
 

@@ -15,11 +15,14 @@ from pathlib import Path
 from typing import NoReturn, Sequence
 
 from spurdyn.casefile import PairCase, load_pair
+from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.solver.case import BACKENDS, METHODS
 
 EXIT_BAD_INPUT = 2
+#: Exit status when stdout was closed by the reader (128 + SIGPIPE).
+EXIT_BROKEN_PIPE = 141
 
 
 class _Parser(argparse.ArgumentParser):
@@ -41,16 +44,6 @@ def resolve_pair(name: str) -> PairCase:
     return load_pair(name)
 
 
-def _parse_mesh(text: str | None) -> tuple[int, int] | None:
-    if text is None:
-        return None
-    try:
-        nx, ny = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise InputError("--mesh", f"must look like NXxNY, e.g. 4x14 (got {text!r})") from None
-    return nx, ny
-
-
 def _with_mesh(case: PairCase, mesh: tuple[int, int] | None) -> PairCase:
     if mesh is None:
         return case
@@ -61,7 +54,7 @@ def cmd_info(args: argparse.Namespace) -> int:
     from spurdyn.cli.report import format_info, pair_info
     from spurdyn.mesh.tooth import tooth_mesh
 
-    case = _with_mesh(resolve_pair(args.case), _parse_mesh(args.mesh))
+    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh))
     tooth_mesh(case.pair.gear_a, case.nx, case.ny)  # refuse a bad mesh before any work
     info = pair_info(case)
     print(json.dumps(info, indent=2) if args.json else format_info(info))
@@ -71,7 +64,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 def cmd_mesh(args: argparse.Namespace) -> int:
     from spurdyn.results.pictures import draw_mesh_position
 
-    case = _with_mesh(resolve_pair(args.case), _parse_mesh(args.mesh))
+    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh))
     png = _png_target(args.png)
     draw_mesh_position(case, png)
     print(f"wrote {png}")
@@ -101,7 +94,7 @@ def run_overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str
         if value is not None:
             overrides[key] = value
             labels[key] = label
-    mesh = _parse_mesh(args.mesh)
+    mesh = parse_mesh(args.mesh)
     if mesh is not None:
         overrides["mesh.nx"], overrides["mesh.ny"] = mesh
         labels["mesh.nx"] = labels["mesh.ny"] = "--mesh"
@@ -124,7 +117,15 @@ def cmd_run(args: argparse.Namespace) -> int:
             if case.run.frames_every < 1:
                 raise InputError("--vtu", f"needs tooth frames, but {case.name} keeps none "
                                  "(frames_every = 0); give --frames-every M with M >= 1")
-    simulate = runner.load_simulate() if args.model == "fe" else runner.simulate_lumped_run
+            if case.pair.driver == "b":
+                raise InputError("--vtu", f"needs tooth frames, but {case.name} is driven by "
+                                 "gear B, whose runs keep none; leave out --vtu")
+    if not args.allow_large:
+        from spurdyn.limits import check_size
+
+        for case in cases:
+            check_size(case, labels, model=args.model)
+    simulate = runner.load_simulate(args.model)
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,
                             quiet=args.quiet)
@@ -184,12 +185,16 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run = sub.add_parser(
         "run", help="run a case and leave result.nc, CSV, picture and summary in a folder",
         description="Run a dynamic contact analysis. CASE is a preset (see 'spurdyn cases') "
-        "or a TOML case file; the options override the case. Exit status: 0 complete, "
-        "1 incomplete (results so far kept), 2 bad input (nothing written).")
+        "or a TOML case file; the options override the case. Ctrl-C and SIGTERM stop a run "
+        "and keep what it computed. Exit status: 0 complete, 1 incomplete (results so far "
+        "kept), 2 bad input (nothing written), 130/143 stopped by Ctrl-C/SIGTERM before "
+        "any result (nothing written).")
     run.add_argument("case", metavar="CASE", help="preset name or TOML case file")
     run.add_argument("--out", metavar="DIR", help="output folder (default out/<case name>; "
                      "for a group, the parent of one folder per case)")
     run.add_argument("--force", action="store_true", help="replace an existing output folder")
+    run.add_argument("--allow-large", action="store_true",
+                     help="run even beyond 2,000,000 steps or 1 GiB of results per case")
     run.add_argument("--dt", type=float, metavar="S", help="time step (s)")
     run.add_argument("--speed-a", type=float, metavar="RPM", help="initial speed of gear A (rpm)")
     run.add_argument("--speed-b", type=float, metavar="RPM", help="initial speed of gear B (rpm)")
@@ -257,20 +262,45 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; return the exit status."""
+    """Run the command line; return the exit status.
+
+    Ctrl-C and SIGTERM stop any subcommand (:mod:`spurdyn.signals`); ``run`` and
+    ``sweep`` keep what was computed. Output to a closed pipe (``spurdyn info | head``)
+    ends the command quietly with status 141 (128 + SIGPIPE), as a shell tool would.
+    """
+    from spurdyn.signals import Interrupts
+
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
     except SystemExit as done:  # --help, --version, or a refusal already printed
         return done.code if isinstance(done.code, int) else EXIT_BAD_INPUT
+    with Interrupts.installed():
+        Interrupts.reset()
+        try:
+            code = int(args.func(args))
+            sys.stdout.flush()  # a closed pipe shows here, not at exit
+            return code
+        except InputError as err:
+            print(f"spurdyn: error: {err}", file=sys.stderr)
+            return EXIT_BAD_INPUT
+        except KeyboardInterrupt:
+            print(f"spurdyn: interrupted by {Interrupts.name()}", file=sys.stderr)
+            return Interrupts.exit_status()
+        except BrokenPipeError:
+            _silence_stdout()
+            return EXIT_BROKEN_PIPE
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that flushing it at exit raises nothing."""
+    import os
+
     try:
-        return int(args.func(args))
-    except InputError as err:
-        print(f"spurdyn: error: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        print("spurdyn: interrupted", file=sys.stderr)
-        return 130
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -17,6 +17,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
+from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep.spec import MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
@@ -45,15 +46,13 @@ def _nothing_to_run() -> Iterator[_backends.SerialBackend]:
 
 def _overrides(args: argparse.Namespace, torques: tuple[float, ...] | None
                ) -> tuple[dict[str, Any], dict[str, str]]:
-    from spurdyn.cli.main import _parse_mesh
-
     overrides: dict[str, Any] = {}
     labels: dict[str, str] = {}
     for dest, key, label in SWEEP_OVERRIDES:
         value = getattr(args, dest)
         if value is not None:
             overrides[key], labels[key] = value, label
-    mesh = _parse_mesh(args.mesh)
+    mesh = parse_mesh(args.mesh)
     if mesh is not None:
         overrides["mesh.nx"], overrides["mesh.ny"] = mesh
         labels["mesh.nx"] = labels["mesh.ny"] = "--mesh"
@@ -173,7 +172,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if plan.model == "fe":
         from spurdyn.cli.run import load_simulate
 
-        load_simulate()  # refuse now if this installation has no solver
+        load_simulate("fe")  # refuse now if this installation has no solver
     resonance = resonance_estimate(plan.case)
     todo = len(points_to_compute(plan))
     if todo == 0:

@@ -263,9 +263,11 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     -------
     dict
         ``case``, ``status``, ``reason``, ``steps``, ``dt_s``, ``wall_s``, ``n_dof``,
-        ``peak_force_N``, ``mean_force_single_zone_N`` (``None`` when the run never
-        reached the single-contact zone), ``static_force_N``, ``dynamic_factor``
-        (peak/static), ``separations`` (how many times contact was lost after first
+        ``peak_force_N`` (``None`` when the teeth never touched),
+        ``mean_force_single_zone_N`` (``None`` when the run never reached the
+        single-contact zone), ``static_force_N``, ``dynamic_factor`` (peak/static; ``None``
+        for an incomplete run, whose largest force may be the spike that stopped it),
+        ``model`` (only for a model other than the FE one), ``separations`` (how many times contact was lost after first
         being made, see :func:`separation_times`) and ``separation_times_s``, ``iterations_mean`` and ``residual_max`` per stage,
         and more.
     """
@@ -273,8 +275,10 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     angle = ds["angle_deg"].values.astype(float)
     time = ds["time"].values.astype(float)
     finite = np.isfinite(force)
-    peak = float(np.max(force[finite])) if finite.any() else float("nan")
-    peak_at = float(angle[finite][np.argmax(force[finite])]) if finite.any() else float("nan")
+    touched = finite & (force > 0.0)  # no contact: no peak (not a "peak" of -0.0 N)
+    peak = float(np.max(force[touched])) if touched.any() else float("nan")
+    peak_at = float(angle[touched][np.argmax(force[touched])]) if touched.any() else float("nan")
+    complete = ds.attrs["status"] == "complete"
     zone = np.asarray(ds.attrs["single_zone_deg"], float).reshape(2)
     in_zone = finite & (angle >= zone[0]) & (angle <= zone[1])
     static = float(ds.attrs["static_force_N"])
@@ -311,7 +315,8 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         "peak_angle_deg": peak_at,
         "mean_force_single_zone_N": float(np.mean(force[in_zone])) if in_zone.any() else None,
         "static_force_N": static,
-        "dynamic_factor": peak / static if static > 0 else None,
+        # An incomplete run's largest force may be the spike that stopped it.
+        "dynamic_factor": peak / static if static > 0 and complete else None,
         "first_contact_s": None if first is None else float(first),
         "separations": int(len(seps)),
         "separation_times_s": [float(x) for x in seps],
@@ -320,6 +325,9 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         "settings": case,
         "spurdyn_version": ds.attrs.get("spurdyn_version", ""),
     }
+    model = json.loads(ds.attrs.get("info", "{}") or "{}").get("model")
+    if model and model != "fe":  # say which model made it (the FE solver's is implied)
+        summary["model"] = model
     return _jsonable(summary)
 
 

@@ -58,6 +58,11 @@ class Interrupts:
         return STOP_SIGNALS.get(cls.last, "Ctrl-C")  # type: ignore[arg-type]
 
     @classmethod
+    def stopped(cls) -> str:
+        """``"interrupted"`` (Ctrl-C) or ``"interrupted by SIGTERM"``."""
+        return "interrupted by SIGTERM" if cls.last == signal.SIGTERM else "interrupted"
+
+    @classmethod
     def exit_status(cls) -> int:
         """128 + the last stop signal (130 for Ctrl-C, 143 for SIGTERM)."""
         return EXIT_SIGTERM if cls.last == signal.SIGTERM else EXIT_SIGINT
@@ -114,6 +119,17 @@ def install_in_worker() -> None:
         signal.signal(s, Interrupts.handler)
 
 
+def ignore_interrupts() -> None:
+    """Ignore Ctrl-C for good in this process (outside the main thread: no change).
+
+    For worker processes whose client stops the work and closes them.
+    """
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:
+        pass
+
+
 @contextmanager
 def ignored(signums: tuple[int, ...] = (signal.SIGINT,)) -> Iterator[None]:
     """Ignore ``signums`` in this block (processes spawned in it inherit that).
@@ -132,5 +148,5 @@ def ignored(signums: tuple[int, ...] = (signal.SIGINT,)) -> Iterator[None]:
             signal.signal(s, h)
 
 
-__all__ = ["EXIT_SIGINT", "EXIT_SIGTERM", "Interrupts", "STOP_SIGNALS", "ignored",
-           "install_in_worker"]
+__all__ = ["EXIT_SIGINT", "EXIT_SIGTERM", "Interrupts", "STOP_SIGNALS", "ignore_interrupts",
+           "ignored", "install_in_worker"]

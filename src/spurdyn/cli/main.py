@@ -18,6 +18,7 @@ from spurdyn.casefile import PairCase, load_pair
 from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
+from spurdyn.simulators import MODELS
 from spurdyn.solver.case import BACKENDS, METHODS
 
 EXIT_BAD_INPUT = 2
@@ -207,7 +208,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                      help="keep the tooth displacements every M-th step (0: none)")
     run.add_argument("--method", metavar="|".join(METHODS), help="constraint iteration")
     run.add_argument("--backend", metavar="|".join(BACKENDS), help="solver backend")
-    run.add_argument("--model", choices=("fe", "lumped"), default="fe", metavar="fe|lumped",
+    run.add_argument("--model", choices=tuple(MODELS), default="fe", metavar="|".join(MODELS),
                      help="fe: the paper's FE contact model (default); lumped: two disks and "
                      "a mesh spring (docs/lumped.md)")
     run.add_argument("--vtu", action="store_true", help="also write a ParaView time series")

@@ -126,7 +126,27 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     plan = SweepPlan(case=case, model=args.model, rpms=rpms, torques=torques, out=out,
                      keep_runs=args.keep_runs, force=args.force)
     check_plan(plan)
+    _check_points(plan, labels, args.allow_large)
     return plan
+
+
+def _check_points(plan: SweepPlan, labels: dict[str, str], allow_large: bool) -> None:
+    """Refuse points beyond the meaning of their settings, or too large unasked."""
+    from spurdyn.limits import check_run_bounds, check_sampling, check_size
+
+    names = {"speed_a_rpm": "--rpm", "torque": "--torque" if plan.torques is not None
+             else "run.torque"}
+
+    def field(key: str) -> str:
+        return names.get(key) or labels.get(f"run.{key}", f"run.{key}")
+
+    points = [plan.point_case(k) for k in plan.keys()]
+    for point in points:
+        check_run_bounds(point.pair, point.run, field)
+        check_sampling(point.pair, point.run, field)
+    if not allow_large:
+        slowest = min(points, key=lambda p: p.run.speed_a)
+        check_size(slowest, labels, model=plan.model, speed_field="--rpm")
 
 
 def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:
@@ -142,7 +162,9 @@ def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:
             f"({report.computed} computed on {where}, {report.reused} already in "
             f"{plan.out}): {', '.join(parts)}; {report.wall_s:.1f} s")
     if report.interrupted or report.stopped:
-        why = "interrupted" if report.interrupted else f"stopped ({report.stopped})"
+        from spurdyn.signals import Interrupts
+
+        why = Interrupts.stopped() if report.interrupted else f"stopped ({report.stopped})"
         print(f"spurdyn: sweep {why}: {counts['complete'] + counts['incomplete']} of {n} "
               f"points kept in {plan.out}; run the same command to compute the rest",
               file=sys.stderr, flush=True)
@@ -199,7 +221,8 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
         "each finished point is kept in DIR/points/, and running the same command again "
         "computes only what is missing. The points run on a local Dask cluster (--jobs) "
         "or on the cluster at --scheduler. Exit status: 0 every point complete, 1 some "
-        "point incomplete, failed or not run, 2 bad input (nothing written). "
+        "point incomplete, failed or not run (Ctrl-C and SIGTERM stop the sweep and keep "
+        "the finished points), 2 bad input (nothing written). "
         "See docs/sweep.md.")
     p.add_argument("case", metavar="CASE", help="preset name (see 'spurdyn cases') or TOML file")
     p.add_argument("--rpm", required=True, metavar="START:STOP:STEP",
@@ -225,6 +248,8 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    help="also keep each point's whole run folder in DIR/runs/")
     p.add_argument("--force", action="store_true",
                    help="compute every point again (and allow a non-sweep DIR)")
+    p.add_argument("--allow-large", action="store_true",
+                   help="run points even beyond 2,000,000 steps or 1 GiB of results each")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no report lines")
     p.set_defaults(func=cmd_sweep)
 

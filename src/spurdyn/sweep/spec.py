@@ -21,10 +21,11 @@ from typing import Any
 
 from spurdyn.casefile import Case, case_to_dict
 from spurdyn.errors import InputError
+from spurdyn.simulators import MODELS as _MODELS
 from spurdyn.solver.case import RPM
 
 #: Models a sweep can run.
-MODELS = ("fe", "lumped")
+MODELS = tuple(_MODELS)
 
 #: Most points one grid may hold.
 MAX_POINTS = 10_000

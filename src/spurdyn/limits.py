@@ -18,12 +18,14 @@ import sys
 from typing import Any, Callable, Mapping
 
 from spurdyn.errors import InputError
+from spurdyn.solver.case import PAPER_DT
 
 #: Fewest steps over the angle of action: fewer cannot follow the contact (the contact
 #: point crosses each of the ~14 elements along a flank in a few steps).
 MIN_STEPS_PER_ENGAGEMENT = 100
-#: Fewest saved samples of a run: fewer say nothing about its contact force.
-MIN_SAMPLES = 10
+#: Fewest saved steps after the start: a peak needs a sample on either side of it (with
+#: fewer, ``save_every`` keeps little more than the start and the summary says nothing).
+MIN_SAMPLES = 3
 #: Largest ``tol_disp`` as a fraction of the module: a micrometre-deflecting tooth pair
 #: whose gap may be off by more passes through itself unnoticed.
 TOL_MAX_PER_MODULE = 1e-6
@@ -63,6 +65,13 @@ def check_run_bounds(pair: Any, run: Any, field: Callable[[str], str]) -> None:
                          f"fewer than {MIN_STEPS_PER_ENGAGEMENT} steps over the angle of action "
                          f"({math.degrees(pair.theta_s):.3f} deg); give a lower speed or a "
                          "smaller dt")
+    for key, speed in (("speed_a_rpm", run.speed_a), ("speed_b_rpm", run.speed_b)):
+        gear = pair.gear_a if key == "speed_a_rpm" else pair.gear_b
+        wave = math.sqrt(gear.material.young / gear.material.density)
+        if speed * gear.pitch_radius > wave:
+            raise InputError(field(key), f"{speed * 30 / math.pi:.4g} rpm moves the pitch circle "
+                             f"faster than sound travels in the tooth ({wave:,.0f} m/s), beyond "
+                             f"any gear; at most {wave / gear.pitch_radius * 30 / math.pi:,.0f} rpm")
     tol_max = TOL_MAX_PER_MODULE * driver.module
     tol_min = TOL_MIN_ROUNDINGS * sys.float_info.epsilon * pair.centre_distance
     if not tol_min <= run.tol_disp <= tol_max:
@@ -80,7 +89,11 @@ def check_run_bounds(pair: Any, run: Any, field: Callable[[str], str]) -> None:
 
 def check_sampling(pair: Any, run: Any, field: Callable[[str], str]) -> None:
     """Refuse a saving interval that keeps fewer than :data:`MIN_SAMPLES` samples of the
-    run (or fewer than its steps, for a run shorter than that)."""
+    run (or fewer than its steps, for a run shorter than that).
+
+    A frame interval longer than the run is left alone: it keeps the start frame, and
+    a case file's interval is often meant for the whole engagement, not a short --angle.
+    """
     steps = engagement_steps_of(pair, run)
     if steps // run.save_every < min(MIN_SAMPLES, steps):
         raise InputError(field("save_every"), f"{run.save_every:,} keeps fewer than "
@@ -120,8 +133,9 @@ def check_size(case: Any, labels: Mapping[str, str], *, model: str = "fe",
     """
     steps, size = estimate(case, model)
     if model == "fe" and steps > MAX_STEPS:
-        key = _label(labels, "dt") if "run.dt" in labels else \
-            speed_field or _label(labels, "speed_a_rpm")
+        # Blame the time step when the paper's would keep the run within the limit.
+        dt_blamed = steps * case.run.dt / PAPER_DT <= MAX_STEPS
+        key = _label(labels, "dt") if dt_blamed else speed_field or _label(labels, "speed_a_rpm")
         raise InputError(key, f"{case.name} would take {steps:,} steps (limit {MAX_STEPS:,}; "
                          f"about {steps / 4000 / 60:,.0f} min at 4,000 steps/s); raise the "
                          f"speed, shorten --angle, or give {flag} to run it anyway")

@@ -177,9 +177,44 @@ def cmd_animate(args: argparse.Namespace) -> int:
     tooth_frames(ds)  # refuse a run without frames before drawing anything
     from spurdyn.results.animate import animate_run
 
-    animate_run(ds, gif, magnify=args.magnify, fps=args.fps, max_frames=args.max_frames)
+    bar = _StepsBar(f"animating {gif.name}", quiet=args.quiet)
+    try:
+        animate_run(ds, gif, magnify=args.magnify, fps=args.fps, max_frames=args.max_frames,
+                    progress=bar)
+    finally:
+        bar.close()
     print(f"wrote {gif}")
     return 0
+
+
+class _StepsBar:
+    """A tqdm bar of ``done/total`` on a terminal; one line at the start elsewhere."""
+
+    def __init__(self, label: str, quiet: bool = False, stream: object = None) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        self.label, self.quiet, self.bar, self.said = label, quiet, None, False
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+
+    def __call__(self, done: int, total: int) -> None:
+        if self.quiet:
+            return
+        if not self.tty:
+            if not self.said:
+                print(f"spurdyn: {self.label} ({total // 2} frames)...", file=self.stream,
+                      flush=True)
+                self.said = True
+            return
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, desc=self.label, unit="step", file=self.stream,
+                            dynamic_ncols=True, leave=False)
+        self.bar.update(done - self.bar.n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
 
 
 def _add_run_parser(sub: argparse._SubParsersAction) -> None:
@@ -258,6 +293,7 @@ def build_parser() -> argparse.ArgumentParser:
     anim.add_argument("--fps", type=int, default=15, help="frames per second (default 15)")
     anim.add_argument("--max-frames", type=int, default=150, metavar="K",
                       help="at most K frames, evenly picked (default 150)")
+    anim.add_argument("--quiet", action="store_true", help="no progress")
     anim.set_defaults(func=cmd_animate)
     return parser
 

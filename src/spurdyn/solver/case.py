@@ -34,27 +34,25 @@ MAX_ACCEL_LEVELS = 10
 #: Largest ``max_iter``: a stage still iterating after this many iterations has stalled
 #: (the paper's cases take tens); more would only spend hours on one step.
 MAX_ITER = 100_000
-#: Most flank spline points per element along the flank (``ny``): each element edge is a
-#: quadratic fixed by its three nodes, so denser data describes nothing new.
-MAX_SPLINE_PER_ELEMENT = 32
+#: Most flank spline points: 32 per element along the flank of the densest tooth mesh
+#: (``ny`` <= 256, :func:`spurdyn.mesh.tooth.tooth_mesh`). Each element edge is a quadratic
+#: fixed by its three nodes, so denser data describes nothing new.
+MAX_SPLINE = 32 * 256 + 1
 
 
 #: Why each capped whole-number setting stops where it does.
 INTEGER_LIMITS = {
-    "n_spline": f"{MAX_SPLINE_PER_ELEMENT} points per element along the flank describe each "
-                "element edge fully",
+    "n_spline": "32 points per element along the densest flank describe each element edge "
+                "fully",
     "max_iter": "a stage that needs more has stalled",
     "accel_levels": "beyond it the acceleration coefficients of Appendix B underflow",
 }
 
 
-def integer_bounds(ny: int) -> tuple[tuple[str, int, int | None], ...]:
-    """``(key, lowest, highest or None)`` of the whole-number settings for ``ny`` elements
-    along the flank."""
-    spline_max = MAX_SPLINE_PER_ELEMENT * ny + 1 if isinstance(ny, int) and ny > 0 else None
-    return (("n_spline", 8, spline_max), ("max_iter", 1, MAX_ITER),
-            ("accel_levels", 1, MAX_ACCEL_LEVELS), ("save_every", 1, None),
-            ("frames_every", 0, None))
+#: ``(key, lowest, highest or None)`` of the whole-number settings.
+INTEGER_BOUNDS = (("n_spline", 8, MAX_SPLINE), ("max_iter", 1, MAX_ITER),
+                  ("accel_levels", 1, MAX_ACCEL_LEVELS), ("save_every", 1, None),
+                  ("frames_every", 0, None))
 
 
 @dataclass(frozen=True)
@@ -127,7 +125,7 @@ class RunCase:
             raise InputError("torque", f"must be a number >= 0 (got {self.torque!r})")
         if self.angle is not None and (not math.isfinite(self.angle) or self.angle <= 0):
             raise InputError("angle", f"must be a positive angle (got {self.angle!r})")
-        for key, lo, hi in integer_bounds(self.ny):
+        for key, lo, hi in INTEGER_BOUNDS:
             v = getattr(self, key)
             if not isinstance(v, int) or isinstance(v, bool) or v < lo:
                 raise InputError(key, f"must be a whole number >= {lo} (got {v!r})")

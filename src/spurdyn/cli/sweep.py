@@ -205,6 +205,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         jobs = min(args.jobs or _backends.default_jobs(), todo)
         backend_cm = local_backend(jobs)
         where = f"{jobs} local worker{'s' if jobs > 1 else ''}"
+    if todo and plan.model == "fe" and plan.case.run.backend == "numba" and not args.quiet:
+        from spurdyn.integrate.warmup import needs_compiling
+
+        if needs_compiling():
+            print("spurdyn: the workers compile the solver first (first run only, up to a "
+                  "minute)...", file=sys.stderr, flush=True)
     with backend_cm as backend:
         report = run_sweep(plan, backend, resonance=resonance, progress=not args.quiet)
     _report(report, resonance, where, args.quiet)

@@ -18,7 +18,7 @@ import sys
 from typing import Any, Callable, Mapping
 
 from spurdyn.errors import InputError
-from spurdyn.solver.case import PAPER_DT
+from spurdyn.solver.case import PAPER_DT, RPM
 
 #: Fewest steps over the angle of action: fewer cannot follow the contact (the contact
 #: point crosses each of the ~14 elements along a flank in a few steps).
@@ -63,7 +63,7 @@ def check_run_bounds(pair: Any, run: Any, field: Callable[[str], str]) -> None:
         # Blame the time step when the paper's would give enough steps at this speed.
         dt_blamed = pair.theta_s / (run.speed_a * PAPER_DT) >= MIN_STEPS_PER_ENGAGEMENT
         raise InputError(field("dt" if dt_blamed else "speed_a_rpm"),
-                         f"{run.speed_a * 30 / math.pi:.4g} rpm with dt = {run.dt:g} s turns "
+                         f"{run.speed_a / RPM:.4g} rpm with dt = {run.dt:g} s turns "
                          f"gear A {math.degrees(per_step):.3g} deg per step, fewer than "
                          f"{MIN_STEPS_PER_ENGAGEMENT} steps over the angle of action "
                          f"({math.degrees(pair.theta_s):.3f} deg); give a "
@@ -72,9 +72,9 @@ def check_run_bounds(pair: Any, run: Any, field: Callable[[str], str]) -> None:
         gear = pair.gear_a if key == "speed_a_rpm" else pair.gear_b
         wave = math.sqrt(gear.material.young / gear.material.density)
         if speed * gear.pitch_radius > wave:
-            raise InputError(field(key), f"{speed * 30 / math.pi:.4g} rpm moves the pitch circle "
+            raise InputError(field(key), f"{speed / RPM:.4g} rpm moves the pitch circle "
                              f"faster than sound travels in the tooth ({wave:,.0f} m/s), beyond "
-                             f"any gear; at most {wave / gear.pitch_radius * 30 / math.pi:,.0f} rpm")
+                             f"any gear; at most {wave / gear.pitch_radius / RPM:,.0f} rpm")
     tol_max = TOL_MAX_PER_MODULE * driver.module
     tol_min = TOL_MIN_ROUNDINGS * sys.float_info.epsilon * pair.centre_distance
     if not tol_min <= run.tol_disp <= tol_max:

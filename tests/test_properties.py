@@ -220,3 +220,30 @@ def test_valid_small_cases_run(fake, capsys, speed, torque, angle, save_every, f
         summary = json.loads((folder / "o" / "summary.json").read_text())
         assert summary["status"] == "complete" and summary["samples"] >= 3
         assert sorted(p.name for p in folder.iterdir()) == ["o", "paper_fig8.toml"]
+
+
+#: Per ``spurdyn sweep`` option: values (as typed) that must be refused before any
+#: cluster is started.
+BAD_SWEEP_FLAGS: dict[str, st.SearchStrategy[str]] = {
+    "--rpm": st.one_of(
+        st.text(max_size=6).filter(lambda s: not _is_float(s) and ":" not in s and "," not in s),
+        _text(st.one_of(NOT_FINITE, NOT_POSITIVE, _floats(1.2e6, 1e308), _floats(1e-300, 50.0))),
+        st.tuples(_floats(3000, 5000), _floats(1e-9, 1e-3)).map(
+            lambda t: f"{t[0]!r}:{t[0] + 1e5!r}:{t[1]!r}")),   # far more than 10,000 points
+    "--torque": _text(st.one_of(NOT_FINITE, _floats(-1e308, -1e-300), _floats(1e5, 1e308))),
+    "--dt": _text(st.one_of(NOT_FINITE, NOT_POSITIVE, _floats(1e-6, 1e308))),
+    "--jobs": _text(st.integers(-(2**40), 0)),
+    "--scheduler": st.text(max_size=12).filter(lambda s: not s.startswith(("tcp://", "tls://"))),
+}
+
+
+@settings(max_examples=20, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data(), flag=st.sampled_from(sorted(BAD_SWEEP_FLAGS)))
+def test_bad_sweep_options_are_refused_by_name(capsys, data, flag):
+    value = data.draw(BAD_SWEEP_FLAGS[flag], label=flag)
+    rpm = [] if flag == "--rpm" else ["--rpm", "4000,6000"]
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        _refused(capsys, folder, ["sweep", "paper-fig8", f"{flag}={value}", *rpm,
+                                  "--out", folder / "o", "--model", "lumped"], flag)

@@ -279,6 +279,12 @@ def test_out_that_cannot_be_made_is_one_line(fake, here, capsys):
     assert code == 2 and err.count("\n") == 1 and target in err and "Traceback" not in err
 
 
+def test_picture_that_cannot_be_written_is_one_line(here, capsys):
+    code, out, err = run(capsys, "mesh", "paper", "--png", "/proc/spurdyn.png")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith("spurdyn: error: /proc/spurdyn.png: cannot be written")
+
+
 def test_closed_pipe_is_quiet(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "spurdyn.cli.main", "info", "paper", "--json"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)

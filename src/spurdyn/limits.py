@@ -131,8 +131,10 @@ def check_size(case: Any, labels: Mapping[str, str], *, model: str = "fe",
                flag: str = "--allow-large", speed_field: str | None = None) -> None:
     """Refuse a run beyond :data:`MAX_STEPS` or :data:`MAX_BYTES` (``flag`` allows it).
 
-    The refusal names the time step when it was given on the command line, else the
-    speed (``speed_field`` if given); for the size, the saving interval or the frames.
+    The refusal names the time step when the paper's would keep the run within the limit,
+    else the speed (``speed_field`` if given); for the size, the tooth frames or the saving
+    interval (the speed instead, when ``speed_field`` is given and the interval is not an
+    option the user gave).
     """
     steps, size = estimate(case, model)
     if model == "fe" and steps > MAX_STEPS:
@@ -145,7 +147,10 @@ def check_size(case: Any, labels: Mapping[str, str], *, model: str = "fe",
     if size > MAX_BYTES:
         frames = model == "fe" and case.run.frames_every and \
             size - (steps // case.run.save_every + 1) * BYTES_PER_SAMPLE > size / 2
-        key = _label(labels, "frames_every" if frames else "save_every")
+        what = "frames_every" if frames else "save_every"
+        # The saving interval, unless the speed was what the user wrote for it (a sweep).
+        key = _label(labels, what) if frames or f"run.{what}" in labels or not speed_field \
+            else speed_field
         raise InputError(key, f"{case.name} would keep about {size / 2**30:,.1f} GiB of results "
                          f"(limit {MAX_BYTES / 2**30:g} GiB); keep fewer "
                          f"{'tooth frames' if frames else 'steps'} or give {flag} to run it anyway")

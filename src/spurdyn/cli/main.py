@@ -327,6 +327,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         except BrokenPipeError:
             _silence_stdout()
             return EXIT_BROKEN_PIPE
+        except OSError as err:  # a picture or folder the system refuses to write
+            where = err.filename or "output"
+            print(f"spurdyn: error: {where}: cannot be written ({err.strerror or err})",
+                  file=sys.stderr)
+            return EXIT_BAD_INPUT
 
 
 def _silence_stdout() -> None:

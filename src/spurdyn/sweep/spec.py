@@ -108,10 +108,10 @@ def parse_grid(text: str, field: str, *, positive: bool = True) -> tuple[float, 
         values = [_number(p, field) for p in text.split(",")]
         if len(values) > MAX_POINTS:
             raise InputError(field, f"{len(values):,} values; at most {MAX_POINTS:,}")
-    for v in values:
-        if v < 0 or (positive and v == 0):
+    for v in values:  # checked as stored: rounded to DECIMALS decimals
+        if v < 0 or (positive and round(v, DECIMALS) == 0):
             kind = "positive" if positive else "zero or positive"
-            raise InputError(field, f"values must be {kind} (got {v:g})")
+            raise InputError(field, f"values must be {kind} to {DECIMALS} decimals (got {v:g})")
     return tuple(sorted({round(v, DECIMALS) for v in values}))
 
 

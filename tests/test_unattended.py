@@ -264,6 +264,18 @@ def test_no_contact_says_no_contact(fake, here, capsys):
     assert summary["peak_force_N"] is None and summary["dynamic_factor"] is None
 
 
+def test_numeric_attributes_stay_numbers(fake, here, capsys):
+    """``steps``, ``wall_s``, ``dt_s``, ... are NetCDF numbers, not strings."""
+    import netCDF4
+
+    assert run(capsys, "run", "paper-fig9", *SHORT, "--quiet")[0] == 0
+    with netCDF4.Dataset(here / "out" / "paper-fig9" / "result.nc") as nc:
+        for name in ("steps", "n_dof"):
+            assert isinstance(nc.getncattr(name), np.integer), name
+        for name in ("wall_s", "dt_s", "angle_target_deg", "theta_s_deg", "static_force_N"):
+            assert isinstance(nc.getncattr(name), np.floating), name
+
+
 def test_long_reason_is_wrapped_in_the_plot_title():
     from spurdyn.results.plots import TITLE_WIDTH, wrap_title
 

@@ -39,6 +39,9 @@ MAX_STRAIN = 0.01
 #: Steps a run may take unasked (a full engagement of the paper's pair at ~60 rpm, about
 #: ten minutes of the compiled solver on one core).
 MAX_STEPS = 2_000_000
+#: Steps per second of the compiled solver on the default mesh, for the time estimate of
+#: a refusal (measured: paper-fig8, 29,251 steps in 6.4 s on one shared core).
+STEPS_PER_S = 4000
 #: Bytes of results a run may hold unasked (in memory and in ``result.nc``).
 MAX_BYTES = 1 << 30
 #: Bytes per saved step: the solver's history row (18 numbers) and the dataset's
@@ -142,7 +145,7 @@ def check_size(case: Any, labels: Mapping[str, str], *, model: str = "fe",
         dt_blamed = steps * case.run.dt / PAPER_DT <= MAX_STEPS
         key = _label(labels, "dt") if dt_blamed else speed_field or _label(labels, "speed_a_rpm")
         raise InputError(key, f"{case.name} would take {steps:,} steps (limit {MAX_STEPS:,}; "
-                         f"about {steps / 4000 / 60:,.0f} min at 4,000 steps/s); raise the "
+                         f"about {steps / STEPS_PER_S / 60:,.0f} min at {STEPS_PER_S:,} steps/s); raise the "
                          f"speed, shorten --angle, or give {flag} to run it anyway")
     if size > MAX_BYTES:
         frames = model == "fe" and case.run.frames_every and \

@@ -47,7 +47,7 @@ def fake(monkeypatch):
     def simulate(pair, case, progress=None):
         return fake_simulate(pair, case, progress, **options)
 
-    monkeypatch.setattr(runner, "load_simulate", lambda: simulate)
+    monkeypatch.setattr(runner, "load_simulate", lambda model="fe": simulate)
     return options
 
 
@@ -76,9 +76,16 @@ def check_run_folder(d: Path) -> tuple[xr.Dataset, dict]:
     assert summary["steps"] == ds.attrs["steps"] and summary["samples"] == ds.sizes["time"]
     assert summary["dt_s"] == ds.attrs["dt_s"] == json.loads(ds.attrs["case"])["run"]["dt"]
     assert summary["n_dof"] == ds.attrs["n_dof"] > 0
-    assert summary["peak_force_N"] == pytest.approx(np.nanmax(force))
+    if np.nanmax(force) > 0:
+        assert summary["peak_force_N"] == pytest.approx(np.nanmax(force))
+    else:  # no contact, no peak
+        assert summary["peak_force_N"] is None and summary["dynamic_factor"] is None
     assert summary["static_force_N"] == pytest.approx(ds.attrs["static_force_N"])
-    assert summary["dynamic_factor"] == pytest.approx(summary["peak_force_N"] / summary["static_force_N"])
+    if summary["status"] == "complete" and summary["peak_force_N"] is not None:
+        assert summary["dynamic_factor"] == pytest.approx(
+            summary["peak_force_N"] / summary["static_force_N"])
+    else:  # an incomplete run's largest force may be the spike that stopped it
+        assert summary["dynamic_factor"] is None
     assert summary["angle_deg"] == pytest.approx(ds["angle_deg"].values[-1])
     assert summary["time_s"] == pytest.approx(ds["time"].values[-1])
     for stage in ("displacement", "velocity", "acceleration"):
@@ -259,12 +266,12 @@ def test_a_folder_filled_during_the_run_is_kept(fake, here, capsys, monkeypatch)
     d = here / "out" / "paper-fig9"
     execute = runner.execute
 
-    def fill_then_execute(plan, simulate, progress=True):
+    def fill_then_execute(plan, simulate, progress=True, quiet=False):
         def simulate_while_another_writes(pair, case, bar=None):
             d.mkdir(parents=True, exist_ok=True)
             (d / "other.txt").write_text("another run's result")
             return simulate(pair, case, bar)
-        return execute(plan, simulate_while_another_writes, progress)
+        return execute(plan, simulate_while_another_writes, progress, quiet)
 
     monkeypatch.setattr(runner, "execute", fill_then_execute)
     code, out, err = run(capsys, "run", "paper-fig9", *SHORT)
@@ -324,7 +331,7 @@ def test_interrupt_escaping_the_solver_leaves_nothing(here, capsys, monkeypatch)
     def broken(pair, case, progress=None):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(runner, "load_simulate", lambda: broken)
+    monkeypatch.setattr(runner, "load_simulate", lambda model="fe": broken)
     code, _, err = run(capsys, "run", "paper-fig9", *SHORT)
     assert code == 130 and "nothing written" in err
     assert list(here.iterdir()) == []

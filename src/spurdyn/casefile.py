@@ -23,14 +23,13 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from spurdyn.errors import InputError
-from spurdyn.fem.material import bursting_speed
 from spurdyn.geometry.pair import GearPair
 from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-exported
     GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS, TOP_KEYS, PairCase, _check_keys,
     _gear_to_dict, _read_toml, gear_from_table, load_pair, material_from_table, pair_from_dict,
 )
 from spurdyn.model.system import PairSystem, system_for
-from spurdyn.settings import BACKENDS, METHODS, RPM, RunCase
+from spurdyn.settings import BACKENDS, METHODS, PAPER_DT, RPM, RunCase
 from spurdyn.solvers.check import check_run, default_dt, stable_step
 
 RUN_KEYS = {
@@ -152,6 +151,8 @@ class _Source:
 
 
 _RUN_DEFAULTS = {f.name: f.default for f in fields(RunCase)}
+#: The ``[run]`` key of a :class:`RunCase` field whose name differs.
+_RUN_KEY_OF = {"speed_a": "speed_a_rpm", "speed_b": "speed_b_rpm", "angle": "angle_deg"}
 
 
 def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, name: str,
@@ -197,20 +198,17 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
     speed_a = src.number("speed_a_rpm", None, required_hint=hint)
     speed_b = src.number("speed_b_rpm", speed_a * pair.gear_a.teeth / pair.gear_b.teeth)
     torque = src.number("torque", None, positive=False, required_hint=hint)
-    _check_bursting(pair, {"a": speed_a, "b": speed_b}, src)
     dt = src.number("dt", None)
     angle_deg = src.number("angle_deg", None)
     mesh = _Source({"nx": pair_case.nx, "ny": pair_case.ny}, "mesh", overrides, labels)
     nx = mesh.integer("nx", pair_case.nx, 1)
     ny = mesh.integer("ny", pair_case.ny, 1)
-    n_spline = src.integer("n_spline", _RUN_DEFAULTS["n_spline"], 8)
-    system = _system(pair, nx, ny, n_spline, overrides, labels) if check_step or dt is None else None
-    if dt is None:  # a stated fraction of the stable step of this mesh
-        dt = default_dt(stable_step(system))
     settings = dict(
-        speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque, dt=dt,
+        # without a dt, the paper's until the system is built (the values are checked first)
+        speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque,
+        dt=PAPER_DT if dt is None else dt,
         angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
-        n_spline=n_spline,
+        n_spline=src.integer("n_spline", _RUN_DEFAULTS["n_spline"], 8),
         tol_disp=src.number("tol_disp", _RUN_DEFAULTS["tol_disp"]),
         max_iter=src.integer("max_iter", _RUN_DEFAULTS["max_iter"], 1),
         accel_levels=src.integer("accel_levels", _RUN_DEFAULTS["accel_levels"], 1),
@@ -223,29 +221,24 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
     )
     try:
         run = RunCase(**settings)
-    except InputError as err:  # pragma: no cover - every value was checked above
-        raise InputError(src.field(err.field), err.reason) from None
+    except InputError as err:  # the upper bounds are RunCase's own
+        raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
+    system = None
+    if check_step or dt is None:
+        system = _system(pair, nx, ny, run.n_spline, overrides, labels)
+    if dt is None:  # a stated fraction of the stable step of this mesh
+        run = run.with_(dt=default_dt(stable_step(system)))
 
     if system is not None:
         def field(name: str) -> str:
             if name == "dt" and "run.dt" not in overrides and "mesh.nx" in overrides:
                 return labels.get("mesh.nx", "mesh")     # the mesh made the step too large
-            return src.field("angle_deg" if name == "angle" else name)
+            if name == "speed_b_rpm" and not src.get(name)[0]:
+                return src.field("speed_a_rpm")          # B's default speed comes from A's
+            return src.field(name)
 
         check_run(pair, run, system, field)
     return Case(name=name, pair=pair, run=run, description=description)
-
-
-def _check_bursting(pair: GearPair, speeds_rpm: Mapping[str, float], src: _Source) -> None:
-    """Refuse a speed at which either gear would burst: a unit slip (docs/casefile.md)."""
-    for key, gear in (("a", pair.gear_a), ("b", pair.gear_b)):
-        limit = bursting_speed(gear.material, gear.tip_radius) / RPM
-        if speeds_rpm[key] > limit:
-            # B's default speed comes from A's: name the key the user wrote.
-            written = f"speed_{key}_rpm" if src.get(f"speed_{key}_rpm")[0] else "speed_a_rpm"
-            raise InputError(src.field(written), f"{speeds_rpm[key]:g} rpm is above "
-                             f"the bursting speed {limit:.3g} rpm of gear {key.upper()}; speeds "
-                             "are in rpm, not rad/s or rad/min")
 
 
 def _system(pair: GearPair, nx: int, ny: int, n_spline: int, overrides: Mapping[str, Any],

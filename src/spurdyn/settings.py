@@ -31,6 +31,34 @@ BACKENDS = ("numba", "numpy")
 #: Time integrators (:data:`spurdyn.solvers.loop.STEPPERS`): the paper's classical RK4.
 INTEGRATORS = ("rk4",)
 
+#: Largest ``accel_levels``: for the smallest ``eps_1`` the iteration admits (1e-12,
+#: :func:`spurdyn.solvers.paper.iteration_numpy.accelerated_update`) the coefficient ``om_n`` of
+#: Appendix B falls below the smallest double at ``n = 11`` and ``b_bar`` is infinite;
+#: ``A_n e`` also costs ``2^(n-1) - 1`` products, 511 at 10.
+MAX_ACCEL_LEVELS = 10
+#: Largest ``max_iter``: a stage still iterating after this many iterations has stalled
+#: (the paper's cases take tens); more would only spend hours on one step.
+MAX_ITER = 100_000
+#: Most flank spline points: 32 per element along the flank of the densest tooth mesh
+#: (``ny`` <= 256, :func:`spurdyn.mesh.tooth.tooth_mesh`). Each element edge is a quadratic
+#: fixed by its three nodes, so denser data describes nothing new.
+MAX_SPLINE = 32 * 256 + 1
+
+
+#: Why each capped whole-number setting stops where it does.
+INTEGER_LIMITS = {
+    "n_spline": "32 points per element along the densest flank describe each element edge "
+                "fully",
+    "max_iter": "a stage that needs more has stalled",
+    "accel_levels": "beyond it the acceleration coefficients of Appendix B underflow",
+}
+
+
+#: ``(key, lowest, highest or None)`` of the whole-number settings.
+INTEGER_BOUNDS = (("n_spline", 8, MAX_SPLINE), ("max_iter", 1, MAX_ITER),
+                  ("accel_levels", 1, MAX_ACCEL_LEVELS), ("save_every", 1, None),
+                  ("frames_every", 0, None))
+
 
 @dataclass(frozen=True)
 class RunCase:
@@ -105,11 +133,12 @@ class RunCase:
             raise InputError("torque", f"must be a number >= 0 (got {self.torque!r})")
         if self.angle is not None and (not math.isfinite(self.angle) or self.angle <= 0):
             raise InputError("angle", f"must be a positive angle (got {self.angle!r})")
-        for key, lo in (("n_spline", 8), ("max_iter", 1), ("accel_levels", 1), ("save_every", 1),
-                        ("frames_every", 0)):
+        for key, lo, hi in INTEGER_BOUNDS:
             v = getattr(self, key)
             if not isinstance(v, int) or isinstance(v, bool) or v < lo:
                 raise InputError(key, f"must be a whole number >= {lo} (got {v!r})")
+            if hi is not None and v > hi:
+                raise InputError(key, f"must be at most {hi:,} (got {v:,}): {INTEGER_LIMITS[key]}")
         if self.method not in METHODS:
             raise InputError("method", f"must be one of {', '.join(METHODS)} (got {self.method!r})")
         if self.backend not in BACKENDS:

@@ -15,11 +15,15 @@ from pathlib import Path
 from typing import NoReturn, Sequence
 
 from spurdyn.casefile import PairCase, load_pair
+from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
+from spurdyn.simulators import MODELS
 from spurdyn.settings import BACKENDS, METHODS
 
 EXIT_BAD_INPUT = 2
+#: Exit status when stdout was closed by the reader (128 + SIGPIPE).
+EXIT_BROKEN_PIPE = 141
 
 
 class _Parser(argparse.ArgumentParser):
@@ -41,16 +45,6 @@ def resolve_pair(name: str) -> PairCase:
     return load_pair(name)
 
 
-def _parse_mesh(text: str | None) -> tuple[int, int] | None:
-    if text is None:
-        return None
-    try:
-        nx, ny = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise InputError("--mesh", f"must look like NXxNY, e.g. 4x14 (got {text!r})") from None
-    return nx, ny
-
-
 def _with_mesh(case: PairCase, mesh: tuple[int, int] | None) -> PairCase:
     if mesh is None:
         return case
@@ -61,7 +55,7 @@ def cmd_info(args: argparse.Namespace) -> int:
     from spurdyn.cli.report import format_info, pair_info
     from spurdyn.mesh.tooth import tooth_mesh
 
-    case = _with_mesh(resolve_pair(args.case), _parse_mesh(args.mesh))
+    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh))
     tooth_mesh(case.pair.gear_a, case.nx, case.ny)  # refuse a bad mesh before any work
     info = pair_info(case)
     print(json.dumps(info, indent=2) if args.json else format_info(info))
@@ -71,7 +65,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 def cmd_mesh(args: argparse.Namespace) -> int:
     from spurdyn.results.pictures import draw_mesh_position
 
-    case = _with_mesh(resolve_pair(args.case), _parse_mesh(args.mesh))
+    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh))
     png = _png_target(args.png)
     draw_mesh_position(case, png)
     print(f"wrote {png}")
@@ -101,7 +95,7 @@ def run_overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str
         if value is not None:
             overrides[key] = value
             labels[key] = label
-    mesh = _parse_mesh(args.mesh)
+    mesh = parse_mesh(args.mesh)
     if mesh is not None:
         overrides["mesh.nx"], overrides["mesh.ny"] = mesh
         labels["mesh.nx"] = labels["mesh.ny"] = "--mesh"
@@ -124,7 +118,15 @@ def cmd_run(args: argparse.Namespace) -> int:
             if case.run.frames_every < 1:
                 raise InputError("--vtu", f"needs tooth frames, but {case.name} keeps none "
                                  "(frames_every = 0); give --frames-every M with M >= 1")
-    simulate = runner.load_simulate() if args.model == "fe" else runner.simulate_lumped_run
+            if case.pair.driver == "b":
+                raise InputError("--vtu", f"needs tooth frames, but {case.name} is driven by "
+                                 "gear B, whose runs keep none; leave out --vtu")
+    if not args.allow_large:
+        from spurdyn.solvers.limits import check_size
+
+        for case in cases:
+            check_size(case, labels, model=args.model)
+    simulate = runner.load_simulate(args.model)
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,
                             quiet=args.quiet)
@@ -175,21 +177,60 @@ def cmd_animate(args: argparse.Namespace) -> int:
     tooth_frames(ds)  # refuse a run without frames before drawing anything
     from spurdyn.results.animate import animate_run
 
-    animate_run(ds, gif, magnify=args.magnify, fps=args.fps, max_frames=args.max_frames)
+    bar = _StepsBar(f"animating {gif.name}", quiet=args.quiet)
+    try:
+        animate_run(ds, gif, magnify=args.magnify, fps=args.fps, max_frames=args.max_frames,
+                    progress=bar)
+    finally:
+        bar.close()
     print(f"wrote {gif}")
     return 0
+
+
+class _StepsBar:
+    """A tqdm bar of ``done/total`` on a terminal; one line at the start elsewhere."""
+
+    def __init__(self, label: str, quiet: bool = False, stream: object = None) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        self.label, self.quiet, self.bar, self.said = label, quiet, None, False
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+
+    def __call__(self, done: int, total: int) -> None:
+        if self.quiet:
+            return
+        if not self.tty:
+            if not self.said:
+                print(f"spurdyn: {self.label} ({total // 2} frames)...", file=self.stream,
+                      flush=True)
+                self.said = True
+            return
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, desc=self.label, unit="step", file=self.stream,
+                            dynamic_ncols=True, leave=False)
+        self.bar.update(done - self.bar.n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
 
 
 def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run = sub.add_parser(
         "run", help="run a case and leave result.nc, CSV, picture and summary in a folder",
         description="Run a dynamic contact analysis. CASE is a preset (see 'spurdyn cases') "
-        "or a TOML case file; the options override the case. Exit status: 0 complete, "
-        "1 incomplete (results so far kept), 2 bad input (nothing written).")
+        "or a TOML case file; the options override the case. Ctrl-C and SIGTERM stop a run "
+        "and keep what it computed. Exit status: 0 complete, 1 incomplete (results so far "
+        "kept), 2 bad input (nothing written), 130/143 stopped by Ctrl-C/SIGTERM before "
+        "any result (nothing written).")
     run.add_argument("case", metavar="CASE", help="preset name or TOML case file")
     run.add_argument("--out", metavar="DIR", help="output folder (default out/<case name>; "
                      "for a group, the parent of one folder per case)")
     run.add_argument("--force", action="store_true", help="replace an existing output folder")
+    run.add_argument("--allow-large", action="store_true",
+                     help="run even beyond 2,000,000 steps or 1 GiB of results per case")
     run.add_argument("--dt", type=float, metavar="S", help="time step (s)")
     run.add_argument("--speed-a", type=float, metavar="RPM", help="initial speed of gear A (rpm)")
     run.add_argument("--speed-b", type=float, metavar="RPM", help="initial speed of gear B (rpm)")
@@ -202,7 +243,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                      help="keep the tooth displacements every M-th step (0: none)")
     run.add_argument("--method", metavar="|".join(METHODS), help="constraint iteration")
     run.add_argument("--backend", metavar="|".join(BACKENDS), help="solver backend")
-    run.add_argument("--model", choices=("fe", "lumped"), default="fe", metavar="fe|lumped",
+    run.add_argument("--model", choices=tuple(MODELS), default="fe", metavar="|".join(MODELS),
                      help="fe: the paper's FE contact model (default); lumped: two disks and "
                      "a mesh spring (docs/lumped.md)")
     run.add_argument("--vtu", action="store_true", help="also write a ParaView time series")
@@ -252,25 +293,56 @@ def build_parser() -> argparse.ArgumentParser:
     anim.add_argument("--fps", type=int, default=15, help="frames per second (default 15)")
     anim.add_argument("--max-frames", type=int, default=150, metavar="K",
                       help="at most K frames, evenly picked (default 150)")
+    anim.add_argument("--quiet", action="store_true", help="no progress")
     anim.set_defaults(func=cmd_animate)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; return the exit status."""
+    """Run the command line; return the exit status.
+
+    Ctrl-C and SIGTERM stop any subcommand (:mod:`spurdyn.signals`); ``run`` and
+    ``sweep`` keep what was computed. Output to a closed pipe (``spurdyn info | head``)
+    ends the command quietly with status 141 (128 + SIGPIPE), as a shell tool would.
+    """
+    from spurdyn.signals import Interrupts
+
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
     except SystemExit as done:  # --help, --version, or a refusal already printed
         return done.code if isinstance(done.code, int) else EXIT_BAD_INPUT
+    with Interrupts.installed():
+        Interrupts.reset()
+        try:
+            code = int(args.func(args))
+            sys.stdout.flush()  # a closed pipe shows here, not at exit
+            return code
+        except InputError as err:
+            print(f"spurdyn: error: {err}", file=sys.stderr)
+            return EXIT_BAD_INPUT
+        except KeyboardInterrupt:
+            print(f"spurdyn: interrupted by {Interrupts.name()}", file=sys.stderr)
+            return Interrupts.exit_status()
+        except BrokenPipeError:
+            _silence_stdout()
+            return EXIT_BROKEN_PIPE
+        except OSError as err:  # a picture or folder the system refuses to write
+            where = err.filename or "output"
+            print(f"spurdyn: error: {where}: cannot be written ({err.strerror or err})",
+                  file=sys.stderr)
+            return EXIT_BAD_INPUT
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that flushing it at exit raises nothing."""
+    import os
+
     try:
-        return int(args.func(args))
-    except InputError as err:
-        print(f"spurdyn: error: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        print("spurdyn: interrupted", file=sys.stderr)
-        return 130
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -3,74 +3,50 @@
 Order of work: every case is read and checked and every output folder is checked
 *before* anything is created, so bad input writes nothing. Each run then writes into a
 hidden temporary folder beside its output folder, which is moved into place once all
-files are written (an existing folder is replaced only with ``--force``). The solver
-returns what it computed when it stops early (non-convergence, NaN, Ctrl-C); such a run
-is written like a complete one with ``status = "incomplete"`` and its reason.
+files are written (an existing folder is replaced only with ``--force``; see
+:mod:`spurdyn.results.folder`). The solver returns what it computed when it stops early
+(non-convergence, NaN, Ctrl-C, SIGTERM); such a run is written like a complete one with
+``status = "incomplete"`` and its reason. Stop signals are handled by
+:mod:`spurdyn.signals`: one that lands after the solver's loop has ended waits until the
+files are written.
 """
 
 from __future__ import annotations
 
 import math
 import os
-import shutil
 import signal
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Iterator, Protocol, Sequence
+from typing import Any, Sequence
 
 from spurdyn.casefile import Case
 from spurdyn.errors import InputError
-from spurdyn.geometry.pair import GearPair
-from spurdyn.result import Result
-from spurdyn.settings import RunCase
+from spurdyn.signals import Interrupts, install_in_worker
+from spurdyn.simulators import MODELS, Simulate
 
-#: Exit statuses of ``spurdyn run``.
+#: Exit statuses of ``spurdyn run`` (a stop signal before any result: 128 + signal).
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 
-Progress = Callable[[int, float, float], None]
 
-
-class Simulate(Protocol):
-    def __call__(self, pair: GearPair, case: RunCase,
-                 progress: Progress | None = None) -> Result: ...
-
-
-def load_simulate() -> Simulate:
-    """The solver's entry point ``spurdyn.solvers.loop.simulate``.
+def load_simulate(model: str = "fe") -> Simulate:
+    """The simulate function of ``model`` (:data:`spurdyn.simulators.MODELS`).
 
     Raises
     ------
     InputError
-        If this installation has no solver yet.
+        If this installation has no FE solver.
     """
-    try:
-        from spurdyn.solvers.loop import simulate
-    except ImportError as err:
-        raise InputError("solver", f"spurdyn.solvers.loop.simulate is not available ({err})") from None
-    return simulate
-
-
-#: Models ``spurdyn run --model`` offers.
-MODELS = ("fe", "lumped")
-
-
-def simulate_lumped_run(pair: GearPair, case: RunCase, progress: Progress | None = None) -> Result:
-    """The lumped model (:func:`spurdyn.lumped.simulate_lumped`, no damping) with the
-    solver's call signature, for ``spurdyn run --model lumped``.
-
-    Module-level so that ``--jobs`` can hand it to worker processes. The progress callback
-    is called once, at the end (a lumped run takes a fraction of a second).
-    """
-    from spurdyn.lumped import simulate_lumped
-
-    result = simulate_lumped(pair, case)
-    if progress is not None and len(result.angle):
-        progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))
-    return result
+    if model == "fe":
+        try:
+            import spurdyn.solvers.loop  # noqa: F401
+        except ImportError as err:
+            raise InputError("solver", f"spurdyn.solvers.loop.simulate is not available ({err})") \
+                from None
+    return MODELS[model]
 
 
 @dataclass(frozen=True)
@@ -131,7 +107,9 @@ def plan_runs(cases: Sequence[Case], out: str | None, force: bool, vtu: bool = F
 class ProgressBar:
     """A tqdm bar of the angle reached, steps per second and time left.
 
-    Shown only when ``enabled`` and the stream is a terminal: silent in pipes.
+    Shown only when ``enabled`` and the stream is a terminal: silent in pipes. The rate
+    counts from the first report on, so the compilation of a first run (before the first
+    chunk of steps returns) does not enter it.
     """
 
     def __init__(self, name: str, enabled: bool = True, stream: Any = None) -> None:
@@ -140,7 +118,16 @@ class ProgressBar:
         self.enabled = bool(enabled) and bool(isatty())
         self.name = name
         self.bar: Any = None
-        self.start = time.perf_counter()
+        self.first: tuple[int, float] | None = None
+
+    def rate(self, step: int) -> float | None:
+        """Steps per second since the first report (``None`` before the second)."""
+        now = time.perf_counter()
+        if self.first is None:
+            self.first = (step, now)
+            return None
+        step0, t0 = self.first
+        return (step - step0) / (now - t0) if now > t0 and step > step0 else None
 
     def __call__(self, step: int, angle: float, total: float) -> None:
         if not self.enabled:
@@ -153,9 +140,8 @@ class ProgressBar:
                             bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} deg "
                                        "[{elapsed}<{remaining}{postfix}]")
         self.bar.n = min(round(math.degrees(angle), 3), self.bar.total)
-        elapsed = time.perf_counter() - self.start
-        self.bar.set_postfix_str(f"{step / elapsed:,.0f} steps/s" if elapsed > 0 else "",
-                                 refresh=False)
+        rate = self.rate(step)
+        self.bar.set_postfix_str("" if rate is None else f"{rate:,.0f} steps/s", refresh=False)
         self.bar.refresh()
 
     def close(self) -> None:
@@ -164,118 +150,67 @@ class ProgressBar:
             self.bar = None
 
 
-# -- interrupts ------------------------------------------------------------------------
-
-class _Interrupts:
-    """Counts Ctrl-C while still raising KeyboardInterrupt (the solver catches it)."""
-
-    count = 0
-    deferred = False
-
-    @classmethod
-    def handler(cls, signum: int, frame: Any) -> None:
-        cls.count += 1
-        if not cls.deferred:
-            raise KeyboardInterrupt
-
-    @classmethod
-    @contextmanager
-    def installed(cls) -> Iterator[None]:
-        try:
-            old = signal.signal(signal.SIGINT, cls.handler)
-        except ValueError:  # not the main thread: leave signals alone
-            yield
-            return
-        try:
-            yield
-        finally:
-            signal.signal(signal.SIGINT, old)
-
-    @classmethod
-    @contextmanager
-    def held(cls) -> Iterator[None]:
-        """Hold Ctrl-C back (counted, not raised) while results are written."""
-        cls.deferred = True
-        try:
-            yield
-        finally:
-            cls.deferred = False
-
-
 # -- one run ---------------------------------------------------------------------------
 
-def _free_name(target: Path) -> Path:
-    """``target`` itself, or ``<target>-2``, ``<target>-3``, ... whichever is free."""
-    k = 2
-    while True:
-        alt = target.with_name(f"{target.name}-{k}")
-        if not alt.exists():
-            return alt
-        k += 1
+def _compiling_note(plan: RunPlan, simulate: Simulate, quiet: bool) -> None:
+    """Say so before a first run compiles the solver (a minute without a word otherwise)."""
+    if quiet or simulate is not MODELS["fe"] or plan.case.run.backend != "numba":
+        return
+    from spurdyn.solvers.warmup import needs_compiling
+
+    if needs_compiling():
+        print("spurdyn: compiling the solver (first run only, up to a minute)...",
+              file=sys.stderr, flush=True)
 
 
-def _move_into_place(tmp: Path, target: Path, force: bool = True) -> Path:
-    """Move the written folder ``tmp`` to ``target``; return where it went.
-
-    ``target`` was checked before the run, but another run may have filled it since:
-    without ``force`` that folder is kept and the results go beside it under a free
-    name, so neither is lost.
-    """
-    if target.exists():
-        if target.is_dir() and not any(target.iterdir()):
-            target.rmdir()
-        elif not force:
-            target = _free_name(target)
-        else:
-            old = target.with_name(f".{target.name}.old-{os.getpid()}")
-            target.rename(old)
-            tmp.rename(target)
-            shutil.rmtree(old, ignore_errors=True)
-            return target
-    tmp.rename(target)
-    return target
-
-
-def execute(plan: RunPlan, simulate: Simulate, progress: bool = True) -> dict[str, Any]:
+def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
+            quiet: bool = False) -> dict[str, Any]:
     """Run one case and write its folder; return the summary (plus ``out``).
 
-    The results go to a temporary folder first and are moved into place when written.
-    A ``KeyboardInterrupt`` that escapes the solver (it should not) leaves nothing.
+    Stop signals reach the solver only at its progress reports (inside its loop, which
+    returns the run so far); one that comes later waits until the folder is written. A
+    ``KeyboardInterrupt`` before the solver's loop (or escaping it) leaves nothing.
     """
-    from spurdyn.results.io import write_run
+    from spurdyn.results.folder import write_run_folder
 
     target = plan.out
     made = [p for p in [target.parent, *target.parent.parents] if not p.exists()]
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_name(f".{target.name}.partial-{os.getpid()}")
-    if tmp.exists():
-        shutil.rmtree(tmp)
     bar = ProgressBar(plan.case.name, enabled=progress)
-    try:
-        tmp.mkdir()
-        t0 = time.perf_counter()
-        try:
-            result = simulate(plan.case.pair, plan.case.run, bar)
-        finally:
-            bar.close()
-        if not result.wall_s:
-            result.wall_s = time.perf_counter() - t0
-        with _Interrupts.held():
-            summary = write_run(result, plan.case, tmp, vtu=plan.vtu)
-            model = result.info.get("model") if isinstance(result.info, dict) else None
-            if model and model != "fe":  # say which model made it (the FE solver's is implied)
-                from spurdyn.results.io import SUMMARY_FILE, write_summary
 
-                summary["model"] = model
-                write_summary(summary, tmp / SUMMARY_FILE)
-            final = _move_into_place(tmp, target, plan.force)
+    def report(step: int, angle: float, total: float) -> None:
+        bar(step, angle, total)
+        Interrupts.checkpoint()
+
+    try:
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise InputError(str(target), f"cannot be made ({err.strerror or err}); give "
+                             "another --out") from None
+        _compiling_note(plan, simulate, quiet or not progress)
+        t0 = time.perf_counter()
+        with Interrupts.held():  # from the moment the solver's loop has ended
+            try:
+                with Interrupts.checkpoints():
+                    result = simulate(plan.case.pair, plan.case.run, report)
+            finally:
+                bar.close()
+            if not result.wall_s:
+                result.wall_s = time.perf_counter() - t0
+            if Interrupts.last is not None and \
+                    (result.reason or "").startswith("interrupted by the user"):
+                result.reason = result.reason.replace("by the user", f"by {Interrupts.name()}", 1)
+            try:
+                summary, final = write_run_folder(result, plan.case, target, force=plan.force,
+                                                  vtu=plan.vtu)
+            except OSError as err:
+                raise InputError(str(target), f"cannot be written ({err.strerror or err}); "
+                                 "give another --out") from None
             if final != target:
                 print(f"spurdyn: {target} was filled by another run meanwhile; "
                       f"{plan.case.name} written to {final} instead", file=sys.stderr)
                 target = final
     finally:
-        if tmp.exists():
-            shutil.rmtree(tmp, ignore_errors=True)
         if not target.exists():  # nothing came of it: remove the folders made for it
             for folder in made:
                 try:
@@ -323,78 +258,104 @@ _WORKER_SIMULATE: Simulate | None = None
 def _init_worker(simulate: Simulate | None) -> None:
     global _WORKER_SIMULATE
     _WORKER_SIMULATE = simulate
-    signal.signal(signal.SIGINT, _Interrupts.handler)
+    install_in_worker()
 
 
 def _worker(plan: RunPlan) -> dict[str, Any] | None:
-    if _Interrupts.count:
-        return None  # Ctrl-C was pressed: start nothing new
+    if Interrupts.count:
+        return None  # a stop signal came: start nothing new
     simulate = _WORKER_SIMULATE or load_simulate()
     try:
-        return execute(plan, simulate, progress=False)
+        return execute(plan, simulate, progress=False, quiet=True)
     except KeyboardInterrupt:
         return None
 
 
+def _not_run(plan: RunPlan, statuses: list[str]) -> None:
+    statuses.append("not run")
+    print(f"spurdyn: {plan.case.name} not run (interrupted by {Interrupts.name()})",
+          file=sys.stderr)
+
+
+def _run_serial(plans: Sequence[RunPlan], simulate: Simulate, statuses: list[str],
+                progress: bool, quiet: bool) -> int | None:
+    """Run the plans one after the other; an exit status if a stop left nothing."""
+    for plan in plans:
+        if Interrupts.count:
+            _not_run(plan, statuses)
+            continue
+        try:
+            summary = execute(plan, simulate, progress=progress, quiet=quiet)
+        except KeyboardInterrupt:
+            print(f"spurdyn: {plan.case.name} interrupted by {Interrupts.name()} before any "
+                  "result; nothing written", file=sys.stderr)
+            return Interrupts.exit_status()
+        statuses.append(summary["status"])
+        _report(summary, quiet)
+    return None
+
+
+def _run_pool(plans: Sequence[RunPlan], simulate: Simulate, statuses: list[str], jobs: int,
+              progress: bool, quiet: bool) -> None:
+    """Run the plans side by side on ``jobs`` worker processes."""
+    # The solver goes to the workers as an importable function (by reference). The
+    # workers draw no bars of their own (they would overwrite each other): the command
+    # shows the cases finished instead.
+    cases_bar = _cases_bar(len(plans), progress)
+    with ProcessPoolExecutor(max_workers=min(jobs, len(plans)),
+                             initializer=_init_worker, initargs=(simulate,)) as pool:
+        futures = {pool.submit(_worker, p): p for p in plans}
+        pending = set(futures)
+        while pending:
+            try:
+                for fut in as_completed(pending):
+                    pending.discard(fut)
+                    plan = futures[fut]
+                    if cases_bar is not None:
+                        cases_bar.update(1)
+                    try:
+                        summary = fut.result()
+                    except Exception as err:  # a worker died: report and go on
+                        statuses.append("failed")
+                        print(f"spurdyn: {plan.case.name} failed: {err!r}", file=sys.stderr)
+                        continue
+                    if summary is None:
+                        _not_run(plan, statuses)
+                        continue
+                    statuses.append(summary["status"])
+                    _report(summary, quiet)
+            except KeyboardInterrupt:
+                # Ctrl-C reaches the workers too (one process group); SIGTERM is sent to
+                # this process only: pass it on. Either way they write what they have.
+                for pid in list(getattr(pool, "_processes", {}) or {}):
+                    try:
+                        os.kill(pid, Interrupts.last or signal.SIGINT)
+                    except OSError:
+                        pass
+                for fut in list(pending):
+                    if fut.cancel():
+                        pending.discard(fut)
+                        _not_run(futures[fut], statuses)
+    if cases_bar is not None:
+        cases_bar.close()
+
+
 def run_plans(plans: Sequence[RunPlan], simulate: Simulate, *, jobs: int = 1,
               progress: bool = True, quiet: bool = False) -> int:
-    """Run every plan (side by side on ``jobs`` processes); return the exit status."""
+    """Run every plan (side by side on ``jobs`` processes); return the exit status.
+
+    0 every run complete, 1 some run incomplete or not run (what was computed is kept),
+    128 + signal (130 Ctrl-C, 143 SIGTERM) when a stop signal came before any result.
+    """
     statuses: list[str] = []
-    with _Interrupts.installed():
-        _Interrupts.count = 0
+    with Interrupts.installed():
+        Interrupts.reset()
         if jobs <= 1 or len(plans) <= 1:
-            for plan in plans:
-                if _Interrupts.count:
-                    statuses.append("not run")
-                    print(f"spurdyn: {plan.case.name} not run (interrupted)", file=sys.stderr)
-                    continue
-                try:
-                    summary = execute(plan, simulate, progress=progress)
-                except KeyboardInterrupt:
-                    print(f"spurdyn: {plan.case.name} interrupted before any result; "
-                          "nothing written", file=sys.stderr)
-                    return EXIT_INTERRUPTED
-                statuses.append(summary["status"])
-                _report(summary, quiet)
+            stopped = _run_serial(plans, simulate, statuses, progress, quiet)
+            if stopped is not None:
+                return stopped
         else:
-            # The solver goes to the workers as an importable function (by reference).
-            # The workers draw no bars of their own (they would overwrite each other):
-            # the command shows the cases finished instead.
-            cases_bar = _cases_bar(len(plans), progress)
-            with ProcessPoolExecutor(max_workers=min(jobs, len(plans)),
-                                     initializer=_init_worker, initargs=(simulate,)) as pool:
-                futures = {pool.submit(_worker, p): p for p in plans}
-                pending = set(futures)
-                while pending:
-                    try:
-                        for fut in as_completed(pending):
-                            pending.discard(fut)
-                            plan = futures[fut]
-                            if cases_bar is not None:
-                                cases_bar.update(1)
-                            try:
-                                summary = fut.result()
-                            except Exception as err:  # a worker died: report and go on
-                                statuses.append("failed")
-                                print(f"spurdyn: {plan.case.name} failed: {err!r}", file=sys.stderr)
-                                continue
-                            if summary is None:
-                                statuses.append("not run")
-                                print(f"spurdyn: {plan.case.name} not run (interrupted)",
-                                      file=sys.stderr)
-                                continue
-                            statuses.append(summary["status"])
-                            _report(summary, quiet)
-                    except KeyboardInterrupt:
-                        # Workers got Ctrl-C too: let them write what they have.
-                        for fut in list(pending):
-                            if fut.cancel():
-                                pending.discard(fut)
-                                statuses.append("not run")
-                                print(f"spurdyn: {futures[fut].case.name} not run (interrupted)",
-                                      file=sys.stderr)
-            if cases_bar is not None:
-                cases_bar.close()
+            _run_pool(plans, simulate, statuses, jobs, progress, quiet)
     if statuses and all(s == "complete" for s in statuses):
         return EXIT_OK
     return EXIT_INCOMPLETE

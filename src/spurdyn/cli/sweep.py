@@ -17,6 +17,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
+from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep.spec import MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
@@ -45,15 +46,13 @@ def _nothing_to_run() -> Iterator[_backends.SerialBackend]:
 
 def _overrides(args: argparse.Namespace, torques: tuple[float, ...] | None
                ) -> tuple[dict[str, Any], dict[str, str]]:
-    from spurdyn.cli.main import _parse_mesh
-
     overrides: dict[str, Any] = {}
     labels: dict[str, str] = {}
     for dest, key, label in SWEEP_OVERRIDES:
         value = getattr(args, dest)
         if value is not None:
             overrides[key], labels[key] = value, label
-    mesh = _parse_mesh(args.mesh)
+    mesh = parse_mesh(args.mesh)
     if mesh is not None:
         overrides["mesh.nx"], overrides["mesh.ny"] = mesh
         labels["mesh.nx"] = labels["mesh.ny"] = "--mesh"
@@ -127,7 +126,27 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     plan = SweepPlan(case=case, model=args.model, rpms=rpms, torques=torques, out=out,
                      keep_runs=args.keep_runs, force=args.force)
     check_plan(plan)
+    _check_points(plan, labels, args.allow_large)
     return plan
+
+
+def _check_points(plan: SweepPlan, labels: dict[str, str], allow_large: bool) -> None:
+    """Refuse points beyond the meaning of their settings, or too large unasked."""
+    from spurdyn.solvers.limits import check_run_bounds, check_sampling, check_size
+
+    names = {"speed_a_rpm": "--rpm", "torque": "--torque" if plan.torques is not None
+             else "run.torque"}
+
+    def field(key: str) -> str:
+        return names.get(key) or labels.get(f"run.{key}", f"run.{key}")
+
+    points = [plan.point_case(k) for k in plan.keys()]
+    for point in points:
+        check_run_bounds(point.pair, point.run, field)
+        check_sampling(point.pair, point.run, field)
+    if not allow_large:
+        slowest = min(points, key=lambda p: p.run.speed_a)
+        check_size(slowest, labels, model=plan.model, speed_field="--rpm")
 
 
 def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:
@@ -143,7 +162,9 @@ def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:
             f"({report.computed} computed on {where}, {report.reused} already in "
             f"{plan.out}): {', '.join(parts)}; {report.wall_s:.1f} s")
     if report.interrupted or report.stopped:
-        why = "interrupted" if report.interrupted else f"stopped ({report.stopped})"
+        from spurdyn.signals import Interrupts
+
+        why = Interrupts.stopped() if report.interrupted else f"stopped ({report.stopped})"
         print(f"spurdyn: sweep {why}: {counts['complete'] + counts['incomplete']} of {n} "
               f"points kept in {plan.out}; run the same command to compute the rest",
               file=sys.stderr, flush=True)
@@ -173,7 +194,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if plan.model == "fe":
         from spurdyn.cli.run import load_simulate
 
-        load_simulate()  # refuse now if this installation has no solver
+        load_simulate("fe")  # refuse now if this installation has no solver
     resonance = resonance_estimate(plan.case)
     todo = len(points_to_compute(plan))
     if todo == 0:
@@ -184,6 +205,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         jobs = min(args.jobs or _backends.default_jobs(), todo)
         backend_cm = local_backend(jobs)
         where = f"{jobs} local worker{'s' if jobs > 1 else ''}"
+    if todo and plan.model == "fe" and plan.case.run.backend == "numba" and not args.quiet:
+        from spurdyn.solvers.warmup import needs_compiling
+
+        if needs_compiling():
+            print("spurdyn: the workers compile the solver first (first run only, up to a "
+                  "minute)...", file=sys.stderr, flush=True)
     with backend_cm as backend:
         report = run_sweep(plan, backend, resonance=resonance, progress=not args.quiet)
     _report(report, resonance, where, args.quiet)
@@ -200,7 +227,8 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
         "each finished point is kept in DIR/points/, and running the same command again "
         "computes only what is missing. The points run on a local Dask cluster (--jobs) "
         "or on the cluster at --scheduler. Exit status: 0 every point complete, 1 some "
-        "point incomplete, failed or not run, 2 bad input (nothing written). "
+        "point incomplete, failed or not run (Ctrl-C and SIGTERM stop the sweep and keep "
+        "the finished points), 2 bad input (nothing written). "
         "See docs/sweep.md.")
     p.add_argument("case", metavar="CASE", help="preset name (see 'spurdyn cases') or TOML file")
     p.add_argument("--rpm", required=True, metavar="START:STOP:STEP",
@@ -226,6 +254,8 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    help="also keep each point's whole run folder in DIR/runs/")
     p.add_argument("--force", action="store_true",
                    help="compute every point again (and allow a non-sweep DIR)")
+    p.add_argument("--allow-large", action="store_true",
+                   help="run points even beyond 2,000,000 steps or 1 GiB of results each")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no report lines")
     p.set_defaults(func=cmd_sweep)
 

@@ -3,7 +3,9 @@ von Mises stress, with the contact-force trace beside them."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
+from typing import Callable
 
 import matplotlib
 
@@ -15,7 +17,7 @@ from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
 from spurdyn.errors import InputError  # noqa: E402
-from spurdyn.results.io import ToothFrames, speeds_label, tooth_frames  # noqa: E402
+from spurdyn.results.frames import ToothFrames, speeds_label, tooth_frames  # noqa: E402
 from spurdyn.results.plots import draw_contact_force  # noqa: E402
 
 # Outline of a Q8 element through its mid-side nodes: corner, mid, corner, ...
@@ -40,7 +42,8 @@ def auto_magnify(frames: ToothFrames) -> float:
 
 
 def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None,
-                fps: int = 15, max_frames: int = 150) -> Path:
+                fps: int = 15, max_frames: int = 150,
+                progress: Callable[[int, int], None] | None = None) -> Path:
     """Write an animated GIF of the tooth frames of a run.
 
     Parameters
@@ -55,6 +58,12 @@ def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None
         Frames per second of the GIF.
     max_frames
         At most this many frames, evenly picked from the run's.
+    progress
+        Called as ``progress(done, total)`` as the frames are prepared and drawn
+        (``2 * total`` calls: stresses first, then the GIF).
+
+    The GIF is written beside ``gif`` under a hidden name and renamed when whole, so an
+    interrupted animation leaves no half GIF.
     """
     frames = tooth_frames(ds)
     if magnify is None:
@@ -66,7 +75,9 @@ def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None
     # Stresses and outlines of every picked frame, and one colour scale for all.
     polys: list[list[np.ndarray]] = []
     stress: list[list[np.ndarray]] = []
-    for k in picks:
+    for i, k in enumerate(picks):
+        if progress is not None:
+            progress(i, 2 * len(picks))
         polys.append([frames.positions(g, k, magnify)[meshes[g].elements[:, _OUTLINE]] * 1e3
                       for g in (0, 1)])
         stress.append([frames.von_mises(g, k) / 1e6 for g in (0, 1)])
@@ -116,6 +127,15 @@ def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None
 
     anim = FuncAnimation(fig, draw, frames=len(picks), blit=False)
     gif = Path(gif)
-    anim.save(gif, writer=PillowWriter(fps=fps))
-    plt.close(fig)
+    tmp = gif.with_name(f".{gif.stem}.partial-{os.getpid()}{gif.suffix}")
+    n = len(picks)
+    try:
+        anim.save(tmp, writer=PillowWriter(fps=fps), progress_callback=None if progress is None
+                  else (lambda i, total: progress(n + i, 2 * n)))
+        tmp.replace(gif)
+    finally:
+        plt.close(fig)
+        tmp.unlink(missing_ok=True)
+    if progress is not None:
+        progress(2 * n, 2 * n)
     return gif

@@ -22,7 +22,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -30,8 +29,9 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from spurdyn.casefile import Case, case_from_dict, case_to_dict
+from spurdyn.casefile import Case, case_to_dict
 from spurdyn.errors import InputError
+from spurdyn.results.frames import ToothFrames, case_from_run, speeds_label, tooth_frames
 from spurdyn.result import STAGES, Result
 
 RESULT_FILE = "result.nc"
@@ -207,15 +207,6 @@ def load_run(directory: str | Path) -> xr.Dataset:
         raise InputError(str(path), f"cannot be read as NetCDF ({err})") from None
 
 
-def case_from_run(ds: xr.Dataset) -> Case:
-    """Rebuild the :class:`Case` stored in a run's ``case`` attribute."""
-    try:
-        data = json.loads(ds.attrs["case"])
-    except (KeyError, json.JSONDecodeError):
-        raise InputError("result.nc", "holds no case description") from None
-    return case_from_dict(data, name=str(ds.attrs.get("case_name", "case")), check_step=False)
-
-
 #: Contact lost for good within this fraction of ``theta_s`` of its end is the tip leaving
 #: the flank at the end of the engagement, not a separation.
 END_OF_ENGAGEMENT = 0.01
@@ -271,9 +262,11 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     -------
     dict
         ``case``, ``status``, ``reason``, ``steps``, ``dt_s``, ``wall_s``, ``n_dof``,
-        ``peak_force_N``, ``mean_force_single_zone_N`` (``None`` when the run never
-        reached the single-contact zone), ``static_force_N``, ``dynamic_factor``
-        (peak/static), ``separations`` (how many times contact was lost after first
+        ``peak_force_N`` (``None`` when the teeth never touched),
+        ``mean_force_single_zone_N`` (``None`` when the run never reached the
+        single-contact zone), ``static_force_N``, ``dynamic_factor`` (peak/static; ``None``
+        for an incomplete run, whose largest force may be the spike that stopped it),
+        ``model`` (only for a model other than the FE one), ``separations`` (how many times contact was lost after first
         being made, see :func:`separation_times`) and ``separation_times_s``, ``iterations_mean`` and ``residual_max`` per stage,
         and more.
     """
@@ -281,8 +274,10 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     angle = ds["angle_deg"].values.astype(float)
     time = ds["time"].values.astype(float)
     finite = np.isfinite(force)
-    peak = float(np.max(force[finite])) if finite.any() else float("nan")
-    peak_at = float(angle[finite][np.argmax(force[finite])]) if finite.any() else float("nan")
+    touched = finite & (force > 0.0)  # no contact: no peak (not a "peak" of -0.0 N)
+    peak = float(np.max(force[touched])) if touched.any() else float("nan")
+    peak_at = float(angle[touched][np.argmax(force[touched])]) if touched.any() else float("nan")
+    complete = ds.attrs["status"] == "complete"
     zone = np.asarray(ds.attrs["single_zone_deg"], float).reshape(2)
     in_zone = finite & (angle >= zone[0]) & (angle <= zone[1])
     static = float(ds.attrs["static_force_N"])
@@ -319,7 +314,8 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         "peak_angle_deg": peak_at,
         "mean_force_single_zone_N": float(np.mean(force[in_zone])) if in_zone.any() else None,
         "static_force_N": static,
-        "dynamic_factor": peak / static if static > 0 else None,
+        # An incomplete run's largest force may be the spike that stopped it.
+        "dynamic_factor": peak / static if static > 0 and complete else None,
         "first_contact_s": None if first is None else float(first),
         "separations": int(len(seps)),
         "separation_times_s": [float(x) for x in seps],
@@ -328,6 +324,9 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         "settings": case,
         "spurdyn_version": ds.attrs.get("spurdyn_version", ""),
     }
+    model = json.loads(ds.attrs.get("info", "{}") or "{}").get("model")
+    if model and model != "fe":  # say which model made it (the FE solver's is implied)
+        summary["model"] = model
     return _jsonable(summary)
 
 
@@ -368,115 +367,6 @@ def write_run(result: Result, case: Case, directory: str | Path, *, png: bool = 
 
         write_vtu_series(ds, directory)
     return summary
-
-
-# -- tooth frames ----------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class ToothFrames:
-    """The tooth frames of a run, ready to draw: meshes, positions and stresses.
-
-    Attributes
-    ----------
-    case
-        The case of the run.
-    meshes
-        The tooth meshes of A and B (gear frame).
-    X0
-        ``(2,)`` tuple of ``(N, 2)`` world node positions at the start of contact.
-    centres
-        World positions of the gear centres.
-    time, theta
-        Frame times (s) and rotations since the start ``(k, 2)`` (rad).
-    u
-        ``(2,)`` tuple of ``(k, N, 2)`` absolute world displacements of each tooth.
-    """
-
-    case: Case
-    meshes: tuple[Any, Any]
-    X0: tuple[NDArray[np.float64], NDArray[np.float64]]
-    centres: tuple[NDArray[np.float64], NDArray[np.float64]]
-    time: NDArray[np.float64]
-    theta: NDArray[np.float64]
-    u: tuple[NDArray[np.float64], NDArray[np.float64]]
-
-    @property
-    def n_frames(self) -> int:
-        return int(self.time.size)
-
-    @staticmethod
-    def _rot(angle: NDArray[np.float64]) -> NDArray[np.float64]:
-        c, s = np.cos(angle), np.sin(angle)
-        return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)  # (..., 2, 2)
-
-    def rotation(self, gear: int, k: int) -> NDArray[np.float64]:
-        """World rotation matrix of gear ``gear`` (0: A, clockwise; 1: B) at frame ``k``."""
-        th = self.theta[k, gear]
-        return self._rot(np.asarray(-th if gear == 0 else th))
-
-    def elastic(self, gear: int, k: int) -> NDArray[np.float64]:
-        """Elastic displacement ``R^T (X0 + u - c) - (X0 - c)`` in the start frame (m)."""
-        c = self.centres[gear]
-        r = self.rotation(gear, k)
-        return (self.X0[gear] + self.u[gear][k] - c) @ r - (self.X0[gear] - c)
-
-    def positions(self, gear: int, k: int, magnify: float = 1.0) -> NDArray[np.float64]:
-        """World node positions at frame ``k`` with the elastic part magnified."""
-        c = self.centres[gear]
-        r = self.rotation(gear, k)
-        return c + (self.X0[gear] - c + magnify * self.elastic(gear, k)) @ r.T
-
-    def von_mises(self, gear: int, k: int) -> NDArray[np.float64]:
-        """Von Mises stress (Pa) at each element centre of tooth ``gear`` at frame ``k``."""
-        from spurdyn.fem.assembly import centroid_stresses, von_mises_plane_stress
-
-        g = self.case.pair.gear_a if gear == 0 else self.case.pair.gear_b
-        mesh = self.meshes[gear]
-        sig = centroid_stresses(self.X0[gear], mesh.elements, self.elastic(gear, k).ravel(),
-                                g.material)
-        return von_mises_plane_stress(sig)
-
-
-def tooth_frames(ds: xr.Dataset) -> ToothFrames:
-    """Rebuild the tooth meshes from the case in ``ds`` and split the frames per tooth.
-
-    Raises
-    ------
-    InputError
-        If the run holds no frames or their size does not match the meshes.
-    """
-    from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
-    from spurdyn.mesh.tooth import tooth_mesh
-
-    if "frame_u" not in ds or ds.sizes.get("frame", 0) == 0:
-        raise InputError(str(ds.attrs.get("case_name", "run")),
-                         "holds no tooth frames (run with frames_every > 0)")
-    case = case_from_run(ds)
-    pair = case.pair
-    mesh_a = tooth_mesh(pair.gear_a, case.run.nx, case.run.ny)
-    mesh_b = tooth_mesh(pair.gear_b, case.run.nx, case.run.ny)
-    theta_a0, theta_b0 = mesh_angles(pair, pair.start_roll_a)
-    x0 = (to_world_a(mesh_a.nodes, theta_a0),
-          to_world_b(mesh_b.nodes, theta_b0, pair.centre_distance))
-    u = ds["frame_u"].values
-    na, nb = mesh_a.n_dof, mesh_b.n_dof
-    if u.shape[1] != na + nb:
-        raise InputError("frame_u", f"has {u.shape[1]} DOFs per frame but the meshes of the "
-                         f"case have {na} + {nb}")
-    k = u.shape[0]
-    theta = np.stack([ds["frame_theta_a"].values, ds["frame_theta_b"].values], axis=1)
-    return ToothFrames(
-        case=case, meshes=(mesh_a, mesh_b), X0=x0,
-        centres=(np.zeros(2), np.array([0.0, pair.centre_distance])),
-        time=ds["frame_time"].values, theta=theta,
-        u=(u[:, :na].reshape(k, -1, 2), u[:, na:].reshape(k, -1, 2)),
-    )
-
-
-def speeds_label(ds: xr.Dataset) -> str:
-    """``"4,000/4,000 rpm"`` for a run."""
-    run = json.loads(ds.attrs["case"])["run"]
-    return f"{run['speed_a_rpm']:,.0f}/{run['speed_b_rpm']:,.0f} rpm"
 
 
 __all__ = [

@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from spurdyn.results.io import speeds_label  # noqa: E402
+from spurdyn.results.frames import speeds_label  # noqa: E402
 
 
 def _labels(runs: Sequence[xr.Dataset]) -> list[str]:
@@ -81,6 +81,18 @@ def draw_contact_force(ax: plt.Axes, runs: Sequence[xr.Dataset], *, zones: bool 
         ax.legend(loc="best", fontsize=8)
 
 
+#: Characters per title line that fit the 8-inch picture at font size 10, and the most
+#: lines a title may take.
+TITLE_WIDTH, TITLE_LINES = 95, 4
+
+
+def wrap_title(title: str) -> str:
+    """``title`` in lines that fit the picture (a long reason would be cut at both edges)."""
+    import textwrap
+
+    return textwrap.fill(title, TITLE_WIDTH, max_lines=TITLE_LINES, placeholder=" ...")
+
+
 def plot_contact_force(runs: Sequence[xr.Dataset], png: str | Path,
                        title: str | None = None) -> Path:
     """Write a picture of the contact force of one run or several overlaid.
@@ -106,7 +118,7 @@ def plot_contact_force(runs: Sequence[xr.Dataset], png: str | Path,
             title = "contact force: " + ", ".join(str(ds.attrs["case_name"]) for ds in runs)
     fig, ax = plt.subplots(figsize=(8, 4.8), dpi=120)
     draw_contact_force(ax, runs)
-    ax.set_title(title, fontsize=10)
+    ax.set_title(wrap_title(title), fontsize=10)
     fig.tight_layout()
     png = Path(png)
     fig.savefig(png)

@@ -16,7 +16,7 @@ import meshio
 import numpy as np
 import xarray as xr
 
-from spurdyn.results.io import tooth_frames
+from spurdyn.results.frames import tooth_frames
 
 PVD_FILE = "result.pvd"
 VTU_DIR = "vtu"

@@ -17,6 +17,7 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.settings import RunCase
+from spurdyn.solvers.limits import check_run_bounds, check_sampling, steps_for
 
 #: How far beyond the angle of action ``theta_s`` (as a fraction of it) a run may go:
 #: beyond it the tip of A has left B's flank for good and the modelled teeth no longer
@@ -32,11 +33,6 @@ class RunPlan:
     angle: float
     steps: int
     stable_dt: float
-
-
-def steps_for(angle: float, speed: float, dt: float) -> int:
-    """Time steps for gear A to turn ``angle`` (rad) at ``speed`` (rad/s) with step ``dt``."""
-    return int(math.ceil(angle / (speed * dt)))
 
 
 def stable_step(system: PairSystem) -> float:
@@ -100,16 +96,20 @@ def check_run(pair: GearPair, settings: RunCase, system: PairSystem,
     pair, settings, system
         The pair, the run settings and the system built from them.
     field
-        Maps a settings name (``"dt"``, ``"angle"``) to the key the user wrote
+        Maps a ``[run]`` key (``"dt"``, ``"angle_deg"``, ...) to the key the user wrote
         (``"run.dt"``, ``"--dt"``), for the message.
 
     Raises
     ------
     InputError
-        A ``dt`` above the stable RK4 step of the mesh, an angle beyond ``theta_s`` plus
-        :data:`ANGLE_MARGIN` or shorter than one step.
+        A setting beyond its meaning for the pair
+        (:func:`~spurdyn.solvers.limits.check_run_bounds`), a ``dt`` above the stable RK4
+        step of the mesh, an angle beyond ``theta_s`` plus :data:`ANGLE_MARGIN` or shorter
+        than one step, a saving interval that keeps too few samples
+        (:func:`~spurdyn.solvers.limits.check_sampling`).
     """
     s = settings
+    check_run_bounds(pair, s, field)
     limit = stable_step(system)
     if s.dt > limit:
         raise InputError(field("dt"), f"dt {s.dt:g} s is above the stable RK4 step {limit:.4g} s "
@@ -118,10 +118,11 @@ def check_run(pair: GearPair, settings: RunCase, system: PairSystem,
     theta_s = pair.theta_s
     angle = theta_s if s.angle is None else s.angle
     if angle > theta_s * (1.0 + ANGLE_MARGIN):
-        raise InputError(field("angle"), f"{math.degrees(angle):g} deg goes beyond the angle of "
+        raise InputError(field("angle_deg"), f"{math.degrees(angle):g} deg goes beyond the angle of "
                          f"action theta_s = {math.degrees(theta_s):.3f} deg (+{ANGLE_MARGIN:.0%}): "
                          "the teeth would leave the modelled region")
     if angle < s.speed_a * s.dt:
-        raise InputError(field("angle"), f"{math.degrees(angle):g} deg is shorter than one time "
+        raise InputError(field("angle_deg"), f"{math.degrees(angle):g} deg is shorter than one time "
                          f"step ({math.degrees(s.speed_a * s.dt):.3g} deg at this speed)")
+    check_sampling(pair, s, field)
     return RunPlan(angle=angle, steps=steps_for(angle, s.speed_a, s.dt), stable_dt=limit)

@@ -22,6 +22,7 @@ from contextlib import contextmanager
 from typing import Any, Callable, Iterator, Protocol, Sequence
 
 from spurdyn.errors import InputError
+from spurdyn.signals import Interrupts, ignored
 from spurdyn.sweep.point import FAILED, PointOutcome, PointTask
 from spurdyn.sweep.spec import expected_steps
 
@@ -53,29 +54,6 @@ def by_cost(tasks: Sequence[PointTask]) -> list[PointTask]:
 
 # -- in this process -------------------------------------------------------------------
 
-class _SigintFlag:
-    """While installed, Ctrl-C is counted and still raised as KeyboardInterrupt."""
-
-    def __init__(self) -> None:
-        self.count = 0
-
-    def handler(self, signum: int, frame: Any) -> None:
-        self.count += 1
-        raise KeyboardInterrupt
-
-    @contextmanager
-    def installed(self) -> Iterator[None]:
-        try:
-            old = signal.signal(signal.SIGINT, self.handler)
-        except ValueError:  # not the main thread
-            yield
-            return
-        try:
-            yield
-        finally:
-            signal.signal(signal.SIGINT, old)
-
-
 class SerialBackend:
     """Run the points one after the other in this process.
 
@@ -87,12 +65,11 @@ class SerialBackend:
     description = "this process"
 
     def run(self, tasks: Sequence[PointTask], fn: PointFn) -> Stream:
-        flag = _SigintFlag()
         for task in by_cost(tasks):
-            with flag.installed():
-                before = flag.count
+            with Interrupts.installed():
+                before = Interrupts.count
                 outcome = fn(task)
-                if flag.count != before:
+                if Interrupts.count != before:
                     raise KeyboardInterrupt
             yield task, outcome, ""
 
@@ -221,9 +198,12 @@ def local_backend(jobs: int) -> Iterator[DaskBackend]:
     # and a worker that dies takes only the point it was running with it.
     # Workers ignore Ctrl-C (the client stops the sweep and closes the cluster): SIG_IGN is
     # inherited by the processes spawned now, and the preload sets it in restarted ones.
-    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}), _sigint_ignored():
+    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}), ignored():
         cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=None,
+                               host="127.0.0.1", dashboard_address=":0",
+                               # No dashboard; the scheduler's HTTP server (always on)
+                               # takes a free port instead of warning that 8787 is taken.
+                               scheduler_kwargs={"dashboard": False},
                                silence_logs=logging.CRITICAL,
                                preload=["spurdyn.sweep.worker_setup"])
     client = Client(cluster)
@@ -234,26 +214,9 @@ def local_backend(jobs: int) -> Iterator[DaskBackend]:
         _close(client, cluster)
 
 
-@contextmanager
-def _sigint_ignored() -> Iterator[None]:
-    try:
-        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    except ValueError:  # not the main thread
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-
-
 def _close(client: Any, cluster: Any = None) -> None:
-    previous = signal.getsignal(signal.SIGINT)
-    try:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C must not leave workers
-    except ValueError:
-        previous = None
-    try:
+    # A second Ctrl-C or SIGTERM must not leave workers behind.
+    with ignored((signal.SIGINT, signal.SIGTERM)):
         try:
             client.close(timeout=10)
         except Exception:  # noqa: BLE001
@@ -263,9 +226,6 @@ def _close(client: Any, cluster: Any = None) -> None:
                 cluster.close(timeout=10)
             except Exception:  # noqa: BLE001
                 pass
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGINT, previous)
 
 
 def _worker_spurdyn() -> str:

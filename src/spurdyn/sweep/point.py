@@ -110,34 +110,17 @@ def _worker_name() -> str:
     return f"{socket.gethostname()}:{os.getpid()}"
 
 
-#: Mesh-stiffness tables of the lumped model, per (pair, nx, ny), kept in each worker.
-_TABLES: dict[Any, Any] = {}
-
-
 def simulate_model(model: str, case: Case) -> Result:
-    """Run ``model`` (``"fe"`` or ``"lumped"``) on ``case``; no progress reports.
+    """Run ``model`` (:data:`spurdyn.simulators.MODELS`) on ``case``; no progress reports.
 
     The lumped model keeps its FE stiffness table per pair and mesh in the process, so
     the points of a sweep share it.
     """
-    if model == "fe":
-        from spurdyn.solvers.loop import simulate
+    from spurdyn.simulators import MODELS
 
-        return simulate(case.pair, case.run)
-    if model == "lumped":
-        from spurdyn.lumped import mesh_stiffness_table, simulate_lumped
-
-        key = (case.pair, case.run.nx, case.run.ny)
-        try:
-            table = _TABLES.get(key)
-        except TypeError:  # an unhashable pair: no caching
-            key, table = None, None
-        if table is None:
-            table = mesh_stiffness_table(case.pair, case.run.nx, case.run.ny)
-            if key is not None:
-                _TABLES[key] = table
-        return simulate_lumped(case.pair, case.run, table=table)
-    raise ValueError(f"unknown model {model!r}")
+    if model not in MODELS:
+        raise ValueError(f"unknown model {model!r}")
+    return MODELS[model](case.pair, case.run)
 
 
 def smoothed_peak(time: np.ndarray, force: np.ndarray,

@@ -11,20 +11,17 @@ the job later.
 from __future__ import annotations
 
 import asyncio
-import os
-import shutil
-import signal
 import sys
 import time
-from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator, TextIO
+from typing import Any, TextIO
 
 import xarray as xr
 
 from spurdyn.casefile import Case
 from spurdyn.result import Result
+from spurdyn.signals import Interrupts
 from spurdyn.sweep import point as _point
 from spurdyn.sweep.backends import Backend, PointFn
 from spurdyn.sweep.point import COMPLETE, FAILED, INCOMPLETE, PointOutcome, PointTask
@@ -125,59 +122,16 @@ class SweepProgress:
             self.bar = None
 
 
-# -- Ctrl-C held back while files are written ------------------------------------------
-
-@contextmanager
-def _held_interrupts() -> Iterator[None]:
-    """Hold Ctrl-C back while a file is written; raise it afterwards."""
-    caught: list[int] = []
-
-    def handler(signum: int, frame: Any) -> None:
-        caught.append(signum)
-
-    try:
-        old = signal.signal(signal.SIGINT, handler)
-    except ValueError:  # not the main thread
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, old)
-    if caught:
-        raise KeyboardInterrupt
-
-
 # -- writing ---------------------------------------------------------------------------
 
 def write_run_folder(out: Path, key: PointKey, case: Case, result: Result) -> Path:
-    """Write a point's whole run folder (``spurdyn run``'s layout) to ``out/runs/``.
-
-    Written into a hidden temporary folder first and renamed into place.
-    """
-    from spurdyn.results.io import SUMMARY_FILE, write_run, write_summary
+    """Write a point's whole run folder (``spurdyn run``'s layout) to ``out/runs/``
+    (:func:`spurdyn.results.folder.write_run_folder`)."""
+    from spurdyn.results.folder import write_run_folder as write_folder
 
     target = run_path(out, key)
     target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_name(f".{target.name}.partial-{os.getpid()}")
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir()
-    try:
-        summary = write_run(result, case, tmp)
-        model = result.info.get("model") if isinstance(result.info, dict) else None
-        if model and model != "fe":
-            summary["model"] = model
-            write_summary(summary, tmp / SUMMARY_FILE)
-        if target.exists():
-            old = target.with_name(f".{target.name}.old-{os.getpid()}")
-            target.rename(old)
-            tmp.rename(target)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            tmp.rename(target)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return target
+    return write_folder(result, case, target, force=True)[1]
 
 
 def short_error(err: BaseException, limit: int = 240) -> str:
@@ -253,13 +207,14 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     finished: set[PointKey] = set()
     missing: dict[PointKey, str] = {}
     interrupted, stopped = False, ""
+    signals_before = Interrupts.count
     stream_ = backend.run(tasks, fn) if tasks else iter(())
     try:
         for task, outcome, note in stream_:
             if outcome is None:
                 missing[task.key] = note or "not run"
                 continue
-            with _held_interrupts():
+            with Interrupts.held():
                 write_point(out, outcome, settings)
                 if outcome.result is not None:
                     write_run_folder(out, task.key, task.case, outcome.result)
@@ -268,6 +223,8 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
             bar.update(cost[task.key], outcome.status == COMPLETE)
             if outcome.status != COMPLETE:
                 bar.write(f"spurdyn: {_describe(task.key)}: {outcome.status}: {outcome.reason}")
+            if Interrupts.count != signals_before:  # a stop signal came while writing
+                raise KeyboardInterrupt
     except KeyboardInterrupt:
         interrupted = True
         backend.cancel()
@@ -281,13 +238,13 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
             close()
     for task in tasks:
         if task.key not in finished and task.key not in missing:
-            missing[task.key] = ("interrupted" if interrupted else
+            missing[task.key] = (Interrupts.stopped() if interrupted else
                                  f"sweep stopped: {stopped}" if stopped else "not run")
     for key in missing:  # an old failed record gives way to "not run"
         if key in records and records[key]["status"] not in FINAL:
             del records[key]
 
-    with _held_interrupts():
+    with Interrupts.held():
         ds = sweep_dataset(plan, records, missing, extra_attrs=resonance.attrs())
         own, combined = write_sweep_files(out, ds)
         png = out / PNG_FILE

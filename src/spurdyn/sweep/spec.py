@@ -21,10 +21,11 @@ from typing import Any
 
 from spurdyn.casefile import Case, case_to_dict
 from spurdyn.errors import InputError
+from spurdyn.simulators import MODELS as _MODELS
 from spurdyn.settings import RPM
 
 #: Models a sweep can run.
-MODELS = ("fe", "lumped")
+MODELS = tuple(_MODELS)
 
 #: Most points one grid may hold.
 MAX_POINTS = 10_000
@@ -107,10 +108,10 @@ def parse_grid(text: str, field: str, *, positive: bool = True) -> tuple[float, 
         values = [_number(p, field) for p in text.split(",")]
         if len(values) > MAX_POINTS:
             raise InputError(field, f"{len(values):,} values; at most {MAX_POINTS:,}")
-    for v in values:
-        if v < 0 or (positive and v == 0):
+    for v in values:  # checked as stored: rounded to DECIMALS decimals
+        if v < 0 or (positive and round(v, DECIMALS) == 0):
             kind = "positive" if positive else "zero or positive"
-            raise InputError(field, f"values must be {kind} (got {v:g})")
+            raise InputError(field, f"values must be {kind} to {DECIMALS} decimals (got {v:g})")
     return tuple(sorted({round(v, DECIMALS) for v in values}))
 
 
@@ -256,7 +257,9 @@ def point_case(case: Case, rpm: float, torque: float, keep_frames: bool = False)
 
 def expected_steps(case: Case) -> int:
     """Time steps the run of ``case`` needs (its cost, for ordering and time left)."""
-    return int(math.ceil(case.angle / (case.run.speed_a * case.run.dt)))
+    from spurdyn.solvers.limits import engagement_steps
+
+    return engagement_steps(case)
 
 
 def check_plan(plan: SweepPlan) -> None:

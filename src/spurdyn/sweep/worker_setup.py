@@ -7,13 +7,11 @@ the sweep and closes the cluster, so its workers ignore SIGINT instead of printi
 
 from __future__ import annotations
 
-import signal
 from typing import Any
+
+from spurdyn.signals import ignore_interrupts
 
 
 def dask_setup(worker: Any = None) -> None:
     """Ignore SIGINT in this worker process (a no-op outside the main thread)."""
-    try:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-    except ValueError:
-        pass
+    ignore_interrupts()

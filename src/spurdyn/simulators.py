@@ -1,0 +1,67 @@
+"""The models a run or a sweep can use, by name: ``MODELS = {"fe": ..., "lumped": ...}``.
+
+Each entry is a module-level function ``simulate(pair, case, progress=None) -> Result``
+(picklable, so worker processes can take it by reference); the simulators themselves are
+imported when first called, so importing this registry stays cheap.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Protocol
+
+from spurdyn.geometry.pair import GearPair
+from spurdyn.result import Result
+from spurdyn.settings import RunCase
+
+Progress = Callable[[int, float, float], None]
+
+
+class Simulate(Protocol):
+    def __call__(self, pair: GearPair, case: RunCase,
+                 progress: Progress | None = None) -> Result: ...
+
+
+def simulate_fe(pair: GearPair, case: RunCase, progress: Progress | None = None) -> Result:
+    """The paper's FE contact model (:func:`spurdyn.solvers.loop.simulate`)."""
+    from spurdyn.solvers.loop import simulate
+
+    return simulate(pair, case, progress)
+
+
+#: Mesh-stiffness tables of the lumped model, per (pair, nx, ny), kept in the process so
+#: that the points of a sweep share them.
+_TABLES: dict[Any, Any] = {}
+
+
+def simulate_lumped(pair: GearPair, case: RunCase, progress: Progress | None = None) -> Result:
+    """The lumped model (:func:`spurdyn.lumped.simulate_lumped`, no damping).
+
+    The progress callback is called once, at the end (a lumped run takes a fraction of a
+    second); a stop signal it raises there is left for the caller, who has the result.
+    """
+    from spurdyn.lumped import mesh_stiffness_table
+    from spurdyn.lumped import simulate_lumped as lumped
+
+    key = (pair, case.nx, case.ny)
+    try:
+        table = _TABLES.get(key)
+    except TypeError:  # an unhashable pair: no caching
+        key, table = None, None
+    if table is None:
+        table = mesh_stiffness_table(pair, case.nx, case.ny)
+        if key is not None:
+            _TABLES[key] = table
+    result = lumped(pair, case, table=table)
+    if progress is not None and len(result.angle):
+        try:
+            progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))
+        except KeyboardInterrupt:  # the run is done: keep it
+            pass
+    return result
+
+
+#: Model name -> its simulate function.
+MODELS: dict[str, Simulate] = {"fe": simulate_fe, "lumped": simulate_lumped}
+
+
+__all__ = ["MODELS", "Progress", "Simulate", "simulate_fe", "simulate_lumped"]

@@ -1,0 +1,169 @@
+"""Where the run settings stop meaning anything, and how big a run may get unasked.
+
+Two kinds of checks, both naming the key the user wrote:
+
+- :func:`check_run_bounds` and :func:`check_sampling`, for every run (the run check,
+  :func:`spurdyn.solvers.check.check_run`, calls them): settings measured against the pair (the
+  displacement tolerance against the module and the rounding of positions, the time
+  step against the engagement, the speeds against the bursting speed, the saving
+  interval against the run, the torque against the teeth's elastic range);
+- :func:`check_size`, for ``spurdyn run`` and ``spurdyn sweep``: a run of more than
+  :data:`MAX_STEPS` steps or :data:`MAX_BYTES` of results is refused unless asked for
+  (``--allow-large``), with the estimate in the message.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from typing import Any, Callable, Mapping
+
+from spurdyn.errors import InputError
+from spurdyn.fem.material import bursting_speed
+from spurdyn.settings import PAPER_DT, RPM
+
+
+def steps_for(angle: float, speed: float, dt: float) -> int:
+    """Time steps for gear A to turn ``angle`` (rad) at ``speed`` (rad/s) with step ``dt``."""
+    return int(math.ceil(angle / (speed * dt)))
+
+#: Fewest steps over the angle of action: fewer cannot follow the contact (the contact
+#: point crosses each of the ~14 elements along a flank in a few steps).
+MIN_STEPS_PER_ENGAGEMENT = 100
+#: Fewest saved steps after the start: a peak needs a sample on either side of it (with
+#: fewer, ``save_every`` keeps little more than the start and the summary says nothing).
+MIN_SAMPLES = 3
+#: Largest ``tol_disp`` as a fraction of the module: a micrometre-deflecting tooth pair
+#: whose gap may be off by more passes through itself unnoticed.
+TOL_MAX_PER_MODULE = 1e-6
+#: Smallest ``tol_disp`` in units of the rounding of positions (machine epsilon times the
+#: centre distance): below it no iteration can meet the tolerance.
+TOL_MIN_ROUNDINGS = 100.0
+#: Largest quasi-static strain ``F / (E b m)`` of a tooth: the linear elastic model ends
+#: long before (steels yield near 0.2 %); this only refuses torques without meaning.
+MAX_STRAIN = 0.01
+
+#: Steps a run may take unasked (a full engagement of the paper's pair at ~60 rpm, about
+#: ten minutes of the compiled solver on one core).
+MAX_STEPS = 2_000_000
+#: Steps per second of the compiled solver on the default mesh, for the time estimate of
+#: a refusal (measured: paper-fig8, 29,251 steps in 6.4 s on one shared core).
+STEPS_PER_S = 4000
+#: Bytes of results a run may hold unasked (in memory and in ``result.nc``).
+MAX_BYTES = 1 << 30
+#: Bytes per saved step: the solver's history row (18 numbers) and the dataset's
+#: variables (21 numbers), 8 bytes each.
+BYTES_PER_SAMPLE = (18 + 21) * 8
+
+
+def engagement_steps(case: Any) -> int:
+    """Steps a case takes over the angle it simulates (its angle or ``theta_s``)."""
+    return engagement_steps_of(case.pair, case.run)
+
+
+def check_run_bounds(pair: Any, run: Any, field: Callable[[str], str]) -> None:
+    """Refuse run settings beyond their meaning for ``pair``.
+
+    ``field("dt")`` gives the name to use for the ``[run]`` key ``dt`` (the option when
+    it was given on the command line).
+    """
+    for key, speed, gear in (("speed_a_rpm", run.speed_a, pair.gear_a),
+                             ("speed_b_rpm", run.speed_b, pair.gear_b)):
+        limit = bursting_speed(gear.material, gear.tip_radius)
+        if speed > limit:   # a unit slip, not a gear (docs/casefile.md): said first
+            raise InputError(field(key), f"{speed / RPM:g} rpm is above the bursting speed "
+                             f"{limit / RPM:.3g} rpm of gear {key[6].upper()}; speeds are in rpm, "
+                             "not rad/s or rad/min")
+    driver = pair.gear_a if pair.driver == "a" else pair.gear_b
+    per_step = run.speed_a * run.dt
+    if pair.theta_s / per_step < MIN_STEPS_PER_ENGAGEMENT:
+        # Blame the time step when the paper's would give enough steps at this speed.
+        dt_blamed = pair.theta_s / (run.speed_a * PAPER_DT) >= MIN_STEPS_PER_ENGAGEMENT
+        raise InputError(field("dt" if dt_blamed else "speed_a_rpm"),
+                         f"{run.speed_a / RPM:.4g} rpm with dt = {run.dt:g} s turns "
+                         f"gear A {math.degrees(per_step):.3g} deg per step, fewer than "
+                         f"{MIN_STEPS_PER_ENGAGEMENT} steps over the angle of action "
+                         f"({math.degrees(pair.theta_s):.3f} deg); give a "
+                         f"{'smaller dt' if dt_blamed else 'lower speed'}")
+    tol_max = TOL_MAX_PER_MODULE * driver.module
+    tol_min = TOL_MIN_ROUNDINGS * sys.float_info.epsilon * pair.centre_distance
+    if not tol_min <= run.tol_disp <= tol_max:
+        raise InputError(field("tol_disp"), f"must lie between {tol_min:.2g} m (rounding of "
+                         f"positions) and {tol_max:.2g} m (a millionth of the module) "
+                         f"(got {run.tol_disp:g}); the paper uses 1e-12")
+    strain = run.torque / driver.base_radius / (driver.material.young * driver.face_width
+                                                * driver.module)
+    if strain > MAX_STRAIN:
+        top = MAX_STRAIN * driver.material.young * driver.face_width * driver.module \
+            * driver.base_radius
+        raise InputError(field("torque"), f"{run.torque:g} N m strains the driver's tooth by "
+                         f"about {strain:.2g}, beyond any elastic tooth; at most {top:.4g} N m")
+
+
+def check_sampling(pair: Any, run: Any, field: Callable[[str], str]) -> None:
+    """Refuse a saving interval that keeps fewer than :data:`MIN_SAMPLES` samples of the
+    run (or fewer than its steps, for a run shorter than that).
+
+    A frame interval longer than the run is left alone: it keeps the start frame, and
+    a case file's interval is often meant for the whole engagement, not a short --angle.
+    """
+    steps = engagement_steps_of(pair, run)
+    if steps // run.save_every < min(MIN_SAMPLES, steps):
+        raise InputError(field("save_every"), f"{run.save_every:,} keeps fewer than "
+                         f"{min(MIN_SAMPLES, steps)} samples of this {steps:,}-step run; at "
+                         f"most {max(1, steps // MIN_SAMPLES):,}")
+
+
+def engagement_steps_of(pair: Any, run: Any) -> int:
+    """:func:`engagement_steps` from a pair and its run settings."""
+    return steps_for(pair.theta_s if run.angle is None else run.angle, run.speed_a, run.dt)
+
+
+def estimate(case: Any, model: str = "fe") -> tuple[int, int]:
+    """``(steps, bytes of results)`` of a case: history samples and tooth frames."""
+    steps = engagement_steps(case)
+    size = (steps // case.run.save_every + 1) * BYTES_PER_SAMPLE
+    if model == "fe" and case.run.frames_every:
+        from spurdyn.mesh.tooth import tooth_mesh
+
+        n_u = sum(tooth_mesh(g, case.run.nx, case.run.ny).n_dof
+                  for g in (case.pair.gear_a, case.pair.gear_b))
+        size += (steps // case.run.frames_every + 1) * n_u * 8
+    return steps, size
+
+
+def _label(labels: Mapping[str, str], key: str) -> str:
+    return labels.get(f"run.{key}", f"run.{key}")
+
+
+def check_size(case: Any, labels: Mapping[str, str], *, model: str = "fe",
+               flag: str = "--allow-large", speed_field: str | None = None) -> None:
+    """Refuse a run beyond :data:`MAX_STEPS` or :data:`MAX_BYTES` (``flag`` allows it).
+
+    The refusal names the time step when the paper's would keep the run within the limit,
+    else the speed (``speed_field`` if given); for the size, the tooth frames or the saving
+    interval (the speed instead, when ``speed_field`` is given and the interval is not an
+    option the user gave).
+    """
+    steps, size = estimate(case, model)
+    if model == "fe" and steps > MAX_STEPS:
+        # Blame the time step when the paper's would keep the run within the limit.
+        dt_blamed = steps * case.run.dt / PAPER_DT <= MAX_STEPS
+        key = _label(labels, "dt") if dt_blamed else speed_field or _label(labels, "speed_a_rpm")
+        raise InputError(key, f"{case.name} would take {steps:,} steps (limit {MAX_STEPS:,}; "
+                         f"about {steps / STEPS_PER_S / 60:,.0f} min at {STEPS_PER_S:,} steps/s); raise the "
+                         f"speed, shorten --angle, or give {flag} to run it anyway")
+    if size > MAX_BYTES:
+        frames = model == "fe" and case.run.frames_every and \
+            size - (steps // case.run.save_every + 1) * BYTES_PER_SAMPLE > size / 2
+        what = "frames_every" if frames else "save_every"
+        # The saving interval, unless the speed was what the user wrote for it (a sweep).
+        key = _label(labels, what) if frames or f"run.{what}" in labels or not speed_field \
+            else speed_field
+        raise InputError(key, f"{case.name} would keep about {size / 2**30:,.1f} GiB of results "
+                         f"(limit {MAX_BYTES / 2**30:g} GiB); keep fewer "
+                         f"{'tooth frames' if frames else 'steps'} or give {flag} to run it anyway")
+
+
+__all__ = ["MAX_BYTES", "MAX_STEPS", "check_run_bounds", "check_sampling", "check_size", "engagement_steps",
+           "estimate"]

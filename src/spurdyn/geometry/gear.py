@@ -12,7 +12,6 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-from scipy.optimize import brentq
 
 from spurdyn.errors import InputError
 from spurdyn.fem.material import STEEL, Material
@@ -398,6 +397,8 @@ class Gear:
         # The fillet's radius falls monotonically from the involute junction to the root.
         def gap(a: float) -> float:
             return float(np.hypot(*self.fillet_points(np.asarray(a)))) - r
+        from scipy.optimize import brentq  # imported when used: scipy.optimize is slow to load
+
         a = brentq(gap, 0.0, self.fillet_end_angle, xtol=1e-14)
         return self.fillet_points(np.asarray(a))
 
@@ -478,4 +479,6 @@ class Gear:
         hi = ra + 2.0 * self.tip_relief
         while gap(hi) <= 0.0:  # pragma: no cover - 2 C_a always suffices within the caps
             hi += 2.0 * self.tip_relief
+        from scipy.optimize import brentq
+
         return float(brentq(gap, ra, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps))

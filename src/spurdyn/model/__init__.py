@@ -1,14 +1,30 @@
-"""Models of the gear pair: the FE tooth, static pair stiffness, and (later) dynamics."""
+"""What a run builds once from a pair: the system, flanks, loading, tooth models, stiffness.
 
-from spurdyn.model.stiffness import (
-    IsoStiffness,
-    PairStiffness,
-    ToothCompliance,
-    iso_6336_stiffness,
-    pair_stiffness,
-    pitch_point_stiffness,
-)
-from spurdyn.model.tooth import ToothModel, build_tooth
+- :mod:`~spurdyn.model.system`: gear bodies (a disk carrying teeth), the flank pairs, the
+  placed pair (:func:`~spurdyn.model.system.build_system`, built once per run);
+- :mod:`~spurdyn.model.flank`: the active flank as the contact search sees it;
+- :mod:`~spurdyn.model.loading`: the torque schedule and the static force;
+- :mod:`~spurdyn.model.tooth`, :mod:`~spurdyn.model.stiffness`: one tooth's FE model and
+  the static pair stiffness along the path of contact.
 
-__all__ = ["IsoStiffness", "iso_6336_stiffness", "PairStiffness", "ToothCompliance", "ToothModel", "build_tooth", "pair_stiffness",
-           "pitch_point_stiffness"]
+The names below are served lazily (stiffness needs SciPy's optimisers, slow to import).
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+_HOMES = {
+    "IsoStiffness": "stiffness", "PairStiffness": "stiffness", "ToothCompliance": "stiffness",
+    "iso_6336_stiffness": "stiffness", "pair_stiffness": "stiffness",
+    "pitch_point_stiffness": "stiffness", "ToothModel": "tooth", "build_tooth": "tooth",
+}
+
+__all__ = sorted(_HOMES)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _HOMES:
+        return getattr(import_module(f"spurdyn.model.{_HOMES[name]}"), name)
+    raise AttributeError(f"module 'spurdyn.model' has no attribute {name!r}")

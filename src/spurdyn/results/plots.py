@@ -6,13 +6,15 @@ from pathlib import Path
 from typing import Sequence
 
 import matplotlib
+import numpy as np
+import xarray as xr
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
+from spurdyn.results.frames import speeds_label
 
-from spurdyn.results.frames import speeds_label  # noqa: E402
+# Figures are made with the object API (Figure, saved through the Agg canvas), not pyplot:
+# no GUI backend, nothing global, and a quicker start (pyplot costs ~0.3 s to import).
 
 
 def _labels(runs: Sequence[xr.Dataset]) -> list[str]:
@@ -29,7 +31,7 @@ def _labels(runs: Sequence[xr.Dataset]) -> list[str]:
     return labels
 
 
-def draw_contact_force(ax: plt.Axes, runs: Sequence[xr.Dataset], *, zones: bool = True,
+def draw_contact_force(ax: Axes, runs: Sequence[xr.Dataset], *, zones: bool = True,
                        legend: bool = True) -> None:
     """Draw the contact force of ``runs`` against the rotation of A on ``ax``.
 
@@ -60,7 +62,7 @@ def draw_contact_force(ax: plt.Axes, runs: Sequence[xr.Dataset], *, zones: bool 
                         arrowprops={"arrowstyle": "<->" if z1 <= xmax else "<-",
                                     "color": "0.5", "lw": 0.8})
     statics: list[float] = []
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colours = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
     labels = _labels(runs) if len(runs) > 1 else ["contact force" + (
         "" if first.attrs.get("status") == "complete" else " [incomplete]")]
     for i, (ds, label) in enumerate(zip(runs, labels)):
@@ -116,11 +118,11 @@ def plot_contact_force(runs: Sequence[xr.Dataset], png: str | Path,
                 title += f" (incomplete: {ds.attrs.get('reason', '')})"
         else:
             title = "contact force: " + ", ".join(str(ds.attrs["case_name"]) for ds in runs)
-    fig, ax = plt.subplots(figsize=(8, 4.8), dpi=120)
+    fig = Figure(figsize=(8, 4.8), dpi=120)
+    ax = fig.subplots()
     draw_contact_force(ax, runs)
     ax.set_title(wrap_title(title), fontsize=10)
     fig.tight_layout()
     png = Path(png)
     fig.savefig(png)
-    plt.close(fig)
     return png

@@ -51,10 +51,44 @@ def smallest_eigenvalue(c1: NDArray[np.float64], active: NDArray[np.bool_]) -> f
     return float(np.linalg.eigvalsh(sub)[0]) if sub.size else 1.0
 
 
+def band_target(e: NDArray[np.float64], tol: float, margin: float) -> NDArray[np.float64]:
+    """Where the displacement stage aims each constraint error (docs/solver.md, section 7).
+
+    An error already inside the tolerance band ``|e| <= tol`` is held where it is: the
+    constraint is satisfied to tolerance, and removing it would take a force of order
+    ``m e / dt^2``. An error outside is brought to the band's edge, less a margin equal to
+    its excess (at least ``margin * tol``, at most ``tol``), so that the iteration lands
+    inside the band without removing what the band already accepts.
+
+    Parameters
+    ----------
+    e
+        The errors of the stage's first iterate.
+    tol
+        The displacement tolerance.
+    margin
+        The smallest margin, a fraction of ``tol``.
+
+    Returns
+    -------
+    ndarray
+        The target of each error.
+    """
+    a = np.abs(e)
+    inset = np.minimum(tol, np.maximum(a - tol, margin * tol))
+    return np.where(a <= tol, e, np.sign(e) * (tol - inset))
+
+
 def accelerated_update(x: NDArray[np.float64], e: NDArray[np.float64], c: NDArray[np.float64],
-                       n: int) -> NDArray[np.float64]:
-    """One iteration of eq. (19)-(21): the new ``x = [lambda; p]`` (``p`` last, ``<= 0``)."""
-    active = e != 0.0
+                       n: int, active: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
+    """One iteration of eq. (19)-(21): the new ``x = [lambda; p]`` (``p`` last, ``<= 0``).
+
+    ``active`` marks the rows of ``C'`` (default: the nonzero errors); a row held at its
+    target has a zero ``e`` but stays in ``C'``, so the update keeps it where it is.
+    """
+    if active is None:
+        active = e != 0.0
+    e = np.where(active, e, 0.0)
     cp = np.where(np.outer(active, active), c, 0.0)
     norm = float(np.abs(cp).sum(axis=1).max())
     if norm == 0.0:

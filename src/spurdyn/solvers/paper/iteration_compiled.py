@@ -37,16 +37,14 @@ def apply_a(C1, b, n, e, out):
 
 
 @njit
-def band_target(e, tol, margin, out):
-    """``out``: where the displacement stage aims each error (the twin of
-    :func:`spurdyn.solvers.paper.iteration_numpy.band_target`)."""
-    for i in range(e.size):
-        a = abs(e[i])
-        if a <= tol:
-            out[i] = e[i]
-        else:
-            inset = min(tol, max(a - tol, margin * tol))
-            out[i] = math.copysign(tol - inset, e[i])
+def band_value(e, tol, margin):
+    """Where the displacement stage aims the contact error ``e`` (the twin of
+    :func:`spurdyn.solvers.paper.iteration_numpy.band_value`)."""
+    a = abs(e)
+    if a <= tol:
+        return e
+    inset = min(tol, max(a - tol, margin * tol))
+    return math.copysign(tol - inset, e)
 
 
 @njit

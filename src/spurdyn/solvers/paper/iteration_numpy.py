@@ -15,6 +15,8 @@ Since ``A_n C_1 = C_n``, the error of the linear model contracts as ``(I - b_bar
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -51,32 +53,34 @@ def smallest_eigenvalue(c1: NDArray[np.float64], active: NDArray[np.bool_]) -> f
     return float(np.linalg.eigvalsh(sub)[0]) if sub.size else 1.0
 
 
-def band_target(e: NDArray[np.float64], tol: float, margin: float) -> NDArray[np.float64]:
-    """Where the displacement stage aims each constraint error (docs/solver.md, section 7).
+def band_value(e: float, tol: float, margin: float) -> float:
+    """Where the displacement stage aims the contact error (docs/solver.md, section 7).
 
-    An error already inside the tolerance band ``|e| <= tol`` is held where it is: the
-    constraint is satisfied to tolerance, and removing it would take a force of order
-    ``m e / dt^2``. An error outside is brought to the band's edge, less a margin equal to
-    its excess (at least ``margin * tol``, at most ``tol``), so that the iteration lands
-    inside the band without removing what the band already accepts.
+    A penetration (or gap) already inside the tolerance band ``|e| <= tol`` is held where
+    it is: the constraint is satisfied to tolerance, and removing it within one step
+    would take a force ``m_c e / (dt^2 / 2)``, which grows as ``1/dt^2``. One outside is
+    brought to the band's edge less a margin equal to its excess (at least
+    ``margin * tol``, at most ``tol``: aim at zero), so the iteration lands inside the band.
 
     Parameters
     ----------
     e
-        The errors of the stage's first iterate.
+        The contact error of the stage's first iterate (m).
     tol
-        The displacement tolerance.
+        The displacement tolerance (m).
     margin
         The smallest margin, a fraction of ``tol``.
 
     Returns
     -------
-    ndarray
-        The target of each error.
+    float
+        The contact error the iteration aims at (m).
     """
-    a = np.abs(e)
-    inset = np.minimum(tol, np.maximum(a - tol, margin * tol))
-    return np.where(a <= tol, e, np.sign(e) * (tol - inset))
+    a = abs(e)
+    if a <= tol:
+        return e
+    inset = min(tol, max(a - tol, margin * tol))
+    return math.copysign(tol - inset, e)
 
 
 def accelerated_update(x: NDArray[np.float64], e: NDArray[np.float64], c: NDArray[np.float64],

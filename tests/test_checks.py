@@ -222,9 +222,9 @@ def test_de_dx_against_C_for_the_velocity_stage(loaded20k, monkeypatch):
     calls = []
     real = reference.accelerated_update
 
-    def recording(x, e, cmat, n):
+    def recording(x, e, cmat, n, *active):
         calls.append(cmat.copy())
-        return real(x, e, cmat, n)
+        return real(x, e, cmat, n, *active)
 
     monkeypatch.setattr(reference, "accelerated_update", recording)
     _, rep = ref.step(st, 1501)

@@ -600,7 +600,7 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
                 e[-1] = 0.0
             want = iteration.accelerated_update(x0, e, scale * cmat, n)
             got = x0.copy()
-            it_c.accelerated_update(got, e, cmat, scale, n, eps_root, np.empty((m, m)), np.empty(m))
+            it_c.accelerated_update(got, e, cmat, scale, n, eps_root, np.empty((m, m)), np.empty(m), e[-1] != 0.0)
             tol = 1e-12 * np.abs(want - x0).max() + 4 * EPS * np.abs(x0).max()
             assert worst(got, want) <= tol
             k = int(np.abs(x0).max() > 0)     # the update alone, or on top of x
@@ -608,13 +608,21 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
             big[k] = max(big[k], worst(got, want) / unit)
             if not active:
                 assert got[-1] == x0[-1]
+    # a contact row held at its target (zero error, still in C': its C_pp enters eps_1)
+    # against the reference given the same mask
+    e = 1e-12 * rng.standard_normal(m)
+    e[-1] = 0.0
+    want = iteration.accelerated_update(S.x, e, 0.5 * h * h * C, n, np.ones(m, dtype=bool))
+    got = S.x.copy()
+    it_c.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m), True)
+    assert worst(got, want) <= 1e-12 * np.abs(want - S.x).max() + 4 * EPS * np.abs(S.x).max()
     print(f"accelerated_update n={n}: from x = 0 {big[0]:.1e} of the update; from the state's x "
           f"{big[1]:.2f} EPS |x|")
     # eps_1 matters (b_bar and the b_k depend on it): 1 % off changes the update beyond the tolerance
     e = 1e-12 * rng.standard_normal(m)
     got, got2 = np.zeros(m), np.zeros(m)
-    it_c.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m))
-    it_c.accelerated_update(got2, e, C, 0.5 * h * h, n, 1.01 * eps_root, np.empty((m, m)), np.empty(m))
+    it_c.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m), True)
+    it_c.accelerated_update(got2, e, C, 0.5 * h * h, n, 1.01 * eps_root, np.empty((m, m)), np.empty(m), True)
     assert worst(got, got2) > 1e3 * 1e-12 * np.abs(got).max()
     # the recursions themselves
     c1 = C / np.abs(C).sum(1).max()
@@ -733,3 +741,22 @@ def test_z_and_response_columns_match_the_rk4_response_formula(loaded):
         stiff = h**4 / 24 * t3 / mass
         assert np.max(np.abs(stiff[rows]) - tq[rows]) > 0
     print(f"_columns: worst difference relative to the column (positions, velocities): {big}")
+
+
+def test_band_value_matches_its_reference():
+    """``band_value`` (compiled) against its NumPy twin, and the rule itself: a contact error
+    inside the band is held, one outside is brought inside by its excess (at least the
+    margin, at most to zero), keeping its sign."""
+    tol, margin = 1e-12, 1e-4
+    cases = [0.0, 0.3e-12, -1e-12, 1.0000001e-12, -1.5e-12, 2.5e-12, -7e-9, 1e-12 + 1e-20]
+    want = [iteration.band_value(e, tol, margin) for e in cases]
+    got = [it_c.band_value(e, tol, margin) for e in cases]
+    assert got == want
+    for e, t in zip(cases, want):
+        if abs(e) <= tol:
+            assert t == e
+        else:
+            assert abs(t) < tol and t * e >= 0.0
+    assert want[4] == pytest.approx(-0.5e-12, rel=1e-12)         # excess 0.5 tol: inset 0.5 tol
+    assert want[5] == 0.0 and want[6] == 0.0                        # excess beyond tol: aim at zero
+    assert want[7] == pytest.approx(tol * (1 - margin), rel=1e-12)  # tiny excess: the margin

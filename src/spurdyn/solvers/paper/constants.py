@@ -10,3 +10,9 @@ the gap there. Nothing here imports spurdyn (the compiled step reads these globa
 
 RELOCATE = 0.05
 MAX_RELOCATE = 4
+
+#: The smallest margin (a fraction of the displacement tolerance) by which the
+#: displacement stage aims inside the tolerance band (docs/solver.md, section 7, "Where
+#: the displacement stage aims"): ten times the round-off of a gap between 6-cm
+#: coordinates (1e-17 m) at the paper's tolerance, a ten-thousandth of the band.
+BAND_MARGIN = 1e-4

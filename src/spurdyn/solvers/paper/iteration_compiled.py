@@ -6,6 +6,8 @@ there); tests/test_paper_iteration.py checks it against it at round-off.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from spurdyn.jit import njit
@@ -35,15 +37,27 @@ def apply_a(C1, b, n, e, out):
 
 
 @njit
-def accelerated_update(x, e, C, scale, n, eps_root, Cp, work):
+def band_value(e, tol, margin):
+    """Where the displacement stage aims the contact error ``e`` (the twin of
+    :func:`spurdyn.solvers.paper.iteration_numpy.band_value`)."""
+    a = abs(e)
+    if a <= tol:
+        return e
+    inset = min(tol, max(a - tol, margin * tol))
+    return math.copysign(tol - inset, e)
+
+
+@njit
+def accelerated_update(x, e, C, scale, n, eps_root, Cp, work, active_p):
     """One iteration ``x <- x - b_bar A_n e / ||C'||``; ``p <- min(0, p)``.
 
     ``C`` is ``G M^-1 G^T``; the stage's coefficient ``scale`` multiplies it. ``eps_root``
     is the smallest eigenvalue of the root block of ``G M^-1 G^T`` (constant over a
     run: the disk rotations only rotate it), so ``eps_1`` needs no eigen-solve here.
+    ``active_p`` keeps the contact row in ``C'`` (the root rows always are); a row held at
+    its target has a zero ``e`` there and stays in ``C'``.
     """
     m = x.size
-    active_p = e[m - 1] != 0.0
     norm = 0.0
     for i in range(m):
         acc = 0.0
@@ -73,7 +87,10 @@ def accelerated_update(x, e, C, scale, n, eps_root, Cp, work):
         b[k] = ep + om
         om, ep = b[k] * b[k] / 4.0, ep * om
     bbar = 2.0 / (om + ep)
-    apply_a(Cp, b, n, e, work)
+    ee = e.copy()
+    if not active_p:
+        ee[m - 1] = 0.0
+    apply_a(Cp, b, n, ee, work)
     for i in range(m):
         x[i] -= bbar * work[i] / norm
     if x[m - 1] > 0.0:

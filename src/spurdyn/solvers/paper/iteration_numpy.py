@@ -15,6 +15,8 @@ Since ``A_n C_1 = C_n``, the error of the linear model contracts as ``(I - b_bar
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -51,10 +53,46 @@ def smallest_eigenvalue(c1: NDArray[np.float64], active: NDArray[np.bool_]) -> f
     return float(np.linalg.eigvalsh(sub)[0]) if sub.size else 1.0
 
 
+def band_value(e: float, tol: float, margin: float) -> float:
+    """Where the displacement stage aims the contact error (docs/solver.md, section 7).
+
+    A penetration (or gap) already inside the tolerance band ``|e| <= tol`` is held where
+    it is: the constraint is satisfied to tolerance, and removing it within one step
+    would take a force ``m_c e / (dt^2 / 2)``, which grows as ``1/dt^2``. One outside is
+    brought to the band's edge less a margin equal to its excess (at least
+    ``margin * tol``, at most ``tol``: aim at zero), so the iteration lands inside the band.
+
+    Parameters
+    ----------
+    e
+        The contact error of the stage's first iterate (m).
+    tol
+        The displacement tolerance (m).
+    margin
+        The smallest margin, a fraction of ``tol``.
+
+    Returns
+    -------
+    float
+        The contact error the iteration aims at (m).
+    """
+    a = abs(e)
+    if a <= tol:
+        return e
+    inset = min(tol, max(a - tol, margin * tol))
+    return math.copysign(tol - inset, e)
+
+
 def accelerated_update(x: NDArray[np.float64], e: NDArray[np.float64], c: NDArray[np.float64],
-                       n: int) -> NDArray[np.float64]:
-    """One iteration of eq. (19)-(21): the new ``x = [lambda; p]`` (``p`` last, ``<= 0``)."""
-    active = e != 0.0
+                       n: int, active: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
+    """One iteration of eq. (19)-(21): the new ``x = [lambda; p]`` (``p`` last, ``<= 0``).
+
+    ``active`` marks the rows of ``C'`` (default: the nonzero errors); a row held at its
+    target has a zero ``e`` but stays in ``C'``, so the update keeps it where it is.
+    """
+    if active is None:
+        active = e != 0.0
+    e = np.where(active, e, 0.0)
     cp = np.where(np.outer(active, active), c, 0.0)
     norm = float(np.abs(cp).sum(axis=1).max())
     if norm == 0.0:

@@ -22,7 +22,7 @@ from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.solvers.loop import simulate
 from spurdyn.solvers.check import stable_step
 from spurdyn.result import Result
-from spurdyn.settings import RPM, RunCase
+from spurdyn.settings import RPM, RunSettings
 from spurdyn.model.system import build_system
 
 #: (label, rpm A, rpm B, nx, ny, spline points, compare with the paper's method at 241 points)
@@ -49,7 +49,7 @@ def describe(r: Result, wall: float, static: float) -> str:
             f"{top}); raw peak {r.contact_force.max():,.0f} N, {spikes} spikes")
 
 
-def timed(case: RunCase) -> tuple[Result, float]:
+def timed(case: RunSettings) -> tuple[Result, float]:
     t0 = time.perf_counter()
     r = simulate(paper_pair(), case)
     return r, time.perf_counter() - t0
@@ -61,7 +61,7 @@ def main() -> None:
           "(against the paper's method with 241 points) |")
     print("| --- | --- | --- | --- |")
     for label, a, b, nx, ny, ns, compare in CASES:
-        base = RunCase(speed_a=a * RPM, speed_b=b * RPM, torque=PAPER_TORQUE, nx=nx, ny=ny,
+        base = RunSettings(speed_a=a * RPM, speed_b=b * RPM, torque=PAPER_TORQUE, nx=nx, ny=ny,
                        n_spline=ns, frames_every=0)
         base = base.with_(dt=0.9 * stable_step(build_system(paper_pair(), base)))
         paper = describe(*timed(base), static)

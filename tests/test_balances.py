@@ -8,20 +8,20 @@ import pytest
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
 from spurdyn.results.balances import BalanceRecord, snapshot, state_snapshot, track
-from spurdyn.settings import RPM, RunCase
+from spurdyn.settings import RPM, RunSettings
 from spurdyn.model.system import build_system
 
 PAIR = paper_pair()
 
 
 def _stepper(speed_a, speed_b, torque):
-    case = RunCase(speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque, frames_every=0)
+    case = RunSettings(speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque, frames_every=0)
     return CompiledStepper(build_system(PAIR, case), case)
 
 
 def test_rigidly_turning_teeth_have_the_momentum_and_energy_of_a_rigid_body():
     """Teeth turned rigidly with their disks: no strain, L = (J + sum m r^2) omega."""
-    case = RunCase(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=0.0)
+    case = RunSettings(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=0.0)
     system = build_system(PAIR, case)
     theta = np.array([0.01, 0.02])
     omega = np.array([300.0, 310.0])

@@ -58,7 +58,7 @@ def test_the_designer_pair_needs_nothing_else():
     pair = case.pair
     assert pair.centre_distance == pytest.approx(0.070, rel=1e-15)
     assert case.run.speed_b == pytest.approx(case.run.speed_a * 23 / 47, rel=1e-15)
-    info = pair_info(case.pair_case)
+    info = pair_info(case.meshed_pair)
     stable = info["stable_dt_s"]
     assert case.run.dt == info["default_dt_s"]
     assert 0.7 * stable < case.run.dt <= DT_FRACTION * stable

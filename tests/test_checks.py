@@ -25,7 +25,7 @@ from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.solvers.paper.stepper_compiled import CompiledStepper, pack
 from spurdyn.solvers.paper.step_compiled import search
 from spurdyn.solvers.check import stable_step
-from spurdyn.settings import RPM, RunCase
+from spurdyn.settings import RPM, RunSettings
 from spurdyn.solvers.paper.step_numpy import PaperMethod, State, initial_contact_guess
 from spurdyn.solvers.paper.dynamics_numpy import blocks, constraint_force, jacobian, rot, root_phi
 from spurdyn.model.system import build_system
@@ -37,7 +37,7 @@ JZ = np.array([[0.0, -1.0], [1.0, 0.0]])
 @pytest.fixture(scope="module")
 def paper20k():
     """The paper pair at 20,000 rpm under the paper's torque (default mesh and dt)."""
-    case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
+    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
     return system, case, PaperMethod(system, case)
 

@@ -11,7 +11,7 @@ from spurdyn.contact.search_numpy import FLANK, find_contact, flank_spline, slid
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.contact import search_compiled as search_c
 from spurdyn.solvers.loop import _roll
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 from spurdyn.solvers.paper.step_numpy import PaperMethod
 from spurdyn.solvers.paper.dynamics_numpy import blocks, jacobian, rot, root_phi, root_phi_theta
 from spurdyn.model.system import build_system
@@ -22,7 +22,7 @@ JZ = np.array([[0.0, -1.0], [1.0, 0.0]])
 @pytest.fixture(scope="module")
 def system():
     pair = paper_pair()
-    case = RunCase(speed_a=400.0, speed_b=400.0, torque=22.25)
+    case = RunSettings(speed_a=400.0, speed_b=400.0, torque=22.25)
     s = build_system(pair, case)
     return s, PaperMethod(s, case)
 
@@ -226,7 +226,7 @@ def test_flank_surface_passes_through_the_outline_nodes(relief):
         g = nasa_like_relief(pair.gear_a, pair.gear_b)
         pair = GearPair(gear_a=g, gear_b=g)
         assert g.tip_relief > 0
-    case = RunCase(speed_a=400.0, speed_b=400.0, torque=1.0)
+    case = RunSettings(speed_a=400.0, speed_b=400.0, torque=1.0)
     s = build_system(pair, case)
     p = pack(s, case)
     for g, gb in enumerate(s.gears):

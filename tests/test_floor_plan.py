@@ -24,7 +24,7 @@ from spurdyn.mesh.tooth import tooth_mesh
 from spurdyn.model.system import (
     SENSE, FlankPair, assemble_system, build_system, gear_body, tooth_body,
 )
-from spurdyn.settings import RPM, RunCase
+from spurdyn.settings import RPM, RunSettings
 from spurdyn.solvers.layout import NCOL
 from spurdyn.solvers.loop import STEPPERS, make_stepper
 
@@ -152,7 +152,7 @@ def test_no_circles_between_modules():
 def today():
     """The paper's pair, built by ``build_system`` and built through the interfaces."""
     pair = paper_pair()
-    settings = RunCase(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
+    settings = RunSettings(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
     built = build_system(pair, settings)
     theta_a, theta_b = mesh_angles(pair, pair.start_roll_a)
     ca, cb = np.zeros(2), np.array([0.0, pair.centre_distance])
@@ -219,5 +219,5 @@ def test_the_paper_method_constrains_one_tooth_pair(today):
 
 def test_an_unknown_integrator_is_refused_naming_it():
     with pytest.raises(InputError) as err:
-        RunCase(speed_a=1.0, speed_b=1.0, torque=1.0, integrator="euler")
+        RunSettings(speed_a=1.0, speed_b=1.0, torque=1.0, integrator="euler")
     assert err.value.field == "integrator"

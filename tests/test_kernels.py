@@ -41,7 +41,7 @@ from spurdyn.model.loading import gear_angles, gear_torques
 from spurdyn.solvers.paper import iteration_numpy as iteration
 from spurdyn.solvers.paper import dynamics_numpy as dyn_np
 from spurdyn.solvers.paper import step_numpy as sref
-from spurdyn.settings import RPM, RunCase
+from spurdyn.settings import RPM, RunSettings
 from spurdyn.model.system import build_system
 
 EPS = np.finfo(float).eps
@@ -52,7 +52,7 @@ class Loaded:
     """A loaded state of the paper's pair and everything the comparisons need."""
 
     def __init__(self, steps: int = 1500) -> None:
-        self.case = RunCase(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
+        self.case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
         self.system = build_system(paper_pair(), self.case)
         self.fast = CompiledStepper(self.system, self.case)
         for _ in range(steps):

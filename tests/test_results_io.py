@@ -23,7 +23,7 @@ from spurdyn.mesh.tooth import tooth_mesh
 from spurdyn.results.io import (CSV_FILE, PNG_FILE, RESULT_FILE, SUMMARY_FILE, case_from_run,
                                 load_run, result_to_dataset, summarize, tooth_frames, write_run)
 from spurdyn.result import STAGES, Result
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -36,7 +36,7 @@ def _rot(angle: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def fake_simulate(pair: GearPair, case: RunCase, progress=None, *, status: str = "complete",
+def fake_simulate(pair: GearPair, case: RunSettings, progress=None, *, status: str = "complete",
                   reason: str = "", separations: tuple[tuple[float, float], ...] = (),
                   elastic: float = 2e-7, chunk: int = 20) -> Result:
     """A stand-in for ``spurdyn.solvers.loop.simulate`` with the same contract.

@@ -11,7 +11,7 @@ from .convergence import clamped_tooth_modes
 from .figures import pyplot, save_figure, shade_zones
 from .helpers import contact_episodes, n0, n2, on_common_grid, pct, relative, rms, table, upct
 from .settings import RPM
-from .spurdyn_api import (MeshStiffnessTable, RunCase, iso_6336_stiffness, mesh_stiffness_table,
+from .spurdyn_api import (MeshStiffnessTable, RunSettings, iso_6336_stiffness, mesh_stiffness_table,
                           simulate_lumped)
 
 
@@ -74,7 +74,7 @@ def section_lumped(ctx: Ctx) -> str:
     for label, tab in springs:
         row = [label]
         for rpm in (4000, 20000):
-            case = RunCase(speed_a=rpm * RPM, speed_b=rpm * RPM, torque=ctx.tau0, save_every=10)
+            case = RunSettings(speed_a=rpm * RPM, speed_b=rpm * RPM, torque=ctx.tau0, save_every=10)
             dfac = float(simulate_lumped(ctx.pair, case, table=tab).contact_force.max()) / ctx.static
             spread.setdefault(rpm, []).append(dfac)
             row.append(n2(dfac))

@@ -13,7 +13,7 @@ from .figures import pyplot, save_figure, shade_zones
 from .helpers import (dominant_frequency, ls_spectrum, moving_average, n0, n1, n2, pct, relative,
                       rms, sci, spectrum_peak, table, upct, zero_crossing_frequency)
 from .settings import RPM
-from .spurdyn_api import (GearPair, RunCase, build_system, build_tooth, iso_6336_stiffness,
+from .spurdyn_api import (GearPair, RunSettings, build_system, build_tooth, iso_6336_stiffness,
                           pair_stiffness, torsional_natural_frequency)
 
 
@@ -88,7 +88,7 @@ def section_physics(ctx: Ctx) -> str:
     c1, cga = iso.per_face_width(face)
     c1t, cgat = iso1.per_face_width(face)
     f_single = torsional_natural_frequency(pair, k_single)
-    system = build_system(pair, RunCase(speed_a=1.0, speed_b=1.0, torque=1.0))
+    system = build_system(pair, RunSettings(speed_a=1.0, speed_b=1.0, torque=1.0))
     j_tooth = []
     for gb in system.gears:
         y = gb.Y.reshape(-1, 2)

@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from .settings import (DATA, MESH_SPLINE, MESHES, MESHES_20K, ROOT, RPM, SOLVER_DIRS,
                        STABLE_FRACTION)
-from .spurdyn_api import (PAPER_DT, CompiledStepper, GearPair, RunCase, build_system,
+from .spurdyn_api import (PAPER_DT, CompiledStepper, GearPair, RunSettings, build_system,
                           nasa_like_relief, paper_gear, simulate, simulate_lumped, stable_step,
                           track)
 
@@ -63,9 +63,9 @@ def make_pair(spec: Spec) -> GearPair:
     return GearPair(gear_a=g, gear_b=g, driver=spec.driver)
 
 
-def make_case(spec: Spec, pair: GearPair) -> RunCase:
+def make_case(spec: Spec, pair: GearPair) -> RunSettings:
     """The spec's run settings, with its time step resolved to seconds."""
-    case = RunCase(speed_a=spec.speed_a_rpm * RPM, speed_b=spec.speed_b_rpm * RPM,
+    case = RunSettings(speed_a=spec.speed_a_rpm * RPM, speed_b=spec.speed_b_rpm * RPM,
                    torque=spec.torque, nx=spec.nx, ny=spec.ny, n_spline=spec.n_spline,
                    tol_disp=spec.tol_disp, save_every=spec.save_every, frames_every=0,
                    name=spec.name)

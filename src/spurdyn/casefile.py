@@ -10,7 +10,7 @@ in kg m^2, moduli in Pa, density in kg/m^3. A gear table may hold a tip relief:
 ``tip_relief_shape`` (``"linear"``/``"parabolic"``). Every problem is raised as an
 :class:`~spurdyn.errors.InputError` naming the key.
 
-A :class:`Case` (pair + :class:`~spurdyn.settings.RunCase`) turns back into the same
+A :class:`Case` (pair + :class:`~spurdyn.settings.RunSettings`) turns back into the same
 dictionary with :func:`case_to_dict`, so a run can store its whole description and be
 rebuilt from it (:func:`case_from_dict`).
 """
@@ -25,11 +25,11 @@ from typing import Any, Mapping
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-exported
-    GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS, TOP_KEYS, PairCase, _check_keys,
+    GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS, TOP_KEYS, MeshedPair, _check_keys,
     _gear_to_dict, _read_toml, gear_from_table, load_pair, material_from_table, pair_from_dict,
 )
 from spurdyn.model.system import PairSystem, system_for
-from spurdyn.settings import BACKENDS, METHODS, PAPER_DT, RPM, RunCase
+from spurdyn.settings import BACKENDS, METHODS, PAPER_DT, RPM, RunSettings
 from spurdyn.solvers.check import check_run, default_dt, stable_step
 
 RUN_KEYS = {
@@ -60,13 +60,13 @@ class Case:
 
     name: str
     pair: GearPair
-    run: RunCase
+    run: RunSettings
     description: str = ""
 
     @property
-    def pair_case(self) -> PairCase:
+    def meshed_pair(self) -> MeshedPair:
         """The pair and its mesh, as ``spurdyn info`` takes them."""
-        return PairCase(pair=self.pair, nx=self.run.nx, ny=self.run.ny, name=self.name)
+        return MeshedPair(pair=self.pair, nx=self.run.nx, ny=self.run.ny, name=self.name)
 
     @property
     def angle(self) -> float:
@@ -150,12 +150,12 @@ class _Source:
 
 
 
-_RUN_DEFAULTS = {f.name: f.default for f in fields(RunCase)}
-#: The ``[run]`` key of a :class:`RunCase` field whose name differs.
+_RUN_DEFAULTS = {f.name: f.default for f in fields(RunSettings)}
+#: The ``[run]`` key of a :class:`RunSettings` field whose name differs.
 _RUN_KEY_OF = {"speed_a": "speed_a_rpm", "speed_b": "speed_b_rpm", "angle": "angle_deg"}
 
 
-def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, name: str,
+def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None, name: str,
                    overrides: Mapping[str, Any] | None = None,
                    labels: Mapping[str, str] | None = None, description: str = "",
                    check_step: bool = True) -> Case:
@@ -163,7 +163,7 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
 
     Parameters
     ----------
-    pair_case
+    meshed_pair
         The pair and the mesh density of its ``[mesh]`` table.
     run_table
         The ``[run]`` table (speeds in rpm, angle in degrees, the rest SI), or ``None``.
@@ -193,16 +193,16 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
         raise InputError("run", "must be a table")
     _check_keys(table, RUN_KEYS, "run")
     src = _Source(table, "run", overrides, labels)
-    pair = pair_case.pair
+    pair = meshed_pair.pair
     hint = "give it in the [run] table or on the command line"
     speed_a = src.number("speed_a_rpm", None, required_hint=hint)
     speed_b = src.number("speed_b_rpm", speed_a * pair.gear_a.teeth / pair.gear_b.teeth)
     torque = src.number("torque", None, positive=False, required_hint=hint)
     dt = src.number("dt", None)
     angle_deg = src.number("angle_deg", None)
-    mesh = _Source({"nx": pair_case.nx, "ny": pair_case.ny}, "mesh", overrides, labels)
-    nx = mesh.integer("nx", pair_case.nx, 1)
-    ny = mesh.integer("ny", pair_case.ny, 1)
+    mesh = _Source({"nx": meshed_pair.nx, "ny": meshed_pair.ny}, "mesh", overrides, labels)
+    nx = mesh.integer("nx", meshed_pair.nx, 1)
+    ny = mesh.integer("ny", meshed_pair.ny, 1)
     settings = dict(
         # without a dt, the paper's until the system is built (the values are checked first)
         speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque,
@@ -220,8 +220,8 @@ def case_from_pair(pair_case: PairCase, run_table: Mapping[str, Any] | None, nam
         name=name,
     )
     try:
-        run = RunCase(**settings)
-    except InputError as err:  # the upper bounds are RunCase's own
+        run = RunSettings(**settings)
+    except InputError as err:  # the upper bounds are RunSettings's own
         raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
     system = None
     if check_step or dt is None:
@@ -260,8 +260,8 @@ def case_from_dict(data: dict[str, Any], name: str = "case",
     """Build a :class:`Case` from a parsed TOML document (or :func:`case_to_dict`)."""
     if not isinstance(data, dict):
         raise InputError("case", "must be a table")
-    pair_case = pair_from_dict(data, name=name)
-    return case_from_pair(pair_case, data.get("run"), name, overrides, labels,
+    meshed_pair = pair_from_dict(data, name=name)
+    return case_from_pair(meshed_pair, data.get("run"), name, overrides, labels,
                           check_step=check_step)
 
 

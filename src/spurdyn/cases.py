@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-from spurdyn.casefile import Case, PairCase, case_from_pair, load_case
+from spurdyn.casefile import Case, MeshedPair, case_from_pair, load_case
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
@@ -89,7 +89,7 @@ def preset_case(name: str, overrides: Mapping[str, Any] | None = None,
     pair = paper_pair()
     if preset.driver != "a":
         pair = GearPair(gear_a=pair.gear_a, gear_b=pair.gear_b, driver=preset.driver)
-    return case_from_pair(PairCase(pair=pair, name=name), preset.run_table(), name,
+    return case_from_pair(MeshedPair(pair=pair, name=name), preset.run_table(), name,
                           overrides, labels, description=preset.description,
                           check_step=check_step)
 

@@ -39,7 +39,7 @@ MESH_KEYS = {"nx", "ny"}
 TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run"}
 
 @dataclass(frozen=True)
-class PairCase:
+class MeshedPair:
     """A gear pair and the mesh density to model it with."""
 
     pair: GearPair
@@ -268,8 +268,8 @@ def _relief_from_table(table: dict[str, Any], where: str,
     return relief, start_key
 
 
-def pair_from_dict(data: dict[str, Any], name: str = "pair") -> PairCase:
-    """Build a :class:`PairCase` from the parsed TOML document."""
+def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
+    """Build a :class:`MeshedPair` from the parsed TOML document."""
     _check_keys(data, TOP_KEYS, "")
     if "gear_a" not in data:
         raise InputError("gear_a", "table is missing")
@@ -302,10 +302,10 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> PairCase:
     _check_keys(mesh_table, MESH_KEYS, "mesh")
     nx = _integer(mesh_table, "nx", "mesh", DEFAULT_NX)
     ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
-    return PairCase(pair=pair, nx=nx, ny=ny, name=name)
+    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name)
 
 
-def load_pair(path: str | Path) -> PairCase:
+def load_pair(path: str | Path) -> MeshedPair:
     """Read a gear-pair TOML file."""
     path = Path(path)
     return pair_from_dict(_read_toml(path), name=path.stem)

@@ -61,7 +61,7 @@ INTEGER_BOUNDS = (("n_spline", 8, MAX_SPLINE), ("max_iter", 1, MAX_ITER),
 
 
 @dataclass(frozen=True)
-class RunCase:
+class RunSettings:
     """Settings of one run of the dynamic contact solver.
 
     Parameters
@@ -161,6 +161,6 @@ class RunCase:
     def tol_acc(self) -> float:
         return self.tol_disp / self.dt**2
 
-    def with_(self, **changes: Any) -> "RunCase":
+    def with_(self, **changes: Any) -> "RunSettings":
         """A copy with some settings changed."""
         return replace(self, **changes)

@@ -11,17 +11,17 @@ from typing import Any, Callable, Protocol
 
 from spurdyn.geometry.pair import GearPair
 from spurdyn.result import Result
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 
 Progress = Callable[[int, float, float], None]
 
 
 class Simulate(Protocol):
-    def __call__(self, pair: GearPair, case: RunCase,
+    def __call__(self, pair: GearPair, case: RunSettings,
                  progress: Progress | None = None) -> Result: ...
 
 
-def simulate_fe(pair: GearPair, case: RunCase, progress: Progress | None = None) -> Result:
+def simulate_fe(pair: GearPair, case: RunSettings, progress: Progress | None = None) -> Result:
     """The paper's FE contact model (:func:`spurdyn.solvers.loop.simulate`)."""
     from spurdyn.solvers.loop import simulate
 
@@ -33,7 +33,7 @@ def simulate_fe(pair: GearPair, case: RunCase, progress: Progress | None = None)
 _TABLES: dict[Any, Any] = {}
 
 
-def simulate_lumped(pair: GearPair, case: RunCase, progress: Progress | None = None) -> Result:
+def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None = None) -> Result:
     """The lumped model (:func:`spurdyn.lumped.simulate_lumped`, no damping).
 
     The progress callback is called once, at the end (a lumped run takes a fraction of a

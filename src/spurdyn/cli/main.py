@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 from typing import NoReturn, Sequence
 
-from spurdyn.casefile import PairCase, load_pair
+from spurdyn.casefile import MeshedPair, load_pair
 from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
@@ -33,22 +33,22 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"spurdyn: error: {message} (see {self.prog} --help)\n")
 
 
-def resolve_pair(name: str) -> PairCase:
+def resolve_pair(name: str) -> MeshedPair:
     """A pair by name (``paper`` or a preset such as ``paper-fig8``) or from a TOML file."""
     from spurdyn.cases import is_preset
 
     if name == "paper" or is_preset(name):
-        return PairCase(pair=paper_pair(), name="paper")
+        return MeshedPair(pair=paper_pair(), name="paper")
     if not name.endswith(".toml") and not Path(name).exists():
         raise InputError("CASE", f"unknown case {name!r}; use 'paper', a preset "
                          "(see 'spurdyn cases') or a .toml file")
     return load_pair(name)
 
 
-def _with_mesh(case: PairCase, mesh: tuple[int, int] | None) -> PairCase:
+def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None) -> MeshedPair:
     if mesh is None:
         return case
-    return PairCase(pair=case.pair, nx=mesh[0], ny=mesh[1], name=case.name)
+    return MeshedPair(pair=case.pair, nx=mesh[0], ny=mesh[1], name=case.name)
 
 
 def cmd_info(args: argparse.Namespace) -> int:

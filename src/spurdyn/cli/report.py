@@ -7,20 +7,20 @@ from typing import Any
 
 from spurdyn.model.stiffness import iso_6336_stiffness, pair_stiffness
 from spurdyn.model.tooth import build_tooth
-from spurdyn.pairfile import PairCase
+from spurdyn.pairfile import MeshedPair
 from spurdyn.model.system import system_for
-from spurdyn.settings import PAPER_DT, RunCase
+from spurdyn.settings import PAPER_DT, RunSettings
 from spurdyn.solvers.check import DT_FRACTION, default_dt, stable_step
 
 
-def pair_info(case: PairCase) -> dict[str, Any]:
+def pair_info(case: MeshedPair) -> dict[str, Any]:
     """Collect the figures of ``spurdyn info`` as one JSON-ready dictionary."""
     pair = case.pair
     teeth = {"a": build_tooth(pair.gear_a, case.nx, case.ny),
              "b": build_tooth(pair.gear_b, case.nx, case.ny)}
     steps = {k: t.stable_step() for k, t in teeth.items()}
     # the stable step a run checks against and takes its default from (the run's system)
-    stable = stable_step(system_for(pair, case.nx, case.ny, RunCase.n_spline))
+    stable = stable_step(system_for(pair, case.nx, case.ny, RunSettings.n_spline))
     rolls = [pair.start_roll_a, *pair.single_contact_roll_a, pair.end_roll_a, pair.pitch_roll_a]
     stiff = pair_stiffness(pair, teeth["a"], teeth["b"], rolls).stiffness
     gears = {"a": pair.gear_a, "b": pair.gear_b}

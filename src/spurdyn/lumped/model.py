@@ -39,7 +39,7 @@ from spurdyn.model.loading import gear_angles, gear_torques, static_force, torqu
 from spurdyn.model.stiffness import pair_stiffness
 from spurdyn.model.tooth import build_tooth
 from spurdyn.result import Result
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 
 #: Interpolations offered for the stiffness table.
 INTERPOLATIONS = ("pchip", "cubic")
@@ -214,7 +214,7 @@ def _contact_roll_a(pair: GearPair, phi_a: ArrayLike) -> NDArray[np.float64]:
 
 def simulate_lumped(
     pair: GearPair,
-    case: RunCase,
+    case: RunSettings,
     damping_ratio: float = 0.0,
     *,
     table: MeshStiffnessTable | None = None,

@@ -33,7 +33,7 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
 from spurdyn.mesh.tooth import ToothMesh, tooth_mesh
 from spurdyn.model.flank import Flank, make_flank
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 
 #: Sense of rotation of each gear: the world angle is ``SENSE[g] * theta[g]``.
 SENSE = np.array([-1.0, 1.0])
@@ -246,7 +246,7 @@ def solver_pair(pair: GearPair) -> GearPair:
                     driver="a")
 
 
-def build_system(pair: GearPair, case: RunCase) -> PairSystem:
+def build_system(pair: GearPair, case: RunSettings) -> PairSystem:
     """The system of ``pair`` (gear A driving) on the tooth meshes of ``case``; see
     :func:`system_for`."""
     if pair.driver != "a":

@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
-from spurdyn.casefile import PairCase  # noqa: E402
+from spurdyn.casefile import MeshedPair  # noqa: E402
 from spurdyn.geometry.placement import line_of_action_point, mesh_angles, to_world_a, to_world_b  # noqa: E402
 from spurdyn.mesh.tooth import ToothMesh, tooth_mesh  # noqa: E402
 
@@ -23,7 +23,7 @@ def _element_polygons(mesh: ToothMesh, world: np.ndarray) -> np.ndarray:
     return world[mesh.elements[:, _OUTLINE]]
 
 
-def draw_mesh_position(case: PairCase, png: Path, roll_a: float | None = None) -> None:
+def draw_mesh_position(case: MeshedPair, png: Path, roll_a: float | None = None) -> None:
     """Draw both teeth, meshed, touching at roll angle ``roll_a`` of A (default: pitch point)."""
     pair = case.pair
     roll = pair.pitch_roll_a if roll_a is None else roll_a

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from spurdyn.model.system import PairSystem
 from spurdyn.result import STAGES
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 from spurdyn.solvers.layout import FAIL_NAN, OK
 
 Frames = list[tuple[float, NDArray[np.float64], NDArray[np.float64]]]
@@ -55,7 +55,7 @@ class Stepper:
     expose the state through the properties below.
     """
 
-    def __init__(self, system: PairSystem, settings: RunCase) -> None:
+    def __init__(self, system: PairSystem, settings: RunSettings) -> None:
         self.system = system
         self.settings = settings
         self.index = 0                       # steps taken

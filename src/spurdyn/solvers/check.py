@@ -16,7 +16,7 @@ from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
 from spurdyn.model.system import PairSystem, system_for
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 from spurdyn.solvers.limits import check_run_bounds, check_sampling, steps_for
 
 #: How far beyond the angle of action ``theta_s`` (as a fraction of it) a run may go:
@@ -69,25 +69,25 @@ def default_dt(stable_dt: float) -> float:
 
 def run_settings(pair: GearPair, speed_a: float, torque: float, *,
                  speed_b: float | None = None, dt: float | None = None,
-                 **kwargs: Any) -> RunCase:
-    """:class:`~spurdyn.settings.RunCase` with the command line's defaults (SI units:
+                 **kwargs: Any) -> RunSettings:
+    """:class:`~spurdyn.settings.RunSettings` with the command line's defaults (SI units:
     rad/s, N m, s).
 
     ``speed_b`` defaults to the speed that meshes, ``speed_a z_a / z_b``; ``dt`` to
     :func:`default_dt` of the stable step of the ``nx`` x ``ny`` tooth meshes (built here,
     a fraction of a second, and kept for the run). ``kwargs`` are the other fields of
-    :class:`~spurdyn.settings.RunCase`.
+    :class:`~spurdyn.settings.RunSettings`.
     """
     if speed_b is None:
         speed_b = speed_a * pair.gear_a.teeth / pair.gear_b.teeth
     if dt is None:
         system = system_for(pair, kwargs.get("nx", DEFAULT_NX), kwargs.get("ny", DEFAULT_NY),
-                            kwargs.get("n_spline", RunCase.n_spline))
+                            kwargs.get("n_spline", RunSettings.n_spline))
         dt = default_dt(stable_step(system))
-    return RunCase(speed_a=speed_a, speed_b=speed_b, torque=torque, dt=dt, **kwargs)
+    return RunSettings(speed_a=speed_a, speed_b=speed_b, torque=torque, dt=dt, **kwargs)
 
 
-def check_run(pair: GearPair, settings: RunCase, system: PairSystem,
+def check_run(pair: GearPair, settings: RunSettings, system: PairSystem,
               field: Callable[[str], str] = str) -> RunPlan:
     """Refuse settings the model cannot run; return what the run will do.
 

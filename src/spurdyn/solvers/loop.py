@@ -22,7 +22,7 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem, build_system, solver_pair
 from spurdyn.result import Result
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.check import check_run
 from spurdyn.solvers.layout import HISTORY, NCOL
@@ -36,13 +36,13 @@ STEPPERS: dict[tuple[str, str], str] = {
 }
 
 
-def make_stepper(system: PairSystem, settings: RunCase) -> Stepper:
+def make_stepper(system: PairSystem, settings: RunSettings) -> Stepper:
     """The stepper of ``settings.integrator`` on ``settings.backend``."""
     module, name = STEPPERS[(settings.integrator, settings.backend)].split(":")
     return getattr(importlib.import_module(module), name)(system, settings)
 
 
-def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
+def simulate(pair: GearPair, case: RunSettings, progress: Progress | None = None,
              chunk: int = 500) -> Result:
     """Simulate one tooth engagement of ``pair`` with the settings ``case``.
 
@@ -100,7 +100,7 @@ def simulate(pair: GearPair, case: RunCase, progress: Progress | None = None,
                       time.perf_counter() - wall0, loop)
 
 
-def _simulate_driven_by_b(pair: GearPair, case: RunCase, progress: Progress | None,
+def _simulate_driven_by_b(pair: GearPair, case: RunSettings, progress: Progress | None,
                           chunk: int) -> Result:
     """Gear B drives: simulate the mirror image, in which B is the first gear and drives.
 
@@ -140,7 +140,7 @@ def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.floa
     return np.sqrt(np.maximum(r * r - f.base_radius**2, 0.0)) / f.base_radius
 
 
-def _to_result(pair: GearPair, case: RunCase, system: PairSystem, rows: NDArray[np.float64],
+def _to_result(pair: GearPair, case: RunSettings, system: PairSystem, rows: NDArray[np.float64],
                frames: Frames, status: str, reason: str, steps: int, wall: float,
                loop: float) -> Result:
     col = {name: rows[:, i] for i, name in enumerate(HISTORY)}

@@ -15,7 +15,7 @@ from spurdyn.contact.search_numpy import ContactPair, find_contact
 from spurdyn.model.loading import gear_torques
 from spurdyn.model.flank import Flank
 from spurdyn.model.system import GearBody, PairSystem
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 
 
 def rot(phi: float) -> NDArray[np.float64]:
@@ -50,7 +50,7 @@ def torques(system: PairSystem, tau0: float, theta: NDArray[np.float64]) -> NDAr
     return np.array([float(ta), float(tb)])
 
 
-def accelerations(system: PairSystem, settings: RunCase, theta: NDArray[np.float64],
+def accelerations(system: PairSystem, settings: RunSettings, theta: NDArray[np.float64],
                   u: NDArray[np.float64], f_theta: NDArray[np.float64], f_u: NDArray[np.float64]
                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """``alpha = (tau + Q + f_theta) / J`` and ``a = (f_el + f_u) / m`` with the constraint

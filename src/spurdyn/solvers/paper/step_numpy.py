@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from spurdyn.contact.search_numpy import ContactPair, sliding_acceleration
 from spurdyn.model.system import PairSystem
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 from spurdyn.solvers.layout import FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_VEL, OK
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_numpy import (
@@ -68,7 +68,7 @@ class PaperMethod:
     """The paper's method, step by step, in NumPy (slow, plain): the twin of
     :func:`spurdyn.solvers.paper.step_compiled.step`."""
 
-    def __init__(self, system: PairSystem, case: RunCase) -> None:
+    def __init__(self, system: PairSystem, case: RunSettings) -> None:
         self.system = system
         self.case = case
         self.minv = inverse_mass(system)
@@ -272,7 +272,7 @@ def initial_contact_guess(system: PairSystem) -> tuple[float, float]:
     return float(np.interp(r_start, radii, ts)), fb.t1
 
 
-def initial_state(system: PairSystem, settings: RunCase) -> State:
+def initial_state(system: PairSystem, settings: RunSettings) -> State:
     """Teeth just touching at the start of contact, rigid rotation, consistent forces.
 
     The forces come from an acceleration stage at ``t = 0`` (the torques are zero there).

@@ -15,7 +15,7 @@ from scipy.sparse import block_diag
 from spurdyn.contact.constants import flank_row
 from spurdyn.model.loading import gear_angles, torque_amplitudes
 from spurdyn.model.system import PairSystem
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.layout import NCOL, CompiledState, Config, Packed
 from spurdyn.solvers.paper.dynamics_numpy import (
@@ -24,7 +24,7 @@ from spurdyn.solvers.paper.dynamics_numpy import (
 from spurdyn.solvers.paper.step_numpy import State, initial_state
 
 
-def pack(system: PairSystem, settings: RunCase) -> Packed:
+def pack(system: PairSystem, settings: RunSettings) -> Packed:
     """The model as plain arrays, nodes of both teeth stacked (A first)."""
     ga, gb = system.gears
     na = ga.mesh.n_nodes
@@ -75,7 +75,7 @@ def root_eigenvalue(system: PairSystem, state: State) -> float:
     return float(np.linalg.eigvalsh(c)[0])
 
 
-def compiled_start(system: PairSystem, settings: RunCase, st: State) -> CompiledState:
+def compiled_start(system: PairSystem, settings: RunSettings, st: State) -> CompiledState:
     """The compiled state of the NumPy start state ``st`` (with its accelerations and ``C``)."""
     c = st.contact
     na = system.gears[0].mesh.n_nodes
@@ -93,7 +93,7 @@ def compiled_start(system: PairSystem, settings: RunCase, st: State) -> Compiled
     )
 
 
-def config(settings: RunCase, eps_root: float) -> Config:
+def config(settings: RunSettings, eps_root: float) -> Config:
     """The run settings a compiled step reads."""
     s = settings
     return Config(dt=float(s.dt), tol_disp=float(s.tol_disp), tol_vel=float(s.tol_vel),
@@ -104,7 +104,7 @@ def config(settings: RunCase, eps_root: float) -> Config:
 class CompiledStepper(Stepper):
     """The paper's method compiled with Numba, superposing the response to the forces."""
 
-    def __init__(self, system: PairSystem, settings: RunCase) -> None:
+    def __init__(self, system: PairSystem, settings: RunSettings) -> None:
         from spurdyn.solvers.paper import step_compiled
 
         super().__init__(system, settings)

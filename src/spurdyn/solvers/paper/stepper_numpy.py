@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.model.system import PairSystem
-from spurdyn.settings import RunCase
+from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.layout import FAIL_NAN, NCOL, OK, H
 from spurdyn.solvers.paper.step_numpy import PaperMethod, State, initial_state
@@ -15,7 +15,7 @@ from spurdyn.solvers.paper.step_numpy import PaperMethod, State, initial_state
 class NumpyStepper(Stepper):
     """Steps :class:`~spurdyn.solvers.paper.step_numpy.PaperMethod` one by one."""
 
-    def __init__(self, system: PairSystem, settings: RunCase) -> None:
+    def __init__(self, system: PairSystem, settings: RunSettings) -> None:
         super().__init__(system, settings)
         self.method = PaperMethod(system, settings)
         self.state: State = initial_state(system, settings)

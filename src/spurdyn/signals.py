@@ -71,16 +71,8 @@ class Interrupts:
     @contextmanager
     def installed(cls) -> Iterator[None]:
         """Handle SIGINT and SIGTERM in this block (outside the main thread: no change)."""
-        try:
-            old = {s: signal.signal(s, cls.handler) for s in STOP_SIGNALS}
-        except ValueError:  # not the main thread: leave signals alone
+        with _handled(STOP_SIGNALS, cls.handler):
             yield
-            return
-        try:
-            yield
-        finally:
-            for s, h in old.items():
-                signal.signal(s, h)
 
     @classmethod
     @contextmanager
@@ -136,9 +128,17 @@ def ignored(signums: tuple[int, ...] = (signal.SIGINT,)) -> Iterator[None]:
 
     SIGINT only by default: the pool that spawns workers ends them with SIGTERM.
     """
+    with _handled(signums, signal.SIG_IGN):
+        yield
+
+
+@contextmanager
+def _handled(signums: tuple[int, ...], handler: Any) -> Iterator[None]:
+    """``handler`` for ``signums`` in this block, the old handlers restored after it
+    (outside the main thread, where signals cannot be set: no change)."""
     try:
-        old = {s: signal.signal(s, signal.SIG_IGN) for s in signums}
-    except ValueError:  # not the main thread
+        old = {s: signal.signal(s, handler) for s in signums}
+    except ValueError:
         yield
         return
     try:

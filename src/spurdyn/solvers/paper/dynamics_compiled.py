@@ -154,7 +154,6 @@ def constraint_force(P, theta, cn, cw, normal, x, f_th, f_u):
 def gram(P, theta, cn, cw, normal, C):
     """``G M^-1 G^T`` (dense, ``n_x`` square) for the constraint directions at ``theta``."""
     nr = P.rnode.size
-    nx = 2 * nr + 1
     C[:, :] = 0.0
     for k in range(nr):
         pk = root_phi_theta(P, theta, k)
@@ -169,26 +168,14 @@ def gram(P, theta, cn, cw, normal, C):
         i = P.rnode[k]
         C[2 * k, 2 * k] += 1.0 / P.mass[2 * i]
         C[2 * k + 1, 2 * k + 1] += 1.0 / P.mass[2 * i + 1]
-        # Coupling with the contact row where a root node carries the contact (never on
-        # an ordinary flank, kept for completeness).
-        for j in range(6):
-            if cn[j] == i:
-                sign = 1.0 if j < 3 else -1.0
-                for a in range(2):
-                    v = -sign * cw[j] * normal[a] / P.mass[2 * i + a]
-                    C[2 * k + a, nx - 1] += v
-                    C[nx - 1, 2 * k + a] += v
-    cpp = 0.0
-    for j in range(6):
-        for j2 in range(6):
-            if cn[j] == cn[j2] and ((j < 3) == (j2 < 3)):
-                cpp += cw[j] * cw[j2] / P.mass[2 * cn[j]]
-    C[nx - 1, nx - 1] = cpp
+    gram_contact(P, cn, cw, normal, C)
 
 
 @njit
 def gram_contact(P, cn, cw, normal, C):
-    """Refresh the contact row and column of ``G M^-1 G^T`` for new contact rows."""
+    """Refresh the contact row and column of ``G M^-1 G^T`` for new contact rows (and its
+    coupling with a root node that carries the contact: never on an ordinary flank, kept
+    for completeness)."""
     nr = P.rnode.size
     nx = 2 * nr + 1
     for k in range(nx):

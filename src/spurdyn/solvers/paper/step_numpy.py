@@ -204,7 +204,7 @@ class PaperMethod:
                 gmat = jacobian(sys_, st.theta, c_force)
                 cbase = (gmat * self.minv) @ gmat.T
         iters[0] = m
-        x_bar, p_bar = x.copy(), x[-1]
+        p_bar = x[-1]
 
         # Stage 2: velocities (positions from stage 1, same force directions).
         for m in range(cap + 1):

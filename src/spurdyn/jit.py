@@ -85,5 +85,10 @@ if _folder is not None:
 
 
 def njit(fn: Callable[..., Any]) -> Callable[..., Any]:
-    """Compile ``fn`` in nopython mode, cached on disk."""
-    return numba.njit(cache=True)(fn)
+    """Compile ``fn`` in nopython mode, cached on disk, releasing the GIL while it runs.
+
+    The kernels touch no Python object, so the GIL is not needed; releasing it lets a
+    thread of the command (loading the output writers, :mod:`spurdyn.results.prefetch`)
+    use the second core while the time loop runs.
+    """
+    return numba.njit(cache=True, nogil=True)(fn)

@@ -177,7 +177,13 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
     made = [p for p in [target.parent, *target.parent.parents] if not p.exists()]
     bar = ProgressBar(plan.case.name, enabled=progress)
 
+    from spurdyn.results import prefetch
+
+    loading: list[Any] = []
+
     def report(step: int, angle: float, total: float) -> None:
+        if not loading:   # the loop runs (GIL-free): load the writers on the other core
+            loading.append(prefetch.start())
         bar(step, angle, total)
         Interrupts.checkpoint()
 
@@ -200,6 +206,7 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
             if Interrupts.last is not None and \
                     (result.reason or "").startswith("interrupted by the user"):
                 result.reason = result.reason.replace("by the user", f"by {Interrupts.name()}", 1)
+            prefetch.wait(loading[0] if loading else None)
             try:
                 summary, final = write_run_folder(result, plan.case, target, force=plan.force,
                                                   vtu=plan.vtu)

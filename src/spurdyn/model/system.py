@@ -255,13 +255,28 @@ def build_system(pair: GearPair, case: RunSettings) -> PairSystem:
     return system_for(pair, case.nx, case.ny, case.n_spline)
 
 
-@lru_cache(maxsize=2)
 def system_for(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
     """Mesh both teeth, place them just touching at the start of contact, assemble K and M.
 
     The system of the pair the solver runs (:func:`solver_pair`). The last two systems built
     are kept, so the run check of a case file and the run itself share one assembly and one
-    stable-step eigen-solve; nothing mutates a system.
+    stable-step eigen-solve; nothing mutates a system. (A pair that cannot be hashed is
+    built afresh each time.)
+    """
+    try:
+        hash(pair)
+    except TypeError:   # an unhashable pair cannot be a key
+        return _build_system(pair, nx, ny, n_spline)
+    return _kept_system(pair, nx, ny, n_spline)
+
+
+@lru_cache(maxsize=2)
+def _kept_system(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
+    return _build_system(pair, nx, ny, n_spline)
+
+
+def _build_system(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
+    """:func:`system_for` without keeping it.
 
     The surfaces of :class:`Flank` are the exact involutes, which touch at the start of
     the path of contact at the rotations of :func:`~spurdyn.geometry.placement.mesh_angles`

@@ -52,7 +52,7 @@ class Stepper:
 
     Subclasses set ``self.residual`` (3,) and ``self.iterations`` (3,) after each step (the
     failing stage's where a step fails), implement :meth:`_advance` and :meth:`row`, and
-    expose the state through the properties below.
+    hold their state in ``self.state``, which the properties below read.
     """
 
     def __init__(self, system: PairSystem, settings: RunSettings) -> None:
@@ -79,19 +79,33 @@ class Stepper:
         """The history row (columns :data:`spurdyn.solvers.layout.HISTORY`) of the current state."""
         raise NotImplementedError
 
+    #: The method's state: anything with ``t``, ``theta``, ``omega``, ``u``, ``v``, ``x``
+    #: (the NumPy ``State``, the compiled ``CompiledState``, whose ``t`` is a 1-array).
     state: Any
 
     @property
     def t(self) -> float:
-        raise NotImplementedError
+        return float(np.asarray(self.state.t).reshape(-1)[0])
 
     @property
     def theta(self) -> NDArray[np.float64]:
-        raise NotImplementedError
+        return self.state.theta
+
+    @property
+    def omega(self) -> NDArray[np.float64]:
+        return self.state.omega
 
     @property
     def u(self) -> NDArray[np.float64]:
-        raise NotImplementedError
+        return self.state.u
+
+    @property
+    def v(self) -> NDArray[np.float64]:
+        return self.state.v
+
+    @property
+    def x(self) -> NDArray[np.float64]:
+        return self.state.x
 
     # -- the bookkeeping ------------------------------------------------------------------
     @property

@@ -121,30 +121,6 @@ class CompiledStepper(Stepper):
     def state(self) -> CompiledState:
         return self.S
 
-    @property
-    def t(self) -> float:
-        return float(self.S.t[0])
-
-    @property
-    def theta(self) -> NDArray[np.float64]:
-        return self.S.theta
-
-    @property
-    def omega(self) -> NDArray[np.float64]:
-        return self.S.omega
-
-    @property
-    def u(self) -> NDArray[np.float64]:
-        return self.S.u
-
-    @property
-    def v(self) -> NDArray[np.float64]:
-        return self.S.v
-
-    @property
-    def x(self) -> NDArray[np.float64]:
-        return self.S.x
-
     def row(self) -> NDArray[np.float64]:
         self._kernel.write_row(self.P, self.S, self._row[0])
         return self._row[0].copy()

@@ -20,30 +20,6 @@ class NumpyStepper(Stepper):
         self.method = PaperMethod(system, settings)
         self.state: State = initial_state(system, settings)
 
-    @property
-    def t(self) -> float:
-        return self.state.t
-
-    @property
-    def theta(self) -> NDArray[np.float64]:
-        return self.state.theta
-
-    @property
-    def omega(self) -> NDArray[np.float64]:
-        return self.state.omega
-
-    @property
-    def u(self) -> NDArray[np.float64]:
-        return self.state.u
-
-    @property
-    def v(self) -> NDArray[np.float64]:
-        return self.state.v
-
-    @property
-    def x(self) -> NDArray[np.float64]:
-        return self.state.x
-
     def row(self) -> NDArray[np.float64]:
         st, c = self.state, self.state.contact
         tau = self.method.torques(st.theta)

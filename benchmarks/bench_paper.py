@@ -38,7 +38,7 @@ from spurdyn.solvers.loop import simulate
 from spurdyn.settings import RunSettings, RPM
 a, b, backend, steps = float(sys.argv[1]), float(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 pair = paper_pair()
-case = RunSettings(speed_a=a * RPM, speed_b=b * RPM, torque=PAPER_TORQUE, backend=backend)
+case = RunSettings(contact="point", speed_a=a * RPM, speed_b=b * RPM, torque=PAPER_TORQUE, backend=backend)
 if steps:
     case = case.with_(angle=steps * case.dt * case.speed_a)
 simulate(pair, case.with_(angle=20 * case.dt * case.speed_a))   # load the compiled code
@@ -58,7 +58,7 @@ t0 = time.perf_counter()
 from spurdyn.geometry.presets import paper_pair, PAPER_TORQUE
 from spurdyn.solvers.loop import simulate
 from spurdyn.settings import RunSettings, RPM
-case = RunSettings(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
+case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
 t1 = time.perf_counter()
 r = simulate(paper_pair(), case)
 t2 = time.perf_counter()
@@ -100,7 +100,7 @@ def breakdown(reps: int) -> dict[str, float]:
     from spurdyn.settings import RPM, RunSettings
     from spurdyn.model.system import build_system
 
-    case = RunSettings(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
+    case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
     f = CompiledStepper(build_system(paper_pair(), case), case)
     for _ in range(3000):
         f.step()

@@ -61,7 +61,7 @@ def main() -> None:
           "(against the paper's method with 241 points) |")
     print("| --- | --- | --- | --- |")
     for label, a, b, nx, ny, ns, compare in CASES:
-        base = RunSettings(speed_a=a * RPM, speed_b=b * RPM, torque=PAPER_TORQUE, nx=nx, ny=ny,
+        base = RunSettings(contact="point", speed_a=a * RPM, speed_b=b * RPM, torque=PAPER_TORQUE, nx=nx, ny=ny,
                        n_spline=ns, frames_every=0)
         base = base.with_(dt=0.9 * stable_step(build_system(paper_pair(), base)))
         paper = describe(*timed(base), static)

@@ -15,13 +15,13 @@ PAIR = paper_pair()
 
 
 def _stepper(speed_a, speed_b, torque):
-    case = RunSettings(speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque, frames_every=0)
+    case = RunSettings(contact="point", speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque, frames_every=0)
     return CompiledStepper(build_system(PAIR, case), case)
 
 
 def test_rigidly_turning_teeth_have_the_momentum_and_energy_of_a_rigid_body():
     """Teeth turned rigidly with their disks: no strain, L = (J + sum m r^2) omega."""
-    case = RunSettings(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=0.0)
+    case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4000 * RPM, torque=0.0)
     system = build_system(PAIR, case)
     theta = np.array([0.01, 0.02])
     omega = np.array([300.0, 310.0])

@@ -37,7 +37,7 @@ JZ = np.array([[0.0, -1.0], [1.0, 0.0]])
 @pytest.fixture(scope="module")
 def paper20k():
     """The paper pair at 20,000 rpm under the paper's torque (default mesh and dt)."""
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
     return system, case, PaperMethod(system, case)
 

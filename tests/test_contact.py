@@ -22,7 +22,7 @@ JZ = np.array([[0.0, -1.0], [1.0, 0.0]])
 @pytest.fixture(scope="module")
 def system():
     pair = paper_pair()
-    case = RunSettings(speed_a=400.0, speed_b=400.0, torque=22.25)
+    case = RunSettings(contact="point", speed_a=400.0, speed_b=400.0, torque=22.25)
     s = build_system(pair, case)
     return s, PaperMethod(s, case)
 
@@ -226,7 +226,7 @@ def test_flank_surface_passes_through_the_outline_nodes(relief):
         g = nasa_like_relief(pair.gear_a, pair.gear_b)
         pair = GearPair(gear_a=g, gear_b=g)
         assert g.tip_relief > 0
-    case = RunSettings(speed_a=400.0, speed_b=400.0, torque=1.0)
+    case = RunSettings(contact="point", speed_a=400.0, speed_b=400.0, torque=1.0)
     s = build_system(pair, case)
     p = pack(s, case)
     for g, gb in enumerate(s.gears):

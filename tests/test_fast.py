@@ -30,7 +30,7 @@ PAIR = paper_pair()
 
 @pytest.fixture(scope="module")
 def pair_of_steppers():
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
     return system, case, CompiledStepper(system, case), PaperMethod(system, case)
 
@@ -102,7 +102,7 @@ def test_superposition_equals_reintegration(pair_of_steppers):
 def test_gear_b_driving_is_the_mirror_image():
     """An identical pair driven by B at equal speeds is the mirror image of the same pair
     driven by A: the same contact force history."""
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE,
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE,
                    angle=math.radians(2.0), frames_every=0)
     ra = simulate(PAIR, case)
     rb = simulate(GearPair(gear_a=PAIR.gear_a, gear_b=PAIR.gear_b, driver="b"), case)
@@ -117,7 +117,7 @@ def test_gear_b_driving_is_the_mirror_image():
 
 def test_a_stage_that_does_not_converge_stops_both_backends_and_keeps_the_steps_before():
     # With 8 iterations allowed, the velocity stage of step 3 at 20,000 rpm needs more.
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, max_iter=8,
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, max_iter=8,
                    angle=0.004, frames_every=0)
     runs = {b: simulate(PAIR, case.with_(backend=b), chunk=50) for b in ("numba", "numpy")}
     for r in runs.values():
@@ -153,7 +153,7 @@ def test_a_nan_stops_the_run_and_keeps_the_steps_before(backend, monkeypatch):
         return stepper
 
     monkeypatch.setattr(run_module, "make_stepper", poisoned)
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, backend=backend,
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, backend=backend,
                    angle=0.004, frames_every=0)
     r = simulate(PAIR, case, chunk=20)
     assert r.status == "incomplete"

@@ -32,7 +32,7 @@ def table(pair):
 
 def run(pair, table, rpm_a, rpm_b=None, torque=PAPER_TORQUE, dt=1e-6, **kw):
     rpm_b = rpm_a if rpm_b is None else rpm_b
-    case = RunSettings(speed_a=rpm_a * RPM, speed_b=rpm_b * RPM, torque=torque, dt=dt,
+    case = RunSettings(contact="point", speed_a=rpm_a * RPM, speed_b=rpm_b * RPM, torque=torque, dt=dt,
                    **{k: v for k, v in kw.items() if k in ("angle", "save_every")})
     return simulate_lumped(pair, case, table=table,
                            **{k: v for k, v in kw.items() if k == "damping_ratio"})
@@ -217,7 +217,7 @@ def test_damping_calms_the_ringing_but_not_the_mean(pair, table):
 
 
 def test_copy_of_gear_a_gives_identical_results(pair):
-    case = RunSettings(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE, dt=1e-7)
+    case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE, dt=1e-7)
     g = paper_gear()
     same = simulate_lumped(GearPair(gear_a=g, gear_b=g), case)
     twin = simulate_lumped(GearPair(gear_a=g, gear_b=copy.deepcopy(g)), case)

@@ -48,7 +48,7 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
                 e[-1] = 0.0
             want = iteration.accelerated_update(x0, e, scale * cmat, n)
             got = x0.copy()
-            it_c.accelerated_update(got, e, cmat, scale, n, eps_root, np.empty((m, m)), np.empty(m), e[-1] != 0.0)
+            it_c.accelerated_update(got, e, cmat, scale, n, eps_root, np.empty((m, m)), np.empty(m), e[-1] != 0.0, 0.0)
             tol = 1e-12 * np.abs(want - x0).max() + 4 * EPS * np.abs(x0).max()
             assert worst(got, want) <= tol
             k = int(np.abs(x0).max() > 0)     # the update alone, or on top of x
@@ -62,15 +62,15 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
     e[-1] = 0.0
     want = iteration.accelerated_update(S.x, e, 0.5 * h * h * C, n, np.ones(m, dtype=bool))
     got = S.x.copy()
-    it_c.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m), True)
+    it_c.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m), True, 0.0)
     assert worst(got, want) <= 1e-12 * np.abs(want - S.x).max() + 4 * EPS * np.abs(S.x).max()
     print(f"accelerated_update n={n}: from x = 0 {big[0]:.1e} of the update; from the state's x "
           f"{big[1]:.2f} EPS |x|")
     # eps_1 matters (b_bar and the b_k depend on it): 1 % off changes the update beyond the tolerance
     e = 1e-12 * rng.standard_normal(m)
     got, got2 = np.zeros(m), np.zeros(m)
-    it_c.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m), True)
-    it_c.accelerated_update(got2, e, C, 0.5 * h * h, n, 1.01 * eps_root, np.empty((m, m)), np.empty(m), True)
+    it_c.accelerated_update(got, e, C, 0.5 * h * h, n, eps_root, np.empty((m, m)), np.empty(m), True, 0.0)
+    it_c.accelerated_update(got2, e, C, 0.5 * h * h, n, 1.01 * eps_root, np.empty((m, m)), np.empty(m), True, 0.0)
     assert worst(got, got2) > 1e3 * 1e-12 * np.abs(got).max()
     # the recursions themselves
     c1 = C / np.abs(C).sum(1).max()

@@ -101,6 +101,8 @@ BAD: dict[str, st.SearchStrategy[Any]] = {
                         st.integers(), st.booleans()),
     "backend": st.one_of(st.text(max_size=8).filter(lambda s: s not in ("numba", "numpy")),
                          st.integers(), st.booleans()),
+    "contact": st.one_of(st.text(max_size=8).filter(lambda s: s not in ("point", "hertz")),
+                         st.integers(), st.booleans()),
     "save_every": st.one_of(NOT_WHOLE, st.integers(-(2**63), 0), st.integers(10_000, INT64)),
     "frames_every": st.one_of(NOT_WHOLE, st.integers(-(2**63), -1)),
     "keep_theta_term": st.one_of(st.integers(), st.text(max_size=5), st.floats()),

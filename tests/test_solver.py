@@ -30,7 +30,7 @@ def moving_average(t, f, window=10e-6):
 @pytest.fixture(scope="module")
 def loaded_state():
     """A reference state in contact, 60 steps into a 20,000 rpm run."""
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
     ref = PaperMethod(system, case)
     st = initial_state(ref.system, ref.case)
@@ -101,7 +101,7 @@ def test_de_dx_equals_C_for_the_acceleration_stage(loaded_state):
 
 @pytest.fixture(scope="module")
 def run20k():
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE,
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE,
                    angle=math.radians(6.0))
     return case, simulate(PAIR, case)
 
@@ -142,7 +142,7 @@ def _momentum_and_energy(stepper):
 def test_free_spinning_pair_conserves_energy_and_angular_momentum():
     """No torque and the teeth apart (B runs away at once): each gear's angular momentum
     and the total kinetic plus elastic energy stay constant."""
-    case = RunSettings(speed_a=4000 * RPM, speed_b=4400 * RPM, torque=0.0)
+    case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4400 * RPM, torque=0.0)
     f = CompiledStepper(build_system(PAIR, case), case)
     L0, e0 = _momentum_and_energy(f)
     for _ in range(400):
@@ -161,7 +161,7 @@ def test_the_free_energy_drift_is_first_order_in_dt_and_vanishes_with_it():
     and grows as omega^4 from 4,000 to 20,000 rpm; energy is conserved as dt -> 0."""
 
     def gain(rpm: float, dt: float) -> float:
-        case = RunSettings(speed_a=rpm * RPM, speed_b=1.1 * rpm * RPM, torque=0.0, dt=dt)
+        case = RunSettings(contact="point", speed_a=rpm * RPM, speed_b=1.1 * rpm * RPM, torque=0.0, dt=dt)
         f = CompiledStepper(build_system(PAIR, case), case)
         _, e0 = _momentum_and_energy(f)
         for _ in range(int(round(12e-6 / dt))):
@@ -178,7 +178,7 @@ def test_the_free_energy_drift_is_first_order_in_dt_and_vanishes_with_it():
 def test_angular_momentum_balance_with_contact():
     """Each gear's angular momentum changes by the angular impulse of its centre torque and
     of the contact force about its centre."""
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
     system = build_system(PAIR, case)
     f = CompiledStepper(system, case)
     ref = PaperMethod(system, case)
@@ -214,7 +214,7 @@ def test_angular_momentum_balance_with_contact():
 
 def test_quasi_static_limit():
     """At 2,000 rpm the mean force over the single-contact zone is tau_0 / r_b (532.7 N)."""
-    case = RunSettings(speed_a=2000 * RPM, speed_b=2000 * RPM, torque=PAPER_TORQUE, nx=3, ny=10,
+    case = RunSettings(contact="point", speed_a=2000 * RPM, speed_b=2000 * RPM, torque=PAPER_TORQUE, nx=3, ny=10,
                    dt=4.5e-8, save_every=10, frames_every=0)
     r = simulate(PAIR, case)
     assert r.status == "complete", r.reason
@@ -226,7 +226,7 @@ def test_quasi_static_limit():
 
 
 def test_halving_dt_changes_the_averaged_force_by_less_than_half_a_percent():
-    base = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE,
+    base = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE,
                    angle=math.radians(5.0), frames_every=0)
     coarse = simulate(PAIR, base)
     fine = simulate(PAIR, base.with_(dt=base.dt / 2))
@@ -245,7 +245,7 @@ def test_rattling_teeth_separate_and_meet_again():
     bounces off (about 8 deg) and strikes again (about 10 deg). The coarser 3 x 10 mesh at
     its own stable step keeps the test short; the default mesh does the same (Fig. 10).
     """
-    case = RunSettings(speed_a=4000 * RPM, speed_b=4040 * RPM, torque=PAPER_TORQUE, nx=3, ny=10,
+    case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4040 * RPM, torque=PAPER_TORQUE, nx=3, ny=10,
                    dt=4.5e-8, angle=math.radians(12.0), save_every=5, frames_every=0)
     r = simulate(PAIR, case)
     assert r.status == "complete", r.reason
@@ -278,7 +278,7 @@ def test_the_hard_impact_of_fig11_with_b_driving_runs_through_at_the_papers_dt()
 def test_pinned_method_is_the_papers_where_no_stage_stalls():
     """Every step of paper-fig9 on the default mesh converges in well under PIN_AFTER
     iterations, so the "pinned" method takes the very same steps."""
-    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, frames_every=0)
+    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, frames_every=0)
     paper = simulate(PAIR, case)
     pinned = simulate(PAIR, case.with_(method="pinned"))
     assert paper.status == pinned.status == "complete"
@@ -294,7 +294,7 @@ def test_pinned_method_carries_a_fine_mesh_through_the_point_contact_stall():
     1 % with the paper's method run with 241 spline points, which reaches the peak."""
     from spurdyn.solvers.check import stable_step
 
-    base = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, nx=8, ny=28,
+    base = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, nx=8, ny=28,
                    frames_every=0)
     base = base.with_(dt=0.9 * stable_step(build_system(PAIR, base)))
     stalled = simulate(PAIR, base)
@@ -335,7 +335,7 @@ def test_raw_peaks_of_the_first_microseconds_converge_with_dt():
     dts = (3e-8, 3e-9, 3e-10, 3e-11)
     peaks = []
     for dt in dts:
-        case = RunSettings(speed_a=omega, speed_b=omega, torque=PAPER_TORQUE, dt=dt,
+        case = RunSettings(contact="point", speed_a=omega, speed_b=omega, torque=PAPER_TORQUE, dt=dt,
                        angle=omega * 2e-6, frames_every=0)
         r = simulate(PAIR, case)
         assert r.complete

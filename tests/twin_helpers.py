@@ -46,7 +46,7 @@ class Loaded:
     """A loaded state of the paper's pair and everything the comparisons need."""
 
     def __init__(self, steps: int = 1500) -> None:
-        self.case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
+        self.case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE)
         self.system = build_system(paper_pair(), self.case)
         self.fast = CompiledStepper(self.system, self.case)
         for _ in range(steps):

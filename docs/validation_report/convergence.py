@@ -50,7 +50,7 @@ def clamped_tooth_modes(pair: GearPair, nx: int, ny: int, n: int = 2) -> NDArray
 
 def points_per_element(pair: GearPair, nx: int, ny: int, n_spline: int) -> float:
     """Spline data points per element edge along the active flank (``1 / h``)."""
-    system = build_system(pair, RunSettings(speed_a=1.0, speed_b=1.0, torque=1.0, nx=nx, ny=ny,
+    system = build_system(pair, RunSettings(contact="point", speed_a=1.0, speed_b=1.0, torque=1.0, nx=nx, ny=ny,
                                         n_spline=n_spline))
     return 1.0 / system.gears[0].flank.h
 
@@ -69,7 +69,7 @@ def ripple(ctx: Ctx, name: str) -> tuple[float, float, float, float]:
 
 def crossing_rate(ctx: Ctx, name: str, nx: int, ny: int) -> float:
     """Element edges the contact point crosses per second on tooth A (single zone, mean)."""
-    system = build_system(ctx.pair, RunSettings(speed_a=1.0, speed_b=1.0, torque=1.0, nx=nx, ny=ny))
+    system = build_system(ctx.pair, RunSettings(contact="point", speed_a=1.0, speed_b=1.0, torque=1.0, nx=nx, ny=ny))
     fl = system.gears[0].flank
     r = ctx.runs[name]
     radius = fl.base_radius * np.sqrt(1.0 + r["roll"][:, 0] ** 2)
@@ -158,7 +158,7 @@ def section_convergence(ctx: Ctx) -> str:
     clamped = clamped_tooth_modes(ctx.pair, 4, 14)
     cross = crossing_rate(ctx, "fig8", 4, 14)
     rip8 = ripple(ctx, "fig8")
-    sysm = build_system(ctx.pair, RunSettings(speed_a=1.0, speed_b=1.0, torque=1.0))
+    sysm = build_system(ctx.pair, RunSettings(contact="point", speed_a=1.0, speed_b=1.0, torque=1.0))
     f_max = 2 * math.sqrt(2) / stable_step(sysm) / (2 * math.pi)
     # share of the ripple's spectrum above 1 MHz
     r = R["fig8"]

@@ -88,7 +88,7 @@ def section_physics(ctx: Ctx) -> str:
     c1, cga = iso.per_face_width(face)
     c1t, cgat = iso1.per_face_width(face)
     f_single = torsional_natural_frequency(pair, k_single)
-    system = build_system(pair, RunSettings(speed_a=1.0, speed_b=1.0, torque=1.0))
+    system = build_system(pair, RunSettings(contact="point", speed_a=1.0, speed_b=1.0, torque=1.0))
     j_tooth = []
     for gb in system.gears:
         y = gb.Y.reshape(-1, 2)

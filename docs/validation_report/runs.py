@@ -65,7 +65,7 @@ def make_pair(spec: Spec) -> GearPair:
 
 def make_case(spec: Spec, pair: GearPair) -> RunSettings:
     """The spec's run settings, with its time step resolved to seconds."""
-    case = RunSettings(speed_a=spec.speed_a_rpm * RPM, speed_b=spec.speed_b_rpm * RPM,
+    case = RunSettings(contact="point", speed_a=spec.speed_a_rpm * RPM, speed_b=spec.speed_b_rpm * RPM,
                    torque=spec.torque, nx=spec.nx, ny=spec.ny, n_spline=spec.n_spline,
                    tol_disp=spec.tol_disp, save_every=spec.save_every, frames_every=0,
                    name=spec.name)

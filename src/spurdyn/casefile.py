@@ -29,12 +29,12 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
     _gear_to_dict, _read_toml, gear_from_table, load_pair, material_from_table, pair_from_dict,
 )
 from spurdyn.model.system import PairSystem, system_for
-from spurdyn.settings import BACKENDS, METHODS, PAPER_DT, RPM, RunSettings
+from spurdyn.settings import BACKENDS, CONTACTS, METHODS, PAPER_DT, RPM, RunSettings
 from spurdyn.solvers.check import check_run, default_dt, stable_step
 
 RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
-    "max_iter", "accel_levels", "method", "backend", "save_every", "frames_every",
+    "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
     "keep_theta_term",
 }
 
@@ -151,6 +151,9 @@ class _Source:
 
 
 _RUN_DEFAULTS = {f.name: f.default for f in fields(RunSettings)}
+#: A case file's contact model unless it says otherwise: the distributed contact, which
+#: holds at design loads (the paper's presets say ``"point"``).
+CASE_CONTACT = "hertz"
 #: The ``[run]`` key of a :class:`RunSettings` field whose name differs.
 _RUN_KEY_OF = {"speed_a": "speed_a_rpm", "speed_b": "speed_b_rpm", "angle": "angle_deg"}
 
@@ -214,6 +217,9 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         accel_levels=src.integer("accel_levels", _RUN_DEFAULTS["accel_levels"], 1),
         method=src.choice("method", _RUN_DEFAULTS["method"], METHODS),
         backend=src.choice("backend", _RUN_DEFAULTS["backend"], BACKENDS),
+        # "pinned" is a fallback of the point contact: a file that asks for it means that one
+        contact=src.choice("contact", "point" if src.get("method")[1] == "pinned" else CASE_CONTACT,
+                           CONTACTS),
         save_every=src.integer("save_every", _RUN_DEFAULTS["save_every"], 1),
         frames_every=src.integer("frames_every", _RUN_DEFAULTS["frames_every"], 0),
         keep_theta_term=src.boolean("keep_theta_term", _RUN_DEFAULTS["keep_theta_term"]),
@@ -286,7 +292,7 @@ def case_to_dict(case: Case) -> dict[str, Any]:
     if run.angle is not None:
         run_table["angle_deg"] = math.degrees(run.angle)
     run_table.update({k: getattr(run, k) for k in (
-        "n_spline", "tol_disp", "max_iter", "accel_levels", "method", "backend",
+        "n_spline", "tol_disp", "max_iter", "accel_levels", "method", "backend", "contact",
         "save_every", "frames_every", "keep_theta_term")})
     return {
         "gear_a": _gear_to_dict(case.pair.gear_a),

@@ -39,7 +39,7 @@ class Preset:
     def run_table(self) -> dict[str, Any]:
         """The preset's ``[run]`` table (TOML units)."""
         return {"speed_a_rpm": self.speed_a_rpm, "speed_b_rpm": self.speed_b_rpm,
-                "torque": self.torque, "dt": self.dt}
+                "torque": self.torque, "dt": self.dt, "contact": "point"}
 
     def line(self) -> str:
         """One line for ``spurdyn cases``."""

@@ -54,6 +54,10 @@ class Result:
         Wall-clock time of the run (s).
     info
         Anything else worth keeping (case description, model sizes, ...).
+    contact_half_width, contact_pressure_max
+        Half-width (m) and peak pressure (Pa) of Hertz's strip for the contact force at
+        the contact point's radii of curvature (:mod:`spurdyn.contact.hertz`); ``None``
+        for a model without a contact point.
     """
 
     time: NDArray[np.float64]
@@ -75,6 +79,8 @@ class Result:
     steps: int = 0
     wall_s: float = 0.0
     info: dict[str, Any] = field(default_factory=dict)
+    contact_half_width: NDArray[np.float64] | None = None
+    contact_pressure_max: NDArray[np.float64] | None = None
 
     @property
     def angle_deg(self) -> NDArray[np.float64]:

@@ -28,6 +28,10 @@ RPM = 2.0 * math.pi / 60.0
 METHODS = ("paper", "pinned")
 PIN_AFTER = 50
 BACKENDS = ("numba", "numpy")
+#: Contact models: ``"point"``, the paper's one point pair per tooth pair; ``"hertz"``, the
+#: force spread over the Hertzian strip and the gap averaged over it (docs/solver.md,
+#: section 11).
+CONTACTS = ("point", "hertz")
 #: Time integrators (:data:`spurdyn.solvers.loop.STEPPERS`): the paper's classical RK4.
 INTEGRATORS = ("rk4",)
 
@@ -93,6 +97,10 @@ class RunSettings:
         ``"pinned"``: the same with the stall fallback of :data:`METHODS`.
     backend
         ``"numba"`` (compiled, superposed) or ``"numpy"`` (the straightforward reference).
+    contact
+        ``"hertz"`` (the distributed contact, the default: it holds at design loads and
+        its stiffness converges with the mesh) or ``"point"`` (the paper's, which its
+        presets use), one of :data:`CONTACTS`.
     integrator
         The time integrator, one of :data:`INTEGRATORS`.
     save_every
@@ -118,6 +126,7 @@ class RunSettings:
     accel_levels: int = 3
     method: str = "paper"
     backend: str = "numba"
+    contact: str = "hertz"
     integrator: str = "rk4"
     save_every: int = 1
     frames_every: int = 100
@@ -143,6 +152,11 @@ class RunSettings:
             raise InputError("method", f"must be one of {', '.join(METHODS)} (got {self.method!r})")
         if self.backend not in BACKENDS:
             raise InputError("backend", f"must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
+        if self.contact not in CONTACTS:
+            raise InputError("contact", f"must be one of {', '.join(CONTACTS)} (got {self.contact!r})")
+        if self.method == "pinned" and self.contact != "point":
+            raise InputError("method", "\"pinned\" is a fallback of the point contact; use "
+                             "contact = \"point\" with it, or the paper's method")
         if self.integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)} "
                              f"(got {self.integrator!r})")

@@ -42,13 +42,15 @@ def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None
     from spurdyn.lumped import mesh_stiffness_table
     from spurdyn.lumped import simulate_lumped as lumped
 
-    key = (pair, case.nx, case.ny)
+    # the stiffness of the run's contact model: the strip's depends on the load
+    hertz = case.contact == "hertz" and case.torque > 0
+    key = (pair, case.nx, case.ny, case.torque if hertz else None)
     try:
         table = _TABLES.get(key)
     except TypeError:  # an unhashable pair: no caching
         key, table = None, None
     if table is None:
-        table = mesh_stiffness_table(pair, case.nx, case.ny)
+        table = _hertz_table(pair, case) if hertz else mesh_stiffness_table(pair, case.nx, case.ny)
         if key is not None:
             _TABLES[key] = table
     result = lumped(pair, case, table=table)
@@ -58,6 +60,30 @@ def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None
         except KeyboardInterrupt:  # the run is done: keep it
             pass
     return result
+
+
+def _hertz_table(pair: GearPair, case: RunSettings) -> Any:
+    """The lumped model's stiffness table with the Hertzian strip of the static force
+    (:func:`spurdyn.solvers.paper.statics.static_stiffness`), over the path of contact."""
+    import numpy as np
+
+    from spurdyn.lumped.model import DEFAULT_TABLE_POINTS, MeshStiffnessTable
+    from spurdyn.model.loading import static_force
+    from spurdyn.model.system import system_for
+    from spurdyn.solvers.paper.statics import static_stiffness
+
+    system = system_for(pair, case.nx, case.ny, case.n_spline)
+    spair = system.pair                      # the pair as the solver runs it (A driving)
+    roll = np.linspace(spair.start_roll_a, spair.end_roll_a, DEFAULT_TABLE_POINTS)
+    force = static_force(pair, case.torque)
+    k = np.array([static_stiffness(system, float(r), force, "hertz").stiffness for r in roll])
+    if spair is not pair:
+        # B drives: the solver's A is the pair's B; the table runs along the pair's A roll,
+        # which is the solver's B roll there
+        roll = np.asarray(spair.roll_b_from_roll_a(roll), dtype=float)
+        order = np.argsort(roll)
+        roll, k = roll[order], k[order]
+    return MeshStiffnessTable(roll, k, "pchip")
 
 
 #: Model name -> its simulate function.

@@ -11,15 +11,16 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import tomllib
 from pathlib import Path
 from typing import NoReturn, Sequence
 
 from spurdyn.casefile import MeshedPair, load_pair
 from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
-from spurdyn.geometry.presets import paper_pair
+from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.simulators import MODELS
-from spurdyn.settings import BACKENDS, METHODS
+from spurdyn.settings import BACKENDS, CONTACTS, METHODS
 
 EXIT_BAD_INPUT = 2
 #: Exit status when stdout was closed by the reader (128 + SIGPIPE).
@@ -51,13 +52,42 @@ def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None) -> MeshedPair:
     return MeshedPair(pair=case.pair, nx=mesh[0], ny=mesh[1], name=case.name)
 
 
+def _info_contact(args: argparse.Namespace, case: MeshedPair) -> tuple[str, float | None]:
+    """The contact model ``info`` reports the stiffness of, and the force its strip carries.
+
+    The paper's pair defaults to its point contact, a file to the distributed contact
+    under the file's ``[run]`` torque (or ``--torque``); a file without a torque to the
+    point contact, unless ``--contact hertz`` asks for the strip (then a torque is needed)."""
+    from spurdyn.cases import is_preset
+    from spurdyn.model.loading import static_force
+
+    paper = args.case == "paper" or is_preset(args.case)
+    contact = args.contact or ("point" if paper else "hertz")
+    if contact not in CONTACTS:
+        raise InputError("--contact", f"must be one of {', '.join(CONTACTS)} (got {contact!r})")
+    torque = args.torque
+    if torque is None and paper:
+        torque = PAPER_TORQUE
+    if torque is None:
+        with open(args.case, "rb") as fh:
+            torque = tomllib.load(fh).get("run", {}).get("torque")
+    known = isinstance(torque, (int, float)) and not isinstance(torque, bool) and torque > 0
+    if contact == "point" or (not known and args.contact is None):
+        return "point", None     # a pair without a load: the strip has no width to report
+    if not known:
+        raise InputError("--torque", "the Hertzian strip's stiffness depends on the load: give "
+                         "the driver's torque (N m) with --torque, or --contact point")
+    return contact, static_force(case.pair, float(torque))
+
+
 def cmd_info(args: argparse.Namespace) -> int:
     from spurdyn.cli.report import format_info, pair_info
     from spurdyn.mesh.tooth import tooth_mesh
 
     case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh))
     tooth_mesh(case.pair.gear_a, case.nx, case.ny)  # refuse a bad mesh before any work
-    info = pair_info(case)
+    contact, force = _info_contact(args, case)
+    info = pair_info(case, contact, force)
     print(json.dumps(info, indent=2) if args.json else format_info(info))
     return 0
 
@@ -83,6 +113,7 @@ RUN_OVERRIDES = (
     ("frames_every", "run.frames_every", "--frames-every"),
     ("method", "run.method", "--method"),
     ("backend", "run.backend", "--backend"),
+    ("contact", "run.contact", "--contact"),
 )
 
 
@@ -243,6 +274,9 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                      help="keep the tooth displacements every M-th step (0: none)")
     run.add_argument("--method", metavar="|".join(METHODS), help="constraint iteration")
     run.add_argument("--backend", metavar="|".join(BACKENDS), help="solver backend")
+    run.add_argument("--contact", metavar="|".join(CONTACTS),
+                     help="contact model: hertz (the force over the Hertzian strip; case "
+                          "files' default) or point (the paper's; its presets')")
     run.add_argument("--model", choices=tuple(MODELS), default="fe", metavar="|".join(MODELS),
                      help="fe: the paper's FE contact model (default); lumped: two disks and "
                      "a mesh spring (docs/lumped.md)")
@@ -263,6 +297,11 @@ def build_parser() -> argparse.ArgumentParser:
     info.add_argument("case", metavar="CASE", help="'paper' or a TOML file describing a pair")
     info.add_argument("--json", action="store_true", help="print one JSON object")
     info.add_argument("--mesh", metavar="NXxNY", help="elements across x along the tooth")
+    info.add_argument("--contact", metavar="|".join(CONTACTS),
+                      help="the contact model whose stiffness to report (default: point for the "
+                           "paper's pair, hertz for a file)")
+    info.add_argument("--torque", type=float, metavar="NM",
+                      help="the driver's torque the Hertzian strip carries (default: the file's)")
     info.set_defaults(func=cmd_info)
 
     mesh = sub.add_parser("mesh", help="draw the two teeth and their meshes in mesh position")

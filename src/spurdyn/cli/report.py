@@ -11,10 +11,15 @@ from spurdyn.pairfile import MeshedPair
 from spurdyn.model.system import system_for
 from spurdyn.settings import PAPER_DT, RunSettings
 from spurdyn.solvers.check import DT_FRACTION, default_dt, stable_step
+from spurdyn.solvers.paper.statics import static_stiffness
 
 
-def pair_info(case: MeshedPair) -> dict[str, Any]:
-    """Collect the figures of ``spurdyn info`` as one JSON-ready dictionary."""
+def pair_info(case: MeshedPair, contact: str = "point", force: float | None = None) -> dict[str, Any]:
+    """Collect the figures of ``spurdyn info`` as one JSON-ready dictionary.
+
+    The pair stiffness is the one of the ``contact`` model; the Hertzian strip's depends on
+    the normal ``force`` (N) it spreads (required for ``"hertz"``).
+    """
     pair = case.pair
     teeth = {"a": build_tooth(pair.gear_a, case.nx, case.ny),
              "b": build_tooth(pair.gear_b, case.nx, case.ny)}
@@ -22,7 +27,17 @@ def pair_info(case: MeshedPair) -> dict[str, Any]:
     # the stable step a run checks against and takes its default from (the run's system)
     stable = stable_step(system_for(pair, case.nx, case.ny, RunSettings.n_spline))
     rolls = [pair.start_roll_a, *pair.single_contact_roll_a, pair.end_roll_a, pair.pitch_roll_a]
-    stiff = pair_stiffness(pair, teeth["a"], teeth["b"], rolls).stiffness
+    if contact == "hertz":
+        if force is None:
+            raise ValueError("the Hertzian strip's stiffness needs the normal force")
+        system = system_for(pair, case.nx, case.ny, RunSettings.n_spline)
+        statics = [static_stiffness(system, r, force, "hertz") for r in rolls]
+        stiff = [s.stiffness for s in statics]
+        strip = {"contact_force_N": force, "strip_half_width_pitch_m": statics[4].half_width,
+                 "strip_compliance_m_per_N": statics[4].compliance_strip}
+    else:
+        stiff = pair_stiffness(pair, teeth["a"], teeth["b"], rolls).stiffness
+        strip = {}
     gears = {"a": pair.gear_a, "b": pair.gear_b}
     per = lambda f: {k: f(k) for k in ("a", "b")}  # noqa: E731
     ka = pair.gear_a.face_width
@@ -77,6 +92,8 @@ def pair_info(case: MeshedPair) -> dict[str, Any]:
         "stable_dt_central_s": min(s.dt_central for s in steps.values()),
         "paper_dt_stable": stable >= PAPER_DT,
         "default_dt_s": default_dt(stable),
+        "contact": contact,
+        **strip,
         "pair_stiffness_N_per_m": {
             "start_of_contact": float(stiff[0]),
             "single_contact_start": float(stiff[1]),
@@ -143,7 +160,10 @@ def format_info(info: dict[str, Any]) -> str:
         f"  a case without dt runs at {info['default_dt_s']:.3g} s ({DT_FRACTION:g} of the stable "
         "step, rounded down)",
         "",
-        "static single-pair stiffness (teeth clamped at the root)",
+        f"static single-pair stiffness (teeth clamped at the root; {info['contact']} contact"
+        + (f" under {info['contact_force_N']:,.1f} N, strip half-width "
+           f"{info['strip_half_width_pitch_m'] * 1e6:.1f} um at the pitch point"
+           if info['contact'] == 'hertz' else "") + ")",
         f"  pitch point {info['pair_stiffness_pitch_N_per_m']:.4e} N/m "
         f"({info['pair_stiffness_pitch_N_per_mm_um']:.2f} N/(mm um))",
         f"  ISO 6336-1 for comparison: c'b {info['iso_6336_single_pair_N_per_m']:.3e} N/m, "

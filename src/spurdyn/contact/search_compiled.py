@@ -51,8 +51,9 @@ def edge_at(fpar, side, t):
 
 
 @njit
-def delta_at(fpar, sideY, t):
-    """``delta(t) = Y_exact(t) - N(t) Y``: the involute's offset from the element edge."""
+def exact_at(fpar, t):
+    """Initial position (from the centre) of the exact involute point at ``t``: the twin
+    of :meth:`spurdyn.model.flank.Flank.exact`."""
     ny = fpar[F.ny]
     r = fpar[F.r0] + (fpar[F.r_tip] - fpar[F.r0]) * t / ny
     al = math.acos(min(fpar[F.base_radius] / r, 1.0))
@@ -67,7 +68,14 @@ def delta_at(fpar, sideY, t):
         chi_t = fpar[F.psi_base] - math.tan(al)
         x -= depth * math.cos(chi_t)
         y += depth * math.sin(chi_t)
-    ex, ey = c * x - s * y, s * x + c * y
+    return c * x - s * y, s * x + c * y
+
+
+@njit
+def delta_at(fpar, sideY, t):
+    """``delta(t) = Y_exact(t) - N(t) Y``: the involute's offset from the element edge."""
+    ny = fpar[F.ny]
+    ex, ey = exact_at(fpar, t)
     row = int(math.floor(t))
     if row < 0:
         row = 0
@@ -384,14 +392,17 @@ def search(P, theta, u, guess, va, vb, Ma, Mb):
 
 @njit
 def contact_rows(P, a, b, cn, cw):
-    """Edge nodes and weights of the contact material points (A's 3 then B's 3)."""
+    """Edge nodes and weights of the contact material points: A's in the first half of
+    ``cn``, ``cw``, B's in the second, each three and, past them, zero weights on A's (B's)
+    first node (the slots a distributed contact's strip may fill)."""
     na, wa, _ = edge_at(P.fpar[0], P.side[0], a)
     nb, wb, _ = edge_at(P.fpar[1], P.side[1], b)
-    for j in range(3):
-        cn[j] = na[j]
-        cw[j] = wa[j]
-        cn[3 + j] = nb[j]
-        cw[3 + j] = wb[j]
+    half = cn.size // 2
+    for j in range(half):
+        cn[j] = na[j] if j < 3 else na[0]
+        cw[j] = wa[j] if j < 3 else 0.0
+        cn[half + j] = nb[j] if j < 3 else nb[0]
+        cw[half + j] = wb[j] if j < 3 else 0.0
 
 
 @njit

@@ -21,6 +21,8 @@ from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
 from spurdyn.contact.constants import CORNER_A, CORNER_B, EDGE, FLANK, GOLDEN, GOLDEN_TOL, POLISH
+from spurdyn.contact.hertz import half_width, involute_curvature_radius
+from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.model.flank import Flank
 
 
@@ -74,6 +76,9 @@ class ContactPair:
         Edge nodes and shape weights of the material points (the rows of ``N``).
     delta_a, delta_b
         The involute offsets ``delta`` of the material points (initial frame).
+    half_width
+        Half-width (m) of the Hertzian strip the rows average over (0: point contact;
+        :mod:`spurdyn.contact.strip_numpy`).
     """
 
     alpha: float
@@ -87,6 +92,7 @@ class ContactPair:
     weights_b: NDArray[np.float64]
     delta_a: NDArray[np.float64]
     delta_b: NDArray[np.float64]
+    half_width: float = 0.0
 
 
 def _newton_pair(pa: CubicSpline, pb: CubicSpline, a: float, b: float) -> tuple[float, float, bool]:
@@ -203,11 +209,15 @@ def _pair(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank,
 
 
 def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.float64],
-                 ra: NDArray[np.float64], rb: NDArray[np.float64], guess: tuple[float, float]) -> ContactPair:
+                 ra: NDArray[np.float64], rb: NDArray[np.float64], guess: tuple[float, float],
+                 load: float = 0.0, law: tuple[float, float] | None = None) -> ContactPair:
     """Contact pair of two flanks.
 
     ``xa``, ``xb`` are the current nodal positions ``(N, 2)``, ``ra``, ``rb`` the disks'
-    rotation matrices ``R(sense theta)``, ``guess`` the last ``(alpha, beta)``.
+    rotation matrices ``R(sense theta)``, ``guess`` the last ``(alpha, beta)``. With a
+    ``law`` ``(E*, face width)`` the rows and the gap are the averages over the Hertzian
+    strip of the normal force ``load`` (N) at a flank-to-flank pair (a tip corner and a
+    zero load keep the point).
     """
     pa, pb = flank_spline(fa, xa, ra), flank_spline(fb, xb, rb)
     a, b, mode = _pair(pa, pb, fa, fb, guess)
@@ -215,12 +225,29 @@ def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.f
         normal = -outward_normal(pb(b, 1))
     else:
         normal = outward_normal(pa(a, 1))
+    if law is not None and load != 0.0 and mode == FLANK:
+        hw = strip_half_width(fa, fb, a, b, load, law)
+        na, wa, da = strip_rows(fa, a, hw)
+        nb, wb, db = strip_rows(fb, b, hw)
+        s = float(normal @ ((wa @ xa[na] + ra @ da) - (wb @ xb[nb] + rb @ db)))
+        return ContactPair(alpha=float(a), beta=float(b), mode=mode, normal=normal, s=s,
+                           nodes_a=na, weights_a=wa, nodes_b=nb, weights_b=wb,
+                           delta_a=da, delta_b=db, half_width=hw)
     na, wa, _ = fa.locate(a)
     nb, wb, _ = fb.locate(b)
     s = float(normal @ (surface_point(fa, a, xa, ra) - surface_point(fb, b, xb, rb)))
     return ContactPair(alpha=float(a), beta=float(b), mode=mode, normal=normal, s=s,
                        nodes_a=na, weights_a=wa, nodes_b=nb, weights_b=wb,
                        delta_a=fa.delta(a), delta_b=fb.delta(b))
+
+
+def strip_half_width(fa: Flank, fb: Flank, a: float, b: float, load: float,
+                     law: tuple[float, float]) -> float:
+    """Hertz half-width (m) of the pair at flank coordinates ``(a, b)`` under ``load`` (N),
+    from the two involutes' radii of curvature there and the ``law`` ``(E*, face width)``."""
+    rho_a = involute_curvature_radius(fa.r0 + (fa.r_tip - fa.r0) * a / fa.ny, fa.base_radius)
+    rho_b = involute_curvature_radius(fb.r0 + (fb.r_tip - fb.r0) * b / fb.ny, fb.base_radius)
+    return half_width(load, rho_a, rho_b, law[0], law[1])
 
 
 def sliding_acceleration(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.float64],

@@ -122,6 +122,13 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
         "roll_b_deg": var(np.degrees(col(result.roll, 1)), "degree",
                           "roll angle of the contact point on the involute of B"),
     }
+    if result.contact_half_width is not None and result.contact_pressure_max is not None:
+        data_vars["contact_half_width"] = var(
+            result.contact_half_width, "m", "half-width of the Hertzian contact strip of the "
+            "contact force (the strip the hertz contact spreads it over)")
+        data_vars["contact_pressure_max"] = var(
+            result.contact_pressure_max, "Pa", "peak Hertzian contact pressure of the contact "
+            "force (2 F / (pi b L))")
     for j, stage in enumerate(STAGES):
         data_vars[f"residual_{stage}"] = var(
             col(result.residual, j), _STAGE_UNITS[stage],
@@ -255,6 +262,14 @@ def separation_times(ds: xr.Dataset) -> NDArray[np.float64]:
     return time[lost[np.array(wide, dtype=bool)]] if lost.size else time[lost]
 
 
+def _max_or_none(ds: xr.Dataset, name: str) -> float | None:
+    """The largest finite value of a variable, ``None`` if it is absent or never finite."""
+    if name not in ds:
+        return None
+    v = ds[name].values.astype(float)
+    return float(np.nanmax(v)) if np.isfinite(v).any() else None
+
+
 def summarize(ds: xr.Dataset) -> dict[str, Any]:
     """The figures of ``summary.json``, all computed from the dataset.
 
@@ -317,6 +332,9 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         # An incomplete run's largest force may be the spike that stopped it.
         "dynamic_factor": peak / static if static > 0 and complete else None,
         "first_contact_s": None if first is None else float(first),
+        "contact": case["run"].get("contact", "point"),
+        "contact_pressure_max_Pa": _max_or_none(ds, "contact_pressure_max"),
+        "contact_half_width_max_m": _max_or_none(ds, "contact_half_width"),
         "separations": int(len(seps)),
         "separation_times_s": [float(x) for x in seps],
         "iterations_mean": iterations,

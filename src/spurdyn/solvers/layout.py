@@ -15,19 +15,22 @@ from collections import namedtuple
 #: ``write_row``, the NumPy stepper's ``row``) and the reader (the time loop's result)
 #: index rows by these names.
 HISTORY = ("t", "theta_a", "theta_b", "omega_a", "omega_b", "tau_a", "tau_b", "p", "s",
-           "alpha", "beta", "mode", "res1", "res2", "res3", "it1", "it2", "it3")
+           "alpha", "beta", "mode", "res1", "res2", "res3", "it1", "it2", "it3", "half_width")
 #: Column indices of :data:`HISTORY` by name.
 H = namedtuple("HistoryColumns", HISTORY)(*range(len(HISTORY)))
 NCOL = len(HISTORY)
 
 #: Status of a step (the compiled step returns it; the NumPy step reports it): a stage
-#: that did not converge (in the order of :data:`spurdyn.result.STAGES`), or a NaN.
-OK, FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NAN = 0, 1, 2, 3, 4
+#: that did not converge (in the order of :data:`spurdyn.result.STAGES`), a NaN, or a
+#: distributed contact's strip wider than the slots the run gave it.
+OK, FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NAN, FAIL_STRIP = 0, 1, 2, 3, 4, 5
 
 #: The run settings a compiled step reads (SI units; ``eps_root`` is the smallest
-#: eigenvalue of the root blocks of ``G M^-1 G^T``; ``pin_after`` 0 is the paper's method).
+#: eigenvalue of the root blocks of ``G M^-1 G^T``; ``pin_after`` 0 is the paper's method;
+#: ``estar``, ``face`` the Hertz modulus and face width of the distributed contact, 0 for
+#: the point contact, and ``c_h`` its strip compliance ``1 / (2 pi E* L)``).
 Config = namedtuple("Config", ["dt", "tol_disp", "tol_vel", "tol_acc", "max_iter", "levels",
-                               "eps_root", "pin_after"])
+                               "eps_root", "pin_after", "estar", "face", "c_h"])
 
 #: The model as plain arrays, the nodes of both teeth stacked (A first):
 #: ``Y`` (2N,) initial offsets from the centres; ``mass`` (2N,) nodal masses;
@@ -54,8 +57,10 @@ CompiledState = namedtuple("CompiledState", [
     "t", "theta", "omega", "u", "v", "x", "alpha_n", "a_n", "cn", "cw", "normal", "cpar", "C",
     "res", "its",
 ])
-#: Columns of ``cpar``: flank coordinates on A and B, contact mode, penetration.
-CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s"))(0, 1, 2, 3)
+#: Columns of ``cpar``: flank coordinates on A and B, contact mode, penetration, the rate
+#: of the contact force over the last step (N/s) and the half-width of the strip the
+#: contact rows average over (m; 0 for a point).
+CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s", "dp", "half_width"))(0, 1, 2, 3, 4, 5)
 
 #: RK4 over a step with the last step's forces: the end state (``qs_*`` positions,
 #: ``vs_*`` velocities) and what the linear response to a change of the forces needs (the

@@ -18,6 +18,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from spurdyn.contact.hertz import half_width, peak_pressure
 from spurdyn.geometry.pair import GearPair
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem, build_system, solver_pair
@@ -26,6 +27,7 @@ from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.check import check_run
 from spurdyn.solvers.layout import HISTORY, NCOL
+from spurdyn.solvers.paper.dynamics_numpy import strip_law
 
 Progress = Callable[[int, float, float], None]
 
@@ -152,12 +154,14 @@ def _to_result(pair: GearPair, case: RunSettings, system: PairSystem, rows: NDAr
     else:
         ft, fth, fu = np.zeros(0), np.zeros((0, 2)), np.zeros((0, n_u))
     single = pair.single_contact_roll_a
+    roll = np.column_stack([_roll(system, 0, col["alpha"]), _roll(system, 1, col["beta"])])
+    half, pressure = _hertz(system, -col["p"], roll)
     return Result(
         time=col["t"].copy(),
         angle=col["theta_a"].copy(),
         contact_force=-col["p"],
         gap=-col["s"],
-        roll=np.column_stack([_roll(system, 0, col["alpha"]), _roll(system, 1, col["beta"])]),
+        roll=roll,
         theta=np.column_stack([col["theta_a"], col["theta_b"]]),
         omega=np.column_stack([col["omega_a"], col["omega_b"]]),
         torque=np.column_stack([col["tau_a"], col["tau_b"]]),
@@ -178,6 +182,19 @@ def _to_result(pair: GearPair, case: RunSettings, system: PairSystem, rows: NDAr
             "theta0": system.theta0,
             "method": case.method,
             "backend": case.backend,
+            "contact": case.contact,
             "loop_s": loop,       # wall time of the time loop alone (the rest: build, check)
         },
+        contact_half_width=half, contact_pressure_max=pressure,
     )
+
+
+def _hertz(system: PairSystem, force: NDArray[np.float64], roll: NDArray[np.float64]
+           ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Hertz's half-width and peak pressure for the contact force at the contact point's
+    radii of curvature ``r_b * roll`` (the strip the distributed contact spreads it over;
+    for the point contact, the analytic strip of the same force)."""
+    estar, face = strip_law(system)
+    rho = roll * np.array([g.base_radius for g in system.gears])
+    half = half_width(np.maximum(force, 0.0), rho[:, 0], rho[:, 1], estar, face)
+    return half, peak_pressure(np.maximum(force, 0.0), half, face)

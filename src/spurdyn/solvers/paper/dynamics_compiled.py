@@ -131,7 +131,8 @@ def root_phi_theta(P, theta, k):
 @njit
 def constraint_force(P, theta, cn, cw, normal, x, f_th, f_u):
     """``G^T x``: root forces ``-lambda`` on the root nodes and their torques on the disks,
-    and the contact force ``p n`` through the edge weights ``cw`` of nodes ``cn`` (A's 3, then B's 3)."""
+    and the contact force ``p n`` through the weights ``cw`` of nodes ``cn`` (A's half, then
+    B's: 3 each for the point contact, the strip's slots for the distributed one)."""
     f_th[0] = 0.0
     f_th[1] = 0.0
     f_u[:] = 0.0
@@ -143,8 +144,9 @@ def constraint_force(P, theta, cn, cw, normal, x, f_th, f_u):
         px, py = root_phi_theta(P, theta, k)
         f_th[P.rgear[k]] -= px * lx + py * ly
     p = x[x.size - 1]
-    for j in range(6):
-        sign = 1.0 if j < 3 else -1.0
+    half = cn.size // 2
+    for j in range(cn.size):
+        sign = 1.0 if j < half else -1.0
         i = cn[j]
         f_u[2 * i] += sign * cw[j] * normal[0] * p
         f_u[2 * i + 1] += sign * cw[j] * normal[1] * p
@@ -181,18 +183,19 @@ def gram_contact(P, cn, cw, normal, C):
     for k in range(nx):
         C[nx - 1, k] = 0.0
         C[k, nx - 1] = 0.0
+    half = cn.size // 2
     for k in range(nr):
         i = P.rnode[k]
-        for j in range(6):
+        for j in range(cn.size):
             if cn[j] == i:
-                sign = 1.0 if j < 3 else -1.0
+                sign = 1.0 if j < half else -1.0
                 for a in range(2):
                     v = -sign * cw[j] * normal[a] / P.mass[2 * i + a]
                     C[2 * k + a, nx - 1] += v
                     C[nx - 1, 2 * k + a] += v
     cpp = 0.0
-    for j in range(6):
-        for j2 in range(6):
-            if cn[j] == cn[j2] and ((j < 3) == (j2 < 3)):
+    for j in range(cn.size):
+        for j2 in range(cn.size):
+            if cn[j] == cn[j2] and ((j < half) == (j2 < half)):
                 cpp += cw[j] * cw[j2] / P.mass[2 * cn[j]]
     C[nx - 1, nx - 1] = cpp

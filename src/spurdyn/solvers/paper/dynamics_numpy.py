@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from spurdyn.contact.hertz import effective_modulus
 from spurdyn.contact.search_numpy import ContactPair, find_contact
 from spurdyn.model.loading import gear_torques
 from spurdyn.model.flank import Flank
@@ -158,12 +159,22 @@ def paper_flanks(system: PairSystem) -> tuple[Flank, Flank]:
     return system.flanks(system.contacts[0])
 
 
+def strip_law(system: PairSystem) -> tuple[float, float]:
+    """``(E*, L)`` of the pair's Hertzian contact: both materials, the narrower face."""
+    ga, gb = system.pair.gear_a, system.pair.gear_b
+    estar = effective_modulus(ga.material.young, ga.material.poisson,
+                              gb.material.young, gb.material.poisson)
+    return estar, min(ga.face_width, gb.face_width)
+
+
 def contact_at(system: PairSystem, theta: NDArray[np.float64], u: NDArray[np.float64],
-               guess: tuple[float, float]) -> ContactPair:
-    """The contact pair on the flanks at ``(theta, u)``, searched from ``guess``."""
+               guess: tuple[float, float], load: float = 0.0,
+               law: tuple[float, float] | None = None) -> ContactPair:
+    """The contact pair on the flanks at ``(theta, u)``, searched from ``guess``; with a
+    ``law`` (:func:`strip_law`) averaged over the strip of the force ``load``."""
     s = system
     ua, ub = blocks(s, u)
     xa = s.gears[0].X + ua.reshape(-1, 2)
     xb = s.gears[1].X + ub.reshape(-1, 2)
     ra, rb = (rot(g.sense * th) for g, th in zip(s.gears, theta))
-    return find_contact(*paper_flanks(s), xa, xb, ra, rb, guess)
+    return find_contact(*paper_flanks(s), xa, xb, ra, rb, guess, load, law)

@@ -48,10 +48,12 @@ def band_value(e, tol, margin):
 
 
 @njit
-def accelerated_update(x, e, C, scale, n, eps_root, Cp, work, active_p):
+def accelerated_update(x, e, C, scale, n, eps_root, Cp, work, active_p, pp_add):
     """One iteration ``x <- x - b_bar A_n e / ||C'||``; ``p <- min(0, p)``.
 
-    ``C`` is ``G M^-1 G^T``; the stage's coefficient ``scale`` multiplies it. ``eps_root``
+    ``C`` is ``G M^-1 G^T``; the stage's coefficient ``scale`` multiplies it, and
+    ``pp_add`` is added to its contact diagonal (the strip compliance ``c_H`` in the
+    displacement stage of the distributed contact, else 0). ``eps_root``
     is the smallest eigenvalue of the root block of ``G M^-1 G^T`` (constant over a
     run: the disk rotations only rotate it), so ``eps_1`` needs no eigen-solve here.
     ``active_p`` keeps the contact row in ``C'`` (the root rows always are); a row held at
@@ -68,6 +70,8 @@ def accelerated_update(x, e, C, scale, n, eps_root, Cp, work, active_p):
                 Cp[i, j] = 0.0
                 continue
             Cp[i, j] = C[i, j] * scale
+            if i == m - 1 and j == m - 1:
+                Cp[i, j] += pp_add
             acc += abs(Cp[i, j])
         if acc > norm:
             norm = acc

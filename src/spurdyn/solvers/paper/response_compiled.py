@@ -106,7 +106,7 @@ def _z_of(P, theta, cn, cw, normal, dx, zth, zu, nz_nodes, mark):
             mark[i] = 1
             nz_nodes[nnz] = i
             nnz += 1
-    for j in range(6):
+    for j in range(cn.size):
         i = cn[j]
         if mark[i] == 0:
             mark[i] = 1
@@ -246,9 +246,10 @@ def _z_col(P, theta, cn, cw, normal, j, zth, zu, nz_nodes):
         nz_nodes[0] = i
         return 1
     nnz = 0
-    for jj in range(6):
+    half = cn.size // 2
+    for jj in range(cn.size):
         i = cn[jj]
-        sign = 1.0 if jj < 3 else -1.0
+        sign = 1.0 if jj < half else -1.0
         new = True
         for l in range(nnz):
             if nz_nodes[l] == i:

@@ -14,9 +14,11 @@ import math
 
 import numpy as np
 
+from spurdyn.contact.constants import FLANK
 from spurdyn.contact.search_compiled import contact_rows, material_point, search, sliding
+from spurdyn.contact.strip_compiled import strip_half_width, strip_rows, virtual_point
 from spurdyn.jit import njit
-from spurdyn.solvers.layout import CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_VEL, OK, H
+from spurdyn.solvers.layout import CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_STRIP, FAIL_VEL, OK, H
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_compiled import (
     accelerations, constraint_force, gram, gram_contact, max_abs, root_phi_theta, rotation, torque,
@@ -38,6 +40,11 @@ def step(P, S, cfg):
     nlev = cfg.levels
     eps_root = cfg.eps_root
     pin_after = cfg.pin_after
+    # The distributed contact (cfg.estar > 0): strips of the force at t, compliance c_H.
+    hertz = cfg.estar > 0.0
+    c_h = cfg.c_h
+    no_add = 0.0
+    ns = S.cn.size // 2
     n = S.u.size
     m = S.x.size
     nn = n // 2
@@ -100,6 +107,11 @@ def step(P, S, cfg):
     guess = np.array([S.cpar[CP.alpha], S.cpar[CP.beta]])
     u_try = pred.qs_u.copy()
     th_try = np.empty(2)
+    load = abs(x0[m - 1]) if hertz else 0.0
+    cn_t = S.cn.copy()          # the rows of the last iterate's strip
+    cw_t = S.cw.copy()
+    d_t = np.zeros(4)           # and its delta_bar on A, B
+    hw_t = 0.0
 
     # -- stage 1: displacements ---------------------------------------------------------
     x = x0.copy()
@@ -129,9 +141,26 @@ def step(P, S, cfg):
             xa, ya = material_point(P, np.int64(0), a_c, th_try[0], u_try, np.int64(0), 0.0, 0.0)
             xb, yb = material_point(P, np.int64(1), b_c, th_try[1], u_try, np.int64(0), 0.0, 0.0)
             sc = nxc * (xa - xb) + nyc * (ya - yb)
+        elif hertz:
+            hw_t = strip_half_width(P, a_c, b_c, load, cfg.estar, cfg.face) if mode == FLANK else 0.0
+            if hw_t > 0.0:
+                # the gap averaged over the strip (docs/solver.md, section 11)
+                d_t[0], d_t[1], fa_ok = strip_rows(P, np.int64(0), a_c, hw_t, cn_t, cw_t, np.int64(0), ns)
+                d_t[2], d_t[3], fb_ok = strip_rows(P, np.int64(1), b_c, hw_t, cn_t, cw_t, ns, ns)
+                if not (fa_ok and fb_ok):
+                    S.its[0] = it
+                    return FAIL_STRIP
+                xa, ya = virtual_point(P, np.int64(0), cn_t, cw_t, np.int64(0), ns, d_t[0], d_t[1],
+                                       th_try[0], u_try, np.int64(0), 0.0, 0.0)
+                xb, yb = virtual_point(P, np.int64(1), cn_t, cw_t, ns, ns, d_t[2], d_t[3],
+                                       th_try[1], u_try, np.int64(0), 0.0, 0.0)
+                sc = nxc * (xa - xb) + nyc * (ya - yb)
+            else:
+                contact_rows(P, a_c, b_c, cn_t, cw_t)
         guess[0], guess[1] = a_c, b_c
         touching = x[m - 1] < 0.0 or sc > 0.0
-        e[m - 1] = sc if touching else 0.0
+        # the strip's mean curvature separation c_H |p| is an overlap the force allows
+        e[m - 1] = sc + c_h * x[m - 1] if touching else 0.0
         res = max_abs(e)
         if not math.isfinite(res):
             S.res[0] = res
@@ -150,13 +179,17 @@ def step(P, S, cfg):
         for i in range(m - 1):
             e_up[i] = e[i]
         e_up[m - 1] = e[m - 1] - target_p if touching else 0.0
-        accelerated_update(x, e_up, C, h2, nlev, eps_root, Cp, work, touching)
+        accelerated_update(x, e_up, C, h2, nlev, eps_root, Cp, work, touching, c_h)
         if abs(a_c - loc_f[0]) + abs(b_c - loc_f[1]) > RELOCATE and moves < MAX_RELOCATE:
             # the contact force acts where the contact now is
             moves += 1
             loc_f[0], loc_f[1] = a_c, b_c
             mode_f = mode
-            contact_rows(P, a_c, b_c, cn_f, cw_f)
+            if hertz:
+                cn_f[:] = cn_t
+                cw_f[:] = cw_t
+            else:
+                contact_rows(P, a_c, b_c, cn_f, cw_f)
             n_f[0], n_f[1] = nxc, nyc
             response_columns(P, h, pred, S.theta, cn_f, cw_f, n_f, m - 1, m, Wq, Wv, scratch, mark,
                      touched, nz_nodes, zu, acc3, acc4)
@@ -168,9 +201,14 @@ def step(P, S, cfg):
 
     # full positions at t + dt by superposition
     th1, u1, _, _ = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, np.bool_(False))
-    cn1 = np.empty(6, dtype=np.int64)
-    cw1 = np.empty(6)
-    contact_rows(P, a_c, b_c, cn1, cw1)
+    cn1 = np.empty(2 * ns, dtype=np.int64)
+    cw1 = np.empty(2 * ns)
+    if hertz:
+        cn1[:] = cn_t
+        cw1[:] = cw_t
+    else:
+        contact_rows(P, a_c, b_c, cn1, cw1)
+    strip1 = hertz and hw_t > 0.0
     n1 = np.array([nxc, nyc])
 
     # -- stage 2: velocities (positions from stage 1, same force directions) ---------------
@@ -190,9 +228,16 @@ def step(P, S, cfg):
             px, py = root_phi_theta(P, th1, k)
             e[2 * k] = -(v_try[2 * i] + px * om_try[g])
             e[2 * k + 1] = -(v_try[2 * i + 1] + py * om_try[g])
-        pax, pay = material_point(P, np.int64(0), a_c, th1[0], v_try, np.int64(1), om_try[0], 0.0)
-        pbx, pby = material_point(P, np.int64(1), b_c, th1[1], v_try, np.int64(1), om_try[1], 0.0)
-        sh = nxc * (pax - pbx) + nyc * (pay - pby)
+        if strip1:
+            pax, pay = virtual_point(P, np.int64(0), cn1, cw1, np.int64(0), ns, d_t[0], d_t[1],
+                                     th1[0], v_try, np.int64(1), om_try[0], 0.0)
+            pbx, pby = virtual_point(P, np.int64(1), cn1, cw1, ns, ns, d_t[2], d_t[3],
+                                     th1[1], v_try, np.int64(1), om_try[1], 0.0)
+        else:
+            pax, pay = material_point(P, np.int64(0), a_c, th1[0], v_try, np.int64(1), om_try[0], 0.0)
+            pbx, pby = material_point(P, np.int64(1), b_c, th1[1], v_try, np.int64(1), om_try[1], 0.0)
+        # the overlap c_H |p| grows with the force: its rate is the velocity to reach
+        sh = nxc * (pax - pbx) + nyc * (pay - pby) + c_h * S.cpar[CP.dp]
         e[m - 1] = sh if (p_bar < 0.0 and (sh > 0.0 or x[m - 1] < 0.0)) else 0.0
         res = max_abs(e)
         if not math.isfinite(res):
@@ -206,7 +251,7 @@ def step(P, S, cfg):
             S.res[1] = res
             S.its[1] = it
             return FAIL_VEL
-        accelerated_update(x, e, C, h, nlev, eps_root, Cp, work, e[m - 1] != 0.0)
+        accelerated_update(x, e, C, h, nlev, eps_root, Cp, work, e[m - 1] != 0.0, no_add)
         it += 1
     S.res[1] = res
     S.its[1] = it
@@ -239,12 +284,18 @@ def step(P, S, cfg):
             ay = a_free[2 * i + 1] + fu[2 * i + 1] / P.mass[2 * i + 1]
             e[2 * k] = -(ax + px * al_try[g]) - (c * yx - s * yy) * om1[g] ** 2
             e[2 * k + 1] = -(ay + py * al_try[g]) - (s * yx + c * yy) * om1[g] ** 2
-        for j in range(6):
+        for j in range(cn1.size):
             i = cn1[j]
             a_try[2 * i] = a_free[2 * i] + fu[2 * i] / P.mass[2 * i]
             a_try[2 * i + 1] = a_free[2 * i + 1] + fu[2 * i + 1] / P.mass[2 * i + 1]
-        pax, pay = material_point(P, np.int64(0), a_c, th1[0], a_try, np.int64(2), om1[0], al_try[0])
-        pbx, pby = material_point(P, np.int64(1), b_c, th1[1], a_try, np.int64(2), om1[1], al_try[1])
+        if strip1:
+            pax, pay = virtual_point(P, np.int64(0), cn1, cw1, np.int64(0), ns, d_t[0], d_t[1],
+                                     th1[0], a_try, np.int64(2), om1[0], al_try[0])
+            pbx, pby = virtual_point(P, np.int64(1), cn1, cw1, ns, ns, d_t[2], d_t[3],
+                                     th1[1], a_try, np.int64(2), om1[1], al_try[1])
+        else:
+            pax, pay = material_point(P, np.int64(0), a_c, th1[0], a_try, np.int64(2), om1[0], al_try[0])
+            pbx, pby = material_point(P, np.int64(1), b_c, th1[1], a_try, np.int64(2), om1[1], al_try[1])
         st = nxc * (pax - pbx) + nyc * (pay - pby) + extra
         e[m - 1] = st if (p_bar < 0.0 and (st > 0.0 or x[m - 1] < 0.0)) else 0.0
         res = max_abs(e)
@@ -258,7 +309,7 @@ def step(P, S, cfg):
             S.res[2] = res
             S.its[2] = it
             return FAIL_ACC
-        accelerated_update(x, e, C, 1.0, nlev, eps_root, Cp, work, e[m - 1] != 0.0)
+        accelerated_update(x, e, C, 1.0, nlev, eps_root, Cp, work, e[m - 1] != 0.0, no_add)
         it += 1
     S.res[2] = res
     S.its[2] = it
@@ -271,6 +322,18 @@ def step(P, S, cfg):
         total += u1[i] + v1[i]
     if not math.isfinite(total):
         return FAIL_NAN
+    hw1 = 0.0
+    if hertz:
+        # the next step spreads its force over the strip of the force now
+        hw1 = strip_half_width(P, a_c, b_c, x[m - 1], cfg.estar, cfg.face) if mode == FLANK else 0.0
+        if hw1 > 0.0:
+            _, _, fa_ok = strip_rows(P, np.int64(0), a_c, hw1, cn1, cw1, np.int64(0), ns)
+            _, _, fb_ok = strip_rows(P, np.int64(1), b_c, hw1, cn1, cw1, ns, ns)
+            if not (fa_ok and fb_ok):
+                return FAIL_STRIP
+        else:
+            contact_rows(P, a_c, b_c, cn1, cw1)
+        gram_contact(P, cn1, cw1, n1, C)
     constraint_force(P, th1, cn1, cw1, n1, x, fth, fu)
     for g in range(2):
         S.alpha_n[g] = al_free[g] + fth[g] / P.J[g]
@@ -284,7 +347,11 @@ def step(P, S, cfg):
     S.cn[:] = cn1
     S.cw[:] = cw1
     S.normal[:] = n1
-    S.cpar[CP.alpha], S.cpar[CP.beta], S.cpar[CP.mode], S.cpar[CP.s] = a_c, b_c, mode, sc
+    # the gap the constraint holds: for the strip, its mean deformed gap s_bar - c_H |p|
+    S.cpar[CP.alpha], S.cpar[CP.beta], S.cpar[CP.mode], S.cpar[CP.s] = a_c, b_c, mode, sc + c_h * p_bar
+    if hertz:
+        S.cpar[CP.dp] = (x[m - 1] - x0[m - 1]) / h
+        S.cpar[CP.half_width] = hw1
     S.t[0] += h
     return OK
 
@@ -339,3 +406,4 @@ def write_row(P, S, row):
     row[H.it1] = S.its[0]
     row[H.it2] = S.its[1]
     row[H.it3] = S.its[2]
+    row[H.half_width] = S.cpar[CP.half_width]

@@ -22,14 +22,17 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.contact.search_numpy import ContactPair, sliding_acceleration
+from spurdyn.contact.constants import FLANK
+from spurdyn.contact.hertz import strip_compliance
+from spurdyn.contact.search_numpy import ContactPair, sliding_acceleration, strip_half_width
+from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.layout import FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_VEL, OK
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_numpy import (
     accelerations, blocks, constraint_force, contact_at, inverse_mass, jacobian, rigid_velocities,
-    paper_flanks, root_acceleration_errors, root_phi, root_phi_theta, rot, torques,
+    paper_flanks, root_acceleration_errors, root_phi, root_phi_theta, rot, strip_law, torques,
 )
 from spurdyn.solvers.paper.iteration_numpy import accelerated_update, band_value
 
@@ -45,6 +48,7 @@ class State:
     v: NDArray[np.float64]       # (n_u,)
     x: NDArray[np.float64]       # (n_x,)  [lambda_A, lambda_B, p] at t
     contact: ContactPair         # the contact pair at t
+    dp: float = 0.0              # rate of the contact force over the last step (N/s)
 
     def copy(self) -> "State":
         return replace(self, theta=self.theta.copy(), omega=self.omega.copy(), u=self.u.copy(),
@@ -73,6 +77,9 @@ class PaperMethod:
         self.case = case
         self.minv = inverse_mass(system)
         self.tau0 = case.torque
+        # The distributed contact: its (E*, L) and the strip's compliance c_H.
+        self.law = strip_law(system) if case.contact == "hertz" else None
+        self.c_h = strip_compliance(*self.law) if self.law is not None else 0.0
 
     # -- equations of motion -----------------------------------------------------------
     def torques(self, theta: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -102,8 +109,20 @@ class PaperMethod:
                 v + w * (k1[3] + 2 * k2[3] + 2 * k3[3] + k4[3]))
 
     # -- constraint errors -------------------------------------------------------------
-    def contact_at(self, theta: NDArray[np.float64], u: NDArray[np.float64], guess: tuple[float, float]) -> ContactPair:
-        return contact_at(self.system, theta, u, guess)
+    def contact_at(self, theta: NDArray[np.float64], u: NDArray[np.float64], guess: tuple[float, float],
+                   load: float = 0.0) -> ContactPair:
+        return contact_at(self.system, theta, u, guess, load, self.law)
+
+    def restrip(self, c: ContactPair, load: float) -> ContactPair:
+        """``c`` with its rows averaged over the strip of the force ``load`` (the same pair)."""
+        if self.law is None or c.mode != FLANK:
+            return c
+        fa, fb = paper_flanks(self.system)
+        hw = strip_half_width(fa, fb, c.alpha, c.beta, load, self.law)
+        na, wa, da = strip_rows(fa, c.alpha, hw)
+        nb, wb, db = strip_rows(fb, c.beta, hw)
+        return replace(c, nodes_a=na, weights_a=wa, delta_a=da, nodes_b=nb, weights_b=wb,
+                       delta_b=db, half_width=hw)
 
     def root_errors(self, theta: NDArray[np.float64], u: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.concatenate([-root_phi(gb, theta[g], ub).ravel()
@@ -157,9 +176,14 @@ class PaperMethod:
         """Advance one time step by the paper's three stages."""
         case, sys_ = self.case, self.system
         h, nlev, cap = case.dt, case.accel_levels, case.max_iter
-        gmat = jacobian(sys_, st.theta, st.contact)
+        # The distributed contact spreads the force of this step, and averages its gap,
+        # over the strip of the force at t (docs/solver.md, section 11): st.contact's rows.
+        load = abs(float(st.x[-1])) if self.law is not None else 0.0
+        c_force = st.contact
+        gmat = jacobian(sys_, st.theta, c_force)
         cbase = (gmat * self.minv) @ gmat.T
         guess = (st.contact.alpha, st.contact.beta)
+        c_h = self.c_h
         residual = np.zeros(3)
         iters = np.zeros(3, dtype=np.int64)
 
@@ -167,7 +191,6 @@ class PaperMethod:
         # iterate finds the pair moved (by more than RELOCATE in flank coordinates), the
         # force moves with it for the next iterates.
         x = st.x.copy()
-        c_force = st.contact
         moves = 0
         for m in range(cap + 1):
             f_theta, f_u = constraint_force(sys_, st.theta, c_force, x)
@@ -175,11 +198,12 @@ class PaperMethod:
             if not (np.isfinite(th1).all() and np.isfinite(u1).all()
                     and np.isfinite(om1_).all() and np.isfinite(v1_).all()):
                 return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_NAN)
-            c1 = self.contact_at(th1, u1, guess)
+            c1 = self.contact_at(th1, u1, guess, load)
             if case.pin_after and m >= case.pin_after and moves >= MAX_RELOCATE:
                 c1 = self.pinned(c_force, th1, u1)   # "pinned": the gap where the force acts
             touching = x[-1] < 0.0 or c1.s > 0.0
-            pi = c1.s if touching else 0.0
+            # The strip's mean curvature separation c_H |p| is an overlap the force allows.
+            pi = c1.s + c_h * x[-1] if touching else 0.0
             e = np.append(self.root_errors(th1, u1), pi)
             residual[0] = np.abs(e).max()
             if residual[0] <= case.tol_disp:
@@ -196,7 +220,9 @@ class PaperMethod:
             active[-1] = touching
             e_up = e.copy()
             e_up[-1] = e[-1] - target_p if touching else 0.0
-            x = accelerated_update(x, e_up, 0.5 * h * h * cbase, nlev, active)
+            c_disp = 0.5 * h * h * cbase
+            c_disp[-1, -1] += c_h
+            x = accelerated_update(x, e_up, c_disp, nlev, active)
             if abs(c1.alpha - c_force.alpha) + abs(c1.beta - c_force.beta) > RELOCATE \
                     and moves < MAX_RELOCATE:
                 moves += 1
@@ -210,7 +236,8 @@ class PaperMethod:
         for m in range(cap + 1):
             f_theta, f_u = constraint_force(sys_, st.theta, c_force, x)
             _, om2, _, v2 = self.rk4(st, f_theta, f_u)
-            sh = self.normal_of(c1, v2, self.velocity_mats(th1, om2))
+            # The overlap c_H |p| grows with the force: its rate is the velocity to reach.
+            sh = self.normal_of(c1, v2, self.velocity_mats(th1, om2)) + c_h * st.dp
             pih = sh if (p_bar < 0.0 and (sh > 0.0 or x[-1] < 0.0)) else 0.0
             e = np.append(self.root_velocity_errors(th1, om2, v2), pih)
             residual[1] = np.abs(e).max()
@@ -257,7 +284,11 @@ class PaperMethod:
             if p_bar == 0.0:
                 x[-1] = 0.0
         iters[2] = m
-        new = State(t=st.t + h, theta=th1, omega=om2, u=u1, v=v2, x=x, contact=c1)
+        # The next step spreads its force over the strip of the force now (same pair); the gap
+        # kept is the one the constraint holds, for a strip its mean deformed gap s_bar - c_H |p|.
+        new = State(t=st.t + h, theta=th1, omega=om2, u=u1, v=v2, x=x,
+                    contact=self.restrip(replace(c1, s=c1.s + self.c_h * p_bar), abs(float(x[-1]))),
+                    dp=(x[-1] - st.x[-1]) / h if self.law is not None else 0.0)
         return new, StepReport(residual=residual, iterations=iters, p_bar=float(p_bar), s=c1.s)
 
 

@@ -13,13 +13,14 @@ from numpy.typing import NDArray
 from scipy.sparse import block_diag
 
 from spurdyn.contact.constants import flank_row
+from spurdyn.contact.hertz import half_width, involute_curvature_radius, strip_compliance
 from spurdyn.model.loading import gear_angles, torque_amplitudes
 from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.layout import NCOL, CompiledState, Config, Packed
 from spurdyn.solvers.paper.dynamics_numpy import (
-    accelerations, constraint_force, inverse_mass, jacobian, paper_flanks,
+    accelerations, constraint_force, inverse_mass, jacobian, paper_flanks, strip_law,
 )
 from spurdyn.solvers.paper.step_numpy import State, initial_state
 
@@ -75,12 +76,42 @@ def root_eigenvalue(system: PairSystem, state: State) -> float:
     return float(np.linalg.eigvalsh(c)[0])
 
 
+#: The largest contact force a run's strip slots are sized for, in static loads
+#: ``tau_0 / r_b`` (and at least :data:`STRIP_FORCE_FLOOR` newtons).
+STRIP_FORCE_FACTOR = 50.0
+STRIP_FORCE_FLOOR = 1e4
+
+
+def strip_slots(system: PairSystem, settings: RunSettings) -> int:
+    """Contact-row slots per gear: 3 for the point contact; for the distributed one, the
+    outline nodes a strip of :data:`STRIP_FORCE_FACTOR` static loads can cover on the
+    finest element edge (``2 rows + 1``, at most the whole outline)."""
+    if settings.contact != "hertz":
+        return 3
+    estar, face = strip_law(system)
+    fa, fb = paper_flanks(system)
+    force = max(STRIP_FORCE_FACTOR * settings.torque / system.gears[0].base_radius, STRIP_FORCE_FLOOR)
+    # the largest radius of curvature of each flank: its tip
+    rho = [involute_curvature_radius(f.r_tip, f.base_radius) for f in (fa, fb)]
+    b = half_width(force, rho[0], rho[1], estar, face)
+    # the shortest arc of an element edge is the one nearest the base circle: >= dr
+    rows = max(int(np.ceil(2.0 * b / min((f.r_tip - f.r0) / f.ny for f in (fa, fb)))) + 1, 1)
+    return int(min(2 * rows + 1, 2 * min(fa.ny, fb.ny) + 1))
+
+
 def compiled_start(system: PairSystem, settings: RunSettings, st: State) -> CompiledState:
     """The compiled state of the NumPy start state ``st`` (with its accelerations and ``C``)."""
     c = st.contact
     na = system.gears[0].mesh.n_nodes
-    cn = np.concatenate([c.nodes_a, c.nodes_b + na]).astype(np.int64)
-    cw = np.concatenate([c.weights_a, c.weights_b])
+    ns = strip_slots(system, settings)
+
+    def slots(nodes: NDArray[np.intp], w: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+        pad = ns - nodes.size
+        return np.concatenate([nodes, np.full(pad, nodes[0])]), np.concatenate([w, np.zeros(pad)])
+
+    (nsa, wsa), (nsb, wsb) = slots(c.nodes_a, c.weights_a), slots(c.nodes_b, c.weights_b)
+    cn = np.concatenate([nsa, nsb + na]).astype(np.int64)
+    cw = np.concatenate([wsa, wsb])
     # Accelerations at t = 0 with the initial forces: RK4's first slope of step 1.
     alpha0, a0 = accelerations(system, settings, st.theta, st.u,
                                *constraint_force(system, st.theta, c, st.x))
@@ -88,17 +119,25 @@ def compiled_start(system: PairSystem, settings: RunSettings, st: State) -> Comp
     return CompiledState(
         t=np.zeros(1), theta=st.theta.copy(), omega=st.omega.copy(), u=st.u.copy(),
         v=st.v.copy(), x=st.x.copy(), alpha_n=alpha0, a_n=a0, cn=cn, cw=cw,
-        normal=c.normal.copy(), cpar=np.array([c.alpha, c.beta, float(c.mode), c.s]),
+        normal=c.normal.copy(),
+        cpar=np.array([c.alpha, c.beta, float(c.mode), c.s, st.dp, c.half_width]),
         C=(gmat * inverse_mass(system)) @ gmat.T, res=np.zeros(3), its=np.zeros(3, dtype=np.int64),
     )
 
 
-def config(settings: RunSettings, eps_root: float) -> Config:
-    """The run settings a compiled step reads."""
+def config(settings: RunSettings, eps_root: float, system: PairSystem | None = None) -> Config:
+    """The run settings a compiled step reads (the distributed contact's law from ``system``)."""
     s = settings
+    estar, face, c_h = 0.0, 0.0, 0.0
+    if s.contact == "hertz":
+        if system is None:
+            raise ValueError("the distributed contact's configuration needs the system")
+        estar, face = strip_law(system)
+        c_h = strip_compliance(estar, face)
     return Config(dt=float(s.dt), tol_disp=float(s.tol_disp), tol_vel=float(s.tol_vel),
                   tol_acc=float(s.tol_acc), max_iter=int(s.max_iter), levels=int(s.accel_levels),
-                  eps_root=float(eps_root), pin_after=int(s.pin_after))
+                  eps_root=float(eps_root), pin_after=int(s.pin_after), estar=float(estar),
+                  face=float(face), c_h=float(c_h))
 
 
 class CompiledStepper(Stepper):
@@ -112,7 +151,7 @@ class CompiledStepper(Stepper):
         self.P = pack(system, settings)
         start = initial_state(system, settings)
         self.S = compiled_start(system, settings, start)
-        self.cfg = config(settings, root_eigenvalue(system, start))
+        self.cfg = config(settings, root_eigenvalue(system, start), system)
         self.residual = self.S.res
         self.iterations = self.S.its
         self._row = np.empty((1, NCOL))

@@ -32,6 +32,7 @@ class NumpyStepper(Stepper):
         row[H.s], row[H.alpha], row[H.beta], row[H.mode] = c.s, c.alpha, c.beta, c.mode
         row[H.res1], row[H.res2], row[H.res3] = self.residual
         row[H.it1], row[H.it2], row[H.it3] = self.iterations
+        row[H.half_width] = c.half_width
         return row
 
     def _advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],

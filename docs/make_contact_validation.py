@@ -1,0 +1,214 @@
+"""Measure the distributed (Hertzian) contact beside the paper's point contact (issue 14).
+
+    .venv/bin/python docs/make_contact_validation.py [--only PART ...]
+
+Parts: ``stiffness`` (pitch-point pair stiffness against the mesh), ``presets`` (every
+preset with both contacts), ``meshes`` (Fig. 8, 9, 10 on finer meshes at their stable
+steps), ``design`` (pairs at design loads against the lumped model with the same
+stiffness), ``energy`` (the energy balance of Fig. 8 under load), ``hertz`` (a
+quasi-static run's strip at the pitch point against Hertz). Each part's figures are kept
+in ``docs/contact_validation.json``; the page ``docs/contact_validation.md`` is rendered
+from all of them, so a part can be re-measured alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from spurdyn.cases import resolve_cases
+from spurdyn.contact.hertz import half_width, peak_pressure, strip_compliance
+from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
+from spurdyn.model.system import build_system, system_for
+from spurdyn.sweep.point import smoothed_peak
+from spurdyn.settings import RPM
+from spurdyn.simulators import MODELS
+from spurdyn.solvers.check import stable_step
+from spurdyn.solvers.paper.dynamics_numpy import strip_law
+from spurdyn.solvers.paper.statics import static_stiffness
+
+HERE = Path(__file__).parent
+STORE = HERE / "contact_validation.json"
+PAGE = HERE / "contact_validation.md"
+#: The meshes of the stiffness study, and of the dynamic runs on finer meshes.
+STIFFNESS_MESHES = ((4, 14), (6, 20), (8, 28), (12, 40), (16, 56), (24, 80), (32, 112))
+RUN_MESHES = ((6, 20), (8, 28), (12, 40))
+#: Fraction of each mesh's stable step the finer-mesh runs take (as validation.md 2.1).
+STEP_FRACTION = 0.9
+
+
+def _run(spec: str, **over: Any) -> dict[str, Any]:
+    """One FE (or lumped) run through the case reader; its headline figures."""
+    model = over.pop("model", "fe")
+    overrides = {f"run.{k}" if k not in ("mesh.nx", "mesh.ny") else k: v for k, v in over.items()}
+    case = resolve_cases(spec, overrides)[0]
+    t0 = time.perf_counter()
+    res = MODELS[model](case.pair, case.run)
+    wall = time.perf_counter() - t0
+    f = np.asarray(res.contact_force, float)
+    static = float(res.info["static_force"])
+    out = {"status": res.status, "reason": res.reason, "steps": int(res.steps), "wall_s": wall,
+           "angle_deg": float(np.degrees(res.angle[-1])) if len(res.angle) else 0.0,
+           "peak_raw_N": float(np.nanmax(f)) if f.size else float("nan"),
+           "peak_avg_N": smoothed_peak(np.asarray(res.time, float), f) or float("nan"), "static_N": static,
+           "dt_s": case.run.dt, "contact": case.run.contact}
+    if res.contact_pressure_max is not None:
+        out["pressure_max_Pa"] = float(np.nanmax(res.contact_pressure_max))
+        out["half_width_max_m"] = float(np.nanmax(res.contact_half_width))
+    if out["static_N"] > 0:
+        out["spikes"] = int(np.sum(f > 3.0 * static))
+    return out
+
+
+def part_stiffness() -> dict[str, Any]:
+    pair = paper_pair()
+    force = PAPER_TORQUE / pair.gear_a.base_radius
+    rows = []
+    for nx, ny in STIFFNESS_MESHES:
+        s = system_for(pair, nx, ny, 61)
+        pt = static_stiffness(s, pair.pitch_roll_a, force, "point")
+        hz = static_stiffness(s, pair.pitch_roll_a, force, "hertz")
+        f = s.gears[0].flank
+        r_p = pair.gear_a.base_radius / math.cos(pair.gear_a.pressure_angle)
+        h = (f.r_tip - f.r0) / f.ny * r_p / f.base_radius     # arc of one element edge there
+        rows.append({"mesh": f"{nx} x {ny}", "point": pt.stiffness, "hertz": hz.stiffness,
+                     "strip_only": 1.0 / (hz.compliance_a + hz.compliance_b),
+                     "h_um": h * 1e6, "b_um": hz.half_width * 1e6})
+    return {"force_N": force, "c_h": strip_compliance(*strip_law(system_for(pair, 4, 14, 61))),
+            "rows": rows}
+
+
+def part_presets() -> dict[str, Any]:
+    from spurdyn.cases import PRESETS
+    return {name: {c: _run(name, contact=c) for c in ("point", "hertz")} for name in PRESETS}
+
+
+def part_meshes() -> dict[str, Any]:
+    out = {}
+    pair = paper_pair()
+    for nx, ny in RUN_MESHES:
+        dt = STEP_FRACTION * stable_step(system_for(pair, nx, ny, 61))
+        for name in ("paper-fig8", "paper-fig9", "paper-fig10"):
+            key = f"{name} {nx} x {ny}"
+            out[key] = {c: _run(name, contact=c, dt=float(f"{dt:.3g}"), **{"mesh.nx": nx, "mesh.ny": ny})
+                        for c in ("point", "hertz")}
+            print(key, {c: (v["status"], round(v["peak_avg_N"], 1)) for c, v in out[key].items()},
+                  flush=True)
+    return out
+
+
+#: Pairs at design loads: (TOML file, torque N m on the driver, speed of A rpm).
+DESIGN = (
+    ("examples/pinion_23_47.toml", 50.0, 3000.0),
+    ("examples/pinion_23_47.toml", 100.0, 3000.0),
+    ("examples/pinion_23_47.toml", 100.0, 10000.0),
+    ("docs/contact_pairs/m3_20deg.toml", 150.0, 1000.0),
+    ("docs/contact_pairs/m3_20deg.toml", 500.0, 6000.0),
+    ("docs/contact_pairs/m5_20deg.toml", 125.0, 1500.0),
+    ("docs/contact_pairs/m5_20deg.toml", 1200.0, 1500.0),
+    ("docs/contact_pairs/m5_25deg.toml", 800.0, 2000.0),
+)
+
+
+def part_design() -> dict[str, Any]:
+    out = {}
+    for path, torque, rpm in DESIGN:
+        case = resolve_cases(str(HERE.parent / path), {"run.torque": torque, "run.speed_a_rpm": rpm})[0]
+        g = case.pair.gear_a
+        face = min(case.pair.gear_a.face_width, case.pair.gear_b.face_width)
+        key = f"{Path(path).stem} {torque:g} N m {rpm:g} rpm"
+        over = {"torque": torque, "speed_a_rpm": rpm}
+        fe = _run(str(HERE.parent / path), **over)
+        lumped = _run(str(HERE.parent / path), model="lumped", **over)
+        out[key] = {"module_mm": g.module * 1e3, "pressure_angle_deg": math.degrees(g.pressure_angle),
+                    "teeth": [case.pair.gear_a.teeth, case.pair.gear_b.teeth],
+                    "load_N_per_mm": fe["static_N"] / (face * 1e3), "fe": fe, "lumped": lumped}
+        print(key, fe["status"], round(fe["peak_avg_N"] / fe["static_N"], 3),
+              round(lumped["peak_avg_N"] / lumped["static_N"], 3), flush=True)
+    return out
+
+
+def part_energy() -> dict[str, Any]:
+    from spurdyn.results.balances import track
+    from spurdyn.solvers.loop import make_stepper
+
+    out = {}
+    case = resolve_cases("paper-fig8")[0]
+    for contact in ("point", "hertz"):
+        run = case.run.with_(contact=contact)
+        system = build_system(case.pair, run)
+        rec = track(make_stepper(system, run), angle=case.pair.theta_s)
+        err = rec.energy_error
+        # the strip's curvature compliance stores c_H p^2 / 2 (its work is the contact work)
+        out[contact] = {"energy_error_end_J": float(err[-1]), "energy_error_max_J": float(np.abs(err).max()),
+                        "strain_max_J": float(rec.strain.max()),
+                        "contact_work_end_J": float(rec.contact_work[-1]),
+                        "momentum_error_max": float(np.abs(rec.momentum_error).max()),
+                        "status": int(rec.status)}
+    return out
+
+
+def part_hertz() -> dict[str, Any]:
+    """A slow run (1,000 rpm, the paper's torque) through the single-contact zone: the
+    mean force there and the strip it gives at the pitch point against Hertz's for
+    tau_0 / r_b (the torsional mode the ramps excite rides on the force; its mean over
+    the zone is the quasi-static figure, validation.md section 3.1)."""
+    pair = paper_pair()
+    z0, z1 = pair.single_contact_roll_a
+    angle = math.degrees(z1 - pair.start_roll_a) + 0.1
+    case = resolve_cases("paper-fig8", {"run.speed_a_rpm": 1000.0, "run.speed_b_rpm": 1000.0,
+                                       "run.contact": "hertz", "run.angle_deg": angle})[0]
+    res = MODELS["fe"](case.pair, case.run)
+    roll = res.roll[:, 0]
+    zone = (roll >= z0) & (roll <= z1)
+    mean = float(np.mean(res.contact_force[zone]))
+    estar, face = strip_law(system_for(pair, 4, 14, 61))
+    rho = pair.gear_a.base_radius * math.tan(pair.gear_a.pressure_angle)
+    force = PAPER_TORQUE / pair.gear_a.base_radius
+    b = half_width(force, rho, rho, estar, face)
+    b_run = half_width(mean, rho, rho, estar, face)
+    return {"status": res.status, "force_N": mean, "static_N": force,
+            "force_min_N": float(res.contact_force[zone].min()),
+            "force_max_N": float(res.contact_force[zone].max()),
+            "half_width_m": b_run, "hertz_half_width_m": b,
+            "pressure_Pa": peak_pressure(mean, b_run, face),
+            "hertz_pressure_Pa": peak_pressure(force, b, face),
+            "width_max_m": float(res.contact_half_width[zone].max())}
+
+
+PARTS: dict[str, Callable[[], dict[str, Any]]] = {
+    "stiffness": part_stiffness, "hertz": part_hertz, "energy": part_energy,
+    "presets": part_presets, "meshes": part_meshes, "design": part_design,
+}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--only", action="append", choices=sorted(PARTS), default=[])
+    parser.add_argument("--skip", action="append", choices=sorted(PARTS), default=[])
+    parser.add_argument("--render", action="store_true", help="only render the page")
+    args = parser.parse_args()
+    store = json.loads(STORE.read_text()) if STORE.exists() else {}
+    if not args.render:
+        for name in [p for p in (args.only or list(PARTS)) if p not in args.skip]:
+            t0 = time.perf_counter()
+            store[name] = PARTS[name]()
+            store[name]["_seconds"] = time.perf_counter() - t0
+            STORE.write_text(json.dumps(store, indent=1, default=float))
+            print(f"{name}: {time.perf_counter() - t0:.0f} s", flush=True)
+    import sys
+    sys.path.insert(0, str(HERE))
+    from contact_validation_page import render   # docs/contact_validation_page.py
+    PAGE.write_text(render(store))
+    print(f"wrote {PAGE}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

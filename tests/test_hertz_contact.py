@@ -1,0 +1,246 @@
+"""The distributed (Hertzian) contact, piece by piece (docs/solver.md, section 11): Hertz's
+formulas, the strip quadrature, the strip rows as consistent loads and their compiled
+twin, the strip gap of rigid teeth, its curvature compliance, its Jacobian by finite
+differences, and the compiled step against the NumPy step."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from spurdyn.contact import hertz
+from spurdyn.contact import strip_compiled as strip_c
+from spurdyn.contact.search_numpy import FLANK, strip_half_width
+from spurdyn.contact.strip_numpy import strip_rows
+from spurdyn.errors import InputError
+from spurdyn.fem.element import edge_weights
+from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
+from spurdyn.model.system import build_system
+from spurdyn.settings import RPM, RunSettings
+from spurdyn.solvers.paper.dynamics_numpy import jacobian, strip_law
+from spurdyn.solvers.paper.step_numpy import PaperMethod, initial_state
+from spurdyn.solvers.paper.stepper_compiled import CompiledStepper, pack
+
+from test_contact import rigid
+
+PAIR = paper_pair()
+
+
+@pytest.fixture(scope="module")
+def hertz_system():
+    case = RunSettings(speed_a=400.0, speed_b=400.0, torque=PAPER_TORQUE, contact="hertz")
+    s = build_system(PAIR, case)
+    return s, PaperMethod(s, case)
+
+
+def test_hertz_strip_of_the_papers_pair_at_the_pitch_point():
+    """The issue's figures: at the pitch point under 532.7 N the half-width is about 84 um
+    and the peak pressure about 640 MPa; the pressure integrates back to the force."""
+    ga, gb = PAIR.gear_a, PAIR.gear_b
+    estar = hertz.effective_modulus(ga.material.young, ga.material.poisson,
+                                    gb.material.young, gb.material.poisson)
+    rho = ga.base_radius * math.tan(ga.pressure_angle)          # 15.2 mm each
+    force = 532.7
+    b = hertz.half_width(force, rho, rho, estar, ga.face_width)
+    p0 = hertz.peak_pressure(force, b, ga.face_width)
+    assert b == pytest.approx(84e-6, rel=0.01)
+    assert p0 == pytest.approx(640e6, rel=0.01)
+    total, _ = quad(lambda xi: p0 * math.sqrt(1.0 - (xi / b) ** 2) * ga.face_width, -b, b)
+    assert total == pytest.approx(force, rel=1e-9)
+    # b grows as sqrt(F), and no force is no strip
+    assert hertz.half_width(4 * force, rho, rho, estar, ga.face_width) == pytest.approx(2 * b)
+    assert hertz.half_width(0.0, rho, rho, estar, ga.face_width) == 0.0
+    # c_H is the elliptic mean of the curvature separation, b^2 / (8 R*) per newton
+    r_star = rho / 2
+    assert b**2 / (8 * r_star) / force == pytest.approx(
+        hertz.strip_compliance(estar, ga.face_width), rel=1e-12)
+
+
+def test_strip_quadrature_integrates_the_elliptic_moments():
+    """The even moments of (2/pi) sqrt(1 - x^2) are the Catalan numbers over 4^m, exact
+    up to the rule's degree 2n - 1 and not beyond."""
+    x, w = hertz.strip_quadrature()
+    n = hertz.STRIP_POINTS
+    for m in range(0, n + 2):
+        exact = math.comb(2 * m, m) / (m + 1) / 4**m
+        got = np.sum(w * x ** (2 * m))
+        if 2 * m <= 2 * n - 1:
+            assert got == pytest.approx(exact, rel=1e-13)
+        else:
+            assert abs(got - exact) > 1e-10
+    assert np.sum(w * x) == pytest.approx(0.0, abs=1e-15)     # symmetric
+
+
+@pytest.mark.parametrize("where", ["inside an element", "across an element edge"])
+def test_strip_rows_are_the_consistent_loads_of_the_elliptic_pressure(hertz_system, where):
+    """``N_bar = int N(t(xi)) p(xi) dxi / F``, integrated here piecewise with SciPy."""
+    s, _ = hertz_system
+    f = s.gears[0].flank
+    t_c = 7.5 if where == "inside an element" else 8.0 + 1e-3
+    b = 60e-6
+    nodes, w, delta = strip_rows(f, t_c, b)
+    assert w.sum() == pytest.approx(1.0, abs=1e-14)
+    r_c = f.r0 + (f.r_tip - f.r0) * t_c / f.ny
+
+    def t_of(xi: float) -> float:
+        r = math.sqrt(r_c**2 + 2 * f.base_radius * xi)
+        return (r - f.r0) / (f.r_tip - f.r0) * f.ny
+
+    want = np.zeros(f.side_nodes.size)
+    edges = [xi for xi in np.linspace(-b, b, 2001)
+             if abs(t_of(xi) - round(t_of(xi))) < 1e-3 * (f.ny / (f.r_tip - f.r0)) * 1e-6]
+    for j in range(f.side_nodes.size):
+        def integrand(xi: float, j: int = j) -> float:
+            t = t_of(xi)
+            row = min(int(math.floor(t)), f.ny - 1)
+            k = j - 2 * row
+            if not 0 <= k <= 2:
+                return 0.0
+            return edge_weights(2 * (t - row) - 1)[k] * 2 / (math.pi * b) * math.sqrt(1 - (xi / b) ** 2)
+        want[j], _ = quad(integrand, -b, b, points=edges or None, limit=200)
+    got = np.zeros(f.side_nodes.size)
+    pos = {int(n): i for i, n in enumerate(f.side_nodes)}
+    for n, wn in zip(nodes, w):
+        got[pos[int(n)]] += wn
+    # Within one element edge the rule is exact; across an edge the integrand has a kink
+    # and the 12-point rule carries a small error.
+    tol = 1e-12 if where == "inside an element" else 2e-3
+    assert np.abs(got - want).max() < tol
+    # delta_bar: for a rigid rotation the virtual point is the exact involute at the centre
+    assert np.allclose(w @ f.side_Y[np.searchsorted(f.side_nodes, nodes)] + delta, f.exact(t_c),
+                       rtol=0, atol=1e-15)
+
+
+def test_zero_half_width_gives_the_point_contacts_rows(hertz_system):
+    s, _ = hertz_system
+    f = s.gears[1].flank
+    for t in (3.2, 9.0, 13.99):
+        nodes, w, d = strip_rows(f, t, 0.0)
+        n0, w0, _ = f.locate(t)
+        assert np.array_equal(nodes, n0) and np.array_equal(w, w0)
+        assert np.array_equal(d, f.delta(t))
+    # and the rows are continuous as b -> 0
+    nodes, w, _ = strip_rows(f, 9.3, 1e-12)
+    n0, w0, _ = f.locate(9.3)
+    assert np.array_equal(nodes, n0) and np.abs(w - w0).max() < 1e-9
+
+
+@pytest.mark.parametrize("t_c,b", [(5.3, 40e-6), (8.0005, 150e-6), (12.0, 400e-6), (13.9, 300e-6)])
+def test_compiled_strip_rows_are_the_numpy_ones(hertz_system, t_c, b):
+    s, _ = hertz_system
+    case = RunSettings(speed_a=400.0, speed_b=400.0, torque=PAPER_TORQUE, contact="hertz")
+    P = pack(s, case)
+    na = s.gears[0].mesh.n_nodes
+    for g in range(2):
+        f = s.gears[g].flank
+        nodes, w, d = strip_rows(f, t_c, b)
+        ns = 2 * f.ny + 1
+        cn = np.zeros(2 * ns, np.int64)
+        cw = np.zeros(2 * ns)
+        dx, dy, fits = strip_c.strip_rows(P, np.int64(g), t_c, b, cn, cw, np.int64(g * ns), ns)
+        assert fits
+        off = g * ns
+        k = nodes.size
+        assert np.array_equal(cn[off:off + k], nodes + g * na)
+        assert np.abs(cw[off:off + k] - w).max() < 1e-15
+        assert np.all(cw[off + k:off + ns] == 0.0)
+        assert abs(dx - d[0]) < 1e-17 and abs(dy - d[1]) < 1e-17
+    # too few slots: refused, not truncated
+    cn, cw = np.zeros(6, np.int64), np.zeros(6)
+    assert not strip_c.strip_rows(P, np.int64(0), 12.0, 400e-6, cn, cw, np.int64(0), np.int64(3))[2]
+
+
+def test_strip_gap_of_rigid_conjugate_teeth_is_zero_under_load(hertz_system):
+    """The strip gap is the rigid involutes' gap at the centre plus the averaged elastic
+    displacement: rigid conjugate teeth keep it at round-off whatever the strip."""
+    s, ref = hertz_system
+    guess = (s.gears[0].flank.t0 + 0.5, s.gears[1].flank.t1)
+    worst, widths = 0.0, []
+    for d in np.linspace(0.02, PAIR.theta_s * 0.95, 9):
+        u, _, _ = rigid(s, (d, d))
+        c = ref.contact_at(np.array([d, d]), u, guess, 2000.0)
+        guess = (c.alpha, c.beta)
+        if c.mode == FLANK:
+            widths.append(c.half_width)
+            worst = max(worst, abs(c.s))
+    assert min(widths) > 50e-6 and worst < 1e-14
+
+
+def test_the_rigid_surfaces_part_by_c_h_times_the_force_over_the_strip(hertz_system):
+    """Averaged with the strip's weights, the exact involutes part from the centre's gap
+    by b^2 / (8 R*) = c_H F (docs/solver.md, section 11)."""
+    s, ref = hertz_system
+    fa, fb = s.gears[0].flank, s.gears[1].flank
+    estar, face = strip_law(s)
+    c_h = hertz.strip_compliance(estar, face)
+    theta = np.array([0.18, 0.18])
+    u, _, _ = rigid(s, theta)
+    c = ref.contact_at(theta, u, (7.0, 7.0), 532.7)
+    x, wq = hertz.strip_quadrature()
+    ra = np.array([[math.cos(-theta[0]), -math.sin(-theta[0])], [math.sin(-theta[0]), math.cos(-theta[0])]])
+    rb = np.array([[math.cos(theta[1]), -math.sin(theta[1])], [math.sin(theta[1]), math.cos(theta[1])]])
+    ca, cb = s.gears[0].centre, s.gears[1].centre
+    ta = hertz.strip_coordinates(c.alpha, c.half_width, fa.r0, fa.r_tip, fa.ny, fa.base_radius, x)
+    tb = hertz.strip_coordinates(c.beta, c.half_width, fb.r0, fb.r_tip, fb.ny, fb.base_radius, x)
+    mean_a = sum(wk * (ca + ra @ fa.exact(t)) for wk, t in zip(wq, ta))
+    mean_b = sum(wk * (cb + rb @ fb.exact(t)) for wk, t in zip(wq, tb))
+    centre_gap = c.normal @ ((ca + ra @ fa.exact(c.alpha)) - (cb + rb @ fb.exact(c.beta)))
+    separation = centre_gap - c.normal @ (mean_a - mean_b)
+    assert separation == pytest.approx(c_h * 532.7, rel=0.02)
+
+
+def test_strip_jacobian_by_finite_differences(hertz_system):
+    """ds_bar/du along smooth displacements equals the strip's contact row of G."""
+    s, ref = hertz_system
+    rng = np.random.default_rng(3)
+    theta = np.array([0.1, 0.1])
+    u0, _, _ = rigid(s, theta)
+    y = np.concatenate([g.Y for g in s.gears]).reshape(-1, 2)
+    u0 = u0 + 1e-4 * np.column_stack([y[:, 1] ** 2, y[:, 0] * y[:, 1]]).ravel()
+    c = ref.contact_at(theta, u0, (5.0, 11.0), 3000.0)
+    assert c.half_width > 100e-6 and c.nodes_a.size >= 3
+    g = jacobian(s, theta, c)[-1, 2:]
+    for _ in range(3):
+        cx, cy = rng.standard_normal(6), rng.standard_normal(6)
+        z = y / 0.05
+        basis = np.column_stack([np.ones(len(y)), z[:, 0], z[:, 1], z[:, 0] ** 2, z[:, 0] * z[:, 1],
+                                 z[:, 1] ** 2])
+        du = np.column_stack([basis @ cx, basis @ cy]).ravel()
+        eps = 1e-9
+        sp = ref.contact_at(theta, u0 + eps * du, (c.alpha, c.beta), 3000.0).s
+        sm = ref.contact_at(theta, u0 - eps * du, (c.alpha, c.beta), 3000.0).s
+        assert (sp - sm) / (2 * eps) == pytest.approx(g @ du, rel=2e-5, abs=1e-9)
+
+
+def test_compiled_and_numpy_hertz_steps_agree():
+    """The two backends of the distributed contact, step by step at 20,000 rpm."""
+    case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE,
+                       contact="hertz")
+    system = build_system(PAIR, case)
+    fast, ref = CompiledStepper(system, case), PaperMethod(system, case)
+    st = initial_state(system, case)
+    worst = np.zeros(4)
+    peak, width = 0.0, 0.0
+    for i in range(300):
+        assert fast.step() == 0
+        st, rep = ref.step(st, i + 1)
+        assert rep.status == 0
+        S = fast.S
+        peak, width = max(peak, -st.x[-1]), max(width, st.contact.half_width)
+        worst = np.maximum(worst, [np.abs(S.u - st.u).max(), np.abs(S.v - st.v).max(),
+                                   abs(S.x[-1] - st.x[-1]), abs(S.cpar[5] - st.contact.half_width)])
+    assert peak > 20.0 and width > 10e-6
+    assert worst[0] < 1e-2 * case.tol_disp
+    assert worst[1] < 1e-2 * case.tol_vel
+    assert worst[2] < 1e-3
+    assert worst[3] < 1e-12
+
+
+def test_contact_choices_and_refusals():
+    base = dict(speed_a=400.0, speed_b=400.0, torque=1.0)
+    assert RunSettings(**base).contact in ("point", "hertz")
+    with pytest.raises(InputError, match="contact"):
+        RunSettings(**base, contact="line")
+    with pytest.raises(InputError, match="pinned"):
+        RunSettings(**base, contact="hertz", method="pinned")

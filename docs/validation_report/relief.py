@@ -133,8 +133,8 @@ two-pair model (or the real gears) would make and lose contact.
 as the paper says of the NASA gears. But in this one-tooth model a relief also makes the
 pair **rattle**: with the {NASA_LIKE_TIP_RELIEF * 1e6:.0f} µm relief the teeth first meet at
 {rows[2][1]}, approaching at {rows[2][5]} m/s, and bounce ({rows[2][6]} impacts, dynamic
-factor {rows[2][8]}); with 5 µm they meet at {rows[1][1]} at {rows[1][5]} m/s
-({rows[1][6]} impacts, {rows[1][8]}). Once set going, the bouncing continues through the
+factor {rows[2][9]}); with 5 µm they meet at {rows[1][1]} at {rows[1][5]} m/s
+({rows[1][6]} impacts, {rows[1][9]}). Once set going, the bouncing continues through the
 single-contact zone, where no relief acts.
 
 **Why: a limitation of the one-tooth model.** The Fig. 7 schedule puts the torque on the

@@ -8,6 +8,8 @@ run stopped early, which has no dynamic factor anywhere.
 from __future__ import annotations
 
 import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -277,3 +279,20 @@ def test_a_complete_run_has_its_factor_in_the_picture(case):
     averaged = [ln for ln in ax.get_lines() if ln.get_label() == "10-µs average"]
     assert len(averaged) == 1
     np.testing.assert_allclose(averaged[0].get_ydata(), moving_average(t, ds["contact_force"].values))
+
+
+@pytest.mark.parametrize("doc", ["README.md", "docs/cli.md"])
+def test_the_line_the_docs_quote_is_the_line_the_command_prints(doc):
+    text = (Path(__file__).resolve().parents[1] / doc).read_text()
+    line = next(ln for ln in text.splitlines() if ln.startswith("paper-fig8: complete"))
+    m = re.fullmatch(r"paper-fig8: complete, ([\d,]+) steps in ([\d.]+) s, peak ([\d,.]+) N = "
+                     r"([\d.]+) x static \(10-us average; raw ([\d,.]+) N\), (\d+) separation\(s\) "
+                     r"-> (\S+)", line)
+    assert m, line
+    num = lambda s: float(s.replace(",", ""))  # noqa: E731
+    summary = {"case": "paper-fig8", "status": "complete", "steps": int(num(m[1])),
+               "wall_s": num(m[2]), "peak_force_N": num(m[3]), "dynamic_factor": num(m[4]),
+               "peak_force_raw_N": num(m[5]), "separations": int(m[6]),
+               "averaging_window_s": AVERAGING_WINDOW_S}
+    assert f"{report_line(summary)} -> {m[7]}" == line
+    assert num(m[4]) == pytest.approx(num(m[3]) / 532.7, abs=6e-4)   # the factor is the average's

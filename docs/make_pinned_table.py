@@ -22,6 +22,7 @@ from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.solvers.loop import simulate
 from spurdyn.solvers.check import stable_step
 from spurdyn.result import Result
+from spurdyn.results.headline import averaged_peak, window_means
 from spurdyn.settings import RPM, RunSettings
 from spurdyn.model.system import build_system
 
@@ -29,13 +30,6 @@ from spurdyn.model.system import build_system
 CASES = (("Fig. 9, 8 × 28", 20000.0, 20000.0, 8, 28, 61, True),
          ("Fig. 10, 6 × 20", 4000.0, 4040.0, 6, 20, 61, True),
          ("Fig. 8, 12 × 40", 4000.0, 4000.0, 12, 40, 241, False))
-WINDOW = 10e-6
-
-
-def averaged(t: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The force averaged over a WINDOW-long moving window, and the windows' centres."""
-    n = max(int(round(WINDOW / (t[1] - t[0]))), 1)
-    return np.convolve(f, np.ones(n) / n, "valid"), t[n // 2:n // 2 + len(f) - n + 1]
 
 
 def describe(r: Result, wall: float, static: float) -> str:
@@ -66,11 +60,11 @@ def main() -> None:
         base = base.with_(dt=0.9 * stable_step(build_system(paper_pair(), base)))
         paper = describe(*timed(base), static)
         pin, wall = timed(base.with_(method="pinned"))
-        p_pin = float(averaged(pin.time, pin.contact_force)[0].max())
+        p_pin = averaged_peak(pin.time, pin.contact_force)[0]
         cell = f"{p_pin:,.1f} N"
         if compare:
             ref = simulate(paper_pair(), base.with_(n_spline=241))
-            fa, ta = averaged(ref.time, ref.contact_force)
+            ta, fa, _ = window_means(ref.time, ref.contact_force)
             past = ta[-1] - ta[int(np.argmax(fa))]
             note = "" if ref.status == "complete" else \
                 f", a run that stops at {math.degrees(ref.angle[-1]):.2f}°, {past * 1e6:.0f} µs after its peak"

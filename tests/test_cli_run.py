@@ -24,6 +24,7 @@ import xarray as xr
 
 from spurdyn.cli import run as runner
 from spurdyn.cli.main import main
+from spurdyn.results.headline import AVERAGING_WINDOW_S, moving_average
 from spurdyn.settings import METHODS
 from test_results_io import PNG_MAGIC, fake_simulate
 
@@ -76,16 +77,24 @@ def check_run_folder(d: Path) -> tuple[xr.Dataset, dict]:
     assert summary["steps"] == ds.attrs["steps"] and summary["samples"] == ds.sizes["time"]
     assert summary["dt_s"] == ds.attrs["dt_s"] == json.loads(ds.attrs["case"])["run"]["dt"]
     assert summary["n_dof"] == ds.attrs["n_dof"] > 0
-    if np.nanmax(force) > 0:
-        assert summary["peak_force_N"] == pytest.approx(np.nanmax(force))
+    if np.nanmax(force) > 0:  # the headline peak is the averaged force's, the raw one beside
+        averaged = np.nanmax(moving_average(ds["time"].values, force))
+        assert summary["peak_force_N"] == pytest.approx(averaged, rel=1e-12)
+        assert summary["peak_force_raw_N"] == pytest.approx(np.nanmax(force))
+        assert summary["peak_force_raw_N"] >= averaged
     else:  # no contact, no peak
         assert summary["peak_force_N"] is None and summary["dynamic_factor"] is None
+        assert summary["peak_force_raw_N"] is None and summary["dynamic_factor_raw"] is None
     assert summary["static_force_N"] == pytest.approx(ds.attrs["static_force_N"])
+    assert summary["averaging_window_s"] == AVERAGING_WINDOW_S and summary["dynamic_factor_note"]
     if summary["status"] == "complete" and summary["peak_force_N"] is not None:
         assert summary["dynamic_factor"] == pytest.approx(
             summary["peak_force_N"] / summary["static_force_N"])
+        assert summary["dynamic_factor_raw"] == pytest.approx(
+            summary["peak_force_raw_N"] / summary["static_force_N"])
     else:  # an incomplete run's largest force may be the spike that stopped it
-        assert summary["dynamic_factor"] is None
+        assert summary["dynamic_factor"] is None and summary["dynamic_factor_raw"] is None
+        assert summary["dynamic_factor_note"].startswith("none:")
     assert summary["angle_deg"] == pytest.approx(ds["angle_deg"].values[-1])
     assert summary["time_s"] == pytest.approx(ds["time"].values[-1])
     for stage in ("displacement", "velocity", "acceleration"):
@@ -112,6 +121,10 @@ def test_run_preset_end_to_end(fake, here, capsys):
     assert f"plot: {Path('out') / 'paper-fig9' / 'contact_force.png'}" in out
     ds, summary = check_run_folder(d)
     assert summary["status"] == "complete" and ds.attrs["status"] == "complete"
+    # the line's headline is the averaged peak and its factor, the raw peak beside it
+    assert (f"peak {summary['peak_force_N']:,.1f} N = {summary['dynamic_factor']:.3f} x static "
+            f"(10-us average; raw {summary['peak_force_raw_N']:,.1f} N)") in out
+    assert summary["peak_force_N"] < summary["peak_force_raw_N"]   # the ripple is gone
     assert summary["speed_a_rpm"] == pytest.approx(20000.0)
     assert summary["steps"] == math.ceil(math.radians(0.3) / (20000 * 2 * math.pi / 60 * 3e-8))
     assert ds["time"].attrs["units"] == "s" and ds["contact_force"].attrs["units"] == "N"
@@ -325,6 +338,10 @@ def test_non_convergence_is_incomplete(fake, here, capsys):
     assert code == 1 and "did not converge" in err
     _, summary = check_run_folder(here / "out" / "paper-fig10")
     assert summary["status"] == "incomplete" and "converge" in summary["reason"]
+    # stopped early: the line says so and gives no factor, final or not
+    assert "stopped early: no dynamic factor" in err and "x static" not in out + err
+    assert summary["peak_force_N"] is not None and summary["dynamic_factor"] is None
+    assert "stopped early (velocity stage did not" in summary["dynamic_factor_note"]
 
 
 def test_interrupt_escaping_the_solver_leaves_nothing(here, capsys, monkeypatch):

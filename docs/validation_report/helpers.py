@@ -13,27 +13,28 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .settings import WINDOW
+from .spurdyn_api import window_means
 
 
 def moving_average(t: NDArray[np.float64], f: NDArray[np.float64],
                    window: float = WINDOW) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Centred moving average of ``f`` over ``window`` seconds (``t`` uniform).
+    """Centred moving average of ``f`` over ``window`` seconds, by spurdyn's own rule.
 
-    Returns ``(f_avg, t_avg)``: the mean of each run of ``k = round(window / dt)``
-    consecutive samples and the time of its centre. The first and last ``window / 2``
-    are dropped (only full windows are kept).
+    The average is :func:`spurdyn.results.headline.window_means`, the one that makes the
+    dynamic factor of ``spurdyn run`` (the piecewise-linear force integrated over the
+    window, steps weighted by their length). Returns ``(f_avg, t_avg)`` for the windows
+    wholly inside the record: the mean and the centre of the window about each sample
+    at least ``window / 2`` from both ends.
     """
     t = np.asarray(t, dtype=float)
     f = np.asarray(f, dtype=float)
     if t.size < 2:
         raise ValueError("need at least two samples")
-    k = max(1, int(round(window / (t[1] - t[0]))))
-    if k > f.size:
+    if window > t[-1] - t[0]:
         raise ValueError("the window is longer than the record")
-    c = np.concatenate([[0.0], np.cumsum(f)])
-    avg = (c[k:] - c[:-k]) / k
-    centre = 0.5 * (t[:f.size - k + 1] + t[k - 1:])
-    return avg, centre
+    centre, mean, keep = window_means(t, f, window)
+    whole = centre == t[keep]
+    return mean[whole], centre[whole]
 
 
 def window_gain(freq: float, window: float = WINDOW) -> float:
@@ -43,7 +44,9 @@ def window_gain(freq: float, window: float = WINDOW) -> float:
 
 
 def dynamic_factor(force: NDArray[np.float64], static: float) -> float:
-    """Peak force over the quasi-static force (NaN when there is no contact)."""
+    """The raw factor: the largest force over the quasi-static force (NaN when there is no
+    contact). The dynamic factor ``spurdyn run`` reports is that of the 10-us average
+    (:func:`moving_average`)."""
     force = np.asarray(force, dtype=float)
     peak = float(np.nanmax(force)) if force.size else 0.0
     if not static > 0:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from .spurdyn_api import AVERAGING_WINDOW_S
+
 #: ``docs/``: the report, its figures and its cache live beside this package.
 DOCS = Path(__file__).resolve().parent.parent
 ROOT = DOCS.parent
@@ -15,8 +17,9 @@ REPORT = DOCS / "validation.md"
 SWEEP_FRAGMENT = DOCS / "validation_sweep.md"
 SWEEP_SCRIPT = DOCS / "make_sweep_figures.py"
 
-#: Width of the moving window that the runs are compared on (s).
-WINDOW = 10e-6
+#: Width of the moving window that the runs are compared on (s): the one of spurdyn's
+#: dynamic factor.
+WINDOW = AVERAGING_WINDOW_S
 #: Acceptance of a mesh: peak of the 10-us-averaged force within this of the next finer mesh.
 MESH_CRITERION = 0.03
 #: Stable RK4 steps are used at this fraction in the mesh study.

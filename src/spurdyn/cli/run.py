@@ -228,22 +228,38 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
     return summary
 
 
+def report_line(summary: dict[str, Any]) -> str:
+    """The command's one line about a finished run (without the folder).
+
+    A complete run gives the peak of its 10-us-averaged contact force and that peak's
+    dynamic factor (the headline, :mod:`spurdyn.results.headline`), with the raw
+    step-to-step peak beside it; a run stopped early says so and gives no factor.
+    """
+    steps = f"{summary['steps']:,} steps"
+    if summary["status"] != "complete":
+        return (f"{summary['case']} incomplete: {summary['reason'] or 'stopped'}; {steps} "
+                f"({summary['angle_deg']:.3f} of {summary['angle_target_deg']:.3f} deg); "
+                "stopped early: no dynamic factor")
+    peak, dyn = summary.get("peak_force_N"), summary.get("dynamic_factor")
+    raw = summary.get("peak_force_raw_N")
+    window = f"{summary.get('averaging_window_s', 10e-6) * 1e6:g}-us average"
+    if peak is None:
+        peak_s = "no contact"
+    else:
+        peak_s = f"peak {peak:,.1f} N" + (f" = {dyn:.3f} x static" if dyn is not None else "") \
+            + f" ({window}; raw {raw:,.1f} N)"
+    return (f"{summary['case']}: complete, {steps} in {summary['wall_s']:.1f} s, {peak_s}, "
+            f"{summary['separations']} separation(s)")
+
+
 def _report(summary: dict[str, Any], quiet: bool) -> None:
     out = summary["out"]
     if summary["status"] == "complete":
         if not quiet:
-            dyn = summary.get("dynamic_factor")
-            peak = summary.get("peak_force_N")
-            peak_s = "no contact" if peak is None else f"peak {peak:,.1f} N" + \
-                (f" = {dyn:.3f} x static" if dyn is not None else "")
-            print(f"{summary['case']}: complete, {summary['steps']:,} steps in "
-                  f"{summary['wall_s']:.1f} s, {peak_s}, {summary['separations']} "
-                  f"separation(s) -> {out}", flush=True)
+            print(f"{report_line(summary)} -> {out}", flush=True)
             print(f"  plot: {Path(out) / 'contact_force.png'}", flush=True)
     else:
-        print(f"spurdyn: {summary['case']} incomplete: {summary['reason'] or 'stopped'}; "
-              f"{summary['steps']:,} steps ({summary['angle_deg']:.3f} deg) kept in {out}",
-              file=sys.stderr, flush=True)
+        print(f"spurdyn: {report_line(summary)}; kept in {out}", file=sys.stderr, flush=True)
 
 
 # -- several runs ----------------------------------------------------------------------

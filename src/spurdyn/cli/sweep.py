@@ -178,7 +178,9 @@ def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:
     if ok.any():
         idx = np.unravel_index(np.nanargmax(np.where(ok, factor, -np.inf)), factor.shape)
         rpm = float(np.atleast_1d(ds["rpm"].values)[idx[0]])
-        extra = f"; largest dynamic factor {factor[idx]:.3f} at {rpm:,.0f} rpm"
+        extra = (f"; largest dynamic factor {factor[idx]:.3f} (of the "
+                 f"{ds.attrs.get('averaging_window_s', 10e-6) * 1e6:g}-us average) at "
+                 f"{rpm:,.0f} rpm")
     print(f"f_n = {resonance.natural_frequency_hz / 1e3:.3f} kHz (mean mesh stiffness "
           f"{resonance.mesh_stiffness_mean:.3g} N/m): mesh resonance expected at "
           f"{resonance.resonance_rpm:,.0f} rpm{extra}")

@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 from spurdyn.casefile import Case, case_to_dict
 from spurdyn.errors import InputError
 from spurdyn.results.frames import ToothFrames, case_from_run, speeds_label, tooth_frames
+from spurdyn.results.headline import headline
 from spurdyn.result import STAGES, Result
 
 RESULT_FILE = "result.nc"
@@ -277,25 +278,28 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     -------
     dict
         ``case``, ``status``, ``reason``, ``steps``, ``dt_s``, ``wall_s``, ``n_dof``,
-        ``peak_force_N`` (``None`` when the teeth never touched),
-        ``mean_force_single_zone_N`` (``None`` when the run never reached the
-        single-contact zone), ``static_force_N``, ``dynamic_factor`` (peak/static; ``None``
-        for an incomplete run, whose largest force may be the spike that stopped it),
-        ``model`` (only for a model other than the FE one), ``separations`` (how many times contact was lost after first
-        being made, see :func:`separation_times`) and ``separation_times_s``, ``iterations_mean`` and ``residual_max`` per stage,
-        and more.
+        ``peak_force_N`` and ``peak_angle_deg`` (the peak of the contact force averaged
+        over a centred 10-us window, :mod:`spurdyn.results.headline`; ``None`` when the
+        teeth never touched), ``peak_force_raw_N`` and ``peak_angle_raw_deg`` (the largest
+        saved force), ``mean_force_single_zone_N`` (``None`` when the run never reached
+        the single-contact zone), ``static_force_N``, ``dynamic_factor`` (averaged peak /
+        static) and ``dynamic_factor_raw`` (raw peak / static), both ``None`` for an
+        incomplete run, whose largest force may be the spike that stopped it;
+        ``dynamic_factor_note`` (what the factor is, or why there is none),
+        ``averaging_window_s``, ``model`` (only for a model other than the FE one),
+        ``separations`` (how many times contact was lost after first being made, see
+        :func:`separation_times`) and ``separation_times_s``, ``iterations_mean`` and
+        ``residual_max`` per stage, and more.
     """
     force = ds["contact_force"].values.astype(float)
     angle = ds["angle_deg"].values.astype(float)
     time = ds["time"].values.astype(float)
     finite = np.isfinite(force)
-    touched = finite & (force > 0.0)  # no contact: no peak (not a "peak" of -0.0 N)
-    peak = float(np.max(force[touched])) if touched.any() else float("nan")
-    peak_at = float(angle[touched][np.argmax(force[touched])]) if touched.any() else float("nan")
     complete = ds.attrs["status"] == "complete"
     zone = np.asarray(ds.attrs["single_zone_deg"], float).reshape(2)
     in_zone = finite & (angle >= zone[0]) & (angle <= zone[1])
     static = float(ds.attrs["static_force_N"])
+    head = headline(time, angle, force, static, complete, str(ds.attrs.get("reason", "")))
     seps = separation_times(ds)
     contact = _in_contact(force)
     first = time[np.argmax(contact)] if contact.any() else None
@@ -325,12 +329,16 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         "angle_target_deg": float(ds.attrs["angle_target_deg"]),
         "theta_s_deg": float(ds.attrs["theta_s_deg"]),
         "single_zone_deg": [float(zone[0]), float(zone[1])],
-        "peak_force_N": peak,
-        "peak_angle_deg": peak_at,
+        "peak_force_N": head.peak_force,
+        "peak_angle_deg": head.peak_angle_deg,
+        "peak_force_raw_N": head.peak_force_raw,
+        "peak_angle_raw_deg": head.peak_angle_raw_deg,
         "mean_force_single_zone_N": float(np.mean(force[in_zone])) if in_zone.any() else None,
         "static_force_N": static,
-        # An incomplete run's largest force may be the spike that stopped it.
-        "dynamic_factor": peak / static if static > 0 and complete else None,
+        "dynamic_factor": head.dynamic_factor,
+        "dynamic_factor_raw": head.dynamic_factor_raw,
+        "dynamic_factor_note": head.note,
+        "averaging_window_s": head.window_s,
         "first_contact_s": None if first is None else float(first),
         "contact": case["run"].get("contact", "point"),
         "contact_pressure_max_Pa": _max_or_none(ds, "contact_pressure_max"),

@@ -12,6 +12,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from spurdyn.results.frames import speeds_label
+from spurdyn.results.headline import AVERAGING_WINDOW_S, headline, moving_average
 
 # Figures are made with the object API (Figure, saved through the Agg canvas), not pyplot:
 # no GUI backend, nothing global, and a quicker start (pyplot costs ~0.3 s to import).
@@ -37,7 +38,10 @@ def draw_contact_force(ax: Axes, runs: Sequence[xr.Dataset], *, zones: bool = Tr
 
     The first run's double-contact zones are shaded and its single-contact zone marked;
     each distinct quasi-static force (torque over the driver's base radius) is a dashed
-    line. The angle axis spans the longest angle a run set out to cover.
+    line. Each run is drawn thin as computed and thick averaged over the headline window
+    of :mod:`spurdyn.results.headline`, the peak of that average marked (for one run,
+    with its dynamic factor). The angle axis spans the longest angle a run set out to
+    cover.
     """
     first = runs[0]
     theta_s = float(first.attrs["theta_s_deg"])
@@ -63,17 +67,24 @@ def draw_contact_force(ax: Axes, runs: Sequence[xr.Dataset], *, zones: bool = Tr
                                     "color": "0.5", "lw": 0.8})
     statics: list[float] = []
     colours = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
-    labels = _labels(runs) if len(runs) > 1 else ["contact force" + (
+    single = len(runs) == 1
+    labels = _labels(runs) if not single else ["contact force" + (
         "" if first.attrs.get("status") == "complete" else " [incomplete]")]
+    window = f"{AVERAGING_WINDOW_S * 1e6:g}-µs average"
     for i, (ds, label) in enumerate(zip(runs, labels)):
         colour = colours[i % len(colours)]
-        ax.plot(ds["angle_deg"].values, ds["contact_force"].values, color=colour, lw=1.0,
-                label=label)
+        angle = ds["angle_deg"].values
+        force = ds["contact_force"].values
+        ax.plot(angle, force, color=colour, lw=0.6 if single else 0.5, alpha=0.55,
+                label=label + (", raw" if single else ""))
+        _draw_average(ax, ds, colour, window if single else None)
         static = float(ds.attrs["static_force_N"])
         if not any(np.isclose(static, s, rtol=1e-9) for s in statics):
             statics.append(static)
             ax.axhline(static, color="k" if len(runs) == 1 else colour, ls="--", lw=0.9,
                        label=f"quasi-static torque/r_b = {static:,.0f} N")
+    if not single:
+        ax.plot([], [], color="0.3", lw=1.6, label=f"thick: {window}; thin: raw")
     ax.set_xlim(0.0, xmax)
     ax.set_ylim(bottom=0.0)
     ax.set_xlabel("rotation of gear A since the start of contact (deg)")
@@ -81,6 +92,31 @@ def draw_contact_force(ax: Axes, runs: Sequence[xr.Dataset], *, zones: bool = Tr
     ax.grid(True, lw=0.3, alpha=0.6)
     if legend:
         ax.legend(loc="best", fontsize=8)
+
+
+def _draw_average(ax: Axes, ds: xr.Dataset, colour: str, label: str | None) -> None:
+    """The run's contact force averaged over the headline window, and its peak marked.
+
+    The peak is the one of ``summary.json``'s ``peak_force_N`` and ``dynamic_factor``
+    (:mod:`spurdyn.results.headline`); with ``label`` the line and the peak get legend
+    entries, the peak's with its dynamic factor, or the word that there is none.
+    """
+    time = ds["time"].values.astype(float)
+    angle = ds["angle_deg"].values.astype(float)
+    force = ds["contact_force"].values.astype(float)
+    if not np.isfinite(force).any():
+        return
+    ax.plot(angle, moving_average(time, force), color=colour, lw=1.6, label=label)
+    head = headline(time, angle, force, float(ds.attrs["static_force_N"]),
+                    ds.attrs.get("status") == "complete", str(ds.attrs.get("reason", "")))
+    if head.peak_force is None:
+        return
+    if head.dynamic_factor is not None:
+        text = f"peak of the average {head.peak_force:,.1f} N = {head.dynamic_factor:.3f} x static"
+    else:
+        text = f"peak so far {head.peak_force:,.1f} N (stopped early: no dynamic factor)"
+    ax.plot([head.peak_angle_deg], [head.peak_force], ls="none", marker="o", ms=5,
+            mfc="white", mec=colour, mew=1.4, zorder=5, label=text if label else None)
 
 
 #: Characters per title line that fit the 8-inch picture at font size 10, and the most

@@ -1,8 +1,10 @@
 """The dynamic factor against speed (Matplotlib, no screen needed).
 
 One curve per model in the folder (FE solid blue with dots, lumped dashed orange; with
-several torques, one colour per torque); incomplete points hollow, failed and missing points left out of the curves and
-ticked along the bottom. The top axis is the tooth mesh frequency; the speed at which
+several torques, one colour per torque) of the dynamic factor of the 10-us-averaged
+contact force (:mod:`spurdyn.results.headline`). A run stopped early has no factor: a gap
+in its curve and a hollow mark along the bottom; failed and missing points are left out
+of the curves and ticked along the bottom. The top axis is the tooth mesh frequency; the speed at which
 the mesh frequency equals the estimated torsional natural frequency ``f_n`` is marked
 (and, lighter, the speed at which twice the mesh frequency does).
 """
@@ -19,6 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from spurdyn.results.headline import AVERAGING_WINDOW_S  # noqa: E402
 from spurdyn.sweep.resonance import ResonanceEstimate  # noqa: E402
 from spurdyn.sweep.store import STATUS_CODES, model_datasets  # noqa: E402
 
@@ -51,18 +54,21 @@ def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
             rpm = part["rpm"].values.astype(float)
             if rpm.size:
                 lo, hi = min(lo, rpm.min()), max(hi, rpm.max())
-            factor = part["dynamic_factor"].values.astype(float)
             status = part["status"].values
             ok = status == STATUS_CODES["complete"]
             partial = status == STATUS_CODES["incomplete"]
+            # a run stopped early has no factor: a gap in the curve, a hollow mark below
+            factor = np.where(ok, part["dynamic_factor"].values.astype(float), np.nan)
             shown = ok | partial
             label = style["label"] + (f", {torque:g} N m" if len(torques) > 1 else "")
             colour = line_colour(model, torques.index(torque), len(torques))
             ax.plot(rpm[shown], factor[shown], ls=style["ls"], color=colour, lw=1.4,
                     marker=style["marker"], ms=3.5 if rpm.size <= 60 else 1.5, label=label)
             if partial.any():
-                ax.plot(rpm[partial], factor[partial], ls="none", marker=style["marker"],
-                        ms=7, mfc="white", mec=colour, label=f"{model}: incomplete run")
+                ax.plot(rpm[partial], np.zeros(int(partial.sum())), ls="none",
+                        marker=style["marker"], ms=7, mfc="white", mec=colour, clip_on=False,
+                        transform=ax.get_xaxis_transform(),
+                        label=f"{model}: run stopped early (no factor)")
             lost = (status == STATUS_CODES["failed"]) | (status == STATUS_CODES["not_run"])
             if lost.any():
                 ax.plot(rpm[lost], np.zeros(int(lost.sum())), ls="none", marker="x",
@@ -81,7 +87,8 @@ def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
                             xytext=(4, -4), textcoords="offset points", ha="left", va="top",
                             fontsize=7.5, color="C3", alpha=min(1.0, alpha + 0.1))
     ax.set_xlabel("speed of gear A (rpm)")
-    ax.set_ylabel("dynamic factor  (peak contact force / static force)")
+    ax.set_ylabel(f"dynamic factor  (peak of the {AVERAGING_WINDOW_S * 1e6:g}-µs average of the"
+                  "\ncontact force / static force)")
     ax.grid(True, lw=0.4, alpha=0.5)
     if resonance is not None:
         z = resonance.teeth_a

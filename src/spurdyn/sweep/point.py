@@ -20,28 +20,28 @@ import numpy as np
 
 from spurdyn.casefile import Case
 from spurdyn.result import Result
+from spurdyn.results.headline import AVERAGING_WINDOW_S
 from spurdyn.sweep.spec import PointKey
 
 #: Outcomes of a point, in the order of their codes in ``sweep.nc`` (see
 #: :data:`spurdyn.sweep.store.STATUS_CODES`).
 COMPLETE, INCOMPLETE, FAILED = "complete", "incomplete", "failed"
 
-#: Length (s) of the moving window of ``peak_force_smoothed``: it keeps everything at and
-#: below the mesh frequencies and takes out the ripple of local tooth modes excited by the
-#: contact point sweeping across elements (docs/sweep.md).
-SMOOTHING_WINDOW_S = 10e-6
+_WINDOW = f"{AVERAGING_WINDOW_S * 1e6:g} us"
 
 #: Figures of a point: name -> (units, long name). All come from
 #: :func:`spurdyn.results.io.summarize` of the run, as ``spurdyn run`` writes them,
 #: except ``rms_force`` (computed here, from the same data set).
 FIGURES: dict[str, tuple[str, str]] = {
-    "peak_force": ("N", "largest contact force of the engagement"),
-    "peak_angle_deg": ("degree", "rotation of A at the largest contact force"),
-    "dynamic_factor": ("1", "peak contact force over the quasi-static force torque / r_b"),
-    "peak_force_smoothed": ("N", "largest contact force averaged over a centred moving "
-                            f"window of {SMOOTHING_WINDOW_S * 1e6:g} us (the ripple of local "
-                            "tooth modes taken out)"),
-    "dynamic_factor_smoothed": ("1", "peak_force_smoothed over the quasi-static force"),
+    "peak_force": ("N", "peak of the contact force averaged over a centred moving window "
+                   f"of {_WINDOW} (the ripple of local tooth modes taken out)"),
+    "peak_angle_deg": ("degree", "rotation of A at the centre of the window of peak_force"),
+    "dynamic_factor": ("1", "peak_force over the quasi-static force torque / r_b (NaN for "
+                       "a run stopped early: see status)"),
+    "peak_force_raw": ("N", "largest saved contact force of the engagement (not converged: "
+                       "carries the ripple of local tooth modes)"),
+    "dynamic_factor_raw": ("1", "peak_force_raw over the quasi-static force (NaN for a run "
+                           "stopped early)"),
     "mean_force_single_zone": ("N", "mean contact force in the single-contact zone"),
     "rms_force": ("N", "root mean square of the contact force over the saved steps of the "
                   "engagement (contact-free steps count as zero)"),
@@ -123,25 +123,6 @@ def simulate_model(model: str, case: Case) -> Result:
     return MODELS[model](case.pair, case.run)
 
 
-def smoothed_peak(time: np.ndarray, force: np.ndarray,
-                  window_s: float = SMOOTHING_WINDOW_S) -> float | None:
-    """Largest value of ``force`` averaged over a centred moving window of ``window_s``.
-
-    On an even time grid (the saved steps); the window is shortened at the ends, a
-    non-finite sample counts as no force. ``None`` for no samples.
-    """
-    n = force.size
-    if n == 0:
-        return None
-    f = np.nan_to_num(np.asarray(force, float), nan=0.0, posinf=0.0, neginf=0.0)
-    h = float(time[1] - time[0]) if n > 1 else window_s
-    half = max(0, int(round(window_s / h / 2))) if h > 0 else 0
-    c = np.concatenate([[0.0], np.cumsum(f)])
-    i = np.arange(n)
-    lo, hi = np.maximum(i - half, 0), np.minimum(i + half + 1, n)
-    return float(np.max((c[hi] - c[lo]) / (hi - lo)))
-
-
 def point_figures(result: Result, case: Case) -> dict[str, Any]:
     """The figures (:data:`FIGURES`) of a run, through the run folder's own summary.
 
@@ -156,15 +137,12 @@ def point_figures(result: Result, case: Case) -> dict[str, Any]:
     force = np.asarray(ds["contact_force"].values, float)
     finite = force[np.isfinite(force)]
     rms = float(np.sqrt(np.mean(finite * finite))) if finite.size else None
-    smoothed = smoothed_peak(np.asarray(ds["time"].values, float), force)
-    static = s["static_force_N"]
     return {
         "peak_force": s["peak_force_N"],
-        "peak_force_smoothed": smoothed,
-        "dynamic_factor_smoothed": (smoothed / static if smoothed is not None and static
-                                    and static > 0 else None),
         "peak_angle_deg": s["peak_angle_deg"],
         "dynamic_factor": s["dynamic_factor"],
+        "peak_force_raw": s["peak_force_raw_N"],
+        "dynamic_factor_raw": s["dynamic_factor_raw"],
         "mean_force_single_zone": s["mean_force_single_zone_N"],
         "rms_force": rms,
         "separations": s["separations"],

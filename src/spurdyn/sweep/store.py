@@ -28,6 +28,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 import xarray as xr
 
+from spurdyn.results.headline import AVERAGING_WINDOW_S
 from spurdyn.sweep.point import COMPLETE, FAILED, FIGURES, INCOMPLETE, PointOutcome
 from spurdyn.sweep.spec import MODELS, PointKey, SweepPlan, settings_dict
 
@@ -41,7 +42,8 @@ NOT_RUN, NOT_REQUESTED = "not_run", "not_requested"
 STATUS_CODES: dict[str, int] = {COMPLETE: 0, INCOMPLETE: 1, FAILED: 2, NOT_RUN: 3,
                                 NOT_REQUESTED: 4}
 STATUS_LEGEND = (
-    "0 complete; 1 incomplete (the run stopped early: non-convergence, NaN; see reason); "
+    "0 complete; 1 incomplete (the run stopped early: non-convergence, NaN; see reason; "
+    "no dynamic factor); "
     "2 failed (an error, see reason; computed again by the next run of the command); "
     "3 not_run (interrupted, lost with its worker, or not computed yet; computed by the "
     "next run of the command); 4 not_requested (sweep.nc only: this model's sweep did not "
@@ -49,6 +51,12 @@ STATUS_LEGEND = (
 
 #: Points with these statuses are final: a rerun does not compute them again.
 FINAL = (COMPLETE, INCOMPLETE)
+
+#: A figure that point files and sweep files have had since the dynamic factor became
+#: that of the 10-us-averaged force (:mod:`spurdyn.results.headline`). Files without it
+#: hold the raw peak's factor under that name: their points are computed again and their
+#: sweeps left out of ``sweep.nc`` until they are, rather than mixed with today's.
+CURRENT_FIGURE = "dynamic_factor_raw"
 
 
 def sweep_file(model: str) -> str:
@@ -111,13 +119,16 @@ def write_point(out: Path, outcome: PointOutcome,
 
 
 def read_point(out: Path, key: PointKey) -> dict[str, Any] | None:
-    """The stored record of a point, or ``None`` (no file, or one that cannot be read)."""
+    """The stored record of a point, or ``None`` (no file, one that cannot be read, or
+    one written before the headline became the averaged force: :data:`CURRENT_FIGURE`)."""
     path = point_path(out, key)
     try:
         record = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
     if not isinstance(record, dict) or record.get("status") not in STATUS_CODES:
+        return None
+    if record["status"] != FAILED and CURRENT_FIGURE not in record:
         return None
     return record
 
@@ -133,6 +144,17 @@ def stored_points(out: Path, keys: Iterable[PointKey]) -> dict[PointKey, dict[st
 
 
 # -- the sweep data set ----------------------------------------------------------------
+
+def headline_attrs() -> dict[str, Any]:
+    """Global attributes saying what ``dynamic_factor`` is (the same in every sweep file)."""
+    return {"averaging_window_s": AVERAGING_WINDOW_S,
+            "dynamic_factor_note": (
+                "dynamic_factor is the peak of the contact force averaged over a centred "
+                f"{AVERAGING_WINDOW_S * 1e6:g} us moving window over the quasi-static force "
+                "torque / r_b (spurdyn.results.headline); dynamic_factor_raw is the raw "
+                "step-to-step peak's, which is not converged. Both are NaN where the run "
+                "stopped early (status 1, incomplete) or has no result.")}
+
 
 def _status_attrs() -> dict[str, Any]:
     return {"long_name": "outcome of the point",
@@ -216,6 +238,7 @@ def sweep_dataset(plan: SweepPlan, records: Mapping[PointKey, Mapping[str, Any]]
         "torque_dimension": int(plan.torques is not None),
         "points": int(rpms.size * torques.size),
         "status_legend": STATUS_LEGEND,
+        **headline_attrs(),
         "spurdyn_version": __version__,
         "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
@@ -248,15 +271,18 @@ def load_dataset(path: Path) -> xr.Dataset:
 
 
 def model_datasets(out: Path) -> dict[str, xr.Dataset]:
-    """The ``sweep_<model>.nc`` files in ``out``, by model (unreadable ones left out)."""
+    """The ``sweep_<model>.nc`` files in ``out``, by model (unreadable ones and those
+    written before the headline became the averaged force left out)."""
     found = {}
     for model in MODELS:
         path = out / sweep_file(model)
         if path.is_file():
             try:
-                found[model] = load_dataset(path)
+                ds = load_dataset(path)
             except (OSError, ValueError):
                 continue
+            if CURRENT_FIGURE in ds:
+                found[model] = ds
     return found
 
 
@@ -304,6 +330,7 @@ def combine(datasets: Mapping[str, xr.Dataset]) -> xr.Dataset:
         "status_legend": STATUS_LEGEND,
         "models": " ".join(models),
         "same_settings": int(len({ds.attrs.get("settings_hash") for ds in parts}) == 1),
+        **headline_attrs(),
         "spurdyn_version": first.get("spurdyn_version", ""),
     }
     for key in ("natural_frequency_hz", "mesh_stiffness_mean", "resonance_rpm",
@@ -333,6 +360,6 @@ def write_sweep_files(out: Path, ds: xr.Dataset) -> tuple[Path, Path]:
 
 
 __all__ = ["POINTS_DIR", "RUNS_DIR", "SWEEP_FILE", "PNG_FILE", "STATUS_CODES", "STATUS_LEGEND",
-           "FINAL", "combine", "load_dataset", "model_datasets", "point_path", "point_record",
+           "FINAL", "CURRENT_FIGURE", "combine", "load_dataset", "model_datasets", "point_path", "point_record",
            "read_point", "run_path", "stored_points", "statuses", "sweep_dataset",
            "sweep_file", "write_dataset", "write_point", "write_sweep_files"]

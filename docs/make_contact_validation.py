@@ -26,7 +26,7 @@ from spurdyn.cases import resolve_cases
 from spurdyn.contact.hertz import half_width, peak_pressure, strip_compliance
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.model.system import build_system, system_for
-from spurdyn.sweep.point import smoothed_peak
+from spurdyn.results.headline import averaged_peak
 from spurdyn.settings import RPM
 from spurdyn.simulators import MODELS
 from spurdyn.solvers.check import stable_step
@@ -56,7 +56,7 @@ def _run(spec: str, **over: Any) -> dict[str, Any]:
     out = {"status": res.status, "reason": res.reason, "steps": int(res.steps), "wall_s": wall,
            "angle_deg": float(np.degrees(res.angle[-1])) if len(res.angle) else 0.0,
            "peak_raw_N": float(np.nanmax(f)) if f.size else float("nan"),
-           "peak_avg_N": smoothed_peak(np.asarray(res.time, float), f) or float("nan"), "static_N": static,
+           "peak_avg_N": (averaged_peak(res.time, f) or (float("nan"),))[0], "static_N": static,
            "dt_s": case.run.dt, "contact": case.run.contact}
     if res.contact_pressure_max is not None:
         out["pressure_max_Pa"] = float(np.nanmax(res.contact_pressure_max))
@@ -80,8 +80,10 @@ def part_stiffness() -> dict[str, Any]:
         rows.append({"mesh": f"{nx} x {ny}", "point": pt.stiffness, "hertz": hz.stiffness,
                      "strip_only": 1.0 / (hz.compliance_a + hz.compliance_b),
                      "h_um": h * 1e6, "b_um": hz.half_width * 1e6})
+    from spurdyn.lumped.model import torsional_natural_frequency
+    freq = {c: float(torsional_natural_frequency(pair, rows[0][c])) for c in ("point", "hertz")}
     return {"force_N": force, "c_h": strip_compliance(*strip_law(system_for(pair, 4, 14, 61))),
-            "rows": rows}
+            "rows": rows, "frequency_4x14_Hz": freq}
 
 
 def part_presets() -> dict[str, Any]:

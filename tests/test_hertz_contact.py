@@ -3,7 +3,9 @@ formulas, the strip quadrature, the strip rows as consistent loads and their com
 twin, the strip gap of rigid teeth, its curvature compliance, its Jacobian by finite
 differences, and the compiled step against the NumPy step."""
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -244,3 +246,69 @@ def test_contact_choices_and_refusals():
         RunSettings(**base, contact="line")
     with pytest.raises(InputError, match="pinned"):
         RunSettings(**base, contact="hertz", method="pinned")
+
+
+def test_static_point_stiffness_is_the_models_and_the_strip_is_softer_by_its_compliances():
+    """``statics.static_stiffness`` with the point is ``model.stiffness``'s pitch-point
+    figure; with the strip, 1 / (c_A + c_B + c_H) with c_H the curvature compliance."""
+    from spurdyn.model.stiffness import pitch_point_stiffness
+    from spurdyn.model.tooth import build_tooth
+    from spurdyn.solvers.paper.statics import static_stiffness
+
+    s = build_system(PAIR, RunSettings(speed_a=1.0, speed_b=1.0, torque=PAPER_TORQUE))
+    force = PAPER_TORQUE / PAIR.gear_a.base_radius
+    point = static_stiffness(s, PAIR.pitch_roll_a, force, "point")
+    teeth = build_tooth(PAIR.gear_a), build_tooth(PAIR.gear_b)
+    assert point.stiffness == pytest.approx(pitch_point_stiffness(PAIR, *teeth), rel=1e-6)
+    strip = static_stiffness(s, PAIR.pitch_roll_a, force, "hertz")
+    assert strip.half_width == pytest.approx(84e-6, rel=0.01)
+    assert strip.compliance_strip == pytest.approx(hertz.strip_compliance(*strip_law(s)))
+    assert strip.stiffness == pytest.approx(
+        1 / (strip.compliance_a + strip.compliance_b + strip.compliance_strip), rel=1e-12)
+    assert strip.stiffness < point.stiffness
+
+
+def test_info_reports_the_stiffness_of_the_contact_asked_for(capsys):
+    from spurdyn.cli.main import main
+
+    def info(*extra):
+        assert main(["info", "paper", "--json", *extra]) == 0
+        return json.loads(capsys.readouterr().out)
+
+    point, strip = info(), info("--contact", "hertz")
+    assert point["contact"] == "point" and strip["contact"] == "hertz"
+    assert strip["contact_force_N"] == pytest.approx(PAPER_TORQUE / PAIR.gear_a.base_radius)
+    assert strip["pair_stiffness_pitch_N_per_m"] < point["pair_stiffness_pitch_N_per_m"]
+    heavier = info("--contact", "hertz", "--torque", str(4 * PAPER_TORQUE))
+    # a wider strip spreads the load: the pair is stiffer under more load
+    assert heavier["strip_half_width_pitch_m"] == pytest.approx(2 * strip["strip_half_width_pitch_m"])
+    assert heavier["pair_stiffness_pitch_N_per_m"] > strip["pair_stiffness_pitch_N_per_m"]
+
+
+def test_case_files_default_to_the_strip_and_presets_to_the_point(tmp_path):
+    from spurdyn.cases import resolve_cases
+
+    examples = Path(__file__).resolve().parents[1] / "examples"
+    assert resolve_cases("paper-fig8")[0].run.contact == "point"
+    assert resolve_cases(str(examples / "pinion_gear.toml"))[0].run.contact == "hertz"
+    assert resolve_cases("paper-fig8", {"run.contact": "hertz"})[0].run.contact == "hertz"
+    text = (examples / "pinion_gear.toml").read_text()
+    pinned = tmp_path / "pinned.toml"
+    pinned.write_text(text.replace("[run]\n", '[run]\nmethod = "pinned"\n'))
+    # "pinned" is the point contact's fallback: a file asking for it gets the point
+    assert resolve_cases(str(pinned))[0].run.contact == "point"
+
+
+def test_the_lumped_model_takes_the_strips_stiffness():
+    from spurdyn.lumped import mesh_stiffness_table
+    from spurdyn.simulators import _hertz_table
+
+    case = RunSettings(speed_a=400.0, speed_b=400.0, torque=PAPER_TORQUE)
+    strip = _hertz_table(PAIR, case)
+    point = mesh_stiffness_table(PAIR, case.nx, case.ny)
+    assert np.allclose(strip.roll_a, point.roll_a)
+    ratio = strip.stiffness / point.stiffness
+    # softer along the path by the strip's compliance; at the ends of the path (a tip) a
+    # strip spreads the load that a point puts on the tip's last element, and is stiffer
+    assert np.all(ratio[1:-1] < 1.0) and np.all(ratio > 0.9)
+    assert ratio[0] > ratio[1] and ratio[-1] > ratio[-2]

@@ -91,9 +91,10 @@ def simulate(pair: GearPair, case: RunSettings, progress: Progress | None = None
                 progress(steps, stepper.theta_a, angle)
             if stop:
                 status, reason = "incomplete", stop
-                if "did not converge" in stop and case.method == "paper":
-                    reason += ("; method \"pinned\" (--method pinned) may carry it through "
-                               "(docs/solver.md, section 6, says when to trust it)")
+                if "did not converge" in stop and case.method == "paper" and case.contact == "point":
+                    reason += ("; the distributed contact (--contact hertz) or the method "
+                               "\"pinned\" (--method pinned) may carry it through "
+                               "(docs/solver.md, sections 6 and 11)")
                 break
     except KeyboardInterrupt:
         status, reason = "incomplete", f"interrupted by the user at step {steps}"

@@ -27,7 +27,6 @@ from spurdyn.contact.hertz import half_width, peak_pressure, strip_compliance
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.model.system import build_system, system_for
 from spurdyn.results.headline import averaged_peak
-from spurdyn.settings import RPM
 from spurdyn.simulators import MODELS
 from spurdyn.solvers.check import stable_step
 from spurdyn.solvers.paper.dynamics_numpy import strip_law

@@ -13,7 +13,7 @@ from scipy.integrate import quad
 
 from spurdyn.contact import hertz
 from spurdyn.contact import strip_compiled as strip_c
-from spurdyn.contact.search_numpy import FLANK, strip_half_width
+from spurdyn.contact.search_numpy import FLANK
 from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.errors import InputError
 from spurdyn.fem.element import edge_weights
@@ -244,8 +244,9 @@ def test_contact_choices_and_refusals():
     assert RunSettings(**base).contact in ("point", "hertz")
     with pytest.raises(InputError, match="contact"):
         RunSettings(**base, contact="line")
-    with pytest.raises(InputError, match="pinned"):
-        RunSettings(**base, contact="hertz", method="pinned")
+    # the point contact's stall fallback "pinned" was retired: a case asking for it is told why
+    with pytest.raises(InputError, match="retired.*hertz"):
+        RunSettings(**base, method="pinned")
 
 
 def test_static_point_stiffness_is_the_models_and_the_strip_is_softer_by_its_compliances():
@@ -295,8 +296,8 @@ def test_case_files_default_to_the_strip_and_presets_to_the_point(tmp_path):
     text = (examples / "pinion_gear.toml").read_text()
     pinned = tmp_path / "pinned.toml"
     pinned.write_text(text.replace("[run]\n", '[run]\nmethod = "pinned"\n'))
-    # "pinned" is the point contact's fallback: a file asking for it gets the point
-    assert resolve_cases(str(pinned))[0].run.contact == "point"
+    with pytest.raises(InputError, match="run.method.*retired"):
+        resolve_cases(str(pinned))
 
 
 def test_the_lumped_model_takes_the_strips_stiffness():
@@ -312,3 +313,27 @@ def test_the_lumped_model_takes_the_strips_stiffness():
     # strip spreads the load that a point puts on the tip's last element, and is stiffer
     assert np.all(ratio[1:-1] < 1.0) and np.all(ratio > 0.9)
     assert ratio[0] > ratio[1] and ratio[-1] > ratio[-2]
+
+
+def test_the_lumped_strip_table_does_not_depend_on_which_equal_pair_built_the_system():
+    """The system cache may hand back a system built from an equal pair object: the
+    table must still run along A's roll (a B-driving mapping applied to an A-driving pair
+    would put the stiffness at the wrong roll angles)."""
+    from dataclasses import replace as dc_replace
+
+    from spurdyn.model.system import _kept_system, system_for
+    from spurdyn.simulators import _hertz_table
+
+    from spurdyn.cases import resolve_cases
+
+    examples = Path(__file__).resolve().parents[1] / "examples"
+    pinion = resolve_cases(str(examples / "pinion_gear.toml"))[0]   # 20 / 40 teeth
+    pair, case = pinion.pair, pinion.run
+    twin = dc_replace(pair)
+    assert twin == pair and twin is not pair
+    _kept_system.cache_clear()
+    system_for(twin, case.nx, case.ny, case.n_spline)   # the cache now holds twin's system
+    assert system_for(pair, case.nx, case.ny, case.n_spline).pair is twin
+    table = _hertz_table(pair, case)
+    assert table.roll_a[0] == pytest.approx(pair.start_roll_a)
+    assert table.roll_a[-1] == pytest.approx(pair.end_roll_a)

@@ -275,40 +275,28 @@ def test_the_hard_impact_of_fig11_with_b_driving_runs_through_at_the_papers_dt()
     assert r.contact_force.max() > 5 * static
 
 
-def test_pinned_method_is_the_papers_where_no_stage_stalls():
-    """Every step of paper-fig9 on the default mesh converges in well under PIN_AFTER
-    iterations, so the "pinned" method takes the very same steps."""
-    case = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, frames_every=0)
-    paper = simulate(PAIR, case)
-    pinned = simulate(PAIR, case.with_(method="pinned"))
-    assert paper.status == pinned.status == "complete"
-    assert paper.iterations[1:, 0].max() < case.with_(method="pinned").pin_after
-    assert np.array_equal(paper.contact_force, pinned.contact_force)
-    assert np.array_equal(paper.omega, pinned.omega)
-
-
-def test_pinned_method_carries_a_fine_mesh_through_the_point_contact_stall():
-    """Fig. 9 on the 8 x 28 mesh with the paper's 61 spline points: the paper's method
-    stalls in a displacement stage (the point-contact limit, docs/solver.md section 6);
-    the "pinned" method runs to the end, and its 10-us-averaged peak force agrees within
-    1 % with the paper's method run with 241 spline points, which reaches the peak."""
+def test_the_distributed_contact_carries_a_fine_mesh_through_the_point_contact_stall():
+    """Fig. 9 on the 8 x 28 mesh with the paper's 61 spline points: the point contact
+    stalls in a displacement stage (docs/solver.md section 6); the distributed contact runs
+    to the end (what the retired "pinned" method was for), and its 10-us-averaged peak is
+    within 3 % of the point contact's run with 241 spline points, which reaches the peak
+    (the strip makes the pair about 3.5 % more compliant: docs/contact_validation.md)."""
     from spurdyn.solvers.check import stable_step
 
-    base = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE, nx=8, ny=28,
-                   frames_every=0)
+    base = RunSettings(contact="point", speed_a=20000 * RPM, speed_b=20000 * RPM,
+                       torque=PAPER_TORQUE, nx=8, ny=28, frames_every=0)
     base = base.with_(dt=0.9 * stable_step(build_system(PAIR, base)))
     stalled = simulate(PAIR, base)
     assert stalled.status == "incomplete" and "displacement stage" in stalled.reason
-    pinned = simulate(PAIR, base.with_(method="pinned"))
-    assert pinned.status == "complete", pinned.reason
+    strip = simulate(PAIR, base.with_(contact="hertz"))
+    assert strip.status == "complete", strip.reason
     fine = simulate(PAIR, base.with_(n_spline=241))
-    fp, tp = moving_average(pinned.time, pinned.contact_force)
+    fs, ts = moving_average(strip.time, strip.contact_force)
     ff, tf = moving_average(fine.time, fine.contact_force)
     # the reference run got 10 us past its peak before it stopped (at about 14 deg)
     assert tf[np.argmax(ff)] < tf[-1] - 10e-6
-    assert fp.max() == pytest.approx(ff.max(), rel=0.01)
-    assert tp[np.argmax(fp)] == pytest.approx(tf[np.argmax(ff)], abs=2e-6)
-
+    assert fs.max() == pytest.approx(ff.max(), rel=0.03)
+    assert ts[np.argmax(fs)] == pytest.approx(tf[np.argmax(ff)], abs=5e-6)
 
 
 def test_raw_peaks_of_the_first_microseconds_converge_with_dt():

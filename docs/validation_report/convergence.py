@@ -390,11 +390,10 @@ deepest point alternately on the two sides of the point where the force acts: th
 dents the finely meshed flank locally, and a single contact point no longer represents the
 contact. It is a limit of the paper's point contact on meshes that resolve that dent; the
 default 4 × 14 mesh with 61 points runs all the paper's cases to the end. The runs above
-use the paper's method as written. The switchable `"pinned"` method (`--method pinned`,
-`docs/solver.md` section 6) closes the gap where the force acts once a displacement stage
-has stalled, and runs such cases to the end; its table there (made by
-`docs/make_pinned_table.py`) compares them with the paper's method: sound on 6 × 20 and
-8 × 28, spiky and not to be trusted on 12 × 40.
+use the paper's method as written. The distributed (Hertzian) contact (`--contact hertz`,
+`docs/solver.md` section 11) runs Fig. 8 and 9 to the end on every one of these meshes and
+Fig. 10 on 6 × 20 (`docs/contact_validation.md`); it replaced the retired `"pinned"`
+fallback of the point contact.
 
 ### 2.2 Time step, spline points and tolerance
 

@@ -61,9 +61,8 @@ stress (section 6). Within that model:
   converged ({n0(ctx.figures['impact_raw_range'][0])}–{n0(ctx.figures['impact_raw_range'][1])} N in
   Fig. 10 across the settings tried); the 10-µs averaged peaks agree to
   {upct(ctx.figures['impact_avg_spread'], 1)}. Finer meshes than 4 × 14 need more spline data points,
-  and with the paper's method as written some runs stop (section 2.1; the switchable
-  `"pinned"` method runs them to the end, agreeing to 0.4 % on 6 × 20 and 8 × 28 but
-  not to be trusted on 12 × 40, `docs/solver.md` section 6).
+  and with the paper's point contact some runs stop (section 2.1; the distributed contact
+  runs most of them to the end, `docs/contact_validation.md`).
 * **Physics** (section 3): the quasi-static mean force is within
   {upct(abs(ctx.figures['quasi_static']), 1)} of τ0/r_b; angular momentum balances to
   {upct(bal['momentum'], 2)} of the impulses; energy to a few per cent of the strain

@@ -29,7 +29,9 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
     _gear_to_dict, _read_toml, gear_from_table, load_pair, material_from_table, pair_from_dict,
 )
 from spurdyn.model.system import PairSystem, system_for
-from spurdyn.settings import BACKENDS, CONTACTS, METHODS, PAPER_DT, RPM, RunSettings
+from spurdyn.settings import (
+    BACKENDS, CONTACTS, METHODS, PAPER_DT, RETIRED_METHODS, RPM, RunSettings,
+)
 from spurdyn.solvers.check import check_run, default_dt, stable_step
 
 RUN_KEYS = {
@@ -132,10 +134,13 @@ class _Source:
             raise InputError(name, f"must be a whole number >= {low} (got {value})")
         return value
 
-    def choice(self, key: str, default: str, allowed: tuple[str, ...]) -> str:
+    def choice(self, key: str, default: str, allowed: tuple[str, ...],
+               retired: Mapping[str, str] | None = None) -> str:
         found, value, name = self.get(key)
         if not found:
             return default
+        if retired and isinstance(value, str) and value in retired:
+            raise InputError(name, f"{value!r} {retired[value]}")
         if value not in allowed:
             raise InputError(name, f"must be one of {', '.join(allowed)} (got {value!r})")
         return str(value)
@@ -215,11 +220,9 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         tol_disp=src.number("tol_disp", _RUN_DEFAULTS["tol_disp"]),
         max_iter=src.integer("max_iter", _RUN_DEFAULTS["max_iter"], 1),
         accel_levels=src.integer("accel_levels", _RUN_DEFAULTS["accel_levels"], 1),
-        method=src.choice("method", _RUN_DEFAULTS["method"], METHODS),
+        method=src.choice("method", _RUN_DEFAULTS["method"], METHODS, RETIRED_METHODS),
         backend=src.choice("backend", _RUN_DEFAULTS["backend"], BACKENDS),
-        # "pinned" is a fallback of the point contact: a file that asks for it means that one
-        contact=src.choice("contact", "point" if src.get("method")[1] == "pinned" else CASE_CONTACT,
-                           CONTACTS),
+        contact=src.choice("contact", CASE_CONTACT, CONTACTS),
         save_every=src.integer("save_every", _RUN_DEFAULTS["save_every"], 1),
         frames_every=src.integer("frames_every", _RUN_DEFAULTS["frames_every"], 0),
         keep_theta_term=src.boolean("keep_theta_term", _RUN_DEFAULTS["keep_theta_term"]),

@@ -19,14 +19,13 @@ PAPER_TOL = 1e-12
 
 RPM = 2.0 * math.pi / 60.0
 
-#: ``"paper"``: the paper's method. ``"pinned"``: the same, except that a displacement
-#: stage still iterating after :data:`PIN_AFTER` iterations, with the contact force's
-#: relocations in the step used up, measures the gap at the material points under the
-#: force instead of at the surfaces' deepest point (docs/solver.md, section 6): what
-#: carries fine meshes through the point-contact stalls. Where no stage needs that many
-#: iterations (every paper case on the default mesh), both give the same steps.
-METHODS = ("paper", "pinned")
-PIN_AFTER = 50
+#: ``"paper"``: the paper's method (the constraint iteration of its Appendix B). The
+#: ``"pinned"`` fallback for stalls of the point contact on fine meshes was retired when
+#: the distributed contact carried every run it was made for (docs/solver.md, section 6).
+METHODS = ("paper",)
+#: What a case that still asks for the retired method is told.
+RETIRED_METHODS = {"pinned": "was retired: the distributed contact (contact = \"hertz\") "
+                             "carries the fine meshes it was for (docs/solver.md, section 6)"}
 BACKENDS = ("numba", "numpy")
 #: Contact models: ``"point"``, the paper's one point pair per tooth pair; ``"hertz"``, the
 #: force spread over the Hertzian strip and the gap averaged over it (docs/solver.md,
@@ -93,8 +92,8 @@ class RunSettings:
     accel_levels
         The integer ``n`` of the accelerated iteration (Appendix B).
     method
-        ``"paper"``: the accelerated iteration of Appendix B with ``C = c G M^-1 G^T``;
-        ``"pinned"``: the same with the stall fallback of :data:`METHODS`.
+        ``"paper"``: the accelerated iteration of Appendix B with ``C = c G M^-1 G^T``
+        (the one of :data:`METHODS`).
     backend
         ``"numba"`` (compiled, superposed) or ``"numpy"`` (the straightforward reference).
     contact
@@ -148,24 +147,17 @@ class RunSettings:
                 raise InputError(key, f"must be a whole number >= {lo} (got {v!r})")
             if hi is not None and v > hi:
                 raise InputError(key, f"must be at most {hi:,} (got {v:,}): {INTEGER_LIMITS[key]}")
+        if self.method in RETIRED_METHODS:
+            raise InputError("method", f"{self.method!r} {RETIRED_METHODS[self.method]}")
         if self.method not in METHODS:
             raise InputError("method", f"must be one of {', '.join(METHODS)} (got {self.method!r})")
         if self.backend not in BACKENDS:
             raise InputError("backend", f"must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
         if self.contact not in CONTACTS:
             raise InputError("contact", f"must be one of {', '.join(CONTACTS)} (got {self.contact!r})")
-        if self.method == "pinned" and self.contact != "point":
-            raise InputError("method", "\"pinned\" is a fallback of the point contact; use "
-                             "contact = \"point\" with it, or the paper's method")
         if self.integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)} "
                              f"(got {self.integrator!r})")
-
-    @property
-    def pin_after(self) -> int:
-        """Iterations of a displacement stage after which the ``"pinned"`` method measures
-        the gap where the force acts (0: never, the paper's method)."""
-        return PIN_AFTER if self.method == "pinned" else 0
 
     @property
     def tol_vel(self) -> float:

@@ -77,7 +77,7 @@ def _hertz_table(pair: GearPair, case: RunSettings) -> Any:
     roll = np.linspace(spair.start_roll_a, spair.end_roll_a, DEFAULT_TABLE_POINTS)
     force = static_force(pair, case.torque)
     k = np.array([static_stiffness(system, float(r), force, "hertz").stiffness for r in roll])
-    if spair is not pair:
+    if pair.driver != "a":
         # B drives: the solver's A is the pair's B; the table runs along the pair's A roll,
         # which is the solver's B roll there
         roll = np.asarray(spair.roll_b_from_roll_a(roll), dtype=float)

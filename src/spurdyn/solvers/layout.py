@@ -26,11 +26,11 @@ NCOL = len(HISTORY)
 OK, FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NAN, FAIL_STRIP = 0, 1, 2, 3, 4, 5
 
 #: The run settings a compiled step reads (SI units; ``eps_root`` is the smallest
-#: eigenvalue of the root blocks of ``G M^-1 G^T``; ``pin_after`` 0 is the paper's method;
+#: eigenvalue of the root blocks of ``G M^-1 G^T``;
 #: ``estar``, ``face`` the Hertz modulus and face width of the distributed contact, 0 for
 #: the point contact, and ``c_h`` its strip compliance ``1 / (2 pi E* L)``).
 Config = namedtuple("Config", ["dt", "tol_disp", "tol_vel", "tol_acc", "max_iter", "levels",
-                               "eps_root", "pin_after", "estar", "face", "c_h"])
+                               "eps_root", "estar", "face", "c_h"])
 
 #: The model as plain arrays, the nodes of both teeth stacked (A first):
 #: ``Y`` (2N,) initial offsets from the centres; ``mass`` (2N,) nodal masses;

@@ -92,9 +92,8 @@ def simulate(pair: GearPair, case: RunSettings, progress: Progress | None = None
             if stop:
                 status, reason = "incomplete", stop
                 if "did not converge" in stop and case.method == "paper" and case.contact == "point":
-                    reason += ("; the distributed contact (--contact hertz) or the method "
-                               "\"pinned\" (--method pinned) may carry it through "
-                               "(docs/solver.md, sections 6 and 11)")
+                    reason += ("; the distributed contact (--contact hertz) may carry it "
+                               "through (docs/solver.md, sections 6 and 11)")
                 break
     except KeyboardInterrupt:
         status, reason = "incomplete", f"interrupted by the user at step {steps}"

@@ -31,15 +31,13 @@ from spurdyn.solvers.paper.response_compiled import response_columns, predict, s
 def step(P, S, cfg):
     """Advance the state ``S`` by one step of the paper's method; returns a status code.
 
-    ``cfg`` is a :class:`~spurdyn.solvers.layout.Config`; ``pin_after`` 0 is the paper's
-    method, ``k > 0`` the ``"pinned"`` one (see :data:`spurdyn.settings.METHODS`).
+    ``cfg`` is a :class:`~spurdyn.solvers.layout.Config`.
     """
     h = cfg.dt
     tol1, tol2, tol3 = cfg.tol_disp, cfg.tol_vel, cfg.tol_acc
     cap = cfg.max_iter
     nlev = cfg.levels
     eps_root = cfg.eps_root
-    pin_after = cfg.pin_after
     # The distributed contact (cfg.estar > 0): strips of the force at t, compliance c_H.
     hertz = cfg.estar > 0.0
     c_h = cfg.c_h
@@ -118,7 +116,6 @@ def step(P, S, cfg):
     a_c, b_c, mode, nxc, nyc, sc = 0.0, 0.0, 0, 0.0, 0.0, 0.0
     it = 0
     moves = 0
-    mode_f = int(S.cpar[CP.mode])
     while True:
         rel = qs_rel + Wq @ x
         th_try[0], th_try[1] = rel[0], rel[1]
@@ -133,15 +130,9 @@ def step(P, S, cfg):
             e[2 * k] = -(u_try[2 * i] - (c * yx - s * yy - yx))
             e[2 * k + 1] = -(u_try[2 * i + 1] - (s * yx + c * yy - yy))
         # The search also refits the flank splines (va, vb, Ma, Mb) that the later stages'
-        # sliding terms read, so it runs even when the pair is then pinned.
+        # sliding terms read.
         a_c, b_c, mode, nxc, nyc, sc = search(P, th_try, u_try, guess, va, vb, Ma, Mb)
-        if pin_after > 0 and it >= pin_after and moves >= MAX_RELOCATE:
-            # "pinned": the gap where the force acts, along its normal
-            a_c, b_c, mode, nxc, nyc = loc_f[0], loc_f[1], mode_f, n_f[0], n_f[1]
-            xa, ya = material_point(P, np.int64(0), a_c, th_try[0], u_try, np.int64(0), 0.0, 0.0)
-            xb, yb = material_point(P, np.int64(1), b_c, th_try[1], u_try, np.int64(0), 0.0, 0.0)
-            sc = nxc * (xa - xb) + nyc * (ya - yb)
-        elif hertz:
+        if hertz:
             hw_t = strip_half_width(P, a_c, b_c, load, cfg.estar, cfg.face) if mode == FLANK else 0.0
             if hw_t > 0.0:
                 # the gap averaged over the strip (docs/solver.md, section 11)
@@ -184,7 +175,6 @@ def step(P, S, cfg):
             # the contact force acts where the contact now is
             moves += 1
             loc_f[0], loc_f[1] = a_c, b_c
-            mode_f = mode
             if hertz:
                 cn_f[:] = cn_t
                 cw_f[:] = cw_t

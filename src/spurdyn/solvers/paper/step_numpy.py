@@ -140,14 +140,6 @@ class PaperMethod:
                                  alpha: NDArray[np.float64], a: NDArray[np.float64]) -> NDArray[np.float64]:
         return root_acceleration_errors(self.system, theta, omega, alpha, a)
 
-    def pinned(self, c: ContactPair, theta: NDArray[np.float64], u: NDArray[np.float64]) -> ContactPair:
-        """The contact pair ``c`` (where the force acts) with its penetration measured
-        along its normal between its material points at ``(theta, u)``: the gap the
-        ``"pinned"`` method closes once the deepest point will not settle."""
-        pos = np.concatenate([g.X.ravel() for g in self.system.gears]) + u
-        mats = tuple(rot(g.sense * th) for g, th in zip(self.system.gears, theta))
-        return replace(c, s=self.normal_of(c, pos, mats))
-
     def normal_of(self, c: ContactPair, vec: NDArray[np.float64], mats: tuple[NDArray[np.float64], NDArray[np.float64]]) -> float:
         """``n . (a_A - a_B)`` of the contact material points for a stacked nodal vector
         (velocities or accelerations), with ``mats`` the disks' action on the offsets ``delta``."""
@@ -199,8 +191,6 @@ class PaperMethod:
                     and np.isfinite(om1_).all() and np.isfinite(v1_).all()):
                 return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_NAN)
             c1 = self.contact_at(th1, u1, guess, load)
-            if case.pin_after and m >= case.pin_after and moves >= MAX_RELOCATE:
-                c1 = self.pinned(c_force, th1, u1)   # "pinned": the gap where the force acts
             touching = x[-1] < 0.0 or c1.s > 0.0
             # The strip's mean curvature separation c_H |p| is an overlap the force allows.
             pi = c1.s + c_h * x[-1] if touching else 0.0

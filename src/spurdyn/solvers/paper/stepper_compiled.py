@@ -136,7 +136,7 @@ def config(settings: RunSettings, eps_root: float, system: PairSystem | None = N
         c_h = strip_compliance(estar, face)
     return Config(dt=float(s.dt), tol_disp=float(s.tol_disp), tol_vel=float(s.tol_vel),
                   tol_acc=float(s.tol_acc), max_iter=int(s.max_iter), levels=int(s.accel_levels),
-                  eps_root=float(eps_root), pin_after=int(s.pin_after), estar=float(estar),
+                  eps_root=float(eps_root), estar=float(estar),
                   face=float(face), c_h=float(c_h))
 
 

@@ -57,10 +57,10 @@ CompiledState = namedtuple("CompiledState", [
     "t", "theta", "omega", "u", "v", "x", "alpha_n", "a_n", "cn", "cw", "normal", "cpar", "C",
     "res", "its",
 ])
-#: Columns of ``cpar``: flank coordinates on A and B, contact mode, penetration, the rate
-#: of the contact force over the last step (N/s) and the half-width of the strip the
+#: Columns of ``cpar``: flank coordinates on A and B, contact mode, penetration, the
+#: contact force the last displacement stage held (N) and the half-width of the strip the
 #: contact rows average over (m; 0 for a point).
-CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s", "dp", "half_width"))(0, 1, 2, 3, 4, 5)
+CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s", "p_held", "half_width"))(0, 1, 2, 3, 4, 5)
 
 #: RK4 over a step with the last step's forces: the end state (``qs_*`` positions,
 #: ``vs_*`` velocities) and what the linear response to a change of the forces needs (the

@@ -226,8 +226,9 @@ def step(P, S, cfg):
         else:
             pax, pay = material_point(P, np.int64(0), a_c, th1[0], v_try, np.int64(1), om_try[0], 0.0)
             pbx, pby = material_point(P, np.int64(1), b_c, th1[1], v_try, np.int64(1), om_try[1], 0.0)
-        # the overlap c_H |p| grows with the force: its rate is the velocity to reach
-        sh = nxc * (pax - pbx) + nyc * (pay - pby) + c_h * S.cpar[CP.dp]
+        # the overlap c_H |p| grows with the force: its rate over this step, from the forces
+        # this and the last displacement stage held, is the velocity to reach
+        sh = nxc * (pax - pbx) + nyc * (pay - pby) + c_h * (p_bar - S.cpar[CP.p_held]) / h
         e[m - 1] = sh if (p_bar < 0.0 and (sh > 0.0 or x[m - 1] < 0.0)) else 0.0
         res = max_abs(e)
         if not math.isfinite(res):
@@ -340,7 +341,7 @@ def step(P, S, cfg):
     # the gap the constraint holds: for the strip, its mean deformed gap s_bar - c_H |p|
     S.cpar[CP.alpha], S.cpar[CP.beta], S.cpar[CP.mode], S.cpar[CP.s] = a_c, b_c, mode, sc + c_h * p_bar
     if hertz:
-        S.cpar[CP.dp] = (x[m - 1] - x0[m - 1]) / h
+        S.cpar[CP.p_held] = p_bar
         S.cpar[CP.half_width] = hw1
     S.t[0] += h
     return OK

@@ -48,7 +48,7 @@ class State:
     v: NDArray[np.float64]       # (n_u,)
     x: NDArray[np.float64]       # (n_x,)  [lambda_A, lambda_B, p] at t
     contact: ContactPair         # the contact pair at t
-    dp: float = 0.0              # rate of the contact force over the last step (N/s)
+    p_held: float = 0.0          # the contact force the last displacement stage held (N)
 
     def copy(self) -> "State":
         return replace(self, theta=self.theta.copy(), omega=self.omega.copy(), u=self.u.copy(),
@@ -226,8 +226,9 @@ class PaperMethod:
         for m in range(cap + 1):
             f_theta, f_u = constraint_force(sys_, st.theta, c_force, x)
             _, om2, _, v2 = self.rk4(st, f_theta, f_u)
-            # The overlap c_H |p| grows with the force: its rate is the velocity to reach.
-            sh = self.normal_of(c1, v2, self.velocity_mats(th1, om2)) + c_h * st.dp
+            # The overlap c_H |p| grows with the force: its rate over this step, from the
+            # forces this and the last displacement stage held, is the velocity to reach.
+            sh = self.normal_of(c1, v2, self.velocity_mats(th1, om2)) + c_h * (p_bar - st.p_held) / h
             pih = sh if (p_bar < 0.0 and (sh > 0.0 or x[-1] < 0.0)) else 0.0
             e = np.append(self.root_velocity_errors(th1, om2, v2), pih)
             residual[1] = np.abs(e).max()
@@ -278,7 +279,7 @@ class PaperMethod:
         # kept is the one the constraint holds, for a strip its mean deformed gap s_bar - c_H |p|.
         new = State(t=st.t + h, theta=th1, omega=om2, u=u1, v=v2, x=x,
                     contact=self.restrip(replace(c1, s=c1.s + self.c_h * p_bar), abs(float(x[-1]))),
-                    dp=(x[-1] - st.x[-1]) / h if self.law is not None else 0.0)
+                    p_held=float(p_bar) if self.law is not None else 0.0)
         return new, StepReport(residual=residual, iterations=iters, p_bar=float(p_bar), s=c1.s)
 
 

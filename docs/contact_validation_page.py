@@ -43,12 +43,16 @@ def render(store: dict[str, Any]) -> str:
         fr = st.get("frequency_4x14_Hz")
         if fr:
             out += ["", f"On the default 4 × 14 mesh the strip makes the pair "
-                    f"{(st['rows'][0]['hertz'] / st['rows'][0]['point'] - 1) * 100:+.1f} % as stiff as the "
+                    f"{(1 - st['rows'][0]['hertz'] / st['rows'][0]['point']) * 100:.1f} % less stiff than the "
                     f"point, so the pair's torsional frequency (two disks on the pitch-point "
                     f"stiffness) moves from {fr['point'] / 1e3:.2f} to {fr['hertz'] / 1e3:.2f} kHz. The "
                     "point contact's stiffness has no limit: it falls by a constant amount per "
                     "halving of the element (a point load on a plane body); the strip's settles "
-                    "once the element edge is shorter than the strip (h < b), as (h/b)²."]
+                    "once the element edge is shorter than the strip (h < b), as (h/b)²: the "
+                    "two finest meshes here agree to 0.6 %, while 12 × 40 and 16 × 56 (h = 2.1 b "
+                    "and 1.5 b) still differ by 1.5 %. Resolving the strip on a mesh of uniform "
+                    "rows needs h < b along the whole active flank; grading the rows toward "
+                    "the flank surface alone does not shorten the edges along it."]
         out.append("")
     hz = store.get("hertz")
     if hz:
@@ -91,6 +95,24 @@ def render(store: dict[str, Any]) -> str:
             if name.startswith("_"):
                 continue
             out.append(f"| {name} | {_run_cell(r['point'])} | {_run_cell(r['hertz'])} |")
+        if part == "presets":
+            lines = []
+            for name, r in runs.items():
+                if name.startswith("_"):
+                    continue
+                p, h = r["point"], r["hertz"]
+                if not p["peak_avg_N"] > 0:
+                    continue
+                lines.append(f"{name} {(h['peak_avg_N'] / p['peak_avg_N'] - 1) * 100:+.1f} % averaged, "
+                             f"raw over averaged {p['peak_raw_N'] / p['peak_avg_N']:.3f} -> "
+                             f"{h['peak_raw_N'] / h['peak_avg_N']:.3f}")
+            out += ["", "Strip against point: " + "; ".join(lines) + ". The averaged peaks "
+                    "move by the strip's compliance (3.5 % on the pair's stiffness, 1.8 % on its "
+                    "frequency), the smooth case Fig. 8 down and the impacts within a few per cent "
+                    "either way. The raw ripple over the average shrinks: a point force jumps "
+                    "from node to node as the contact point crosses element edges and after "
+                    "impacts, while the strip's consistent loads change smoothly with its centre "
+                    "and width."]
         out.append("")
     ds = store.get("design")
     if ds:

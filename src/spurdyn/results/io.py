@@ -22,6 +22,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+from contextlib import nullcontext
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +32,7 @@ from numpy.typing import NDArray
 
 from spurdyn.casefile import Case, case_to_dict
 from spurdyn.errors import InputError
+from spurdyn.results.beside import beside
 from spurdyn.results.frames import ToothFrames, case_from_run, speeds_label, tooth_frames
 from spurdyn.result import STAGES, Result
 
@@ -354,14 +356,19 @@ def write_run(result: Result, case: Case, directory: str | Path, *, png: bool = 
     """
     directory = Path(directory)
     ds = result_to_dataset(result, case)
-    write_netcdf(ds, directory / RESULT_FILE)
-    write_csv(ds, directory / CSV_FILE)
-    summary = summarize(ds)
-    write_summary(summary, directory / SUMMARY_FILE)
-    if png:
+
+    def picture() -> None:
         from spurdyn.results.plots import plot_contact_force
 
         plot_contact_force([ds], directory / PNG_FILE)
+
+    # The picture is drawn in a child process on the other core meanwhile (done when the
+    # block ends; without a child, drawn here after the rest).
+    with beside(picture) if png else nullcontext():
+        write_netcdf(ds, directory / RESULT_FILE)
+        write_csv(ds, directory / CSV_FILE)
+        summary = summarize(ds)
+        write_summary(summary, directory / SUMMARY_FILE)
     if vtu and "frame_u" in ds:
         from spurdyn.results.vtu import write_vtu_series
 

@@ -140,6 +140,18 @@ def test_a_run_folder_is_the_same_with_and_without_a_child(tmp_path: Path,
         assert (tmp_path / "forked" / name).read_bytes() == (tmp_path / "here" / name).read_bytes()
 
 
+@needs_fork
+def test_no_process_to_spare_and_the_work_is_done_here(tmp_path: Path,
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    def no_fork() -> int:
+        raise BlockingIOError(11, "Resource temporarily unavailable")
+    monkeypatch.setattr(beside_module, "_fork", no_fork)
+    out = tmp_path / "picture.txt"
+    with beside(_writer(out)):
+        assert not out.exists()
+    assert out.read_text() == "parent"
+
+
 def test_no_child_while_another_thread_runs() -> None:
     """A lock held by another thread would stay locked in a forked child."""
     from spurdyn.results.beside import can_fork

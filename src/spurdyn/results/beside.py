@@ -1,7 +1,7 @@
 """One piece of writing done in a forked child while the caller writes the rest.
 
-A run folder's picture (~0.4 s of Matplotlib) does not need its NetCDF and CSV files
-(~0.35 s together). A forked child already holds the dataset and whatever the parent has
+A run folder's picture (~0.3 s of Matplotlib for Fig. 8) does not need its NetCDF and CSV
+files (~0.25 s together). A forked child already holds the dataset and whatever the parent has
 loaded, so nothing is pickled or imported again, and on a machine with a free core the
 two take the time of the longer one (docs/performance.md).
 
@@ -13,8 +13,8 @@ without a child and no result is lost. If the block raises, the child is stopped
 
 Without ``os.fork`` (Windows), outside Linux (macOS's system libraries are not safe to
 use in a forked child) or with other Python threads running (a Dask worker: a lock held
-by another thread would stay locked in the child), ``work`` simply runs here at the end
-of the block, as before.
+by another thread would stay locked in the child), or when no process can be made,
+``work`` simply runs here at the end of the block, as before.
 """
 
 from __future__ import annotations
@@ -82,6 +82,29 @@ def _read_all(fd: int) -> bytes:
     return b"".join(chunks)
 
 
+def _start(work: Callable[[], object]) -> tuple[int, int] | None:
+    """Fork a child doing ``work``: its pid and the pipe it reports on; ``None`` when no
+    child can be made here (:func:`can_fork`, or no process or pipe to spare)."""
+    if not can_fork():
+        return None
+    sys.stdout.flush()    # else the child would inherit, and print, the parent's buffers
+    sys.stderr.flush()
+    try:
+        read_end, write_end = os.pipe()
+    except OSError:
+        return None
+    try:
+        pid = _fork()
+    except OSError:
+        os.close(read_end)
+        os.close(write_end)
+        return None
+    if pid == 0:
+        _child(work, read_end, write_end)
+    os.close(write_end)
+    return pid, read_end
+
+
 @contextmanager
 def beside(work: Callable[[], object]) -> Iterator[None]:
     """Run ``work`` in a forked child while the block runs; it is done when the block ends.
@@ -97,17 +120,12 @@ def beside(work: Callable[[], object]) -> Iterator[None]:
     Exception
         What ``work`` raises when done again in this process after the child failed.
     """
-    if not can_fork():
+    child = _start(work)
+    if child is None:    # as before there were children: after the rest
         yield
         work()
         return
-    sys.stdout.flush()    # else the child would inherit, and print, the parent's buffers
-    sys.stderr.flush()
-    read_end, write_end = os.pipe()
-    pid = _fork()
-    if pid == 0:
-        _child(work, read_end, write_end)
-    os.close(write_end)
+    pid, read_end = child
     try:
         yield
     except BaseException:

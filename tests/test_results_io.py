@@ -291,6 +291,27 @@ def test_overlay_picture(tmp_path, run_dir):
     assert png.read_bytes()[:8] == PNG_MAGIC
 
 
+def test_picture_as_with_figure_tight_layout(tmp_path, run_dir, monkeypatch):
+    """The layout is applied without leaving a layout engine (savefig then draws once):
+    the same picture, to the byte, as ``Figure.tight_layout`` gives."""
+    from matplotlib.figure import Figure
+
+    from spurdyn.results import plots
+
+    d, _, _ = run_dir
+    runs = [load_run(d)]
+    once = plots.plot_contact_force(runs, tmp_path / "once.png").read_bytes()
+
+    class TightLayout:
+        def __init__(self) -> None:
+            pass
+
+        def execute(self, fig: Figure) -> None:
+            fig.tight_layout()
+    monkeypatch.setattr(plots, "TightLayoutEngine", TightLayout)
+    assert plots.plot_contact_force(runs, tmp_path / "tight.png").read_bytes() == once
+
+
 # -- case files ------------------------------------------------------------------------
 
 def test_case_dict_round_trip_and_examples():

@@ -382,3 +382,21 @@ def test_a_loss_of_contact_that_opens_no_gap_is_not_a_separation(short_case):
     assert math.degrees(s["separation_times_s"][0] * case.run.speed_a) == pytest.approx(9.0, abs=0.04)
     result.gap[early] = 2.0 * SEPARATION_GAP
     assert summarize(result_to_dataset(result, case))["separations"] == 2
+
+
+def test_csv_as_a_csv_writer_writes_it(tmp_path):
+    """The CSV, built at once, holds what csv.writer wrote row by row, to the byte."""
+    import csv
+
+    from spurdyn.results.io import write_csv
+
+    values = np.array([0.0, -0.0, 1e-300, 123456789.123, np.nan, np.inf, -np.inf, 2.5e-8])
+    ds = xr.Dataset({"angle_deg": ("time", values[::-1]), "contact_force": ("time", values)},
+                    coords={"time": values * 3.0})
+    write_csv(ds, tmp_path / "fast.csv")
+    with open(tmp_path / "rows.csv", "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(["angle_deg", "time_s", "contact_force_N"])
+        for a, t, f in zip(ds["angle_deg"].values, ds["time"].values, ds["contact_force"].values):
+            w.writerow([f"{a:.9g}", f"{t:.9g}", f"{f:.9g}"])
+    assert (tmp_path / "fast.csv").read_bytes() == (tmp_path / "rows.csv").read_bytes()

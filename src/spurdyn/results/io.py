@@ -19,7 +19,6 @@ A run folder holds
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 from contextlib import nullcontext
@@ -334,11 +333,12 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
 
 def write_csv(ds: xr.Dataset, path: Path) -> None:
     """Write ``angle_deg,time_s,contact_force_N``, one row per saved step."""
+    # The lines of csv.writer (CRLF; numbers need no quoting), built at once from Python
+    # floats: half the time of a writer row by row over NumPy scalars.
+    columns = (ds[name].values.tolist() for name in ("angle_deg", "time", "contact_force"))
     with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(["angle_deg", "time_s", "contact_force_N"])
-        for a, t, f in zip(ds["angle_deg"].values, ds["time"].values, ds["contact_force"].values):
-            w.writerow([f"{a:.9g}", f"{t:.9g}", f"{f:.9g}"])
+        fh.write("angle_deg,time_s,contact_force_N\r\n")
+        fh.writelines([f"{a:.9g},{t:.9g},{f:.9g}\r\n" for a, t, f in zip(*columns)])
 
 
 def write_summary(summary: dict[str, Any], path: Path) -> None:

@@ -14,6 +14,10 @@ $(BIN)/python:
 
 $(STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e ".[test]"
+	@# pip byte-compiles a regular install but not an editable one; where Python may not
+	@# write bytecode itself (PYTHONDONTWRITEBYTECODE), every command would compile the
+	@# ~60 modules it imports again (~80 ms a start, docs/performance.md).
+	$(BIN)/python -m compileall -q src
 	touch $(STAMP)
 
 install: $(STAMP)

@@ -9,12 +9,16 @@ system, the run check, the stepper). Prints a JSON line per figure and a summary
 ``--json FILE`` keeps them.
 
 The target of issue 13: at most 1.5 s outside the loop for ``spurdyn run paper-fig8``.
+
+``--command PATH`` times another ``spurdyn`` (an older checkout's, to compare): with
+``PYTHONPATH=<checkout>/src`` the in-process figures are that checkout's too.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
 import statistics
 import subprocess
@@ -45,10 +49,10 @@ print(json.dumps({"import_cases": t1 - t0, "case_and_check": t2 - t1,
 """
 
 
-def run_once(out: Path) -> tuple[float, float]:
+def run_once(out: Path, command: str = SPURDYN) -> tuple[float, float]:
     """``(command wall time, loop_s)`` of one ``spurdyn run paper-fig8``."""
     t0 = time.perf_counter()
-    subprocess.run([SPURDYN, "run", "paper-fig8", "--out", str(out), "--force", "--quiet"],
+    subprocess.run([command, "run", "paper-fig8", "--out", str(out), "--force", "--quiet"],
                    check=True)
     wall = time.perf_counter() - t0
     import xarray as xr
@@ -72,11 +76,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--json", type=Path)
+    ap.add_argument("--command", default=SPURDYN, help="the spurdyn to time")
     args = ap.parse_args()
+    load_before = os.getloadavg()[0]      # the figures mean little on a busy machine
     tmp = Path(tempfile.mkdtemp())
     try:
-        run_once(tmp / "warm")                     # compile cache and disk cache warm
-        runs = [run_once(tmp / f"r{i}") for i in range(args.reps)]
+        run_once(tmp / "warm", args.command)       # compile cache and disk cache warm
+        runs = [run_once(tmp / f"r{i}", args.command) for i in range(args.reps)]
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     walls, loops = zip(*runs)
@@ -90,6 +96,8 @@ def main() -> None:
         "outside_loop_s_min": min(outside),
         "import_cli_s": import_time(),
         **{f"in_process_{k}_s": v for k, v in parts.items()},
+        "load_before": load_before,
+        "load_after": os.getloadavg()[0],
         "reps": args.reps,
         "python": sys.version.split()[0],
     }

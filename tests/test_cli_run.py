@@ -249,6 +249,18 @@ def test_progress_bar_on_a_terminal_only():
     assert quiet.getvalue() == ""
 
 
+def test_progress_bar_starts_no_thread():
+    """A thread left running would keep the picture from being drawn in a forked child
+    (spurdyn.results.beside)."""
+    import threading
+
+    before = set(threading.enumerate())
+    bar = runner.ProgressBar("paper-fig8", stream=_Terminal())
+    bar(500, 0.1, 0.3)
+    assert set(threading.enumerate()) <= before
+    bar.close()
+
+
 # -- nothing lost ------------------------------------------------------------------------
 
 def test_overwrite_guard_and_force(fake, here, capsys):

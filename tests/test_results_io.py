@@ -301,6 +301,27 @@ def test_overlay_picture(tmp_path, run_dir):
     assert png.read_bytes()[:8] == PNG_MAGIC
 
 
+def test_picture_as_with_figure_tight_layout(tmp_path, run_dir, monkeypatch):
+    """The layout is applied without leaving a layout engine (savefig then draws once):
+    the same picture, to the byte, as ``Figure.tight_layout`` gives."""
+    from matplotlib.figure import Figure
+
+    from spurdyn.results import plots
+
+    d, _, _ = run_dir
+    runs = [load_run(d)]
+    once = plots.plot_contact_force(runs, tmp_path / "once.png").read_bytes()
+
+    class TightLayout:
+        def __init__(self) -> None:
+            pass
+
+        def execute(self, fig: Figure) -> None:
+            fig.tight_layout()
+    monkeypatch.setattr(plots, "TightLayoutEngine", TightLayout)
+    assert plots.plot_contact_force(runs, tmp_path / "tight.png").read_bytes() == once
+
+
 # -- case files ------------------------------------------------------------------------
 
 def test_case_dict_round_trip_and_examples():
@@ -371,3 +392,21 @@ def test_a_loss_of_contact_that_opens_no_gap_is_not_a_separation(short_case):
     assert math.degrees(s["separation_times_s"][0] * case.run.speed_a) == pytest.approx(9.0, abs=0.04)
     result.gap[early] = 2.0 * SEPARATION_GAP
     assert summarize(result_to_dataset(result, case))["separations"] == 2
+
+
+def test_csv_as_a_csv_writer_writes_it(tmp_path):
+    """The CSV, built at once, holds what csv.writer wrote row by row, to the byte."""
+    import csv
+
+    from spurdyn.results.io import write_csv
+
+    values = np.array([0.0, -0.0, 1e-300, 123456789.123, np.nan, np.inf, -np.inf, 2.5e-8])
+    ds = xr.Dataset({"angle_deg": ("time", values[::-1]), "contact_force": ("time", values)},
+                    coords={"time": values * 3.0})
+    write_csv(ds, tmp_path / "fast.csv")
+    with open(tmp_path / "rows.csv", "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(["angle_deg", "time_s", "contact_force_N"])
+        for a, t, f in zip(ds["angle_deg"].values, ds["time"].values, ds["contact_force"].values):
+            w.writerow([f"{a:.9g}", f"{t:.9g}", f"{f:.9g}"])
+    assert (tmp_path / "fast.csv").read_bytes() == (tmp_path / "rows.csv").read_bytes()

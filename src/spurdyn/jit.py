@@ -13,9 +13,9 @@ imported lazily by the compiled stepper.
 
 from __future__ import annotations
 
-import ast
 import hashlib
 import os
+import re
 from pathlib import Path
 from typing import Any, Callable
 
@@ -23,7 +23,7 @@ import numba
 
 PACKAGE = Path(__file__).resolve().parent
 
-__all__ = ["njit", "compiled_sources", "cache_folder"]
+__all__ = ["njit", "cache_folder", "compiled_sources", "imported_modules"]
 
 
 def _module_file(name: str) -> Path | None:
@@ -34,6 +34,35 @@ def _module_file(name: str) -> Path | None:
         if candidate.is_file():
             return candidate
     return None
+
+
+#: ``from spurdyn.x import a, b`` (names in parentheses may span lines) and ``import
+#: spurdyn.x``, wherever they stand (lazy imports in functions count too).
+_FROM = re.compile(r"^[ \t]*from[ \t]+(spurdyn(?:\.\w+)*)[ \t]+import[ \t]+(\([^)]*\)|[^\n]*)",
+                   re.MULTILINE)
+_IMPORT = re.compile(r"^[ \t]*import[ \t]+([^\n]*)", re.MULTILINE)
+
+
+def imported_modules(source: str) -> list[str]:
+    """The spurdyn names a source imports: each module, and each ``module.name`` taken
+    from it (which may be a submodule).
+
+    A scan of the import lines, not a parse: this runs at every start of a run, and
+    parsing the compiled modules with :mod:`ast` took ~60 ms of it. A line that only looks
+    like an import (in a docstring) adds a file to the key, which is harmless.
+    """
+    names: list[str] = []
+    for module, what in _FROM.findall(source):
+        names.append(module)
+        for line in what.strip("()").splitlines():
+            for part in line.split("#", 1)[0].split(","):
+                if part.split():
+                    names.append(f"{module}.{part.split()[0]}")
+    for what in _IMPORT.findall(source):
+        for part in what.split("#", 1)[0].split(","):
+            if part.split() and part.split()[0].split(".")[0] == "spurdyn":
+                names.append(part.split()[0])
+    return names
 
 
 def compiled_sources() -> list[Path]:
@@ -47,17 +76,10 @@ def compiled_sources() -> list[Path]:
         if path in seen:
             continue
         seen.add(path)
-        for node in ast.walk(ast.parse(path.read_text())):
-            names: list[str] = []
-            if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-                names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
-            elif isinstance(node, ast.Import):
-                names = [a.name for a in node.names]
-            for name in names:
-                if name.split(".")[0] == "spurdyn":
-                    found = _module_file(name)
-                    if found is not None and found not in seen:
-                        todo.append(found)
+        for name in imported_modules(path.read_text()):
+            found = _module_file(name)
+            if found is not None and found not in seen:
+                todo.append(found)
     return sorted(seen)
 
 

@@ -135,10 +135,15 @@ class ProgressBar:
         if self.bar is None:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=round(math.degrees(total), 3), desc=self.name, unit="deg",
-                            file=self.stream, dynamic_ncols=True, leave=True,
-                            bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} deg "
-                                       "[{elapsed}<{remaining}{postfix}]")
+            # Without tqdm's monitor thread (it tunes bars advanced by iteration; this one is
+            # set by hand), which would outlive the bar: with no other thread left, the
+            # picture is drawn in a forked child (spurdyn.results.beside).
+            unmonitored = type("UnmonitoredTqdm", (tqdm,), {"monitor_interval": 0})
+            self.bar = unmonitored(
+                total=round(math.degrees(total), 3), desc=self.name, unit="deg",
+                file=self.stream, dynamic_ncols=True, leave=True,
+                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} deg "
+                           "[{elapsed}<{remaining}{postfix}]")
         self.bar.n = min(round(math.degrees(angle), 3), self.bar.total)
         rate = self.rate(step)
         self.bar.set_postfix_str("" if rate is None else f"{rate:,.0f} steps/s", refresh=False)

@@ -10,6 +10,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.layout_engine import TightLayoutEngine
 
 from spurdyn.results.frames import speeds_label
 from spurdyn.results.headline import AVERAGING_WINDOW_S, headline, moving_average
@@ -158,7 +159,10 @@ def plot_contact_force(runs: Sequence[xr.Dataset], png: str | Path,
     ax = fig.subplots()
     draw_contact_force(ax, runs)
     ax.set_title(wrap_title(title), fontsize=10)
-    fig.tight_layout()
+    # The layout of fig.tight_layout(), without the placeholder layout engine it leaves on
+    # the figure, for which savefig would draw the whole figure once more before drawing
+    # it (~0.06 s of the ~0.3 s); the picture is the same.
+    TightLayoutEngine().execute(fig)
     png = Path(png)
     fig.savefig(png)
     return png

@@ -399,3 +399,15 @@ def test_csv_as_a_csv_writer_writes_it(tmp_path):
         for a, t, f in zip(ds["angle_deg"].values, ds["time"].values, ds["contact_force"].values):
             w.writerow([f"{a:.9g}", f"{t:.9g}", f"{f:.9g}"])
     assert (tmp_path / "fast.csv").read_bytes() == (tmp_path / "rows.csv").read_bytes()
+
+
+def test_prefetch_draws_a_picture_of_the_run_kind_and_leaves_nothing(tmp_path, monkeypatch):
+    """The writers' warm-up (spurdyn.results.prefetch, a thread during the run) writes a
+    NetCDF file and a picture like the run's, in a folder of its own that it removes."""
+    import tempfile
+
+    from spurdyn.results import prefetch
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    prefetch._load()
+    assert list(tmp_path.iterdir()) == []

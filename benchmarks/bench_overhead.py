@@ -94,6 +94,8 @@ def main() -> None:
         "loop_s_median": statistics.median(loops),
         "outside_loop_s_median": statistics.median(outside),
         "outside_loop_s_min": min(outside),
+        "outside_loop_s_each": [round(x, 3) for x in outside],
+        "loop_s_each": [round(x, 3) for x in loops],
         "import_cli_s": import_time(),
         **{f"in_process_{k}_s": v for k, v in parts.items()},
         "load_before": load_before,

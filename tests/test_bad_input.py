@@ -120,6 +120,12 @@ CASES = [
                  "pair.centre_distance", "", id="centre=0"),
     pytest.param(edit("nx = 4 ", "nx = 0 "), "mesh.nx", "from 1 to 64", id="nx=0"),
     pytest.param(edit("ny = 14", "ny = -14"), "mesh.ny", "from 2 to 256", id="ny<0"),
+    pytest.param(edit("ny = 14", "ny = 14\ngrading = 0.5"), "mesh.grading", "from 1 (even) to 50",
+                 id="grading<1"),
+    pytest.param(edit("ny = 14", "ny = 14\ngrading = 80"), "mesh.grading", "from 1 (even) to 50",
+                 id="grading>50"),
+    pytest.param(edit("ny = 14", 'ny = 14\ngrading = "fine"'), "mesh.grading", "must be a number",
+                 id="grading-text"),
     # -- tip radius not above root radius ----------------------------------------------
     pytest.param(edit("tip_radius = 0.047625", "tip_radius = 0.0400"),
                  "gear_a.tip_radius", "must be above", id="tip<root"),
@@ -279,3 +285,15 @@ def test_console_refusal_has_no_traceback(tmp_path, old, new, field):
     assert proc.returncode == 2 and proc.stdout == ""
     assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
     assert proc.stderr.startswith(f"spurdyn: error: {field}: ")
+
+
+@pytest.mark.parametrize("argv", [["info", "paper", "--grading", "0.9"],
+                                  ["mesh", "paper", "--png", "x.png", "--grading", "60"],
+                                  ["run", "paper-fig8", "--grading", "0.5"]])
+def test_a_bad_grading_option_is_named(tmp_path, capsys, monkeypatch, argv):
+    monkeypatch.chdir(tmp_path)
+    code = main(argv)
+    out, err = capsys.readouterr()
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith("spurdyn: error: --grading: must be a number from 1 (even) to 50"), err
+    assert not any(tmp_path.iterdir())          # nothing half-written

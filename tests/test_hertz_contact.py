@@ -337,3 +337,39 @@ def test_the_lumped_strip_table_does_not_depend_on_which_equal_pair_built_the_sy
     table = _hertz_table(pair, case)
     assert table.roll_a[0] == pytest.approx(pair.start_roll_a)
     assert table.roll_a[-1] == pytest.approx(pair.end_roll_a)
+
+
+def test_a_graded_mesh_brings_the_strip_stiffness_nearer_its_fine_mesh_limit():
+    """Thin outline columns resolve the strip's near field: the pitch-point stiffness of
+    12 x 40 graded 6 lies nearer that of 24 x 80 (graded alike) than the even 12 x 40 lies
+    to the even 24 x 80, and the graded meshes are the more compliant (nearer the limit
+    approached from above)."""
+    from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
+    from spurdyn.model.system import system_for
+    from spurdyn.solvers.paper.statics import static_stiffness
+
+    pair = paper_pair()
+    force = PAPER_TORQUE / pair.gear_a.base_radius
+
+    def k(nx, ny, grading):
+        s = system_for(pair, nx, ny, 61, grading)
+        return static_stiffness(s, pair.pitch_roll_a, force, "hertz").stiffness
+
+    even = k(12, 40, 1.0) / k(24, 80, 1.0) - 1.0
+    graded = k(12, 40, 6.0) / k(24, 80, 6.0) - 1.0
+    assert 0.0 < graded < 0.75 * even
+    assert k(12, 40, 6.0) < k(12, 40, 1.0)
+
+
+def test_the_grading_of_a_case_is_kept_in_its_stored_case():
+    from spurdyn.casefile import case_from_dict, case_to_dict
+    from spurdyn.cases import resolve_cases
+
+    with pytest.raises(InputError, match=r"mesh.grading: dt 3e-08 s is above .* 4x14 tooth "
+                       r"mesh graded 4; .* or less grading"):
+        resolve_cases("paper-fig8", {"mesh.grading": 4.0})     # the preset's dt is too large
+    case = resolve_cases("paper-fig8", {"mesh.grading": 4.0, "run.dt": 2e-8,
+                                        "run.angle_deg": 0.1})[0]
+    assert case.run.grading == 4.0
+    again = case_from_dict(case_to_dict(case), check_step=False)
+    assert again.run.grading == 4.0 and again.run == case.run.with_(name=again.run.name)

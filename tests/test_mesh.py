@@ -101,3 +101,65 @@ def test_default_density_is_the_finest_of_the_table_stable_at_the_paper_step():
     assert (DEFAULT_NX, DEFAULT_NY) == (4, 14)
     assert build_tooth(g, 4, 14).stable_step().dt_rk4 >= 3e-8
     assert build_tooth(g, 6, 20).stable_step().dt_rk4 < 3e-8
+
+
+# --- grading across the tooth -------------------------------------------------------
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from spurdyn.mesh.tooth import MAX_GRADING, thickness_spacing  # noqa: E402
+
+
+@settings(max_examples=60, deadline=None)
+@given(nx=st.integers(1, 64), grading=st.floats(1.0, MAX_GRADING))
+def test_thickness_spacing_is_an_increasing_symmetric_map_of_the_unit_interval(nx, grading):
+    s = thickness_spacing(nx, grading)
+    assert s.shape == (2 * nx + 1,) and s[0] == 0.0 and s[-1] == 1.0
+    assert np.all(np.diff(s) > 0)
+    assert np.allclose(s + s[::-1], 1.0, atol=1e-14)                   # both flanks alike
+    assert np.allclose(s[1::2], 0.5 * (s[:-1:2] + s[2::2]), atol=1e-15)  # mid-sides centred
+
+
+def test_even_grading_is_the_paper_grid_bit_for_bit():
+    for nx in (1, 4, 12):
+        assert np.array_equal(thickness_spacing(nx, 1.0), np.linspace(0.0, 1.0, 2 * nx + 1))
+    g = paper_gear()
+    assert np.array_equal(tooth_mesh(g, 4, 14).nodes, tooth_mesh(g, 4, 14, grading=1.0).nodes)
+
+
+@pytest.mark.parametrize("grading", [2.0, 6.0, 20.0])
+def test_grading_is_the_limit_of_the_middle_to_outline_width_ratio(grading):
+    def ratio(nx):
+        widths = np.diff(thickness_spacing(nx, grading)[::2])
+        return widths[nx // 2] / widths[0]
+    # finite columns: widths h (1 -+ a) +- a (2 pi h)^2 h / 6 at the outline and the middle,
+    # so the ratio falls short of G by eps a (1/(1 + a) + 1/(1 - a)), eps = (2 pi h)^2 / 6
+    a = (grading - 1.0) / (grading + 1.0)
+    for nx in (64, 256):
+        eps = (2.0 * np.pi / nx) ** 2 / 6.0
+        expected = -eps * a * (1.0 / (1.0 + a) + 1.0 / (1.0 - a))
+        assert ratio(nx) / grading - 1.0 == pytest.approx(expected, rel=0.05)
+
+
+@pytest.mark.parametrize("nx, ny, grading", [(4, 14, 6.0), (12, 40, 6.0), (16, 56, 20.0), (3, 10, 50.0)])
+def test_graded_mesh_is_valid_and_keeps_the_outline(nx, ny, grading):
+    g = paper_gear()
+    even, graded = tooth_mesh(g, nx, ny), tooth_mesh(g, nx, ny, grading=grading)
+    assert np.all(jacobian_determinants(graded.nodes, graded.elements) > 0)
+    for side in ("right_side", "left_side"):   # the same flank nodes; tip and root graded
+        np.testing.assert_allclose(graded.nodes[getattr(graded, side)],
+                                   even.nodes[getattr(even, side)], atol=1e-15)
+    np.testing.assert_allclose(np.hypot(*graded.nodes[graded.tip_nodes].T), g.tip_radius, rtol=1e-12)
+    assert graded.grading == grading
+    # the outline column is thinner than the even one, the middle one wider
+    corner = even.right_side[ny]            # a corner half-way up
+    first = lambda m: m.elements[np.flatnonzero(m.elements[:, 1] == corner)[0]]  # noqa: E731
+    width = lambda m: float(np.hypot(*(m.nodes[first(m)[1]] - m.nodes[first(m)[0]])))  # noqa: E731
+    assert width(graded) < width(even)
+
+
+@pytest.mark.parametrize("bad", [0.5, 0.0, -2.0, 51.0, float("nan"), True, "6"])
+def test_bad_grading_is_refused(bad):
+    with pytest.raises(InputError, match="mesh.grading"):
+        tooth_mesh(paper_gear(), 4, 14, grading=bad)

@@ -29,6 +29,7 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
     _gear_to_dict, _read_toml, gear_from_table, load_pair, material_from_table, pair_from_dict,
 )
 from spurdyn.model.system import PairSystem, system_for
+from spurdyn.mesh.tooth import DEFAULT_GRADING, MAX_GRADING
 from spurdyn.settings import (
     BACKENDS, CONTACTS, METHODS, PAPER_DT, RETIRED_METHODS, RPM, RunSettings,
 )
@@ -68,7 +69,8 @@ class Case:
     @property
     def meshed_pair(self) -> MeshedPair:
         """The pair and its mesh, as ``spurdyn info`` takes them."""
-        return MeshedPair(pair=self.pair, nx=self.run.nx, ny=self.run.ny, name=self.name)
+        return MeshedPair(pair=self.pair, nx=self.run.nx, ny=self.run.ny, name=self.name,
+                          grading=self.run.grading)
 
     @property
     def angle(self) -> float:
@@ -208,14 +210,20 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     torque = src.number("torque", None, positive=False, required_hint=hint)
     dt = src.number("dt", None)
     angle_deg = src.number("angle_deg", None)
-    mesh = _Source({"nx": meshed_pair.nx, "ny": meshed_pair.ny}, "mesh", overrides, labels)
+    mesh = _Source({"nx": meshed_pair.nx, "ny": meshed_pair.ny, "grading": meshed_pair.grading},
+                   "mesh", overrides, labels)
     nx = mesh.integer("nx", meshed_pair.nx, 1)
     ny = mesh.integer("ny", meshed_pair.ny, 1)
+    grading = mesh.number("grading", meshed_pair.grading)
+    if not DEFAULT_GRADING <= grading <= MAX_GRADING:
+        raise InputError(mesh.field("grading"), f"must be a number from 1 (even) to "
+                         f"{MAX_GRADING:g} (got {grading:g})")
     settings = dict(
         # without a dt, the paper's until the system is built (the values are checked first)
         speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque,
         dt=PAPER_DT if dt is None else dt,
         angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
+        grading=grading,
         n_spline=src.integer("n_spline", _RUN_DEFAULTS["n_spline"], 8),
         tol_disp=src.number("tol_disp", _RUN_DEFAULTS["tol_disp"]),
         max_iter=src.integer("max_iter", _RUN_DEFAULTS["max_iter"], 1),
@@ -234,14 +242,16 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
     system = None
     if check_step or dt is None:
-        system = _system(pair, nx, ny, run.n_spline, overrides, labels)
+        system = _system(pair, nx, ny, run.n_spline, grading, overrides, labels)
     if dt is None:  # a stated fraction of the stable step of this mesh
         run = run.with_(dt=default_dt(stable_step(system)))
 
     if system is not None:
         def field(name: str) -> str:
-            if name == "dt" and "run.dt" not in overrides and "mesh.nx" in overrides:
-                return labels.get("mesh.nx", "mesh")     # the mesh made the step too large
+            if name == "dt" and "run.dt" not in overrides:
+                for key in ("mesh.grading", "mesh.nx"):  # the mesh made the step too large
+                    if key in overrides:
+                        return labels.get(key, "mesh" if key == "mesh.nx" else key)
             if name == "speed_b_rpm" and not src.get(name)[0]:
                 return src.field("speed_a_rpm")          # B's default speed comes from A's
             return src.field(name)
@@ -250,11 +260,12 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     return Case(name=name, pair=pair, run=run, description=description)
 
 
-def _system(pair: GearPair, nx: int, ny: int, n_spline: int, overrides: Mapping[str, Any],
+def _system(pair: GearPair, nx: int, ny: int, n_spline: int, grading: float,
+            overrides: Mapping[str, Any],
             labels: Mapping[str, str]) -> PairSystem:
     """The system the run will use (kept for it: built once); refuses a bad mesh."""
     try:
-        return system_for(pair, nx, ny, n_spline)
+        return system_for(pair, nx, ny, n_spline, grading)
     except InputError as err:
         if "mesh.nx" in overrides and err.field.startswith("mesh."):
             label = labels.get("mesh.nx", "mesh")
@@ -301,6 +312,6 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),
         "pair": {"centre_distance": case.pair.centre_distance, "driver": case.pair.driver},
-        "mesh": {"nx": run.nx, "ny": run.ny},
+        "mesh": {"nx": run.nx, "ny": run.ny, "grading": run.grading},
         "run": run_table,
     }

@@ -21,7 +21,7 @@ from spurdyn.geometry.blank import Blank
 from spurdyn.geometry.gear import MAX_MODULE, MAX_TEETH, Gear
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.rack import ISO_53, BasicRack, default_rack
-from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY
 
 GEAR_KEYS = {
     "teeth", "module", "pitch_radius", "tip_radius", "root_radius", "addendum", "dedendum",
@@ -35,7 +35,7 @@ BLANK_KEYS = {"bore_radius", "hub_radius", "rim_radius", "web_width"}
 RELIEF_KEYS = ("tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape")
 MATERIAL_KEYS = {"young", "poisson", "density"}
 PAIR_KEYS = {"centre_distance", "driver"}
-MESH_KEYS = {"nx", "ny"}
+MESH_KEYS = {"nx", "ny", "grading"}
 TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run"}
 
 @dataclass(frozen=True)
@@ -46,6 +46,7 @@ class MeshedPair:
     nx: int = DEFAULT_NX
     ny: int = DEFAULT_NY
     name: str = "pair"
+    grading: float = DEFAULT_GRADING
 
 
 def _check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
@@ -302,7 +303,8 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     _check_keys(mesh_table, MESH_KEYS, "mesh")
     nx = _integer(mesh_table, "nx", "mesh", DEFAULT_NX)
     ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
-    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name)
+    grading = _number(mesh_table, "grading", "mesh", DEFAULT_GRADING)
+    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading)
 
 
 def load_pair(path: str | Path) -> MeshedPair:

@@ -10,7 +10,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from spurdyn.errors import InputError
-from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, MAX_GRADING
 
 #: The paper's time step (s).
 PAPER_DT = 3e-8
@@ -82,6 +82,9 @@ class RunSettings:
         angle of action ``theta_s``.
     nx, ny
         Q8 elements across and along each tooth.
+    grading
+        How much thinner the outline columns of each tooth mesh are than its middle ones
+        (1: even; :func:`spurdyn.mesh.tooth.thickness_spacing`).
     n_spline
         Data points of each flank spline.
     tol_disp
@@ -119,6 +122,7 @@ class RunSettings:
     angle: float | None = None
     nx: int = DEFAULT_NX
     ny: int = DEFAULT_NY
+    grading: float = DEFAULT_GRADING
     n_spline: int = 61
     tol_disp: float = PAPER_TOL
     max_iter: int = 500
@@ -147,6 +151,11 @@ class RunSettings:
                 raise InputError(key, f"must be a whole number >= {lo} (got {v!r})")
             if hi is not None and v > hi:
                 raise InputError(key, f"must be at most {hi:,} (got {v:,}): {INTEGER_LIMITS[key]}")
+        g = self.grading
+        if (not isinstance(g, (int, float)) or isinstance(g, bool) or not math.isfinite(g)
+                or not DEFAULT_GRADING <= g <= MAX_GRADING):
+            raise InputError("grading", f"must be a number from 1 (even) to {MAX_GRADING:g} "
+                             f"(got {g!r})")
         if self.method in RETIRED_METHODS:
             raise InputError("method", f"{self.method!r} {RETIRED_METHODS[self.method]}")
         if self.method not in METHODS:

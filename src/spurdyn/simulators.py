@@ -72,7 +72,7 @@ def _hertz_table(pair: GearPair, case: RunSettings) -> Any:
     from spurdyn.model.system import system_for
     from spurdyn.solvers.paper.statics import static_stiffness
 
-    system = system_for(pair, case.nx, case.ny, case.n_spline)
+    system = system_for(pair, case.nx, case.ny, case.n_spline, case.grading)
     spair = system.pair                      # the pair as the solver runs it (A driving)
     roll = np.linspace(spair.start_roll_a, spair.end_roll_a, DEFAULT_TABLE_POINTS)
     force = static_force(pair, case.torque)

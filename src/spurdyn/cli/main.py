@@ -46,10 +46,11 @@ def resolve_pair(name: str) -> MeshedPair:
     return load_pair(name)
 
 
-def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None) -> MeshedPair:
-    if mesh is None:
-        return case
-    return MeshedPair(pair=case.pair, nx=mesh[0], ny=mesh[1], name=case.name)
+def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None,
+               grading: float | None = None) -> MeshedPair:
+    nx, ny = (case.nx, case.ny) if mesh is None else mesh
+    grading = case.grading if grading is None else grading
+    return MeshedPair(pair=case.pair, nx=nx, ny=ny, name=case.name, grading=grading)
 
 
 def _info_contact(args: argparse.Namespace, case: MeshedPair) -> tuple[str, float | None]:
@@ -84,8 +85,12 @@ def cmd_info(args: argparse.Namespace) -> int:
     from spurdyn.cli.report import format_info, pair_info
     from spurdyn.mesh.tooth import tooth_mesh
 
-    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh))
-    tooth_mesh(case.pair.gear_a, case.nx, case.ny)  # refuse a bad mesh before any work
+    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading)
+    try:    # refuse a bad mesh before any work
+        tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading)
+    except InputError as err:
+        raise InputError("--grading" if err.field == "mesh.grading" and args.grading is not None
+                         else err.field, err.reason) from None
     contact, force = _info_contact(args, case)
     info = pair_info(case, contact, force)
     print(json.dumps(info, indent=2) if args.json else format_info(info))
@@ -93,9 +98,15 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 
 def cmd_mesh(args: argparse.Namespace) -> int:
+    from spurdyn.mesh.tooth import tooth_mesh
     from spurdyn.results.pictures import draw_mesh_position
 
-    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh))
+    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading)
+    try:    # refuse a bad mesh before any work
+        tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading)
+    except InputError as err:
+        raise InputError("--grading" if err.field == "mesh.grading" and args.grading is not None
+                         else err.field, err.reason) from None
     png = _png_target(args.png)
     draw_mesh_position(case, png)
     print(f"wrote {png}")
@@ -114,6 +125,7 @@ RUN_OVERRIDES = (
     ("method", "run.method", "--method"),
     ("backend", "run.backend", "--backend"),
     ("contact", "run.contact", "--contact"),
+    ("grading", "mesh.grading", "--grading"),
 )
 
 
@@ -269,6 +281,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--angle", type=float, metavar="DEG",
                      help="rotation of A to simulate (deg; default the whole angle of action)")
     run.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
+    run.add_argument("--grading", type=float, metavar="G", help="how much thinner the outline columns of each tooth mesh are than the middle ones (default 1: even; e.g. 6 to resolve a contact strip)")
     run.add_argument("--save-every", type=int, metavar="K", help="keep every K-th step")
     run.add_argument("--frames-every", type=int, metavar="M",
                      help="keep the tooth displacements every M-th step (0: none)")
@@ -297,6 +310,7 @@ def build_parser() -> argparse.ArgumentParser:
     info.add_argument("case", metavar="CASE", help="'paper' or a TOML file describing a pair")
     info.add_argument("--json", action="store_true", help="print one JSON object")
     info.add_argument("--mesh", metavar="NXxNY", help="elements across x along the tooth")
+    info.add_argument("--grading", type=float, metavar="G", help="how much thinner the outline columns of each tooth mesh are than the middle ones (default 1: even; e.g. 6 to resolve a contact strip)")
     info.add_argument("--contact", metavar="|".join(CONTACTS),
                       help="the contact model whose stiffness to report (default: point for the "
                            "paper's pair, hertz for a file)")
@@ -308,6 +322,7 @@ def build_parser() -> argparse.ArgumentParser:
     mesh.add_argument("case", metavar="CASE", help="'paper' or a TOML file describing a pair")
     mesh.add_argument("--png", required=True, metavar="FILE", help="picture to write")
     mesh.add_argument("--mesh", metavar="NXxNY", help="elements across x along the tooth")
+    mesh.add_argument("--grading", type=float, metavar="G", help="how much thinner the outline columns of each tooth mesh are than the middle ones (default 1: even; e.g. 6 to resolve a contact strip)")
     mesh.set_defaults(func=cmd_mesh)
 
     _add_run_parser(sub)

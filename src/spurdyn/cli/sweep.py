@@ -26,7 +26,8 @@ from spurdyn.sweep.spec import MODELS, SweepPlan, check_plan, parse_speeds, pars
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
 
 #: ``spurdyn sweep`` options that override the case: (dest, dotted case key, label).
-SWEEP_OVERRIDES = (("dt", "run.dt", "--dt"), ("angle", "run.angle_deg", "--angle"))
+SWEEP_OVERRIDES = (("dt", "run.dt", "--dt"), ("angle", "run.angle_deg", "--angle"),
+                   ("grading", "mesh.grading", "--grading"))
 
 
 def local_backend(jobs: int) -> Any:
@@ -246,6 +247,9 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    "rerunning into it resumes the sweep")
     p.add_argument("--dt", type=float, metavar="S", help="time step (s)")
     p.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
+    p.add_argument("--grading", type=float, metavar="G",
+                   help="how much thinner the outline columns of each tooth mesh are than the "
+                        "middle ones (default 1: even)")
     p.add_argument("--angle", type=float, metavar="DEG",
                    help="rotation of A per run (deg; default the whole angle of action)")
     p.add_argument("--jobs", type=int, metavar="N",

@@ -31,7 +31,7 @@ from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
-from spurdyn.mesh.tooth import ToothMesh, tooth_mesh
+from spurdyn.mesh.tooth import DEFAULT_GRADING, ToothMesh, tooth_mesh
 from spurdyn.model.flank import Flank, make_flank
 from spurdyn.settings import RunSettings
 
@@ -252,10 +252,11 @@ def build_system(pair: GearPair, case: RunSettings) -> PairSystem:
     if pair.driver != "a":
         raise InputError("pair.driver", "only gear A driving is supported by the solver yet; "
                          "swap gear_a and gear_b")
-    return system_for(pair, case.nx, case.ny, case.n_spline)
+    return system_for(pair, case.nx, case.ny, case.n_spline, case.grading)
 
 
-def system_for(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
+def system_for(pair: GearPair, nx: int, ny: int, n_spline: int,
+               grading: float = DEFAULT_GRADING) -> PairSystem:
     """Mesh both teeth, place them just touching at the start of contact, assemble K and M.
 
     The system of the pair the solver runs (:func:`solver_pair`). The last two systems built
@@ -266,16 +267,17 @@ def system_for(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
     try:
         hash(pair)
     except TypeError:   # an unhashable pair cannot be a key
-        return _build_system(pair, nx, ny, n_spline)
-    return _kept_system(pair, nx, ny, n_spline)
+        return _build_system(pair, nx, ny, n_spline, grading)
+    return _kept_system(pair, nx, ny, n_spline, grading)
 
 
 @lru_cache(maxsize=2)
-def _kept_system(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
-    return _build_system(pair, nx, ny, n_spline)
+def _kept_system(pair: GearPair, nx: int, ny: int, n_spline: int, grading: float) -> PairSystem:
+    return _build_system(pair, nx, ny, n_spline, grading)
 
 
-def _build_system(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem:
+def _build_system(pair: GearPair, nx: int, ny: int, n_spline: int,
+                  grading: float = DEFAULT_GRADING) -> PairSystem:
     """:func:`system_for` without keeping it.
 
     The surfaces of :class:`Flank` are the exact involutes, which touch at the start of
@@ -284,8 +286,8 @@ def _build_system(pair: GearPair, nx: int, ny: int, n_spline: int) -> PairSystem
     """
     pair = solver_pair(pair)
     theta_a, theta_b = mesh_angles(pair, pair.start_roll_a)
-    mesh_a = tooth_mesh(pair.gear_a, nx, ny)
-    mesh_b = tooth_mesh(pair.gear_b, nx, ny)
+    mesh_a = tooth_mesh(pair.gear_a, nx, ny, grading=grading)
+    mesh_b = tooth_mesh(pair.gear_b, nx, ny, grading=grading)
     ca, cb = np.array([0.0, 0.0]), np.array([0.0, pair.centre_distance])
     xa = to_world_a(mesh_a.nodes, theta_a)
     xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)

@@ -145,7 +145,7 @@ def test_run_options_override_the_case(fake, here, capsys):
     for key, value in expected.items():
         assert case["run"][key] == pytest.approx(value) if isinstance(value, float) else \
             case["run"][key] == value, key
-    assert case["mesh"] == {"nx": 3, "ny": 10}
+    assert case["mesh"] == {"nx": 3, "ny": 10, "grading": 1.0}
     assert ds.attrs["static_force_N"] == pytest.approx(10.0 / 0.0417692, rel=1e-4)
 
 

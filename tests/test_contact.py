@@ -72,25 +72,34 @@ def test_rigid_teeth_stay_in_contact_on_the_line_of_action(system):
     assert fine_roll < worst_roll / 8.0
 
 
+def bent(system, theta):
+    """Rigid displacements at ``theta`` plus a smooth bend of every node, and the nodes'
+    reference positions ``(n, 2)``: the envelope property holds for a smooth surface,
+    where random nodal noise would kink the element edges against the spline."""
+    u0, _, _ = rigid(system, theta)
+    y = np.concatenate([g.Y for g in system.gears]).reshape(-1, 2)
+    return u0 + 1e-4 * np.column_stack([y[:, 1] ** 2, y[:, 0] * y[:, 1]]).ravel(), y
+
+
+def smooth_field(y, rng):
+    """A smooth random nodal field: quadratic polynomials of the node positions ``y``."""
+    cx, cy = rng.standard_normal(6), rng.standard_normal(6)
+    z = y / 0.05
+    basis = np.column_stack([np.ones(len(y)), z[:, 0], z[:, 1], z[:, 0] ** 2, z[:, 0] * z[:, 1],
+                             z[:, 1] ** 2])
+    return np.column_stack([basis @ cx, basis @ cy]).ravel()
+
+
 def test_contact_jacobian_by_finite_differences(system):
     """ds/du along random flank displacements equals the contact row of G (envelope property)."""
     s, ref = system
     rng = np.random.default_rng(1)
     theta = np.array([0.1, 0.1])
-    u0, _, _ = rigid(s, theta)
-    # a smooth deformation (the envelope property holds for a smooth surface; random
-    # nodal noise would kink the element edges against the spline)
-    y = np.concatenate([g.Y for g in s.gears]).reshape(-1, 2)
-    u0 = u0 + 1e-4 * np.column_stack([y[:, 1] ** 2, y[:, 0] * y[:, 1]]).ravel()
+    u0, y = bent(s, theta)
     c = ref.contact_at(theta, u0, (5.0, 11.0))
     g = jacobian(s, theta, c)[-1, 2:]
     for _ in range(3):
-        # a smooth random direction: quadratic polynomials of the node positions
-        cx, cy = rng.standard_normal(6), rng.standard_normal(6)
-        z = y / 0.05
-        basis = np.column_stack([np.ones(len(y)), z[:, 0], z[:, 1], z[:, 0] ** 2, z[:, 0] * z[:, 1],
-                                 z[:, 1] ** 2])
-        du = np.column_stack([basis @ cx, basis @ cy]).ravel()
+        du = smooth_field(y, rng)
         eps = 1e-9
         sp = ref.contact_at(theta, u0 + eps * du, (c.alpha, c.beta)).s
         sm = ref.contact_at(theta, u0 - eps * du, (c.alpha, c.beta)).s

@@ -24,7 +24,7 @@ from spurdyn.solvers.paper.dynamics_numpy import jacobian, strip_law
 from spurdyn.solvers.paper.step_numpy import PaperMethod, initial_state
 from spurdyn.solvers.paper.stepper_compiled import CompiledStepper, pack
 
-from test_contact import rigid
+from test_contact import bent, rigid, smooth_field
 
 PAIR = paper_pair()
 
@@ -197,18 +197,12 @@ def test_strip_jacobian_by_finite_differences(hertz_system):
     s, ref = hertz_system
     rng = np.random.default_rng(3)
     theta = np.array([0.1, 0.1])
-    u0, _, _ = rigid(s, theta)
-    y = np.concatenate([g.Y for g in s.gears]).reshape(-1, 2)
-    u0 = u0 + 1e-4 * np.column_stack([y[:, 1] ** 2, y[:, 0] * y[:, 1]]).ravel()
+    u0, y = bent(s, theta)
     c = ref.contact_at(theta, u0, (5.0, 11.0), 3000.0)
     assert c.half_width > 100e-6 and c.nodes_a.size >= 3
     g = jacobian(s, theta, c)[-1, 2:]
     for _ in range(3):
-        cx, cy = rng.standard_normal(6), rng.standard_normal(6)
-        z = y / 0.05
-        basis = np.column_stack([np.ones(len(y)), z[:, 0], z[:, 1], z[:, 0] ** 2, z[:, 0] * z[:, 1],
-                                 z[:, 1] ** 2])
-        du = np.column_stack([basis @ cx, basis @ cy]).ravel()
+        du = smooth_field(y, rng)
         eps = 1e-9
         sp = ref.contact_at(theta, u0 + eps * du, (c.alpha, c.beta), 3000.0).s
         sm = ref.contact_at(theta, u0 - eps * du, (c.alpha, c.beta), 3000.0).s

@@ -355,19 +355,28 @@ def material_point(P, g, t, th, uget, kind, om, al):
     """Position (kind 0), velocity (1) or acceleration (2) of the material point at ``t``."""
     nodes, w, _ = edge_at(P.fpar[g], P.side[g], t)
     dx, dy = delta_at(P.fpar[g], P.sideY[g], t)
+    return weighted_point(P, g, nodes, w, 0, 3, dx, dy, th, uget, kind, om, al)
+
+
+@njit
+def weighted_point(P, g, nodes, w, off, n, dx, dy, th, uget, kind, om, al):
+    """Position (kind 0), velocity (1) or acceleration (2) of ``c + sum_j w_j (Y + u)_j +
+    R delta`` of gear ``g``, over the nodes ``nodes[off:off + n]`` with weights
+    ``w[off:off + n]``: one material point (three edge nodes) or a strip's virtual point."""
     sg = P.sense[g]
     c, s = math.cos(sg * th), math.sin(sg * th)
     rx, ry = c * dx - s * dy, s * dx + c * dy
     px = 0.0
     py = 0.0
-    for j in range(3):
-        i = nodes[j]
+    for j in range(n):
+        i = nodes[off + j]
+        wj = w[off + j]
         if kind == 0:
-            px += w[j] * (P.Y[2 * i] + uget[2 * i])
-            py += w[j] * (P.Y[2 * i + 1] + uget[2 * i + 1])
+            px += wj * (P.Y[2 * i] + uget[2 * i])
+            py += wj * (P.Y[2 * i + 1] + uget[2 * i + 1])
         else:
-            px += w[j] * uget[2 * i]
-            py += w[j] * uget[2 * i + 1]
+            px += wj * uget[2 * i]
+            py += wj * uget[2 * i + 1]
     if kind == 0:
         return P.centre[g, 0] + px + rx, P.centre[g, 1] + py + ry
     if kind == 1:

@@ -12,7 +12,7 @@ import math
 
 from spurdyn.contact.constants import F
 from spurdyn.contact.hertz import STRIP_POINTS, strip_quadrature
-from spurdyn.contact.search_compiled import edge_shape, exact_at
+from spurdyn.contact.search_compiled import edge_shape, exact_at, weighted_point
 from spurdyn.jit import njit
 
 #: The strip quadrature (points in units of ``b``, weights summing to 1), read as constants.
@@ -91,22 +91,4 @@ def strip_rows(P, g, t_c, hw, cn, cw, off, ns):
 def virtual_point(P, g, cn, cw, off, ns, dx, dy, th, uget, kind, om, al):
     """Position (kind 0), velocity (1) or acceleration (2) of the strip-averaged point
     ``c + N_bar (Y + u) + R delta_bar`` of gear ``g`` (rows in ``cn[off:off + ns]``)."""
-    sg = P.sense[g]
-    c, s = math.cos(sg * th), math.sin(sg * th)
-    rx, ry = c * dx - s * dy, s * dx + c * dy
-    px = 0.0
-    py = 0.0
-    for j in range(ns):
-        i = cn[off + j]
-        wj = cw[off + j]
-        if kind == 0:
-            px += wj * (P.Y[2 * i] + uget[2 * i])
-            py += wj * (P.Y[2 * i + 1] + uget[2 * i + 1])
-        else:
-            px += wj * uget[2 * i]
-            py += wj * uget[2 * i + 1]
-    if kind == 0:
-        return P.centre[g, 0] + px + rx, P.centre[g, 1] + py + ry
-    if kind == 1:
-        return px - sg * om * ry, py + sg * om * rx
-    return px - sg * al * ry - om * om * rx, py + sg * al * rx - om * om * ry
+    return weighted_point(P, g, cn, cw, off, ns, dx, dy, th, uget, kind, om, al)

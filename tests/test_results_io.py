@@ -293,6 +293,58 @@ def test_animation_gif(tmp_path, run_dir):
     assert gif.read_bytes()[:6] == b"GIF89a"
 
 
+@pytest.fixture(scope="module")
+def loaded_run(tmp_path_factory):
+    """Fig. 8 through its first 9 degrees (the load is on), with a frame every 100 steps."""
+    from spurdyn.cases import resolve_cases
+    from spurdyn.simulators import MODELS
+
+    case = resolve_cases("paper-fig8", {"run.angle_deg": 9.0})[0]
+    d = tmp_path_factory.mktemp("loaded")
+    write_run(MODELS["fe"](case.pair, case.run), case, d)
+    return load_run(d)
+
+
+def test_animation_scale_shows_the_fillet_and_the_view_follows_the_teeth(loaded_run):
+    """The colour scale is set by the fillets (the contact's peak above it saturates), so
+    the fillet elements spread over the scale instead of sitting in one flat colour; each
+    frame's view is the box of that frame's teeth."""
+    from spurdyn.results.animate import (FILLET_SCALE, _OUTLINE, fillet_elements, frame_view,
+                                         stress_scale)
+    from spurdyn.results.frames import tooth_frames
+
+    frames = tooth_frames(loaded_run)
+    meshes, pair = frames.meshes, frames.case.pair
+    fillets = [fillet_elements(m.nodes, m.elements, np.concatenate([m.right_side, m.left_side]),
+                               g.form_radius) for m, g in zip(meshes, (pair.gear_a, pair.gear_b))]
+    for m, f in zip(meshes, fillets):     # both fillets, at the bottom of the tooth only
+        assert 2 <= f.size < m.n_elements / 2
+        assert np.hypot(*m.nodes[m.elements[f]].reshape(-1, 2).T).min() < pair.gear_a.form_radius
+    stress = [[frames.von_mises(g, k) for g in (0, 1)] for k in range(frames.n_frames)]
+    vmax = stress_scale(stress, fillets)
+    peak_fillet = max(float(s[g][fillets[g]].max()) for s in stress for g in (0, 1))
+    assert vmax == pytest.approx(FILLET_SCALE * peak_fillet)
+    assert vmax < max(float(np.nanmax(s[g])) for s in stress for g in (0, 1))  # contact saturates
+    k = int(np.argmax([max(s[0][fillets[0]].max(), s[1][fillets[1]].max()) for s in stress]))
+    # the view of a frame holds its teeth and little more
+    polys = [frames.positions(g, k)[meshes[g].elements[:, _OUTLINE]] for g in (0, 1)]
+    (x0, x1), (y0, y1) = frame_view(polys)
+    pts = np.concatenate([p.reshape(-1, 2) for p in polys])
+    assert x0 < pts[:, 0].min() and pts[:, 0].max() < x1 and y0 < pts[:, 1].min() and pts[:, 1].max() < y1
+    size = max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1]))
+    assert max(x1 - x0, y1 - y0) < 1.1 * size
+
+
+def test_stress_scale_without_fillet_stress_falls_back_to_the_largest():
+    from spurdyn.results.animate import stress_scale
+
+    zero = [np.zeros(4), np.zeros(4)]
+    hot = [np.array([0.0, 0.0, 0.0, 7.0]), np.array([np.nan, 0.0, 2.0, 0.0])]
+    fillets = [np.array([0, 1]), np.array([0, 1])]
+    assert stress_scale([zero, hot], fillets) == 7.0
+    assert stress_scale([zero], fillets) == 1.0
+
+
 def test_overlay_picture(tmp_path, run_dir):
     from spurdyn.results.plots import plot_contact_force
 

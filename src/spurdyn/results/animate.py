@@ -1,5 +1,11 @@
 """An animated GIF of a run: the two teeth meshing, deformation magnified, coloured by the
-von Mises stress, with the contact-force trace beside them."""
+von Mises stress, with the contact-force trace beside them.
+
+The view follows the teeth (each frame is filled by the two teeth), and the colour scale
+is set by the fillets, not by the contact: the stress under a contact point is several
+times the root's and would leave the root one flat colour. Elements above the scale
+(under the contact) show its top colour, marked by the colour bar's arrow.
+"""
 
 from __future__ import annotations
 
@@ -25,6 +31,46 @@ _OUTLINE = [0, 4, 1, 5, 2, 6, 3, 7]
 
 #: The largest magnified elastic displacement, as a fraction of the tooth height.
 AUTO_MAGNIFY_FRACTION = 0.08
+#: Top of the colour scale, in the largest stress of the fillet elements over the run.
+FILLET_SCALE = 1.5
+#: Margin around the two teeth in each frame, as a fraction of the frame's larger side.
+VIEW_PAD = 0.04
+
+
+def fillet_elements(nodes: np.ndarray, elements: np.ndarray, outline: np.ndarray,
+                    form_radius: float) -> np.ndarray:
+    """Indices of the elements that touch an outline node below ``form_radius``: the fillets
+    (and the root's corners), in the tooth's own frame."""
+    low = outline[np.hypot(nodes[outline, 0], nodes[outline, 1]) < form_radius]
+    return np.flatnonzero(np.isin(elements, low).any(axis=1))
+
+
+def stress_scale(stress: list[list[np.ndarray]], fillets: list[np.ndarray]) -> float:
+    """Top of the colour scale (the stresses' unit): :data:`FILLET_SCALE` times the largest
+    fillet-element stress over all frames, or the largest stress of all if the fillets
+    carry none (or no finite one)."""
+    def top(select: Callable[[int], np.ndarray]) -> float:
+        vals = [s[g][select(g)] for s in stress for g in (0, 1)]
+        vals = [v[np.isfinite(v)] for v in vals]
+        vals = [v for v in vals if v.size]
+        return max((float(v.max()) for v in vals), default=0.0)
+
+    fillet = top(lambda g: fillets[g])
+    if fillet > 0.0:
+        return FILLET_SCALE * fillet
+    anywhere = top(lambda g: slice(None))
+    return anywhere if anywhere > 0.0 else 1.0
+
+
+def frame_view(polys: list[np.ndarray]) -> tuple[tuple[float, float], tuple[float, float]]:
+    """``(xlim, ylim)`` around the finite points of one frame's teeth, padded."""
+    pts = np.concatenate([p.reshape(-1, 2) for p in polys])
+    pts = pts[np.isfinite(pts).all(axis=1)]
+    if pts.size == 0:
+        return (0.0, 1.0), (0.0, 1.0)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = VIEW_PAD * float((hi - lo).max())
+    return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
 
 
 def auto_magnify(frames: ToothFrames) -> float:
@@ -81,15 +127,13 @@ def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None
         polys.append([frames.positions(g, k, magnify)[meshes[g].elements[:, _OUTLINE]] * 1e3
                       for g in (0, 1)])
         stress.append([frames.von_mises(g, k) / 1e6 for g in (0, 1)])
-    vmax = max(float(np.nanmax(s)) for pair_ in stress for s in pair_ if np.isfinite(s).any()) \
-        if any(np.isfinite(s).any() for pair_ in stress for s in pair_) else 1.0
-    vmax = vmax if vmax > 0 else 1.0
-    allpts = np.concatenate([p.reshape(-1, 2) for pair_ in polys for p in pair_])
-    allpts = allpts[np.isfinite(allpts).all(axis=1)]
-    if allpts.size == 0:
+    gears = (frames.case.pair.gear_a, frames.case.pair.gear_b)
+    fillets = [fillet_elements(meshes[g].nodes, meshes[g].elements,
+                               np.concatenate([meshes[g].right_side, meshes[g].left_side]),
+                               gears[g].form_radius) for g in (0, 1)]
+    vmax = stress_scale(stress, fillets)
+    if not any(np.isfinite(p).all(axis=-1).any() for pair_ in polys for p in pair_):
         raise InputError("frame_u", "holds no finite displacements to draw")
-    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
-    pad = 0.05 * float((hi - lo).max())
 
     fig, (ax_t, ax_f) = plt.subplots(1, 2, figsize=(11, 5), dpi=90,
                                      gridspec_kw={"width_ratios": [1, 1.3]})
@@ -99,10 +143,11 @@ def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None
                            edgecolor="k", linewidth=0.2)
         ax_t.add_collection(c)
         coll.append(c)
-    fig.colorbar(coll[0], ax=ax_t, label="von Mises stress (MPa)", shrink=0.8)
-    ax_t.set_xlim(lo[0] - pad, hi[0] + pad)
-    ax_t.set_ylim(lo[1] - pad, hi[1] + pad)
-    ax_t.set_aspect("equal")
+    fig.colorbar(coll[0], ax=ax_t, label="von Mises stress (MPa)", shrink=0.8, extend="max")
+    xlim, ylim = frame_view(polys[0])
+    ax_t.set_xlim(*xlim)
+    ax_t.set_ylim(*ylim)
+    ax_t.set_aspect("equal", adjustable="datalim")
     ax_t.set_xlabel("x (mm)")
     ax_t.set_ylabel("y (mm)")
     stamp = ax_t.set_title("")
@@ -120,6 +165,9 @@ def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None
         for g in (0, 1):
             coll[g].set_verts(polys[i][g])
             coll[g].set_array(stress[i][g])
+        xlim, ylim = frame_view(polys[i])     # the view follows the teeth
+        ax_t.set_xlim(*xlim)
+        ax_t.set_ylim(*ylim)
         a = float(np.interp(frames.time[k], time, angle)) if len(time) else 0.0
         cursor.set_xdata([a, a])
         stamp.set_text(f"t = {frames.time[k] * 1e6:.1f} us, A turned {a:.2f} deg")

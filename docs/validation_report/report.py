@@ -41,6 +41,12 @@ that script from the runs it makes (re-run it to regenerate the page and the fig
 stepper), {total / 60:.1f} min of computing in all, made {dates[0]} – {dates[-1]} on
 {"commit " + gits[0] if len(gits) == 1 else "commits " + ", ".join(gits)}.*
 
+> **The distributed contact (issue 14)** is measured on its own page,
+> [`docs/contact_validation.md`](contact_validation.md), written by
+> `docs/make_contact_validation.py`: stiffness against the mesh (even and graded), every
+> preset and Figs. 8-10 on finer meshes with both contacts, pairs at design loads, Hertz,
+> energy. This page measures the paper's point contact, which its presets use.
+
 The model is the paper's: one elastic Q8 tooth on a rigid disk per gear, the second
 tooth pair replaced by the torque ramps of its Fig. 7, undamped, frictionless, plane
 stress (section 6). Within that model:

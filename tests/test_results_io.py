@@ -335,6 +335,27 @@ def test_animation_scale_shows_the_fillet_and_the_view_follows_the_teeth(loaded_
     assert max(x1 - x0, y1 - y0) < 1.1 * size
 
 
+def test_a_run_keeps_its_root_stress_and_iso_beside_it(loaded_run):
+    from spurdyn.iso6336.rating import iso_pair, rate
+    from spurdyn.results.frames import case_from_run
+
+    ds = loaded_run
+    assert ds["root_stress"].dims == ("frame", "gear") and ds["root_stress"].attrs["units"] == "Pa"
+    hi = ds["root_stress"].values
+    # the loaded fillet's stress follows the contact force of the frame (quasi-static run)
+    force = np.interp(ds["frame_time"].values, ds["time"].values, ds["contact_force"].values)
+    assert np.corrcoef(force, hi[:, 0])[0, 1] > 0.95
+    assert np.all(ds["root_stress_compressive"].values <= hi)
+    s = summarize(ds)
+    assert s["root_stress_max_Pa"][0] == pytest.approx(float(np.nanmax(hi[:, 0])))
+    case = case_from_run(ds)
+    iso = rate(iso_pair(case.pair), case.run.torque)
+    assert s["iso6336_sigma_F0_Pa"] == pytest.approx(list(iso.sigma_f0))
+    assert s["iso6336_sigma_H0_Pa"] == pytest.approx(iso.sigma_h0)
+    pos = s["root_stress_max_position_m"][0]
+    assert case.pair.gear_a.root_radius < pos < case.pair.gear_a.form_radius
+
+
 def test_stress_scale_without_fillet_stress_falls_back_to_the_largest():
     from spurdyn.results.animate import stress_scale
 

@@ -34,6 +34,7 @@ from spurdyn.errors import InputError
 from spurdyn.results.beside import beside
 from spurdyn.results.frames import ToothFrames, case_from_run, speeds_label, tooth_frames
 from spurdyn.results.headline import headline
+from spurdyn.results.stress import root_stress_variables, stress_summary
 from spurdyn.result import STAGES, Result
 
 RESULT_FILE = "result.nc"
@@ -351,6 +352,8 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         "settings": case,
         "spurdyn_version": ds.attrs.get("spurdyn_version", ""),
     }
+    # root stress along the fillets (runs with tooth frames) and ISO's nominal stresses
+    summary.update(stress_summary(ds, case_from_run(ds)))
     model = json.loads(ds.attrs.get("info", "{}") or "{}").get("model")
     if model and model != "fe":  # say which model made it (the FE solver's is implied)
         summary["model"] = model
@@ -382,6 +385,7 @@ def write_run(result: Result, case: Case, directory: str | Path, *, png: bool = 
     """
     directory = Path(directory)
     ds = result_to_dataset(result, case)
+    ds = ds.assign(root_stress_variables(ds))
 
     def picture() -> None:
         from spurdyn.results.plots import plot_contact_force

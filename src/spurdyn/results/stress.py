@@ -1,0 +1,106 @@
+"""Root stress of a run's tooth frames, and ISO 6336's nominal stresses beside it.
+
+:func:`root_stress_variables` recovers the stress along both fillets of each tooth at every
+saved tooth frame (:mod:`spurdyn.model.root`) and keeps, per frame and gear, the largest
+(tension) and smallest (compression) and where along the fillet they are (their radius).
+:func:`iso_figures` gives ISO 6336's nominal tooth-root stress ``sigma_F0`` of each gear
+(part 3, method B) and nominal contact stress ``sigma_H0`` (part 2) for the run's pair and
+static load. :func:`stress_summary` turns both into the figures of ``summary.json``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from spurdyn.casefile import Case
+from spurdyn.model.root import peaks, root_surface
+from spurdyn.results.frames import tooth_frames
+
+#: The variables :func:`root_stress_variables` adds: name -> (units, long name).
+ROOT_VARIABLES = {
+    "root_stress": ("Pa", "largest stress along the fillets of the tooth (tension positive: "
+                          "the largest principal stress at the free surface)"),
+    "root_stress_position": ("m", "distance from the gear centre of the fillet point of "
+                                  "root_stress"),
+    "root_stress_compressive": ("Pa", "smallest stress along the fillets of the tooth "
+                                      "(compression negative)"),
+    "root_stress_compressive_position": ("m", "distance from the gear centre of the fillet "
+                                              "point of root_stress_compressive"),
+}
+
+
+def root_stress_variables(ds: xr.Dataset) -> dict[str, xr.Variable]:
+    """The root-stress variables of a run with tooth frames, ``(frame, gear)`` each (gear 0
+    is A); an empty dict for a run without frames."""
+    if "frame_u" not in ds or ds.sizes.get("frame", 0) == 0:
+        return {}
+    frames = tooth_frames(ds)
+    pair = frames.case.pair
+    out = np.full((4, frames.n_frames, 2), np.nan)
+    for g, gear in enumerate((pair.gear_a, pair.gear_b)):
+        surface = root_surface(frames.meshes[g], gear.form_radius, gear.material,
+                               positions=frames.X0[g])
+        elastic = np.stack([frames.elastic(g, k).ravel() for k in range(frames.n_frames)])
+        stress = surface.stress(elastic)
+        for j, values in enumerate(peaks(stress, surface.radius)):
+            out[j, :, g] = values
+    return {name: xr.Variable(("frame", "gear"), out[j], {"units": units, "long_name": long})
+            for j, (name, (units, long)) in enumerate(ROOT_VARIABLES.items())}
+
+
+def iso_figures(case: Case) -> dict[str, Any]:
+    """ISO 6336's nominal stresses for the run's pair under its static load: ``sigma_F0``
+    (Pa) of A and B, ``sigma_H0`` (Pa), or ``None`` each and the reason in ``iso6336_note``
+    (ISO's formulas here need the standard centre distance)."""
+    from spurdyn.iso6336.rating import iso_pair, rate
+
+    pair = case.pair
+    torque_a = case.run.torque if pair.driver == "a" else \
+        case.run.torque * pair.gear_a.base_radius / pair.gear_b.base_radius
+    try:
+        rating = rate(iso_pair(pair), torque_a)
+    except ValueError as err:
+        return {"iso6336_sigma_F0_Pa": None, "iso6336_sigma_H0_Pa": None,
+                "iso6336_note": f"not computed: {err}"}
+    if not (torque_a > 0.0 and math.isfinite(rating.sigma_h0)):
+        return {"iso6336_sigma_F0_Pa": None, "iso6336_sigma_H0_Pa": None,
+                "iso6336_note": "not computed: the run carries no torque"}
+    return {"iso6336_sigma_F0_Pa": [float(s) for s in rating.sigma_f0],
+            "iso6336_sigma_H0_Pa": float(rating.sigma_h0),
+            "iso6336_note": "nominal stresses of ISO 6336-3 (method B, Y_F and Y_S at the "
+                            "30 deg tangent) and ISO 6336-2 (Z_H Z_E Z_eps) for the static load"}
+
+
+def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
+    """The stress figures of ``summary.json``: per gear (A, B) the largest root stress over
+    the frames and its position, the smallest (compressive) one, and ISO's values."""
+    out: dict[str, Any] = {}
+    if "root_stress" in ds:
+        hi, r_hi = ds["root_stress"].values, ds["root_stress_position"].values
+        lo, r_lo = ds["root_stress_compressive"].values, ds["root_stress_compressive_position"].values
+
+        def pick(values: np.ndarray, where: np.ndarray, best: Any) -> tuple[list, list]:
+            vals, pos = [], []
+            for g in (0, 1):
+                v = values[:, g]
+                if not np.isfinite(v).any():
+                    vals.append(None)
+                    pos.append(None)
+                    continue
+                k = int(best(np.where(np.isfinite(v), v, np.nan)))
+                vals.append(float(v[k]))
+                pos.append(float(where[k, g]))
+            return vals, pos
+
+        out["root_stress_max_Pa"], out["root_stress_max_position_m"] = pick(hi, r_hi, np.nanargmax)
+        out["root_stress_compressive_min_Pa"], out["root_stress_compressive_position_m"] = \
+            pick(lo, r_lo, np.nanargmin)
+    out.update(iso_figures(case))
+    return out
+
+
+__all__ = ["ROOT_VARIABLES", "iso_figures", "root_stress_variables", "stress_summary"]

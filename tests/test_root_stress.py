@@ -1,0 +1,68 @@
+"""Root stress along the fillets (spurdyn.model.root) of a quasi-statically loaded tooth."""
+
+import math
+
+import numpy as np
+import pytest
+
+from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
+from spurdyn.model.root import fillet_nodes, peaks, root_surface
+from spurdyn.model.stiffness import ToothCompliance
+from spurdyn.model.tooth import build_tooth
+
+PAIR = paper_pair()
+GEAR = PAIR.gear_a
+
+
+def _loaded(nx, ny, grading):
+    """Tooth A clamped at its root under ISO's load: the static normal force at the outer
+    point of single contact, on its right flank."""
+    tooth = build_tooth(GEAR, nx, ny, grading)
+    comp = ToothCompliance(tooth, "right")
+    roll = max(PAIR.single_contact_roll_a)
+    f_n = PAPER_TORQUE / GEAR.pitch_radius / math.cos(GEAR.pressure_angle)
+    f = comp.load_vector(GEAR.base_radius * math.hypot(1.0, roll)) * f_n
+    u = np.zeros_like(f)
+    u[comp._free] = comp._lu.solve(f[comp._free])
+    surface = root_surface(tooth.mesh, GEAR.form_radius, GEAR.material)
+    return surface, surface.stress(u), u
+
+
+def test_fillet_nodes_are_the_outline_below_the_form_radius():
+    mesh = build_tooth(GEAR, 6, 20).mesh
+    nodes, side = fillet_nodes(mesh, GEAR.form_radius)
+    for k, outline in enumerate((mesh.right_side, mesh.left_side)):
+        mine = nodes[side == k]
+        np.testing.assert_array_equal(mine, outline[:mine.size])     # from the root upward
+        r = np.hypot(*mesh.nodes[outline].T)
+        assert r[mine.size - 1] < GEAR.form_radius <= r[mine.size]
+
+
+def test_loaded_fillet_pulls_and_the_other_presses_and_stress_is_linear():
+    surface, stress, u = _loaded(6, 20, 1.0)
+    right, left = stress[surface.side == 0], stress[surface.side == 1]
+    assert right.max() > 0.0 > left.min()
+    assert right.max() > abs(right.min()) and abs(left.min()) > left.max()
+    np.testing.assert_allclose(surface.stress(2.5 * u), 2.5 * stress, rtol=1e-12)
+    np.testing.assert_allclose(surface.stress(np.stack([u, -u])), [stress, -stress], rtol=1e-12)
+
+
+def test_peak_root_stress_converges_with_the_mesh():
+    """Issue 17: the quasi-static peak root stress of the paper's pair changes by less than
+    3 % between the two finest meshes (graded toward the outlines)."""
+    peak = {}
+    for nx, ny in ((12, 40), (16, 56)):
+        surface, stress, _ = _loaded(nx, ny, 6.0)
+        hi, r_hi, lo, _ = peaks(stress[None], surface.radius)
+        peak[nx] = hi[0]
+        # not at the clamped bottom corner: in the fillet above it
+        assert surface.radius.min() < r_hi[0] < GEAR.form_radius
+    assert abs(peak[12] / peak[16] - 1.0) < 0.03
+
+
+def test_peaks_skip_missing_rows():
+    s = np.array([[1.0, 3.0, -2.0], [np.nan, np.nan, np.nan]])
+    hi, r_hi, lo, r_lo = peaks(s, np.array([10.0, 11.0, 12.0]))
+    np.testing.assert_array_equal(hi[:1], [3.0]) and np.testing.assert_array_equal(r_hi[:1], [11.0])
+    np.testing.assert_array_equal(lo[:1], [-2.0]) and np.testing.assert_array_equal(r_lo[:1], [12.0])
+    assert np.isnan(hi[1]) and np.isnan(r_lo[1])

@@ -175,10 +175,14 @@ def test_plot_and_animate_commands(fake, here, capsys):
                         (["animate", "out", "--gif", "b.gif"], "not a run folder"),
                         (["animate", "out/paper-fig9", "--gif", "b.png"], "--gif"),
                         (["plot", "out/nothing"], "not a run folder"),
-                        (["plot", "out/paper-fig9", "--png", "x.jpg"], "--png")):
+                        (["plot", "out/paper-fig9", "--png", "x.jpg"], "--png"),
+                        (["plot", "out/paper-fig11", "--stress"], "holds no root stress"),
+                        (["plot", "out/paper-fig9", "out/paper-fig9", "--stress"], "--stress")):
         code, _, err = run(capsys, *argv)
         assert code == 2 and field in err and err.count("\n") == 1, argv
-    assert not (here / "b.gif").exists()
+    assert not (here / "b.gif").exists() and not (here / "stress_history.png").exists()
+    code, out, _ = run(capsys, "plot", "out/paper-fig9", "--stress")
+    assert code == 0 and (here / "stress_history.png").read_bytes()[:8] == PNG_MAGIC
 
 
 def test_cases_lists_presets(capsys):

@@ -195,9 +195,17 @@ def cmd_plot(args: argparse.Namespace) -> int:
     from spurdyn.results.io import load_run
     from spurdyn.results.plots import plot_contact_force
 
-    png = _png_target(args.png)
     runs = [load_run(d) for d in args.dirs]
-    plot_contact_force(runs, png)
+    if args.stress:
+        from spurdyn.results.stress_plot import plot_stress_history
+
+        if len(runs) != 1:
+            raise InputError("--stress", "draws one run: give one run folder")
+        png = _png_target(args.png or "stress_history.png")
+        plot_stress_history(runs[0], png)
+    else:
+        png = _png_target(args.png or "contact_force_overlay.png")
+        plot_contact_force(runs, png)
     print(f"wrote {png}")
     return 0
 
@@ -333,10 +341,15 @@ def build_parser() -> argparse.ArgumentParser:
     cases = sub.add_parser("cases", help="list the ready-made cases (presets)")
     cases.set_defaults(func=cmd_cases)
 
-    plot = sub.add_parser("plot", help="overlay the contact force of one or more runs")
+    plot = sub.add_parser("plot", help="overlay the contact force of one or more runs, or "
+                                       "draw one run's stresses (--stress)")
     plot.add_argument("dirs", nargs="+", metavar="DIR", help="run folders")
-    plot.add_argument("--png", default="contact_force_overlay.png", metavar="FILE",
-                      help="picture to write (default contact_force_overlay.png)")
+    plot.add_argument("--png", metavar="FILE",
+                      help="picture to write (default contact_force_overlay.png, or "
+                           "stress_history.png with --stress)")
+    plot.add_argument("--stress", action="store_true",
+                      help="the root stress of each tooth and the contact pressure against "
+                           "the rotation, ISO 6336's nominal stresses dashed")
     plot.set_defaults(func=cmd_plot)
 
     anim = sub.add_parser("animate", help="animated GIF of the teeth meshing, stress-coloured")

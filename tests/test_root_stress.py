@@ -66,3 +66,50 @@ def test_peaks_skip_missing_rows():
     np.testing.assert_array_equal(hi[:1], [3.0]) and np.testing.assert_array_equal(r_hi[:1], [11.0])
     np.testing.assert_array_equal(lo[:1], [-2.0]) and np.testing.assert_array_equal(r_lo[:1], [12.0])
     assert np.isnan(hi[1]) and np.isnan(r_lo[1])
+
+
+def _case_with_allowables(flim=430e6, hlim=1500e6):
+    from spurdyn.casefile import case_from_dict
+
+    gear = {"teeth": 25, "module": 0.003, "pressure_angle_deg": 20.0, "face_width": 0.03,
+            "material": {"young": 210e9, "poisson": 0.3, "density": 7800.0}}
+    if flim is not None:
+        gear["material"]["sigma_flim"] = flim
+    if hlim is not None:
+        gear["material"]["sigma_hlim"] = hlim
+    data = {"gear_a": gear, "gear_b": {**gear, "teeth": 50},
+            "run": {"speed_a_rpm": 3000.0, "torque": 150.0}}
+    return case_from_dict(data, check_step=False)
+
+
+def test_safety_factors_from_the_model_peaks_and_from_iso():
+    from spurdyn.iso6336.rating import dynamic_factor_at, iso_pair, rate
+    from spurdyn.results.stress import safety_figures
+
+    case = _case_with_allowables()
+    s = safety_figures(case, [2e8, 1e8], 1.2e9)
+    # model: S_F = sigma_Flim Y_ST / peak, S_H = sigma_Hlim / peak pressure (ISO 6336-2/-3, cl. 5)
+    assert s["safety_root_model"] == pytest.approx([2 * 430e6 / 2e8, 2 * 430e6 / 1e8])
+    assert s["safety_contact_model"] == pytest.approx([1500e6 / 1.2e9] * 2)
+    rating = rate(iso_pair(case.pair), 150.0)
+    k_v = dynamic_factor_at(rating, case.run.speed_a)
+    assert s["iso6336_k_v"] == pytest.approx(k_v) and k_v > 1.0
+    assert s["safety_root_iso"] == pytest.approx([860e6 / (f * k_v) for f in rating.sigma_f0])
+    assert s["safety_contact_iso"][0] == pytest.approx(
+        1500e6 / (rating.z_b * rating.sigma_h0 * math.sqrt(k_v)))
+    # a gear without allowables gets none; a case without any, no safety figures at all
+    only_f = safety_figures(_case_with_allowables(hlim=None), [2e8, 1e8], None)
+    assert only_f["safety_contact_model"] == [None, None] and only_f["safety_root_model"][0] > 0
+    assert safety_figures(_case_with_allowables(None, None), [2e8, 1e8], 1e9) == {}
+
+
+def test_allowables_are_kept_in_the_stored_case_and_a_value_in_mpa_is_refused():
+    from spurdyn.casefile import case_from_dict, case_to_dict
+    from spurdyn.errors import InputError
+
+    case = _case_with_allowables()
+    again = case_from_dict(case_to_dict(case), check_step=False)
+    assert again.pair.gear_a.material.sigma_flim == 430e6
+    assert again.pair.gear_b.material.sigma_hlim == 1500e6
+    with pytest.raises(InputError, match=r"gear_a.material.sigma_flim: .*in MPa is refused"):
+        _case_with_allowables(flim=430.0)

@@ -33,7 +33,7 @@ RACK_KEYS = {"addendum", "dedendum", "fillet_radius"}
 BLANK_KEYS = {"bore_radius", "hub_radius", "rim_radius", "web_width"}
 #: Keys that only make sense with ``tip_relief`` in the same table.
 RELIEF_KEYS = ("tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape")
-MATERIAL_KEYS = {"young", "poisson", "density"}
+MATERIAL_KEYS = {"young", "poisson", "density", "sigma_flim", "sigma_hlim"}
 PAIR_KEYS = {"centre_distance", "driver"}
 MESH_KEYS = {"nx", "ny", "grading"}
 TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run"}
@@ -92,7 +92,10 @@ def material_from_table(table: dict[str, Any], where: str) -> Material:
     if not isinstance(table, dict):
         raise InputError(where, "must be a table with young, poisson and density")
     _check_keys(table, MATERIAL_KEYS, where)
-    values = {k: _number(table, k, where) for k in ("young", "poisson", "density")}
+    values: dict[str, Any] = {k: _number(table, k, where) for k in ("young", "poisson", "density")}
+    for key in ("sigma_flim", "sigma_hlim"):      # ISO 6336-5 allowables, optional
+        if key in table:
+            values[key] = _number(table, key, where)
     try:
         material = Material(**values)
         check_plausible(material)
@@ -333,7 +336,9 @@ def _gear_to_dict(gear: Gear) -> dict[str, Any]:
         "face_width": gear.face_width, "disk_inertia": gear.disk_inertia,
         "cutter_tip_radius": gear.cutter_tip_radius,
         "material": {"young": gear.material.young, "poisson": gear.material.poisson,
-                     "density": gear.material.density},
+                     "density": gear.material.density,
+                     **{k: getattr(gear.material, k) for k in ("sigma_flim", "sigma_hlim")
+                        if getattr(gear.material, k) is not None}},
     }
     if gear.tip_relief > 0.0 or gear.tip_relief_start_roll is not None:
         table["tip_relief"] = gear.tip_relief

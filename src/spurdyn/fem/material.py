@@ -38,6 +38,9 @@ class Material:
         plane-stress matrix.
     density : float
         Mass density rho [kg/m^3]; must be finite and > 0.
+    sigma_flim, sigma_hlim : float or None
+        Optional allowable stress numbers of ISO 6336-5 [Pa]: bending ``sigma_Flim`` and
+        contact ``sigma_Hlim``; when given, a run reports the safety factors S_F and S_H.
 
     Raises
     ------
@@ -50,6 +53,8 @@ class Material:
     young: float
     poisson: float
     density: float
+    sigma_flim: float | None = None
+    sigma_hlim: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("young", "poisson", "density"):
@@ -66,6 +71,14 @@ class Material:
         nu = self.poisson
         if not -1.0 < nu < 0.5:
             raise InputError("poisson", f"must be in (-1, 0.5) (got {nu})")
+        for name in ("sigma_flim", "sigma_hlim"):
+            value = getattr(self, name)
+            if value is None:
+                continue
+            if (isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer))
+                    or not math.isfinite(value) or not 1e6 <= value <= 1e10):
+                raise InputError(name, f"must be an allowable stress in Pa, 1e6 to 1e10 "
+                                 f"(got {value!r}; a value in MPa is refused)")
 
 
 def check_plausible(material: Material) -> None:

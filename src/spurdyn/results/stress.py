@@ -52,27 +52,80 @@ def root_stress_variables(ds: xr.Dataset) -> dict[str, xr.Variable]:
             for j, (name, (units, long)) in enumerate(ROOT_VARIABLES.items())}
 
 
-def iso_figures(case: Case) -> dict[str, Any]:
-    """ISO 6336's nominal stresses for the run's pair under its static load: ``sigma_F0``
-    (Pa) of A and B, ``sigma_H0`` (Pa), or ``None`` each and the reason in ``iso6336_note``
-    (ISO's formulas here need the standard centre distance)."""
+def _rating(case: Case) -> tuple[Any, str]:
+    """ISO's rating of the run's pair under its static load (gear A the pinion), or ``None``
+    and why not."""
     from spurdyn.iso6336.rating import iso_pair, rate
 
     pair = case.pair
     torque_a = case.run.torque if pair.driver == "a" else \
         case.run.torque * pair.gear_a.base_radius / pair.gear_b.base_radius
+    if not torque_a > 0.0:
+        return None, "not computed: the run carries no torque"
     try:
-        rating = rate(iso_pair(pair), torque_a)
+        return rate(iso_pair(pair), torque_a), ""
     except ValueError as err:
-        return {"iso6336_sigma_F0_Pa": None, "iso6336_sigma_H0_Pa": None,
-                "iso6336_note": f"not computed: {err}"}
-    if not (torque_a > 0.0 and math.isfinite(rating.sigma_h0)):
-        return {"iso6336_sigma_F0_Pa": None, "iso6336_sigma_H0_Pa": None,
-                "iso6336_note": "not computed: the run carries no torque"}
+        return None, f"not computed: {err}"
+
+
+def iso_figures(case: Case) -> dict[str, Any]:
+    """ISO 6336's nominal stresses for the run's pair under its static load: ``sigma_F0``
+    (Pa) of A and B, ``sigma_H0`` (Pa), or ``None`` each and the reason in ``iso6336_note``
+    (ISO's formulas here need the standard centre distance)."""
+    rating, why = _rating(case)
+    if rating is None:
+        return {"iso6336_sigma_F0_Pa": None, "iso6336_sigma_H0_Pa": None, "iso6336_note": why}
     return {"iso6336_sigma_F0_Pa": [float(s) for s in rating.sigma_f0],
             "iso6336_sigma_H0_Pa": float(rating.sigma_h0),
             "iso6336_note": "nominal stresses of ISO 6336-3 (method B, Y_F and Y_S at the "
                             "30 deg tangent) and ISO 6336-2 (Z_H Z_E Z_eps) for the static load"}
+
+
+def safety_figures(case: Case, root_peaks: list[float | None] | None,
+                   contact_peak: float | None) -> dict[str, Any]:
+    """The safety factors of the gears whose materials give ISO 6336-5's allowable stress
+    numbers (``sigma_flim``, ``sigma_hlim``): ``S_F`` and ``S_H`` from the model's dynamic
+    peaks (root stress of each tooth; the strip's peak pressure) and from ISO's nominal
+    stresses with its ``K_v`` at the run's speed; all other load factors 1 and the life
+    and condition factors 1 (``spurdyn.iso6336.safety``). Empty without allowables."""
+    from spurdyn.iso6336 import safety
+    from spurdyn.iso6336.rating import dynamic_factor_at
+
+    mats = (case.pair.gear_a.material, case.pair.gear_b.material)
+    if all(m.sigma_flim is None and m.sigma_hlim is None for m in mats):
+        return {}
+    rating, why = _rating(case)
+    k_v = None if rating is None else float(dynamic_factor_at(rating, case.run.speed_a))
+    out: dict[str, Any] = {"iso6336_k_v": k_v}
+    root_model, root_iso, contact_model, contact_iso = [], [], [], []
+    for g, m in enumerate(mats):
+        if m.sigma_flim is None:
+            root_model.append(None)
+            root_iso.append(None)
+        else:
+            limit = safety.root_limit(m.sigma_flim)
+            peak = None if root_peaks is None else root_peaks[g]
+            root_model.append(None if not peak else
+                              safety.root_safety(safety.root_stress_from_peak(peak), limit))
+            root_iso.append(None if rating is None else safety.root_safety(
+                safety.root_stress(rating.sigma_f0[g], k_v=k_v), limit))
+        if m.sigma_hlim is None:
+            contact_model.append(None)
+            contact_iso.append(None)
+        else:
+            limit = safety.contact_limit(m.sigma_hlim)
+            contact_model.append(None if not contact_peak else safety.contact_safety(
+                safety.contact_stress_from_peak(contact_peak), limit))
+            contact_iso.append(None if rating is None else safety.contact_safety(
+                safety.contact_stress(rating.sigma_h0, k_v=k_v,
+                                      z_b=rating.z_b if g == 0 else rating.z_d), limit))
+    out.update({"safety_root_model": root_model, "safety_root_iso": root_iso,
+                "safety_contact_model": contact_model, "safety_contact_iso": contact_iso,
+                "safety_note": "S = allowable / stress; model: the run's dynamic peak root "
+                               "stress and strip pressure; ISO: sigma_F0 K_v and Z_B|D sigma_H0 "
+                               "sqrt(K_v); K_A = K_beta = K_alpha = 1, life and condition "
+                               "factors 1" + ("" if rating is not None else f"; ISO {why}")})
+    return out
 
 
 def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
@@ -100,7 +153,12 @@ def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
         out["root_stress_compressive_min_Pa"], out["root_stress_compressive_position_m"] = \
             pick(lo, r_lo, np.nanargmin)
     out.update(iso_figures(case))
+    contact = None
+    if "contact_pressure_max" in ds and np.isfinite(ds["contact_pressure_max"].values).any():
+        contact = float(np.nanmax(ds["contact_pressure_max"].values))
+    out.update(safety_figures(case, out.get("root_stress_max_Pa"), contact))
     return out
 
 
-__all__ = ["ROOT_VARIABLES", "iso_figures", "root_stress_variables", "stress_summary"]
+__all__ = ["ROOT_VARIABLES", "iso_figures", "root_stress_variables", "safety_figures",
+           "stress_summary"]

@@ -172,6 +172,24 @@ def render(rows: list[dict], seconds: float, dynamic: list[dict] | None = None) 
                "the point where its stress would peak, so its figure is the model's, not the "
                "gear's, and the mesh study there does not converge; the elastic rim of issue 15 "
                "removes the cut." if at_corner else "No pair here has its peak there."), ""]
+    hz = contact_check()
+    if hz:
+        out += ["## Contact pressure: the strip, Hertz and ISO 6336-2", "",
+                "The strip's peak pressure at the pitch point of a quasi-static run of the paper's "
+                f"pair (1,000 rpm; the run carries {hz['force_N']:.1f} N there, measured by "
+                "docs/make_contact_validation.py, part `hertz`). For the force it carries the "
+                "strip's pressure is Hertz's by construction (its half-width is Hertz's); the "
+                "check is against Hertz's line-contact pressure p0 = sqrt(F E* / (π L R*)) for "
+                "the static normal load τ0/r_b, written out here, and ISO's nominal σ_H0:", "",
+                "| strip (MPa) | Hertz, static load (MPa) | strip / Hertz | ISO σ_H0 (MPa) | Z_ε | σ_H0 / Hertz |",
+                "| --- | --- | --- | --- | --- | --- |",
+                f"| {hz['pressure_Pa'] / 1e6:.1f} | {hz['hertz_static_Pa'] / 1e6:.1f} | "
+                f"{hz['pressure_Pa'] / hz['hertz_static_Pa']:.4f} | {hz['sigma_h0'] / 1e6:.1f} | "
+                f"{hz['z_eps']:.3f} | {hz['sigma_h0'] / hz['hertz_static_Pa']:.3f} |", "",
+                "σ_H0 is Hertz's pressure at the pitch point for the whole static load times "
+                "ISO's contact ratio factor Z_ε, which spreads the load over the pairs in "
+                "contact (the last column is that Z_ε). The model's pitch point lies in its "
+                "single-contact zone, where one pair carries the whole load.", ""]
     if dynamic:
         qs = dynamic[0]
         out += ["## Dynamic root stress of the paper's cases", "",
@@ -197,6 +215,33 @@ def render(rows: list[dict], seconds: float, dynamic: list[dict] | None = None) 
                 "20 steps; the force at every step). ISO's σ_F0 for this pair is "
                 f"{qs['sigma_f0'] / 1e6:.1f} MPa (static, nominal times Y_S).", ""]
     return "\n".join(out)
+
+
+def contact_check() -> dict | None:
+    """The strip against Hertz (docs/contact_validation.json, part ``hertz``) and ISO's
+    sigma_H0 for the paper's pair; ``None`` before that part has been measured."""
+    import json
+
+    store = HERE / "contact_validation.json"
+    if not store.exists() or "hertz" not in json.loads(store.read_text()):
+        return None
+    hz = json.loads(store.read_text())["hertz"]
+    pair = paper_pair()
+    g = pair.gear_a
+    iso = rate(iso_pair(pair), PAPER_TORQUE)
+    # Hertz written out here, not taken from spurdyn.contact.hertz
+    mat = g.material
+    e_star = mat.young / (2.0 * (1.0 - mat.poisson ** 2))
+    rho = g.base_radius * math.tan(g.pressure_angle)            # both flanks at the pitch point
+    r_star = rho * rho / (rho + rho)
+    face = min(g.face_width, pair.gear_b.face_width)
+
+    def p0(force: float) -> float:
+        return math.sqrt(force * e_star / (math.pi * face * r_star))
+
+    return {"force_N": hz["force_N"], "pressure_Pa": hz["pressure_Pa"],
+            "hertz_Pa": p0(hz["force_N"]), "sigma_h0": iso.sigma_h0, "z_eps": iso.z_eps,
+            "hertz_static_Pa": p0(PAPER_TORQUE / g.base_radius)}
 
 
 def main() -> int:

@@ -46,6 +46,11 @@ stepper), {total / 60:.1f} min of computing in all, made {dates[0]} – {dates[-
 > `docs/make_contact_validation.py`: stiffness against the mesh (even and graded), every
 > preset and Figs. 8-10 on finer meshes with both contacts, pairs at design loads, Hertz,
 > energy. This page measures the paper's point contact, which its presets use.
+>
+> **Root and contact stress (issue 17)** are measured on
+> [`docs/stress_validation.md`](stress_validation.md), written by
+> `docs/make_stress_validation.py`: the fillet stress against the mesh and ISO 6336-3 for
+> three pairs, the strip against Hertz and ISO 6336-2, the dynamic root stress of Figs. 8-10.
 
 The model is the paper's: one elastic Q8 tooth on a rigid disk per gear, the second
 tooth pair replaced by the torque ramps of its Fig. 7, undamped, frictionless, plane

@@ -494,3 +494,14 @@ def test_prefetch_draws_a_picture_of_the_run_kind_and_leaves_nothing(tmp_path, m
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     prefetch._load()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_elastic_part_of_all_frames_at_once_is_each_frames(loaded_run):
+    from spurdyn.results.frames import tooth_frames
+
+    frames = tooth_frames(loaded_run)
+    for g in (0, 1):
+        every = frames.elastic_all(g)
+        for k in (0, frames.n_frames // 2, frames.n_frames - 1):
+            # a difference of positions ~0.05 m: round-off of a few 1e-17 m either way
+            np.testing.assert_allclose(every[k], frames.elastic(g, k), rtol=0, atol=1e-16)

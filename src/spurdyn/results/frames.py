@@ -77,6 +77,13 @@ class ToothFrames:
         r = self.rotation(gear, k)
         return (self.X0[gear] + self.u[gear][k] - c) @ r - (self.X0[gear] - c)
 
+    def elastic_all(self, gear: int) -> NDArray[np.float64]:
+        """:meth:`elastic` of every frame at once, ``(k, N, 2)``."""
+        c = self.centres[gear]
+        th = self.theta[:, gear]
+        r = self._rot(-th if gear == 0 else th)                       # (k, 2, 2)
+        return np.einsum("kni,kij->knj", self.X0[gear] + self.u[gear] - c, r) - (self.X0[gear] - c)
+
     def positions(self, gear: int, k: int, magnify: float = 1.0) -> NDArray[np.float64]:
         """World node positions at frame ``k`` with the elastic part magnified."""
         c = self.centres[gear]

@@ -21,6 +21,7 @@ def _load() -> None:
     import numpy as np
     import xarray as xr
 
+    import spurdyn.iso6336.rating  # noqa: F401 - the summary's ISO figures
     import spurdyn.results.io  # noqa: F401
     from spurdyn.results.plots import plot_contact_force
 

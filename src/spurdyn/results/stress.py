@@ -44,7 +44,7 @@ def root_stress_variables(ds: xr.Dataset) -> dict[str, xr.Variable]:
     for g, gear in enumerate((pair.gear_a, pair.gear_b)):
         surface = root_surface(frames.meshes[g], gear.form_radius, gear.material,
                                positions=frames.X0[g])
-        elastic = np.stack([frames.elastic(g, k).ravel() for k in range(frames.n_frames)])
+        elastic = frames.elastic_all(g).reshape(frames.n_frames, -1)
         stress = surface.stress(elastic)
         for j, values in enumerate(peaks(stress, surface.radius)):
             out[j, :, g] = values

@@ -81,16 +81,24 @@ def _info_contact(args: argparse.Namespace, case: MeshedPair) -> tuple[str, floa
     return contact, static_force(case.pair, float(torque))
 
 
-def cmd_info(args: argparse.Namespace) -> int:
-    from spurdyn.cli.report import format_info, pair_info
+def _meshed_case(args: argparse.Namespace) -> MeshedPair:
+    """The pair of ``info`` and ``mesh`` with the options' mesh, a bad mesh refused before
+    any work (naming ``--grading`` when the option gave the grading)."""
     from spurdyn.mesh.tooth import tooth_mesh
 
     case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading)
-    try:    # refuse a bad mesh before any work
+    try:
         tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading)
     except InputError as err:
         raise InputError("--grading" if err.field == "mesh.grading" and args.grading is not None
                          else err.field, err.reason) from None
+    return case
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    from spurdyn.cli.report import format_info, pair_info
+
+    case = _meshed_case(args)
     contact, force = _info_contact(args, case)
     info = pair_info(case, contact, force)
     print(json.dumps(info, indent=2) if args.json else format_info(info))
@@ -98,15 +106,9 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 
 def cmd_mesh(args: argparse.Namespace) -> int:
-    from spurdyn.mesh.tooth import tooth_mesh
     from spurdyn.results.pictures import draw_mesh_position
 
-    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading)
-    try:    # refuse a bad mesh before any work
-        tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading)
-    except InputError as err:
-        raise InputError("--grading" if err.field == "mesh.grading" and args.grading is not None
-                         else err.field, err.reason) from None
+    case = _meshed_case(args)
     png = _png_target(args.png)
     draw_mesh_position(case, png)
     print(f"wrote {png}")

@@ -237,3 +237,36 @@ def test_unequal_pair_static_force_follows_the_driver(driver):
     assert res.info["static_force"] == pytest.approx(PAPER_TORQUE / r_driver)
     assert res.contact_force[sz].mean() == pytest.approx(PAPER_TORQUE / r_driver, rel=0.01)
     assert res.theta[-1, 1] == pytest.approx(res.info["theta_s_b"], rel=1e-4)
+
+
+def test_the_damping_ratio_of_a_case_reaches_the_lumped_model_and_the_fe_solver_refuses_it(
+        tmp_path, capsys, monkeypatch):
+    """run.damping_ratio / --damping: the lumped model's mesh damper; never ignored."""
+    from spurdyn.casefile import case_from_dict, case_to_dict
+    from spurdyn.cases import resolve_cases
+    from spurdyn.cli.main import main
+    from spurdyn.errors import InputError
+    from spurdyn.settings import RunSettings
+    from spurdyn.simulators import MODELS
+    from spurdyn.solvers.loop import simulate
+
+    plain = resolve_cases("paper-fig9")[0]
+    damped = resolve_cases("paper-fig9", {"run.damping_ratio": 0.1})[0]
+    assert damped.run.damping_ratio == 0.1
+    assert case_from_dict(case_to_dict(damped), check_step=False).run.damping_ratio == 0.1
+    f0 = MODELS["lumped"](plain.pair, plain.run).contact_force
+    f1 = MODELS["lumped"](damped.pair, damped.run).contact_force
+    assert np.nanmax(f1) < np.nanmax(f0)         # the damper takes off the overshoot
+    with pytest.raises(InputError, match="damping_ratio: damps the lumped model only"):
+        simulate(damped.pair, damped.run)
+    for bad in (-0.1, 1.0, float("nan"), True):
+        with pytest.raises(InputError, match="damping_ratio"):
+            RunSettings(speed_a=1.0, speed_b=1.0, torque=1.0, damping_ratio=bad)
+    monkeypatch.chdir(tmp_path)
+    for argv in (["run", "paper-fig9", "--damping", "0.05"],
+                 ["sweep", "paper-fig9", "--rpm", "4000", "--damping", "0.05"]):
+        assert main(argv) == 2
+        _, err = capsys.readouterr()
+        assert err.startswith("spurdyn: error: --damping: damps the lumped model only") and \
+            err.count("\n") == 1
+    assert not any(tmp_path.iterdir())

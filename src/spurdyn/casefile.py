@@ -38,7 +38,7 @@ from spurdyn.solvers.check import check_run, default_dt, stable_step
 RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
     "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
-    "keep_theta_term",
+    "keep_theta_term", "damping_ratio",
 }
 
 
@@ -234,6 +234,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         save_every=src.integer("save_every", _RUN_DEFAULTS["save_every"], 1),
         frames_every=src.integer("frames_every", _RUN_DEFAULTS["frames_every"], 0),
         keep_theta_term=src.boolean("keep_theta_term", _RUN_DEFAULTS["keep_theta_term"]),
+        damping_ratio=src.number("damping_ratio", _RUN_DEFAULTS["damping_ratio"], positive=False),
         name=name,
     )
     try:
@@ -308,6 +309,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
     run_table.update({k: getattr(run, k) for k in (
         "n_spline", "tol_disp", "max_iter", "accel_levels", "method", "backend", "contact",
         "save_every", "frames_every", "keep_theta_term")})
+    if run.damping_ratio:
+        run_table["damping_ratio"] = run.damping_ratio
     return {
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),

@@ -63,6 +63,11 @@ INTEGER_BOUNDS = (("n_spline", 8, MAX_SPLINE), ("max_iter", 1, MAX_ITER),
                   ("frames_every", 0, None))
 
 
+#: Why the FE solver refuses a damping ratio (the one place that says it).
+FE_DAMPING_REASON = ("damps the lumped model only: the FE solver has no damping yet "
+                     "(use --model lumped, or a ratio of 0)")
+
+
 @dataclass(frozen=True)
 class RunSettings:
     """Settings of one run of the dynamic contact solver.
@@ -105,6 +110,10 @@ class RunSettings:
         presets use), one of :data:`CONTACTS`.
     integrator
         The time integrator, one of :data:`INTEGRATORS`.
+    damping_ratio
+        Viscous damping ratio of the pair's torsional mode, by a mesh damper acting in
+        contact (the lumped model's; 0: undamped, the paper's). The FE solver has no
+        damping yet and refuses a ratio above 0 (:data:`FE_DAMPING_REASON`).
     save_every
         Keep every k-th step in the time history.
     frames_every
@@ -131,6 +140,7 @@ class RunSettings:
     backend: str = "numba"
     contact: str = "hertz"
     integrator: str = "rk4"
+    damping_ratio: float = 0.0
     save_every: int = 1
     frames_every: int = 100
     keep_theta_term: bool = True
@@ -156,6 +166,10 @@ class RunSettings:
                 or not DEFAULT_GRADING <= g <= MAX_GRADING):
             raise InputError("grading", f"must be a number from 1 (even) to {MAX_GRADING:g} "
                              f"(got {g!r})")
+        z = self.damping_ratio
+        if (not isinstance(z, (int, float)) or isinstance(z, bool) or not math.isfinite(z)
+                or not 0.0 <= z < 1.0):
+            raise InputError("damping_ratio", f"must be a number from 0 to below 1 (got {z!r})")
         if self.method in RETIRED_METHODS:
             raise InputError("method", f"{self.method!r} {RETIRED_METHODS[self.method]}")
         if self.method not in METHODS:

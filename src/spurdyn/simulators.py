@@ -34,7 +34,8 @@ _TABLES: dict[Any, Any] = {}
 
 
 def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None = None) -> Result:
-    """The lumped model (:func:`spurdyn.lumped.simulate_lumped`, no damping).
+    """The lumped model (:func:`spurdyn.lumped.simulate_lumped`), damped by the run's
+    ``damping_ratio``.
 
     The progress callback is called once, at the end (a lumped run takes a fraction of a
     second); a stop signal it raises there is left for the caller, who has the result.
@@ -53,7 +54,7 @@ def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None
         table = _hertz_table(pair, case) if hertz else mesh_stiffness_table(pair, case.nx, case.ny)
         if key is not None:
             _TABLES[key] = table
-    result = lumped(pair, case, table=table)
+    result = lumped(pair, case, table=table, damping_ratio=case.damping_ratio)
     if progress is not None and len(result.angle):
         try:
             progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))

@@ -128,6 +128,7 @@ RUN_OVERRIDES = (
     ("backend", "run.backend", "--backend"),
     ("contact", "run.contact", "--contact"),
     ("grading", "mesh.grading", "--grading"),
+    ("damping", "run.damping_ratio", "--damping"),
 )
 
 
@@ -171,6 +172,13 @@ def cmd_run(args: argparse.Namespace) -> int:
 
         for case in cases:
             check_size(case, labels, model=args.model)
+    if args.model == "fe":   # not ignored in silence
+        from spurdyn.settings import FE_DAMPING_REASON
+
+        for case in cases:
+            if case.run.damping_ratio > 0.0:
+                raise InputError(labels.get("run.damping_ratio", "run.damping_ratio"),
+                                 FE_DAMPING_REASON)
     simulate = runner.load_simulate(args.model)
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,
@@ -291,6 +299,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--angle", type=float, metavar="DEG",
                      help="rotation of A to simulate (deg; default the whole angle of action)")
     run.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
+    run.add_argument("--damping", type=float, metavar="Z",
+                     help="damping ratio of the pair's torsional mode (lumped model; default 0)")
     run.add_argument("--grading", type=float, metavar="G", help="how much thinner the outline columns of each tooth mesh are than the middle ones (default 1: even; e.g. 6 to resolve a contact strip)")
     run.add_argument("--save-every", type=int, metavar="K", help="keep every K-th step")
     run.add_argument("--frames-every", type=int, metavar="M",

@@ -27,7 +27,8 @@ EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
 
 #: ``spurdyn sweep`` options that override the case: (dest, dotted case key, label).
 SWEEP_OVERRIDES = (("dt", "run.dt", "--dt"), ("angle", "run.angle_deg", "--angle"),
-                   ("grading", "mesh.grading", "--grading"))
+                   ("grading", "mesh.grading", "--grading"),
+                   ("damping", "run.damping_ratio", "--damping"))
 
 
 def local_backend(jobs: int) -> Any:
@@ -122,6 +123,10 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     torques = parse_torques(args.torque) if args.torque is not None else None
     overrides, labels = _overrides(args, torques)
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
+    if args.model == "fe" and case.run.damping_ratio > 0.0:   # not ignored in silence
+        from spurdyn.settings import FE_DAMPING_REASON
+
+        raise InputError(labels.get("run.damping_ratio", "run.damping_ratio"), FE_DAMPING_REASON)
     out = Path(args.out) if args.out else Path("out") / f"sweep-{case.name}"
     check_out(out, args.force)
     plan = SweepPlan(case=case, model=args.model, rpms=rpms, torques=torques, out=out,
@@ -247,6 +252,8 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    "rerunning into it resumes the sweep")
     p.add_argument("--dt", type=float, metavar="S", help="time step (s)")
     p.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
+    p.add_argument("--damping", type=float, metavar="Z",
+                   help="damping ratio of the pair's torsional mode (lumped model; default 0)")
     p.add_argument("--grading", type=float, metavar="G",
                    help="how much thinner the outline columns of each tooth mesh are than the "
                         "middle ones (default 1: even)")

@@ -215,7 +215,7 @@ def _contact_roll_a(pair: GearPair, phi_a: ArrayLike) -> NDArray[np.float64]:
 def simulate_lumped(
     pair: GearPair,
     case: RunSettings,
-    damping_ratio: float = 0.0,
+    damping_ratio: float | None = None,
     *,
     table: MeshStiffnessTable | None = None,
     n_table: int = DEFAULT_TABLE_POINTS,
@@ -234,7 +234,8 @@ def simulate_lumped(
         ``theta_s``), ``nx``, ``ny`` (mesh of the stiffness table) and ``name``.
     damping_ratio
         Viscous damping ratio ``zeta`` of the pair's torsional mode: the mesh damper is
-        ``c = 2 zeta sqrt(k(roll) m_e)`` (:func:`equivalent_mass`). Default 0.
+        ``c = 2 zeta sqrt(k(roll) m_e)`` (:func:`equivalent_mass`). Default: the
+        case's ``damping_ratio``.
     table
         A ready stiffness table; ``None`` computes one with ``n_table`` points on the
         case's mesh.
@@ -251,6 +252,8 @@ def simulate_lumped(
         ``theta_s``, ``theta_2``, ``static_force``, ``single_zone``,
         ``mesh_stiffness_table`` and the integration statistics.
     """
+    if damping_ratio is None:
+        damping_ratio = case.damping_ratio
     if not math.isfinite(damping_ratio) or damping_ratio < 0.0:
         raise ValueError(f"damping_ratio must be >= 0 (got {damping_ratio!r})")
     wall0 = _time.perf_counter()

@@ -18,12 +18,13 @@ from typing import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from spurdyn.errors import InputError
 from spurdyn.contact.hertz import half_width, peak_pressure
 from spurdyn.geometry.pair import GearPair
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem, build_system, solver_pair
 from spurdyn.result import Result
-from spurdyn.settings import RunSettings
+from spurdyn.settings import FE_DAMPING_REASON, RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.check import check_run
 from spurdyn.solvers.layout import HISTORY, NCOL
@@ -64,6 +65,8 @@ def simulate(pair: GearPair, case: RunSettings, progress: Progress | None = None
     Result
         ``status`` is ``"incomplete"`` (with ``reason``) if the run stopped early.
     """
+    if case.damping_ratio > 0.0:
+        raise InputError("damping_ratio", FE_DAMPING_REASON)
     if pair.driver == "b":
         return _simulate_driven_by_b(pair, case, progress, chunk)
     wall0 = time.perf_counter()

@@ -116,3 +116,17 @@ def test_lame_ring_hoop_stress_at_the_bore_converges():
     rhat = pts / np.hypot(pts[:, 0], pts[:, 1])[:, None]
     normal = tangential_stress(sig, rhat)
     np.testing.assert_allclose(normal, -1e8, rtol=0.03)
+
+
+def test_the_compact_columns_are_the_operator():
+    from spurdyn.fem.recovery import surface_stress_columns
+
+    mesh = tooth_mesh(paper_gear(), 6, 20)
+    surface = mesh.right_side[:9]
+    full = surface_stress_operator(mesh.nodes, mesh.elements, surface, STEEL)
+    compact, dofs = surface_stress_columns(mesh.nodes, mesh.elements, surface, STEEL)
+    assert dofs.size < full.shape[2] / 5
+    unused = np.setdiff1d(np.arange(full.shape[2]), dofs)
+    assert not full[:, :, unused].any()
+    u = np.random.default_rng(2).standard_normal(full.shape[2])
+    np.testing.assert_allclose(compact @ u[dofs], full @ u, rtol=1e-13, atol=1e-3)

@@ -47,8 +47,20 @@ def surface_stress_operator(nodes: ArrayLike, elements: ArrayLike, surface: Arra
 
     Each element holding a surface node gives that node its Gauss-point stresses
     extrapolated (:func:`extrapolation_matrix`); a node shared by several such elements
-    takes their mean.
+    takes their mean. :func:`surface_stress_columns` gives the same map over only the
+    displacements it reads.
     """
+    compact, dofs = surface_stress_columns(nodes, elements, surface, material)
+    r = np.zeros(compact.shape[:2] + (2 * np.asarray(nodes).shape[0],))
+    r[:, :, dofs] = compact
+    return r
+
+
+def surface_stress_columns(nodes: ArrayLike, elements: ArrayLike, surface: ArrayLike,
+                           material: Material) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+    """:func:`surface_stress_operator` as ``(R_c, dofs)``: ``R_c @ u[dofs]`` is ``R @ u``,
+    ``dofs`` the displacements of the elements that hold a surface node (a few per node,
+    where ``R`` has a column for every DOF of the mesh)."""
     nd, el = _as_mesh(nodes, elements)
     surf = np.asarray(surface, dtype=np.intp)
     where = {int(n): i for i, n in enumerate(surf)}
@@ -60,16 +72,18 @@ def surface_stress_operator(nodes: ArrayLike, elements: ArrayLike, surface: Arra
     b = _strain_displacement(jac, det, dn)                                    # (E, 4, 3, 16)
     db = np.einsum("kl,eglj->egkj", plane_stress_matrix(material), b)          # Gauss stresses
     at_nodes = np.einsum("ng,egkj->enkj", extrapolation_matrix(), db)         # (E, 8, 3, 16)
-    r = np.zeros((surf.size, 3, 2 * nd.shape[0]))
+    element_dofs = np.stack([2 * el[holding], 2 * el[holding] + 1], axis=2).reshape(len(holding), 16)
+    dofs, column = np.unique(element_dofs, return_inverse=True)
+    column = column.reshape(element_dofs.shape)
+    r = np.zeros((surf.size, 3, dofs.size))
     count = np.zeros(surf.size)
     for e_local, e in enumerate(holding):
-        dofs = np.stack([2 * el[e], 2 * el[e] + 1], axis=1).ravel()
         for n_local, node in enumerate(el[e]):
             i = where.get(int(node))
             if i is not None:
-                r[i][:, dofs] += at_nodes[e_local, n_local]
+                r[i][:, column[e_local]] += at_nodes[e_local, n_local]
                 count[i] += 1.0
-    return r / count[:, None, None]
+    return r / count[:, None, None], dofs
 
 
 def outline_tangents(points: ArrayLike) -> NDArray[np.float64]:
@@ -101,4 +115,5 @@ def principal_stresses(sig: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.
 
 
 __all__ = ["BARLOW_POINTS", "NODE_POINTS", "extrapolation_matrix", "outline_tangents",
-           "principal_stresses", "surface_stress_operator", "tangential_stress"]
+           "principal_stresses", "surface_stress_columns", "surface_stress_operator",
+           "tangential_stress"]

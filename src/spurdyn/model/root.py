@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from spurdyn.fem.material import Material
-from spurdyn.fem.recovery import outline_tangents, surface_stress_operator, tangential_stress
+from spurdyn.fem.recovery import outline_tangents, surface_stress_columns, tangential_stress
 from spurdyn.mesh.tooth import ToothMesh
 
 
@@ -34,8 +34,9 @@ class RootSurface:
         Distance of each node from the gear centre (m).
     tangents
         Unit tangents of the outline at the nodes, in the frame of ``positions``.
-    operator
-        ``(n, 3, 2 N)``: plane stresses at the nodes from the tooth's displacements.
+    operator, dofs
+        ``operator @ u[dofs]`` (``(n, 3)``) are the plane stresses at the nodes from the
+        tooth's displacements ``u`` (only the DOFs of the elements along the fillets).
     """
 
     nodes: NDArray[np.intp]
@@ -43,11 +44,12 @@ class RootSurface:
     radius: NDArray[np.float64]
     tangents: NDArray[np.float64]
     operator: NDArray[np.float64]
+    dofs: NDArray[np.intp]
 
     def stress(self, u: ArrayLike) -> NDArray[np.float64]:
         """Stress along the surface (Pa, tension positive) for displacements ``u`` of shape
         ``(2 N,)`` or ``(k, 2 N)`` (in the frame of the tangents): ``(n,)`` or ``(k, n)``."""
-        sig = np.einsum("ncj,...j->...nc", self.operator, np.asarray(u, dtype=float))
+        sig = np.einsum("ncj,...j->...nc", self.operator, np.asarray(u, dtype=float)[..., self.dofs])
         return tangential_stress(sig, self.tangents)
 
 
@@ -72,10 +74,10 @@ def root_surface(mesh: ToothMesh, form_radius: float, material: Material,
     if nodes.size < 2 * 2:
         raise ValueError("the mesh has fewer than two fillet nodes on a side")
     tangents = np.concatenate([outline_tangents(xy[nodes[side == k]]) for k in (0, 1)])
+    operator, dofs = surface_stress_columns(xy, mesh.elements, nodes, material)
     return RootSurface(nodes=nodes, side=side,
                        radius=np.hypot(mesh.nodes[nodes, 0], mesh.nodes[nodes, 1]),
-                       tangents=tangents,
-                       operator=surface_stress_operator(xy, mesh.elements, nodes, material))
+                       tangents=tangents, operator=operator, dofs=dofs)
 
 
 def peaks(stress: ArrayLike, radius: ArrayLike) -> tuple[NDArray[np.float64], ...]:

@@ -31,14 +31,17 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, MAX_GRADING
 from spurdyn.settings import (
-    BACKENDS, CONTACTS, METHODS, PAPER_DT, RETIRED_METHODS, RPM, RunSettings,
+    BACKENDS, CONTACTS, INTEGRATORS, METHODS, PAPER_DT, RETIRED_METHODS, RPM, RunSettings,
 )
-from spurdyn.solvers.check import check_run, default_dt, stable_step
+from spurdyn.solvers.check import check_run, default_dt, round_down, stable_step
+from spurdyn.solvers.implicit.alpha import accuracy_step
+from spurdyn.solvers.implicit.damping import rayleigh_from_ratio
 
 RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
     "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
-    "keep_theta_term", "damping_ratio",
+    "keep_theta_term", "damping_ratio", "integrator", "rho_inf", "rayleigh_mass",
+    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz",
 }
 
 
@@ -235,6 +238,9 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         frames_every=src.integer("frames_every", _RUN_DEFAULTS["frames_every"], 0),
         keep_theta_term=src.boolean("keep_theta_term", _RUN_DEFAULTS["keep_theta_term"]),
         damping_ratio=src.number("damping_ratio", _RUN_DEFAULTS["damping_ratio"], positive=False),
+        integrator=src.choice("integrator", _RUN_DEFAULTS["integrator"], INTEGRATORS),
+        rho_inf=src.number("rho_inf", _RUN_DEFAULTS["rho_inf"], positive=False),
+        **_rayleigh(src),
         name=name,
     )
     try:
@@ -244,7 +250,9 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     system = None
     if check_step or dt is None:
         system = _system(pair, nx, ny, run.n_spline, grading, overrides, labels)
-    if dt is None:  # a stated fraction of the stable step of this mesh
+    if dt is None and run.integrator == "implicit":   # a step of accuracy, not stability
+        run = run.with_(dt=round_down(accuracy_step(run.speed_a, pair.gear_a.teeth), 2))
+    elif dt is None:  # a stated fraction of the stable step of this mesh
         run = run.with_(dt=default_dt(stable_step(system)))
 
     if system is not None:
@@ -259,6 +267,33 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
 
         check_run(pair, run, system, field)
     return Case(name=name, pair=pair, run=run, description=description)
+
+
+def _rayleigh(src: _Source) -> dict[str, float]:
+    """Rayleigh's coefficients from ``rayleigh_mass`` and ``rayleigh_stiffness``, or from a
+    damping ratio ``rayleigh_ratio`` at the two frequencies ``rayleigh_hz = [f1, f2]``."""
+    a = src.number("rayleigh_mass", 0.0, positive=False)
+    b = src.number("rayleigh_stiffness", 0.0, positive=False)
+    zeta = src.number("rayleigh_ratio", None, positive=False)
+    found, hz, name = src.get("rayleigh_hz")
+    if zeta is None and not found:
+        return {"rayleigh_mass": a, "rayleigh_stiffness": b}
+    if a or b:
+        raise InputError(src.field("rayleigh_ratio" if zeta is not None else "rayleigh_hz"),
+                         "give Rayleigh damping either as rayleigh_mass and rayleigh_stiffness "
+                         "or as rayleigh_ratio with rayleigh_hz, not both")
+    if zeta is None or not found:
+        missing = ("rayleigh_hz = [f1, f2] (--rayleigh-hz F1,F2)" if zeta is not None
+                   else "rayleigh_ratio (--rayleigh-ratio Z)")
+        raise InputError(src.field("rayleigh_ratio" if zeta is not None else "rayleigh_hz"),
+                         f"needs {missing} beside it")
+    if (not isinstance(hz, (list, tuple)) or len(hz) != 2
+            or not all(isinstance(f, (int, float)) and not isinstance(f, bool)
+                       and math.isfinite(f) and f > 0 for f in hz)):
+        raise InputError(name, f"must be two positive frequencies in Hz, e.g. [5000, 50000] "
+                         f"(got {hz!r})")
+    a, b = rayleigh_from_ratio(zeta, float(hz[0]), float(hz[1]))
+    return {"rayleigh_mass": a, "rayleigh_stiffness": b}
 
 
 def _system(pair: GearPair, nx: int, ny: int, n_spline: int, grading: float,
@@ -309,8 +344,11 @@ def case_to_dict(case: Case) -> dict[str, Any]:
     run_table.update({k: getattr(run, k) for k in (
         "n_spline", "tol_disp", "max_iter", "accel_levels", "method", "backend", "contact",
         "save_every", "frames_every", "keep_theta_term")})
-    if run.damping_ratio:
-        run_table["damping_ratio"] = run.damping_ratio
+    for key in ("damping_ratio", "rayleigh_mass", "rayleigh_stiffness"):
+        if getattr(run, key):
+            run_table[key] = getattr(run, key)
+    if run.integrator != "rk4":
+        run_table.update(integrator=run.integrator, rho_inf=run.rho_inf)
     return {
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),

@@ -31,8 +31,13 @@ BACKENDS = ("numba", "numpy")
 #: force spread over the Hertzian strip and the gap averaged over it (docs/solver.md,
 #: section 11).
 CONTACTS = ("point", "hertz")
-#: Time integrators (:data:`spurdyn.solvers.loop.STEPPERS`): the paper's classical RK4.
-INTEGRATORS = ("rk4",)
+#: Time integrators (:data:`spurdyn.solvers.loop.STEPPERS`): the paper's classical RK4, and
+#: the implicit generalized-alpha scheme (docs/implicit.md).
+INTEGRATORS = ("rk4", "implicit")
+#: The generalized-alpha scheme's spectral radius at infinite frequency when the run gives
+#: none: modes far above the step's resolution lose 20 % of their amplitude a step, the
+#: pair's torsional mode a negligible part (docs/implicit.md, "The default").
+DEFAULT_RHO_INF = 0.8
 
 #: Largest ``accel_levels``: for the smallest ``eps_1`` the iteration admits (1e-12,
 #: :func:`spurdyn.solvers.paper.iteration_numpy.accelerated_update`) the coefficient ``om_n`` of
@@ -63,9 +68,9 @@ INTEGER_BOUNDS = (("n_spline", 8, MAX_SPLINE), ("max_iter", 1, MAX_ITER),
                   ("frames_every", 0, None))
 
 
-#: Why the FE solver refuses a damping ratio (the one place that says it).
-FE_DAMPING_REASON = ("damps the lumped model only: the FE solver has no damping yet "
-                     "(use --model lumped, or a ratio of 0)")
+#: Why the FE solver's RK4 refuses damping (the one place that says it).
+FE_DAMPING_REASON = ("needs the implicit integrator in the FE model: the paper's RK4 is "
+                     "undamped (use --integrator implicit, --model lumped, or no damping)")
 
 
 @dataclass(frozen=True)
@@ -111,9 +116,15 @@ class RunSettings:
     integrator
         The time integrator, one of :data:`INTEGRATORS`.
     damping_ratio
-        Viscous damping ratio of the pair's torsional mode, by a mesh damper acting in
-        contact (the lumped model's; 0: undamped, the paper's). The FE solver has no
-        damping yet and refuses a ratio above 0 (:data:`FE_DAMPING_REASON`).
+        Viscous damping ratio of the pair's torsional mode, by a mesh damper along the
+        line of action acting in contact (0: undamped, the paper's). The FE model takes
+        it with the implicit integrator only (:data:`FE_DAMPING_REASON`).
+    rho_inf
+        Spectral radius at infinite frequency of the implicit integrator (1: no
+        numerical dissipation, 0: the most), :data:`DEFAULT_RHO_INF`.
+    rayleigh_mass, rayleigh_stiffness
+        Rayleigh damping ``C = a M + b K`` of the elastic teeth (``a`` in 1/s, ``b`` in
+        s), acting on their deformation rate in the disk frame (implicit integrator).
     save_every
         Keep every k-th step in the time history.
     frames_every
@@ -141,6 +152,9 @@ class RunSettings:
     contact: str = "hertz"
     integrator: str = "rk4"
     damping_ratio: float = 0.0
+    rho_inf: float = DEFAULT_RHO_INF
+    rayleigh_mass: float = 0.0
+    rayleigh_stiffness: float = 0.0
     save_every: int = 1
     frames_every: int = 100
     keep_theta_term: bool = True
@@ -170,6 +184,13 @@ class RunSettings:
         if (not isinstance(z, (int, float)) or isinstance(z, bool) or not math.isfinite(z)
                 or not 0.0 <= z < 1.0):
             raise InputError("damping_ratio", f"must be a number from 0 to below 1 (got {z!r})")
+        for key in ("rayleigh_mass", "rayleigh_stiffness"):
+            v = getattr(self, key)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v < 0:
+                raise InputError(key, f"must be a number >= 0 (got {v!r})")
+        r = self.rho_inf
+        if not isinstance(r, (int, float)) or isinstance(r, bool) or not 0.0 <= r <= 1.0:
+            raise InputError("rho_inf", f"must be a number from 0 to 1 (got {r!r})")
         if self.method in RETIRED_METHODS:
             raise InputError("method", f"{self.method!r} {RETIRED_METHODS[self.method]}")
         if self.method not in METHODS:
@@ -181,6 +202,11 @@ class RunSettings:
         if self.integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)} "
                              f"(got {self.integrator!r})")
+
+    @property
+    def damped(self) -> bool:
+        """Whether any damping is asked for (the mesh damper or Rayleigh's)."""
+        return self.damping_ratio > 0.0 or self.rayleigh_mass > 0.0 or self.rayleigh_stiffness > 0.0
 
     @property
     def tol_vel(self) -> float:

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import NoReturn, Sequence
 
 from spurdyn.casefile import MeshedPair, load_pair
-from spurdyn.cli.options import parse_mesh
+from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, damping_label, parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.simulators import MODELS
@@ -128,7 +128,6 @@ RUN_OVERRIDES = (
     ("backend", "run.backend", "--backend"),
     ("contact", "run.contact", "--contact"),
     ("grading", "mesh.grading", "--grading"),
-    ("damping", "run.damping_ratio", "--damping"),
 )
 
 
@@ -136,7 +135,7 @@ def run_overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str
     """The case values given on the command line, and how to name them in refusals."""
     overrides: dict[str, object] = {}
     labels: dict[str, str] = {}
-    for dest, key, label in RUN_OVERRIDES:
+    for dest, key, label in RUN_OVERRIDES + DYNAMICS_OVERRIDES:
         value = getattr(args, dest)
         if value is not None:
             overrides[key] = value
@@ -176,9 +175,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         from spurdyn.settings import FE_DAMPING_REASON
 
         for case in cases:
-            if case.run.damping_ratio > 0.0:
-                raise InputError(labels.get("run.damping_ratio", "run.damping_ratio"),
-                                 FE_DAMPING_REASON)
+            if case.run.damped and case.run.integrator == "rk4":
+                raise InputError(damping_label(case.run, labels), FE_DAMPING_REASON)
     simulate = runner.load_simulate(args.model)
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,
@@ -299,8 +297,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--angle", type=float, metavar="DEG",
                      help="rotation of A to simulate (deg; default the whole angle of action)")
     run.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
-    run.add_argument("--damping", type=float, metavar="Z",
-                     help="damping ratio of the pair's torsional mode (lumped model; default 0)")
+    add_dynamics_options(run)
     run.add_argument("--grading", type=float, metavar="G", help="how much thinner the outline columns of each tooth mesh are than the middle ones (default 1: even; e.g. 6 to resolve a contact strip)")
     run.add_argument("--save-every", type=int, metavar="K", help="keep every K-th step")
     run.add_argument("--frames-every", type=int, metavar="M",

@@ -3,7 +3,54 @@
 
 from __future__ import annotations
 
+import argparse
+
 from spurdyn.errors import InputError
+from spurdyn.settings import INTEGRATORS, RunSettings
+
+#: Options of the time integrator and damping that ``run`` and ``sweep`` share:
+#: (dest, dotted case key, label).
+DYNAMICS_OVERRIDES = (
+    ("damping", "run.damping_ratio", "--damping"),
+    ("integrator", "run.integrator", "--integrator"),
+    ("rho_inf", "run.rho_inf", "--rho-inf"),
+    ("rayleigh_ratio", "run.rayleigh_ratio", "--rayleigh-ratio"),
+    ("rayleigh_hz", "run.rayleigh_hz", "--rayleigh-hz"),
+)
+
+
+def _frequencies(text: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 2:
+        raise argparse.ArgumentTypeError(f"must be two frequencies in Hz, F1,F2 (got {text!r})")
+    return values
+
+
+def damping_label(run: RunSettings, labels: dict[str, str]) -> str:
+    """The key or flag of the damping a run was given (for an RK4 run's refusal)."""
+    key = ("run.damping_ratio" if run.damping_ratio > 0.0 else "run.rayleigh_ratio"
+           if "run.rayleigh_ratio" in labels else "run.rayleigh_mass")
+    return labels.get(key, key)
+
+
+def add_dynamics_options(p: argparse.ArgumentParser) -> None:
+    """``--damping``, ``--integrator``, ``--rho-inf``, ``--rayleigh-ratio``, ``--rayleigh-hz``."""
+    p.add_argument("--damping", type=float, metavar="Z",
+                   help="damping ratio of the pair's torsional mode: a mesh damper acting in "
+                        "contact (lumped model; FE with --integrator implicit; default 0)")
+    p.add_argument("--integrator", metavar="|".join(INTEGRATORS),
+                   help="time integrator of the FE model: rk4 (the paper's, its presets') or "
+                        "implicit (generalized-alpha, a step of accuracy, damping; docs/implicit.md)")
+    p.add_argument("--rho-inf", type=float, metavar="R",
+                   help="implicit integrator's high-frequency spectral radius (0-1, default 0.8)")
+    p.add_argument("--rayleigh-ratio", type=float, metavar="Z",
+                   help="Rayleigh damping ratio of the teeth at the two --rayleigh-hz frequencies "
+                        "(implicit integrator)")
+    p.add_argument("--rayleigh-hz", type=_frequencies, metavar="F1,F2",
+                   help="the two frequencies (Hz) at which the teeth have --rayleigh-ratio")
 
 
 def parse_mesh(text: str | None) -> tuple[int, int] | None:
@@ -23,4 +70,4 @@ def parse_mesh(text: str | None) -> tuple[int, int] | None:
     return nx, ny
 
 
-__all__ = ["parse_mesh"]
+__all__ = ["DYNAMICS_OVERRIDES", "add_dynamics_options", "damping_label", "parse_mesh"]

@@ -17,7 +17,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
-from spurdyn.cli.options import parse_mesh
+from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, damping_label, parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep.spec import MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
@@ -27,8 +27,7 @@ EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
 
 #: ``spurdyn sweep`` options that override the case: (dest, dotted case key, label).
 SWEEP_OVERRIDES = (("dt", "run.dt", "--dt"), ("angle", "run.angle_deg", "--angle"),
-                   ("grading", "mesh.grading", "--grading"),
-                   ("damping", "run.damping_ratio", "--damping"))
+                   ("grading", "mesh.grading", "--grading")) + DYNAMICS_OVERRIDES
 
 
 def local_backend(jobs: int) -> Any:
@@ -123,10 +122,10 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     torques = parse_torques(args.torque) if args.torque is not None else None
     overrides, labels = _overrides(args, torques)
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
-    if args.model == "fe" and case.run.damping_ratio > 0.0:   # not ignored in silence
+    if args.model == "fe" and case.run.damped and case.run.integrator == "rk4":  # not ignored
         from spurdyn.settings import FE_DAMPING_REASON
 
-        raise InputError(labels.get("run.damping_ratio", "run.damping_ratio"), FE_DAMPING_REASON)
+        raise InputError(damping_label(case.run, labels), FE_DAMPING_REASON)
     out = Path(args.out) if args.out else Path("out") / f"sweep-{case.name}"
     check_out(out, args.force)
     plan = SweepPlan(case=case, model=args.model, rpms=rpms, torques=torques, out=out,
@@ -252,8 +251,7 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    "rerunning into it resumes the sweep")
     p.add_argument("--dt", type=float, metavar="S", help="time step (s)")
     p.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
-    p.add_argument("--damping", type=float, metavar="Z",
-                   help="damping ratio of the pair's torsional mode (lumped model; default 0)")
+    add_dynamics_options(p)
     p.add_argument("--grading", type=float, metavar="G",
                    help="how much thinner the outline columns of each tooth mesh are than the "
                         "middle ones (default 1: even)")

@@ -343,6 +343,7 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         "averaging_window_s": head.window_s,
         "first_contact_s": None if first is None else float(first),
         "contact": case["run"].get("contact", "point"),
+        "integrator": case["run"].get("integrator", "rk4"),
         "contact_pressure_max_Pa": _max_or_none(ds, "contact_pressure_max"),
         "contact_half_width_max_m": _max_or_none(ds, "contact_half_width"),
         "separations": int(len(seps)),

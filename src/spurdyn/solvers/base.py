@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from spurdyn.model.system import PairSystem
 from spurdyn.result import STAGES
 from spurdyn.settings import RunSettings
-from spurdyn.solvers.layout import FAIL_NAN, FAIL_STRIP, OK
+from spurdyn.solvers.layout import FAIL_NAN, FAIL_NEWTON, FAIL_STRIP, OK
 
 Frames = list[tuple[float, NDArray[np.float64], NDArray[np.float64]]]
 
@@ -37,7 +37,7 @@ class Failure:
 
     @property
     def stage(self) -> str:
-        return "" if self.status in (FAIL_NAN, FAIL_STRIP) else STAGES[self.status - 1]
+        return "" if self.status in (FAIL_NAN, FAIL_STRIP, FAIL_NEWTON) else STAGES[self.status - 1]
 
     def message(self) -> str:
         """The one message of a failed step."""
@@ -46,6 +46,10 @@ class Failure:
         if self.status == FAIL_STRIP:
             return (f"step {self.step}: the contact strip spread over more elements than the run "
                     f"allowed for (a force over 50 times the static one); check the load")
+        if self.status == FAIL_NEWTON:
+            return (f"step {self.step}: the implicit step's Newton iteration did not converge in "
+                    f"{self.iterations} iterations (residual {self.residual:.3e} m, tolerance "
+                    f"{self.tol:.3e} m); try a smaller --dt")
         return (f"step {self.step}: the {self.stage} stage did not converge in {self.iterations} "
                 f"iterations (residual {self.residual:.3e}, tolerance {self.tol:.3e})")
 
@@ -126,6 +130,8 @@ class Stepper:
         s = self.settings
         k = status - 1
         tols = (s.tol_disp, s.tol_vel, s.tol_acc)
+        if status == FAIL_NEWTON:   # the Newton iteration reports in the displacement columns
+            k = 0
         self.failure = (Failure(status, self.index + 1) if status in (FAIL_NAN, FAIL_STRIP) else
                         Failure(status, self.index + 1, float(self.residual[k]), tols[k], s.max_iter))
         return done, written, self.failure.message()

@@ -22,8 +22,9 @@ NCOL = len(HISTORY)
 
 #: Status of a step (the compiled step returns it; the NumPy step reports it): a stage
 #: that did not converge (in the order of :data:`spurdyn.result.STAGES`), a NaN, or a
-#: distributed contact's strip wider than the slots the run gave it.
-OK, FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NAN, FAIL_STRIP = 0, 1, 2, 3, 4, 5
+#: distributed contact's strip wider than the slots the run gave it, or an implicit step's
+#: Newton iteration that did not converge.
+OK, FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NAN, FAIL_STRIP, FAIL_NEWTON = 0, 1, 2, 3, 4, 5, 6
 
 #: The run settings a compiled step reads (SI units; ``eps_root`` is the smallest
 #: eigenvalue of the root blocks of ``G M^-1 G^T``;

@@ -36,6 +36,9 @@ Progress = Callable[[int, float, float], None]
 STEPPERS: dict[tuple[str, str], str] = {
     ("rk4", "numba"): "spurdyn.solvers.paper.stepper_compiled:CompiledStepper",
     ("rk4", "numpy"): "spurdyn.solvers.paper.stepper_numpy:NumpyStepper",
+    # NumPy and SciPy's sparse factors on either backend: no compiled twin yet
+    ("implicit", "numba"): "spurdyn.solvers.implicit.stepper:ImplicitStepper",
+    ("implicit", "numpy"): "spurdyn.solvers.implicit.stepper:ImplicitStepper",
 }
 
 
@@ -65,8 +68,9 @@ def simulate(pair: GearPair, case: RunSettings, progress: Progress | None = None
     Result
         ``status`` is ``"incomplete"`` (with ``reason``) if the run stopped early.
     """
-    if case.damping_ratio > 0.0:
-        raise InputError("damping_ratio", FE_DAMPING_REASON)
+    if case.damped and case.integrator == "rk4":
+        raise InputError("damping_ratio" if case.damping_ratio > 0.0 else "rayleigh_mass"
+                         if case.rayleigh_mass > 0.0 else "rayleigh_stiffness", FE_DAMPING_REASON)
     if pair.driver == "b":
         return _simulate_driven_by_b(pair, case, progress, chunk)
     wall0 = time.perf_counter()

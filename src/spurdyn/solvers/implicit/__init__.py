@@ -1,0 +1,11 @@
+"""The implicit time integrator beside the paper's RK4: generalized-alpha with the root
+and contact constraints enforced at the end of each step (docs/implicit.md).
+
+:mod:`~spurdyn.solvers.implicit.alpha` holds the scheme's coefficients and the default
+step, :mod:`~spurdyn.solvers.implicit.damping` the damping forces (Rayleigh's on the
+teeth, the mesh damper on the disks), :mod:`~spurdyn.solvers.implicit.step` one step
+(Newton on the positions and the constraint forces, with the contact's active set), and
+:mod:`~spurdyn.solvers.implicit.stepper` the :class:`~spurdyn.solvers.base.Stepper` the
+time loop drives. Written in NumPy and SciPy: a step is a few sparse triangular solves
+with factors kept for the whole run, not a hot loop of scalar work.
+"""

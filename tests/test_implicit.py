@@ -1,0 +1,182 @@
+"""The implicit integrator (generalized-alpha with the constraints at the end of each step):
+its coefficients, its damping forces, its solves, its energy on a free pair, and the
+paper's Fig. 9 against RK4 at a step 22 times larger (docs/implicit.md)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from spurdyn.cases import preset_case
+from spurdyn.geometry import paper_pair
+from spurdyn.model.system import build_system
+from spurdyn.results.headline import averaged_peak, moving_average
+from spurdyn.settings import RPM, RunSettings
+from spurdyn.solvers.implicit.alpha import GeneralizedAlpha, accuracy_step
+from spurdyn.solvers.implicit.damping import rayleigh_forces, rayleigh_from_ratio
+from spurdyn.solvers.implicit.step import ImplicitMethod
+from spurdyn.solvers.implicit.stepper import ImplicitStepper
+from spurdyn.solvers.loop import simulate
+from spurdyn.solvers.paper.dynamics_numpy import blocks, jacobian, rot
+
+PAIR = paper_pair()
+
+
+def _sdof(rho: float, wh: float, steps: int) -> np.ndarray:
+    """Positions of ``qddot + w^2 q = 0`` (w = 1) stepped by the scheme's recursions from
+    ``q = 1, qdot = 0`` (equilibrium at n+1, the acceleration-like ``a`` as in the step)."""
+    c = GeneralizedAlpha(rho)
+    h = wh
+    q, v, qdd = 1.0, 0.0, -1.0
+    a = qdd
+    out = [q]
+    am, af, b, g = c.alpha_m, c.alpha_f, c.beta, c.gamma
+    for _ in range(steps):
+        # qdd1 = -q1, q1 = q + h v + h^2 ((1/2 - b) a + b a1), a1 = ((1-af) qdd1 + af qdd - am a)/(1-am)
+        k = h * h * b * (1.0 - af) / (1.0 - am)
+        rest = q + h * v + h * h * ((0.5 - b) * a + b * (af * qdd - am * a) / (1.0 - am))
+        q1 = rest / (1.0 + k)
+        qdd1 = -q1
+        a1 = ((1.0 - af) * qdd1 + af * qdd - am * a) / (1.0 - am)
+        v = v + h * ((1.0 - g) * a + g * a1)
+        q, qdd, a = q1, qdd1, a1
+        out.append(q)
+    return np.array(out)
+
+
+def test_the_coefficients_give_the_asked_high_frequency_dissipation_and_second_order():
+    c = GeneralizedAlpha(1.0)
+    assert (c.alpha_m, c.alpha_f, c.gamma, c.beta) == (0.5, 0.5, 0.5, 0.25)
+    for rho in (0.2, 0.5, 0.8):
+        # A mode far above the step's resolution decays as n^2 rho^n (the scheme's triple
+        # root at -rho_inf): from step 100 to 150 by rho^50 times 1.5^2.
+        q = _sdof(rho, 1e6, 150)
+        rate = (abs(q[-1]) + abs(q[-2])) / (abs(q[-51]) + abs(q[-52]))
+        assert rate ** (1 / 50) == pytest.approx(rho * 1.5 ** (2 / 50), rel=1e-3)
+    q = _sdof(1.0, 1e6, 150)                    # rho_inf = 1: no dissipation
+    assert abs(q[-1]) == pytest.approx(1.0, abs=1e-6)
+    # the resolved mode: the error a quarter period on (cos = 0 there, so the phase error
+    # shows at first order) falls 4 times when the step halves
+    errs = [abs(_sdof(0.8, 2 * math.pi / n, n // 4)[-1]) for n in (40, 80)]
+    assert errs[0] / errs[1] == pytest.approx(4.0, rel=0.1)
+    # and its amplitude decays by much less than the high modes': a few 1e-5 a period at 40 steps
+    assert abs(_sdof(0.8, 2 * math.pi / 40, 40)[-1]) > 0.999
+
+
+def test_the_default_step_is_one_of_accuracy():
+    assert accuracy_step(4000 * RPM, 28) == pytest.approx(1 / 1.5e6)       # 150 kHz / 10
+    assert accuracy_step(30000 * RPM, 28) == pytest.approx(60 / 30000 / 28 / 200)
+    assert rayleigh_from_ratio(0.05, 1e3, 1e5)[0] / (2 * 1e3 * 2 * math.pi) \
+        + rayleigh_from_ratio(0.05, 1e3, 1e5)[1] * 2 * math.pi * 1e3 / 2 == pytest.approx(0.05)
+
+
+def _state(seed: int = 1):
+    case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4000 * RPM, torque=10.0)
+    system = build_system(PAIR, case)
+    rng = np.random.default_rng(seed)
+    gb = system.gears[1]
+    theta = 0.3
+    y = gb.Y.reshape(-1, 2)
+    u = (y @ rot(gb.sense * theta).T - y).ravel() + 1e-6 * rng.standard_normal(gb.n_u)
+    v = 10.0 * rng.standard_normal(gb.n_u)
+    return gb, theta, u, v
+
+
+def test_rayleigh_forces_are_minus_the_velocity_gradient_of_the_dissipation_function():
+    """``f = -dD/dqdot`` with ``D = 1/2 w_dot^T (a M + b K) w_dot``, by central differences."""
+    gb, theta, u, v = _state()
+    a, b, omega = 300.0, 2e-7, 420.0
+
+    def dissipation(om: float, vel: np.ndarray) -> float:
+        q, f = rayleigh_forces(gb, theta, om, u, vel, a, b)
+        # D is quadratic in the velocities and f = -dD/dqdot, so D = -1/2 qdot . f
+        return -0.5 * (om * q + vel @ f)
+
+    q, f = rayleigh_forces(gb, theta, omega, u, v, a, b)
+    h = 10.0          # D is quadratic: central differences are exact at any step, and a
+    #                   large one keeps them above the rounding of D
+    idx = np.random.default_rng(3).choice(gb.n_u, 12, replace=False)
+    for i in idx:
+        e = np.zeros(gb.n_u)
+        e[i] = h
+        fd = (dissipation(omega, v + e) - dissipation(omega, v - e)) / (2 * h)
+        assert -fd == pytest.approx(f[i], rel=1e-6, abs=1e-9 * np.abs(f).max())
+    fd = (dissipation(omega + h, v) - dissipation(omega - h, v)) / (2 * h)
+    assert -fd == pytest.approx(q, rel=1e-6)
+    assert -(omega * q + v @ f) > 0.0               # it only ever takes energy
+
+
+def test_rayleigh_damping_leaves_a_rigid_rotation_alone():
+    gb, theta, _, _ = _state()
+    y = gb.Y.reshape(-1, 2)
+    r = rot(gb.sense * theta)
+    u = (y @ r.T - y).ravel()
+    omega = 500.0
+    v = (gb.sense * omega * (y @ r.T) @ np.array([[0.0, 1.0], [-1.0, 0.0]])).ravel()
+    q, f = rayleigh_forces(gb, theta, omega, u, v, 300.0, 2e-7)
+    assert abs(q) < 1e-12 and np.abs(f).max() < 1e-9
+
+
+def test_the_root_columns_of_the_iteration_matrix_match_its_solves():
+    case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4000 * RPM, torque=10.0,
+                       integrator="implicit", dt=6.6e-7, damping_ratio=0.05)
+    system = build_system(PAIR, case)
+    method = ImplicitMethod(system, case)
+    stepper = ImplicitStepper(system, case)
+    theta = np.array([0.1, -0.07])
+    g = jacobian(system, theta, stepper.state.contact)
+    n_root = sum(system.n_lambda)
+    for touching in (False, True):
+        cols = method.root_columns(theta, g, touching)
+        each = np.column_stack([method.solve(theta, g[k], touching) for k in range(n_root)])
+        assert np.abs(cols - each).max() <= 1e-12 * np.abs(each).max()
+
+
+def _energy(stepper: ImplicitStepper) -> float:
+    system, st = stepper.system, stepper.state
+    e = 0.0
+    for g, (gb, ub, vb) in enumerate(zip(system.gears, blocks(system, st.u), blocks(system, st.v))):
+        w = ((gb.Y + ub).reshape(-1, 2) @ rot(gb.sense * st.theta[g])).ravel() - gb.Y
+        e += 0.5 * gb.inertia * st.omega[g] ** 2 + 0.5 * np.sum(gb.mass * vb * vb) \
+            + 0.5 * w @ (gb.stiffness @ w)
+    return e
+
+
+@pytest.mark.parametrize("rho", [1.0, 0.8])
+def test_a_free_spinning_pair_keeps_its_energy_up_to_the_dissipation_asked_for(rho):
+    """No torque and the teeth apart: without numerical dissipation (rho_inf = 1) the
+    energy stays to 1e-9; with rho_inf = 0.8 it never grows and loses less than 1e-6 in
+    300 steps (the teeth's start-up vibration is what the scheme damps)."""
+    case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4400 * RPM, torque=0.0,
+                       integrator="implicit", dt=6.6e-7, rho_inf=rho)
+    stepper = ImplicitStepper(build_system(PAIR, case), case)
+    e0 = _energy(stepper)
+    energies = []
+    for _ in range(30):
+        assert stepper.advance(10, 10.0, 10**9, np.empty((1, 19)), 0, [])[2] == ""
+        assert stepper.state.x[-1] == 0.0
+        energies.append(_energy(stepper))
+    assert stepper.state.contact.s < -1e-8           # really apart
+    change = (np.array(energies) - e0) / e0
+    if rho == 1.0:
+        assert np.abs(change).max() < 1e-9
+    else:
+        assert change.max() < 1e-12 and change.min() > -1e-6
+
+
+def test_the_implicit_step_follows_rk4_through_fig9_at_a_step_22_times_larger():
+    """Fig. 9 (20,000 rpm, point contact): the 10-us-averaged force within 2 % RMS of its
+    peak and the averaged peak within 1 %, at 6.6e-7 s against RK4's 3e-8 s."""
+    case = preset_case("paper-fig9")
+    ref = simulate(case.pair, case.run.with_(frames_every=0))
+    imp = simulate(case.pair, case.run.with_(frames_every=0, integrator="implicit", dt=6.6e-7))
+    assert imp.status == "complete" and imp.steps * 20 < ref.steps
+    a = moving_average(ref.time, ref.contact_force)
+    b = moving_average(imp.time, imp.contact_force)
+    on = np.interp(imp.time, ref.time, a)
+    ok = np.isfinite(on) & np.isfinite(b)
+    peak = averaged_peak(ref.time, ref.contact_force)[0]
+    assert np.sqrt(np.mean((on[ok] - b[ok]) ** 2)) < 0.02 * peak
+    assert averaged_peak(imp.time, imp.contact_force)[0] == pytest.approx(peak, rel=0.01)

@@ -180,3 +180,27 @@ def test_the_implicit_step_follows_rk4_through_fig9_at_a_step_22_times_larger():
     peak = averaged_peak(ref.time, ref.contact_force)[0]
     assert np.sqrt(np.mean((on[ok] - b[ok]) ** 2)) < 0.02 * peak
     assert averaged_peak(imp.time, imp.contact_force)[0] == pytest.approx(peak, rel=0.01)
+
+
+def test_a_case_asks_for_the_implicit_integrator_its_step_and_its_damping(tmp_path, monkeypatch):
+    """run.integrator / --integrator: a preset without --dt takes the step of accuracy;
+    Rayleigh damping from a ratio at two frequencies; the case survives its TOML round
+    trip; the run folder says which integrator made it."""
+    import json
+
+    from spurdyn.casefile import case_from_dict, case_to_dict
+    from spurdyn.cases import resolve_cases
+    from spurdyn.cli.main import main
+
+    case = resolve_cases("paper-fig8", {"run.integrator": "implicit", "run.rayleigh_ratio": 0.02,
+                                        "run.rayleigh_hz": [5e3, 2e5], "run.damping_ratio": 0.05})[0]
+    assert case.run.integrator == "implicit" and case.run.dt == 6.6e-7
+    assert (case.run.rayleigh_mass, case.run.rayleigh_stiffness) == rayleigh_from_ratio(0.02, 5e3, 2e5)
+    again = case_from_dict(case_to_dict(case), check_step=False).run
+    assert again == case.run.with_(name=again.name)
+    assert resolve_cases("paper-fig8", {"run.integrator": "implicit", "run.dt": 1e-7})[0].run.dt == 1e-7
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "paper-fig8", "--integrator", "implicit", "--damping", "0.05",
+                 "--angle", "1", "--quiet", "--out", "r"]) == 0
+    summary = json.loads((tmp_path / "r" / "summary.json").read_text())
+    assert summary["integrator"] == "implicit" and summary["settings"]["run"]["damping_ratio"] == 0.05

@@ -108,6 +108,16 @@ BAD: dict[str, st.SearchStrategy[Any]] = {
     "keep_theta_term": st.one_of(st.integers(), st.text(max_size=5), st.floats()),
     "damping_ratio": st.one_of(NOT_A_NUMBER, NOT_FINITE, _floats(-1e308, -1e-300),
                                _floats(1.0, 1e308)),
+    "integrator": st.one_of(st.text(max_size=8).filter(lambda s: s not in ("rk4", "implicit")),
+                            st.integers(), st.booleans()),
+    "rho_inf": st.one_of(NOT_A_NUMBER, NOT_FINITE, _floats(-1e308, -1e-300),
+                         _floats(1.0 + 1e-9, 1e308)),
+    "rayleigh_mass": st.one_of(NOT_A_NUMBER, NOT_FINITE, _floats(-1e308, -1e-300)),
+    "rayleigh_stiffness": st.one_of(NOT_A_NUMBER, NOT_FINITE, _floats(-1e308, -1e-300)),
+    # alone, without its frequencies, any ratio is refused; so are frequencies without one
+    "rayleigh_ratio": st.one_of(NOT_A_NUMBER, NOT_FINITE, _floats(-1e308, 1e308)),
+    "rayleigh_hz": st.one_of(st.integers(), st.text(max_size=5),
+                             st.lists(_floats(-1e6, 1e6), max_size=3)),
 }
 
 

@@ -108,6 +108,20 @@ def q_bound(st, g, y, w, kw):
             + 8 * EPS * cross_size(w2, abs(stiff) @ np.abs(w2)))
 
 
+def tangent_q_bound(st, g, y, w, dw):
+    """Round-off bound of gear ``g``'s tangent torque ``dQ = s sum (dw x K w + w x K dw)``
+    evaluated from the rounded ``w`` and ``K w`` of the state (as the compiled step does): an
+    error ``dw_r ~ EPS |y|`` of ``w`` moves it by ``sum dw_r . (K Jz dw) + dw_r x K dw`` (``K``
+    symmetric), and the products round against ``|K| |w|`` and ``|K| |dw|``. A rough ``dw``
+    (random on every node) makes ``K dw`` large, so this bound is far above ``q_bound``."""
+    stiff = st.system.gears[g].stiffness
+    d2, y2, w2 = st.block(g, dw), st.block(g, y), st.block(g, w)
+    kdw = stiff @ d2
+    kjdw = stiff @ (d2.reshape(-1, 2) @ JZ.T).ravel()
+    return (4 * EPS * (cross_size(y2, kdw) + cross_size(y2, kjdw))
+            + 8 * EPS * (cross_size(d2, abs(stiff) @ np.abs(w2)) + cross_size(w2, abs(stiff) @ np.abs(d2))))
+
+
 def node_size(v):
     """``|v_x| + |v_y|`` of each node, for both its components: a bound on the size of either
     component of the vector turned by any angle."""

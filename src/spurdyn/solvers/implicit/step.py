@@ -36,7 +36,7 @@ from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunSettings
-from spurdyn.solvers.layout import FAIL_NAN, FAIL_NEWTON, OK
+from spurdyn.solvers.layout import FAIL_NAN, FAIL_NEWTON, FAIL_STRIP, OK
 from spurdyn.solvers.paper.constants import MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.implicit.damping import mesh_damper_coefficient, rayleigh_forces
@@ -87,6 +87,14 @@ class ImplicitMethod:
                                  case.contact).stiffness
             m_e = reduced_mass(system.gears[0].inertia, system.gears[1].inertia, ra, rb)
             self.c_mesh = mesh_damper_coefficient(case.damping_ratio, k, m_e)
+        # the contact search: the compiled one on the numba backend, NumPy's on numpy
+        if case.backend == "numba":
+            from spurdyn.solvers.implicit.contact import CompiledContact
+
+            self.contact_at = CompiledContact(system, case).at
+        else:
+            self.contact_at = lambda theta, u, guess, load=0.0: contact_at(
+                system, theta, u, guess, load, self.law)
         ratio = self.gp / self.bp
         a, b = case.rayleigh_mass, case.rayleigh_stiffness
         # the teeth's blocks of S in the disk frame, factorised once
@@ -191,7 +199,10 @@ class ImplicitMethod:
         c_force, moves = None, 0
         for it in range(case.max_iter + 1):
             theta, u = q[:2], q[2:]
-            c = contact_at(sys_, theta, u, guess, load, self.law)
+            try:
+                c = self.contact_at(theta, u, guess, load)
+            except FloatingPointError:
+                return st, residual, it, FAIL_STRIP
             guess = (c.alpha, c.beta)
             # The force acts where the first iterate found the contact pair, and moves with
             # it only when the pair moves by more than RELOCATE (as in the paper's step):
@@ -259,7 +270,10 @@ class ImplicitMethod:
         if self.law is not None:
             # the next step's strip is the one of the force now; the gap kept is the one the
             # constraint holds, the strip's mean deformed gap s_bar - c_H |p|
-            c = contact_at(sys_, q[:2], q[2:], guess, abs(float(x[-1])), self.law)
+            try:
+                c = self.contact_at(q[:2], q[2:], guess, abs(float(x[-1])))
+            except FloatingPointError:
+                return st, residual, it, FAIL_STRIP
             c = replace(c, s=c.s + self.c_h * float(x[-1]))
         new = ImplicitState(t=st.t + h, theta=q[:2].copy(), omega=qd[:2].copy(), u=q[2:].copy(),
                             v=qd[2:].copy(), x=x, contact=c, qdd=qdd, acc=acc)

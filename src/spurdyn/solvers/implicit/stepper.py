@@ -50,7 +50,8 @@ class ImplicitStepper(Stepper):
                  frames_every: int, frames: Frames) -> tuple[int, int, int]:
         # The step's dense products are tens by hundreds: a second BLAS thread only waits
         # for the first (2.3 times slower on this 2-core machine with another process busy).
-        with threadpool_limits(limits=1, user_api="blas"):
+        # A diverging Newton iteration ends in a NaN the status reports: no warnings.
+        with threadpool_limits(limits=1, user_api="blas"), np.errstate(all="ignore"):
             return self._steps(n, angle_end, save_every, rows, frames_every, frames)
 
     def _steps(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],

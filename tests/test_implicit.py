@@ -16,7 +16,7 @@ from spurdyn.results.headline import averaged_peak, moving_average
 from spurdyn.settings import RPM, RunSettings
 from spurdyn.solvers.implicit.alpha import GeneralizedAlpha, accuracy_step
 from spurdyn.solvers.implicit.damping import rayleigh_forces, rayleigh_from_ratio
-from spurdyn.solvers.implicit.step import ImplicitMethod
+from spurdyn.solvers.implicit.step_numpy import ImplicitMethod
 from spurdyn.solvers.implicit.stepper import ImplicitStepper
 from spurdyn.solvers.loop import simulate
 from spurdyn.solvers.paper.dynamics_numpy import blocks, jacobian, rot
@@ -207,9 +207,9 @@ def test_a_case_asks_for_the_implicit_integrator_its_step_and_its_damping(tmp_pa
 
 
 @pytest.mark.parametrize("contact", ["point", "hertz"])
-def test_the_compiled_search_and_numpys_give_the_same_implicit_run(contact):
-    """The implicit step with the compiled contact search (backend numba) against NumPy's
-    (its twin): 150 steps of Fig. 9 under load agree to 1e-8 of the force. The Newton
+def test_the_compiled_implicit_step_follows_its_numpy_twin(contact):
+    """The compiled implicit step (backend numba) against NumPy's, its twin: 150 steps of
+    Fig. 9 under load agree to 1e-8 of the force. The Newton
     iterations stop at tol_disp = 1e-12 m, which at the pair's ~2e8 N/m leaves the force
     defined to ~2e-4 N (3e-7 of it); the two agree 30 times closer."""
     case = preset_case("paper-fig9")

@@ -68,3 +68,17 @@ CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s", "p_held", "half
 #: third and fourth stage rotations, ``w`` and ``K w``, and the torque schedule's slopes).
 Prediction = namedtuple("Prediction", ["qs_th", "qs_u", "vs_th", "vs_u", "q3th", "w3", "kw3",
                                        "q4th", "w4", "kw4", "sl3", "sl4"])
+
+#: What the compiled implicit step reads besides :class:`Packed` (docs/implicit.md):
+#: ``h``, the generalized-alpha coefficients ``am``, ``af``, ``beta``, ``gamma`` and
+#: ``bp = beta'``, ``gp = gamma'``; ``mq`` the masses of ``q = [theta, u]``; the teeth's
+#: constant iteration blocks as one banded Cholesky factor ``A[perm][:, perm] = U^T U``,
+#: ``band[j, bw + i - j] = U[i, j]`` (LAPACK's upper band storage, transposed); ``root_inv`` those blocks' inverse at the
+#: root DOFs (``n_u`` by ``2 n_root``, columns in the order of ``Packed.rnode``); ``base``
+#: ``(r_bA, -r_bB)``, ``c_mesh`` the mesh damper, ``ray_a``, ``ray_b`` Rayleigh's
+#: coefficients, ``c_h``, ``estar``, ``face`` the strip's law (0 for a point), ``tol``,
+#: ``max_iter`` and ``ns`` the contact-row slots per gear.
+ImplicitPack = namedtuple("ImplicitPack", [
+    "h", "am", "af", "beta", "gamma", "bp", "gp", "mq", "band", "perm", "root_inv", "base",
+    "c_mesh", "ray_a", "ray_b", "c_h", "estar", "face", "tol", "max_iter", "ns",
+])

@@ -36,8 +36,7 @@ Progress = Callable[[int, float, float], None]
 STEPPERS: dict[tuple[str, str], str] = {
     ("rk4", "numba"): "spurdyn.solvers.paper.stepper_compiled:CompiledStepper",
     ("rk4", "numpy"): "spurdyn.solvers.paper.stepper_numpy:NumpyStepper",
-    # NumPy and SciPy's sparse factors on either backend: no compiled twin yet
-    ("implicit", "numba"): "spurdyn.solvers.implicit.stepper:ImplicitStepper",
+    ("implicit", "numba"): "spurdyn.solvers.implicit.stepper:CompiledImplicitStepper",
     ("implicit", "numpy"): "spurdyn.solvers.implicit.stepper:ImplicitStepper",
 }
 

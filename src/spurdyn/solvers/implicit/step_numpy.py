@@ -1,4 +1,5 @@
-"""One step of the implicit integrator (docs/implicit.md, section 2).
+"""One step of the implicit integrator in NumPy (docs/implicit.md, section 2): the twin of
+:func:`spurdyn.solvers.implicit.step_compiled.step`.
 
 Generalized-alpha in the form of Arnold and Bruls for constrained mechanical systems: the
 equations of motion and the constraints hold at ``t_{n+1}``,
@@ -87,14 +88,8 @@ class ImplicitMethod:
                                  case.contact).stiffness
             m_e = reduced_mass(system.gears[0].inertia, system.gears[1].inertia, ra, rb)
             self.c_mesh = mesh_damper_coefficient(case.damping_ratio, k, m_e)
-        # the contact search: the compiled one on the numba backend, NumPy's on numpy
-        if case.backend == "numba":
-            from spurdyn.solvers.implicit.contact import CompiledContact
-
-            self.contact_at = CompiledContact(system, case).at
-        else:
-            self.contact_at = lambda theta, u, guess, load=0.0: contact_at(
-                system, theta, u, guess, load, self.law)
+        self.contact_at = lambda theta, u, guess, load=0.0: contact_at(
+            system, theta, u, guess, load, self.law)
         ratio = self.gp / self.bp
         a, b = case.rayleigh_mass, case.rayleigh_stiffness
         # the teeth's blocks of S in the disk frame, factorised once

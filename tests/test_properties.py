@@ -118,6 +118,7 @@ BAD: dict[str, st.SearchStrategy[Any]] = {
     "rayleigh_ratio": st.one_of(NOT_A_NUMBER, NOT_FINITE, _floats(-1e308, 1e308)),
     "rayleigh_hz": st.one_of(st.integers(), st.text(max_size=5),
                              st.lists(_floats(-1e6, 1e6), max_size=3)),
+    "cycles": st.one_of(NOT_WHOLE, st.integers(-(2**63), 0), st.integers(10_001, INT64)),
 }
 
 

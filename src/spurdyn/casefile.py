@@ -41,7 +41,7 @@ RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
     "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
     "keep_theta_term", "damping_ratio", "integrator", "rho_inf", "rayleigh_mass",
-    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz",
+    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles",
 }
 
 
@@ -77,7 +77,10 @@ class Case:
 
     @property
     def angle(self) -> float:
-        """Rotation of A to simulate (rad): ``run.angle`` or the whole ``theta_s``."""
+        """Rotation of A to simulate (rad): ``run.angle`` or the whole ``theta_s``; for a
+        steady state, its mesh cycles of one angular pitch each."""
+        if self.run.cycles is not None:
+            return self.run.cycles * 2.0 * math.pi / self.pair.gear_a.teeth
         return self.pair.theta_s if self.run.angle is None else self.run.angle
 
     @property
@@ -241,6 +244,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         integrator=src.choice("integrator", _RUN_DEFAULTS["integrator"], INTEGRATORS),
         rho_inf=src.number("rho_inf", _RUN_DEFAULTS["rho_inf"], positive=False),
         **_rayleigh(src),
+        cycles=src.integer("cycles", None, 1),
         name=name,
     )
     try:
@@ -349,6 +353,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
             run_table[key] = getattr(run, key)
     if run.integrator != "rk4":
         run_table.update(integrator=run.integrator, rho_inf=run.rho_inf)
+    if run.cycles is not None:
+        run_table["cycles"] = run.cycles
     return {
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),

@@ -68,6 +68,12 @@ INTEGER_BOUNDS = (("n_spline", 8, MAX_SPLINE), ("max_iter", 1, MAX_ITER),
                   ("frames_every", 0, None))
 
 
+#: Most mesh cycles of a steady-state run (20 settle a damped pair many times over).
+MAX_CYCLES = 10_000
+#: Why the FE model refuses ``cycles`` (the one place that says it).
+FE_CYCLES_REASON = ("needs a model that meshes for more than one engagement: the paper's "
+                    "one-tooth FE model covers one (use --model lumped)")
+
 #: Why the FE solver's RK4 refuses damping (the one place that says it).
 FE_DAMPING_REASON = ("needs the implicit integrator in the FE model: the paper's RK4 is "
                      "undamped (use --integrator implicit, --model lumped, or no damping)")
@@ -122,6 +128,9 @@ class RunSettings:
     rho_inf
         Spectral radius at infinite frequency of the implicit integrator (1: no
         numerical dissipation, 0: the most), :data:`DEFAULT_RHO_INF`.
+    cycles
+        Mesh cycles of a steady-state run under constant torques (``None``: the paper's one
+        engagement with its torque ramps). The lumped model only, until the sector model.
     rayleigh_mass, rayleigh_stiffness
         Rayleigh damping ``C = a M + b K`` of the elastic teeth (``a`` in 1/s, ``b`` in
         s), acting on their deformation rate in the disk frame (implicit integrator).
@@ -155,6 +164,7 @@ class RunSettings:
     rho_inf: float = DEFAULT_RHO_INF
     rayleigh_mass: float = 0.0
     rayleigh_stiffness: float = 0.0
+    cycles: int | None = None
     save_every: int = 1
     frames_every: int = 100
     keep_theta_term: bool = True
@@ -188,6 +198,9 @@ class RunSettings:
             v = getattr(self, key)
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v < 0:
                 raise InputError(key, f"must be a number >= 0 (got {v!r})")
+        n = self.cycles
+        if n is not None and (not isinstance(n, int) or isinstance(n, bool) or not 1 <= n <= MAX_CYCLES):
+            raise InputError("cycles", f"must be a whole number from 1 to {MAX_CYCLES:,} (got {n!r})")
         r = self.rho_inf
         if not isinstance(r, (int, float)) or isinstance(r, bool) or not 0.0 <= r <= 1.0:
             raise InputError("rho_inf", f"must be a number from 0 to 1 (got {r!r})")

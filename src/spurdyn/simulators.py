@@ -54,7 +54,12 @@ def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None
         table = _hertz_table(pair, case) if hertz else mesh_stiffness_table(pair, case.nx, case.ny)
         if key is not None:
             _TABLES[key] = table
-    result = lumped(pair, case, table=table, damping_ratio=case.damping_ratio)
+    if case.cycles is not None:
+        from spurdyn.lumped.steady import simulate_steady
+
+        result = simulate_steady(pair, case, table, case.damping_ratio, case.cycles)
+    else:
+        result = lumped(pair, case, table=table, damping_ratio=case.damping_ratio)
     if progress is not None and len(result.angle):
         try:
             progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))

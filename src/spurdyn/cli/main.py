@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import NoReturn, Sequence
 
 from spurdyn.casefile import MeshedPair, load_pair
-from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, damping_label, parse_mesh
+from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.simulators import MODELS
@@ -166,17 +166,14 @@ def cmd_run(args: argparse.Namespace) -> int:
             if case.pair.driver == "b":
                 raise InputError("--vtu", f"needs tooth frames, but {case.name} is driven by "
                                  "gear B, whose runs keep none; leave out --vtu")
+    if args.model == "fe":   # not ignored in silence
+        for case in cases:
+            refuse_fe_dynamics(case.run, labels)
     if not args.allow_large:
         from spurdyn.solvers.limits import check_size
 
         for case in cases:
             check_size(case, labels, model=args.model)
-    if args.model == "fe":   # not ignored in silence
-        from spurdyn.settings import FE_DAMPING_REASON
-
-        for case in cases:
-            if case.run.damped and case.run.integrator == "rk4":
-                raise InputError(damping_label(case.run, labels), FE_DAMPING_REASON)
     simulate = runner.load_simulate(args.model)
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,

@@ -16,6 +16,7 @@ DYNAMICS_OVERRIDES = (
     ("rho_inf", "run.rho_inf", "--rho-inf"),
     ("rayleigh_ratio", "run.rayleigh_ratio", "--rayleigh-ratio"),
     ("rayleigh_hz", "run.rayleigh_hz", "--rayleigh-hz"),
+    ("cycles", "run.cycles", "--cycles"),
 )
 
 
@@ -27,6 +28,17 @@ def _frequencies(text: str) -> list[float]:
     if len(values) != 2:
         raise argparse.ArgumentTypeError(f"must be two frequencies in Hz, F1,F2 (got {text!r})")
     return values
+
+
+def refuse_fe_dynamics(run: RunSettings, labels: dict[str, str]) -> None:
+    """Refuse, in one line, what the FE model cannot do with these settings: damping with
+    RK4, a steady state of several mesh cycles."""
+    from spurdyn.settings import FE_CYCLES_REASON, FE_DAMPING_REASON
+
+    if run.cycles is not None:
+        raise InputError(labels.get("run.cycles", "run.cycles"), FE_CYCLES_REASON)
+    if run.damped and run.integrator == "rk4":
+        raise InputError(damping_label(run, labels), FE_DAMPING_REASON)
 
 
 def damping_label(run: RunSettings, labels: dict[str, str]) -> str:
@@ -51,6 +63,9 @@ def add_dynamics_options(p: argparse.ArgumentParser) -> None:
                         "(implicit integrator)")
     p.add_argument("--rayleigh-hz", type=_frequencies, metavar="F1,F2",
                    help="the two frequencies (Hz) at which the teeth have --rayleigh-ratio")
+    p.add_argument("--cycles", type=int, metavar="N",
+                   help="steady state: N mesh cycles under constant torques, settled figures "
+                        "in the summary (lumped model; docs/lumped.md)")
 
 
 def parse_mesh(text: str | None) -> tuple[int, int] | None:
@@ -70,4 +85,5 @@ def parse_mesh(text: str | None) -> tuple[int, int] | None:
     return nx, ny
 
 
-__all__ = ["DYNAMICS_OVERRIDES", "add_dynamics_options", "damping_label", "parse_mesh"]
+__all__ = ["DYNAMICS_OVERRIDES", "add_dynamics_options", "damping_label", "parse_mesh",
+           "refuse_fe_dynamics"]

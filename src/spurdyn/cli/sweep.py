@@ -17,7 +17,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
-from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, damping_label, parse_mesh
+from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics
 from spurdyn.errors import InputError
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep.spec import MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
@@ -122,10 +122,8 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     torques = parse_torques(args.torque) if args.torque is not None else None
     overrides, labels = _overrides(args, torques)
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
-    if args.model == "fe" and case.run.damped and case.run.integrator == "rk4":  # not ignored
-        from spurdyn.settings import FE_DAMPING_REASON
-
-        raise InputError(damping_label(case.run, labels), FE_DAMPING_REASON)
+    if args.model == "fe":   # not ignored in silence
+        refuse_fe_dynamics(case.run, labels)
     out = Path(args.out) if args.out else Path("out") / f"sweep-{case.name}"
     check_out(out, args.force)
     plan = SweepPlan(case=case, model=args.model, rpms=rpms, torques=torques, out=out,

@@ -33,7 +33,7 @@ from spurdyn.casefile import Case, case_to_dict
 from spurdyn.errors import InputError
 from spurdyn.results.beside import beside
 from spurdyn.results.frames import ToothFrames, case_from_run, speeds_label, tooth_frames
-from spurdyn.results.headline import headline
+from spurdyn.results.headline import averaged_peak, headline
 from spurdyn.results.stress import root_stress_variables, stress_summary
 from spurdyn.result import STAGES, Result
 
@@ -355,10 +355,46 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     }
     # root stress along the fillets (runs with tooth frames) and ISO's nominal stresses
     summary.update(stress_summary(ds, case_from_run(ds)))
-    model = json.loads(ds.attrs.get("info", "{}") or "{}").get("model")
+    info = json.loads(ds.attrs.get("info", "{}") or "{}")
+    if "steady" in info:
+        summary.update(steady_figures(time, force, info["steady"], complete))
+    model = info.get("model")
     if model and model != "fe":  # say which model made it (the FE solver's is implied)
         summary["model"] = model
     return _jsonable(summary)
+
+
+def steady_figures(time: NDArray[np.float64], force: NDArray[np.float64],
+                   steady: dict[str, Any], complete: bool) -> dict[str, Any]:
+    """The settled figures of a steady-state run (docs/lumped.md): the dynamic factor of
+    the most loaded tooth pair's 10-us-averaged force over the last cycles against the
+    largest pair force of a quasi-static cycle, the transmission error's RMS and
+    peak-to-peak there, and whether the run settled."""
+    lo, _ = steady["window_s"]
+    sel = time >= lo - 1e-15
+    static = float(steady["static_pair_force_max_N"])
+    peak = averaged_peak(time[sel], force[sel])
+    raw = float(np.nanmax(force[sel])) if sel.any() else None
+    ok = complete and peak is not None and static > 0
+    m = steady["last_cycles"]
+    return {
+        "cycles": steady["cycles"],
+        "settled": bool(steady["settled"]) and complete,
+        "settle_tolerance": steady["settle_tolerance"],
+        "peak_force_N": None if peak is None else peak[0],
+        "peak_force_raw_N": raw,
+        "static_force_N": static,
+        "dynamic_factor": peak[0] / static if ok else None,
+        "dynamic_factor_raw": raw / static if ok and raw is not None else None,
+        "dynamic_factor_note": (f"the most loaded tooth pair's 10-us-averaged force over the last "
+                                f"{m} mesh cycle(s) against its largest quasi-static value"
+                                + ("" if steady["settled"] else "; the run had not settled: "
+                                   "its cycle-to-cycle change was above the tolerance")
+                                if ok else "none: the run stopped early"),
+        "transmission_error_rms_m": steady["transmission_error_rms_m"],
+        "transmission_error_pp_m": steady["transmission_error_pp_m"],
+        "mesh_stiffness_mean_N_per_m": steady["mesh_stiffness_mean_N_per_m"],
+    }
 
 
 def write_csv(ds: xr.Dataset, path: Path) -> None:

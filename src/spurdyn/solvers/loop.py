@@ -24,7 +24,7 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem, build_system, solver_pair
 from spurdyn.result import Result
-from spurdyn.settings import FE_DAMPING_REASON, RunSettings
+from spurdyn.settings import FE_CYCLES_REASON, FE_DAMPING_REASON, RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.check import check_run
 from spurdyn.solvers.layout import HISTORY, NCOL
@@ -67,6 +67,8 @@ def simulate(pair: GearPair, case: RunSettings, progress: Progress | None = None
     Result
         ``status`` is ``"incomplete"`` (with ``reason``) if the run stopped early.
     """
+    if case.cycles is not None:
+        raise InputError("cycles", FE_CYCLES_REASON)
     if case.damped and case.integrator == "rk4":
         raise InputError("damping_ratio" if case.damping_ratio > 0.0 else "rayleigh_mass"
                          if case.rayleigh_mass > 0.0 else "rayleigh_stiffness", FE_DAMPING_REASON)

@@ -11,6 +11,8 @@ the mesh frequency equals the estimated torsional natural frequency ``f_n`` is m
 
 from __future__ import annotations
 
+import json
+
 from pathlib import Path
 from typing import Mapping
 
@@ -75,6 +77,10 @@ def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
                         color="red", ms=7, clip_on=False, transform=ax.get_xaxis_transform(),
                         label=f"{model}: failed or not run")
     ax.axhline(1.0, color="0.5", lw=0.8, ls=":")
+    if resonance is not None and np.isfinite(lo) and resonance.iso_resonance_rpm is not None:
+        grid = np.linspace(lo, hi, 400) if hi > lo else np.array([lo])
+        ax.plot(grid, resonance.iso_kv(grid), color="0.35", lw=1.3, ls="--",
+                label=f"ISO 6336-1 K_v (method B; n_E1 = {resonance.iso_resonance_rpm:,.0f} rpm)")
     if resonance is not None and np.isfinite(lo):
         n_res = resonance.resonance_rpm
         span = hi - lo if hi > lo else max(hi, 1.0)
@@ -122,7 +128,16 @@ def plot_sweep_folder(out: Path, png: Path, resonance: ResonanceEstimate | None)
     """Draw every model's sweep found in the folder ``out`` (``sweep_<model>.nc``)."""
     datasets = model_datasets(out)
     names = sorted({str(ds.attrs.get("case_name", "")) for ds in datasets.values()})
-    title = f"{', '.join(names)}: dynamic factor against speed, one engagement per point"
+    cycles = set()
+    for ds in datasets.values():
+        try:
+            cycles.add(json.loads(ds.attrs.get("settings", "{}"))["run"].get("cycles"))
+        except (ValueError, KeyError, TypeError):
+            cycles.add(None)
+    each = ("one engagement per point" if cycles == {None} else
+            f"steady state over {', '.join(str(c) for c in sorted(c for c in cycles if c))} "
+            "mesh cycles per point (last cycles)")
+    title = f"{', '.join(names)}: dynamic factor against speed, {each}"
     if len({ds.attrs.get("settings_hash") for ds in datasets.values()}) > 1:
         title += "\n(the models' sweeps in this folder have different settings)"
     return plot_dynamic_factor(datasets, png, resonance, title)

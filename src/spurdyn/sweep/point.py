@@ -51,6 +51,13 @@ FIGURES: dict[str, tuple[str, str]] = {
     "angle_reached_deg": ("degree", "rotation of A the run reached"),
     "steps": ("1", "time steps (FE) or integrator steps (lumped) taken"),
     "wall_s": ("s", "wall-clock time of the point on its worker"),
+    "settled": ("1", "steady-state runs (cycles): 1 if the cycle-to-cycle change of the peak "
+                "mesh force and of the transmission error's RMS fell below the tolerance, "
+                "else 0; NaN for a one-engagement run"),
+    "transmission_error_rms": ("m", "steady-state runs: RMS of the transmission error about "
+                               "its mean over the last cycles (NaN otherwise)"),
+    "transmission_error_pp": ("m", "steady-state runs: peak-to-peak of the transmission "
+                              "error over the last cycles (NaN otherwise)"),
 }
 
 
@@ -150,6 +157,9 @@ def point_figures(result: Result, case: Case) -> dict[str, Any]:
         "angle_reached_deg": s["angle_deg"],
         "steps": s["steps"],
         "wall_s": s["wall_s"],
+        "settled": None if "settled" not in s else float(s["settled"]),
+        "transmission_error_rms": s.get("transmission_error_rms_m"),
+        "transmission_error_pp": s.get("transmission_error_pp_m"),
     }
 
 

@@ -184,7 +184,8 @@ def sweep_dataset(plan: SweepPlan, records: Mapping[PointKey, Mapping[str, Any]]
     xarray.Dataset
         Dimensions ``rpm`` and, when ``plan.torques`` is given, ``torque`` (else ``torque``
         is a scalar coordinate). Variables: :data:`FIGURES`, ``status`` (int8 code, see
-        :data:`STATUS_CODES`), ``reason``; coordinate ``mesh_frequency`` (Hz).
+        :data:`STATUS_CODES`), ``reason``, ``iso_kv`` where ISO's figures apply;
+        coordinate ``mesh_frequency`` (Hz).
     """
     missing_reason = missing_reason or {}
     rpms, torques = np.asarray(plan.rpms, float), np.asarray(plan.torque_values, float)
@@ -217,6 +218,13 @@ def sweep_dataset(plan: SweepPlan, records: Mapping[PointKey, Mapping[str, Any]]
     data_vars["status"] = (("rpm", "torque"), status, _status_attrs())
     data_vars["reason"] = (("rpm", "torque"), reason.astype(str),
                            {"long_name": "why the point is not complete (empty when it is)"})
+    from spurdyn.sweep.resonance import iso_kv_grid
+
+    kv = iso_kv_grid(plan.case, rpms, torques)
+    if kv is not None:
+        data_vars["iso_kv"] = (("rpm", "torque"), kv, {
+            "units": "1", "long_name": "ISO 6336-1 dynamic factor K_v (method B, perfect "
+            "gears, no tip relief) at the speed and torque"})
     teeth_a = plan.case.pair.gear_a.teeth
     coords = {
         "rpm": ("rpm", rpms, {"units": "rpm", "long_name": "initial speed of gear A"}),

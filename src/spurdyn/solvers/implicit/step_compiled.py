@@ -342,6 +342,10 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
             rhs[a] = e[a] + scale * g_times(P, th, cn_f, cw_f, nrm_f, a, s_r)
         if touching:
             cmat[rows - 1, rows - 1] += I.c_h
+        if not (np.isfinite(cmat).all() and np.isfinite(rhs).all()):
+            its[0] = it
+            res[0] = math.nan
+            return FAIL_NAN
         dx = np.linalg.solve(cmat, rhs)
         dq = -s_r
         for b in range(rows):

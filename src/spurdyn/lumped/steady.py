@@ -1,0 +1,227 @@
+"""Steady state of the lumped model over many mesh cycles (issue 16; docs/lumped.md).
+
+The one-engagement model of :mod:`spurdyn.lumped.model` loads one pair through the
+paper's torque ramps. Here the torques are constant and every tooth pair that the path
+of contact holds at a moment is a spring in parallel: pair ``j`` enters when gear A has
+turned ``j`` angular pitches ``p = 2 pi / z_A``, at the roll angle of the start of contact,
+and leaves ``theta_s`` later, so at A's rotation ``phi``
+
+    k(phi) = sum_j k_s(rho(phi - j p)),     F_j = max(0, k_j delta + c_j delta_dot)  (delta > 0),
+
+with ``k_s`` the single-pair stiffness (:class:`~spurdyn.lumped.model.MeshStiffnessTable`,
+zero off the path) and ``rho`` the contact point's roll angle on A. The damper of the
+mesh, ``c = 2 zeta sqrt(k(phi) m_e)`` (the damping ratio of the pair's torsional mode at
+the mesh stiffness of the moment), is shared in proportion to the pairs' stiffnesses,
+``c_j = c k_j / k``. The run starts from the static compression ``delta_0 = F_0 / k(0)``
+at nominal speeds, so a quasi-static run starts at rest in the mesh, and lasts ``N`` mesh
+cycles (``N p`` of A's rotation).
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.integrate import solve_ivp
+
+from spurdyn.geometry.pair import GearPair
+from spurdyn.lumped.model import RTOL, MeshStiffnessTable, _contact_roll_a, equivalent_mass, torsional_natural_frequency
+from spurdyn.model.loading import static_force, torque_amplitudes
+from spurdyn.result import Result
+from spurdyn.settings import RunSettings
+
+#: Relative cycle-to-cycle change of the peak mesh force and of the transmission error's
+#: RMS below which a run counts as settled.
+SETTLE_TOL = 1e-3
+#: Saved samples per mesh period, and the longest interval between samples (s): the
+#: headline's 10-us average needs several samples a window.
+SAMPLES_PER_CYCLE = 200
+MAX_SAMPLE_INTERVAL = 1e-6
+
+
+def last_cycles(cycles: int) -> int:
+    """How many of the last cycles the settled figures are taken over: a quarter of the
+    run, at least 1 and at most 5."""
+    return max(1, min(5, cycles // 4))
+
+
+def pair_rolls(pair: GearPair, phi_a: ArrayLike, j: NDArray[np.int64]) -> NDArray[np.float64]:
+    """Roll angles on A of pairs ``j`` (rows) at A's rotations ``phi_a`` (columns)."""
+    p = 2.0 * math.pi / pair.gear_a.teeth
+    phi = np.asarray(phi_a, dtype=float)[None, :] - p * np.asarray(j, dtype=float)[:, None]
+    return _contact_roll_a(pair, phi)
+
+
+
+def cycle_stiffness(pair: GearPair, table: MeshStiffnessTable,
+                    samples: int = 2000) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The stiffness of each tooth pair in contact over one mesh cycle under constant
+    torques: rows are the pairs that entered 0, 1, ... pitches before, columns A's
+    rotations ``phi`` in ``[0, p)``; returns ``(phi, k_j(phi))``. Their sum is the mesh
+    stiffness ``k(phi)`` of the module docstring, whose mean sets the torsional frequency
+    of the steady-state pair."""
+    pitch = 2.0 * math.pi / pair.gear_a.teeth
+    n_back = int(math.ceil(pair.theta_s / pitch))
+    phis = np.arange(samples) * (pitch / samples)
+    ks = np.asarray(table(pair_rolls(pair, phis, np.arange(-n_back, 1)))).reshape(n_back + 1, -1)
+    return phis, ks
+
+
+def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable,
+                    damping_ratio: float, cycles: int) -> Result:
+    """The lumped pair under constant torques over ``cycles`` mesh cycles (module docstring).
+
+    Returns a :class:`~spurdyn.result.Result` whose ``contact_force`` is the force of the
+    most loaded tooth pair at each sample and ``gap`` minus the compression ``delta`` along
+    the line of action (the transmission error, positive where the teeth yield); ``info``
+    holds ``steady``: the cycles, the mesh period, the settled test and its figures.
+    """
+    wall0 = _time.perf_counter()
+    ga, gb = pair.gear_a, pair.gear_b
+    ra, rb = ga.base_radius, gb.base_radius
+    ja, jb = ga.disk_inertia, gb.disk_inertia
+    s = 1.0 if pair.driver == "a" else -1.0
+    amp_a, amp_b = torque_amplitudes(pair, case.torque)
+    m_e = equivalent_mass(pair)
+    pitch = 2.0 * math.pi / ga.teeth
+    w_a0 = float(case.speed_a)
+    period = pitch / w_a0
+    theta_s = pair.theta_s
+    start, end = pair.start_roll_a, pair.end_roll_a
+    droll = 1.0 if pair.driver == "a" else -1.0
+    roll0 = start if pair.driver == "a" else end
+    kfun = table.scalar
+    zeta2_sqrt_me = 2.0 * damping_ratio * math.sqrt(m_e)
+    n_back = int(math.ceil(theta_s / pitch))          # pairs entered before phi = 0
+
+    def stiffnesses(phi: float) -> list[float]:
+        first = int(math.floor(phi / pitch))
+        out = []
+        for j in range(first - n_back, first + 1):
+            out.append(kfun(roll0 + droll * (phi - j * pitch)))
+        return out
+
+    def mesh_force(phi: float, delta: float, ddelta: float) -> float:
+        if delta <= 0.0:
+            return 0.0
+        ks = stiffnesses(phi)
+        k = sum(ks)
+        if k <= 0.0:
+            return 0.0
+        c = zeta2_sqrt_me * math.sqrt(k)
+        return sum(max(0.0, kj * delta + c * kj / k * ddelta) for kj in ks)
+
+    def rhs(_t: float, y: NDArray[np.float64]) -> list[float]:
+        phi_a, w_a, delta, ddelta = y
+        f = mesh_force(phi_a, delta, ddelta)
+        acc_a = (amp_a - s * ra * f) / ja
+        acc_b = (amp_b + s * rb * f) / jb
+        return [w_a, acc_a, ddelta, s * (ra * acc_a - rb * acc_b)]
+
+    static = static_force(pair, case.torque)
+    k0 = sum(stiffnesses(0.0))
+    delta0 = static / k0 if k0 > 0 else 0.0
+    w_b0 = float(case.speed_b)
+    v0 = s * (ra * w_a0 - rb * w_b0)
+    f_n = float(torsional_natural_frequency(pair, table.k_max))
+    t_end = cycles * period
+    # a whole number of samples a cycle, so that every cycle is sampled at the same phases
+    per_cycle = max(SAMPLES_PER_CYCLE, int(math.ceil(period / MAX_SAMPLE_INTERVAL)))
+    h = period / per_cycle
+    n_out = cycles * per_cycle + 1
+    t = np.linspace(0.0, t_end, n_out)     # ends exactly at t_end, the integration's end
+    delta_ref = max(delta0, abs(v0) / (2 * math.pi * f_n), 1e-9)
+    atol = np.array([1e-13, 1e-10 * w_a0, RTOL * delta_ref, RTOL * delta_ref * 2 * math.pi * f_n])
+    y0 = np.array([0.0, w_a0, delta0, v0])
+    sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=RTOL, atol=atol,
+                    max_step=min(period / 40.0, 0.25 / f_n), t_eval=t)
+    status, reason = "complete", ""
+    if sol.status != 0:
+        status, reason = "incomplete", f"integration failed: {sol.message}"
+    t = sol.t
+    phi_a, w_a, delta, ddelta = sol.y
+    n = t.size
+    phi_b = (ra * phi_a - s * delta) / rb
+    w_b = (ra * w_a - s * ddelta) / rb
+    # every pair's force at every sample
+    first = np.floor(phi_a / pitch).astype(np.int64)
+    j_all = np.arange(int(first.min()) - n_back, int(first.max()) + 1)
+    ks = table(pair_rolls(pair, phi_a, j_all) * 1.0) if j_all.size else np.zeros((0, n))
+    ks = np.asarray(ks).reshape(j_all.size, n)
+    k_tot = ks.sum(axis=0)
+    c = zeta2_sqrt_me * np.sqrt(np.maximum(k_tot, 0.0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        share = np.where(k_tot > 0, ks / k_tot, 0.0)
+    forces = np.where(delta > 0, np.maximum(ks * delta + c * share * ddelta, 0.0), 0.0)
+    mesh = forces.sum(axis=0)
+    most = forces.max(axis=0) if j_all.size else np.zeros(n)
+    # the quasi-static largest pair force of a cycle: F_0 k_j / k, sampled finely
+    _, kq = cycle_stiffness(pair, table)
+    kq_tot = kq.sum(axis=0)
+    static_pair_max = float(np.max(np.where(kq_tot > 0, static * kq / np.where(kq_tot > 0, kq_tot, 1.0), 0.0)))
+    # cycle by cycle: the peak mesh force and the RMS of the transmission error
+    done = (n - 1) // per_cycle
+    peaks, rms = [], []
+    for cyc in range(done):
+        sel = slice(cyc * per_cycle, (cyc + 1) * per_cycle)
+        peaks.append(float(mesh[sel].max()))
+        d = delta[sel]
+        rms.append(float(np.sqrt(np.mean((d - d.mean()) ** 2))))
+    settled = False
+    if len(peaks) >= 2:
+        dp = abs(peaks[-1] - peaks[-2]) / max(peaks[-1], 1e-300)
+        dr = abs(rms[-1] - rms[-2]) / max(rms[-1], 1e-300)
+        settled = bool(dp < SETTLE_TOL and dr < SETTLE_TOL)
+    m = last_cycles(cycles)
+    last = slice(max(n - 1 - m * per_cycle, 0), n)
+    window = (float(t[last][0]), float(t[-1])) if n else (0.0, 0.0)
+    te = delta[last]
+    info: dict[str, Any] = {
+        "model": "lumped",
+        "n_dof": 2,
+        "case": case.name,
+        "driver": pair.driver,
+        "theta_s": theta_s,
+        "theta_2": pair.theta_2,
+        "static_force": static,
+        "single_zone": (pair.theta_2, theta_s - pair.theta_2),
+        "mesh_stiffness_table": table.as_dict(),
+        "natural_frequency_hz_kmax": f_n,
+        "equivalent_mass": m_e,
+        "damping_ratio": damping_ratio,
+        "integrator": "DOP853",
+        "rtol": RTOL,
+        "nfev": int(sol.nfev),
+        "t_end": float(t[-1]) if n else 0.0,
+        "angle_end": float(phi_a[-1]) if n else 0.0,
+        "output_interval": h,
+        "steady": {
+            "cycles": cycles,
+            "cycles_done": done,
+            "mesh_period_s": period,
+            "last_cycles": m,
+            "window_s": [float(window[0]), float(window[1])],
+            "settled": settled,
+            "settle_tolerance": SETTLE_TOL,
+            "peak_mesh_force_per_cycle_N": peaks,
+            "transmission_error_rms_per_cycle_m": rms,
+            "static_pair_force_max_N": static_pair_max,
+            "mesh_stiffness_mean_N_per_m": float(kq_tot.mean()),
+            "transmission_error_rms_m": float(np.sqrt(np.mean((te - te.mean()) ** 2))) if te.size else None,
+            "transmission_error_pp_m": float(te.max() - te.min()) if te.size else None,
+            "transmission_error_mean_m": float(te.mean()) if te.size else None,
+        },
+    }
+    roll_a = _contact_roll_a(pair, phi_a - pitch * first)
+    return Result(
+        time=t, angle=phi_a.copy(), contact_force=most, gap=-delta,
+        roll=np.column_stack([roll_a, pair.roll_b_from_roll_a(roll_a)]),
+        theta=np.column_stack([phi_a, phi_b]), omega=np.column_stack([w_a, w_b]),
+        torque=np.column_stack([np.full(n, amp_a), np.full(n, amp_b)]),
+        residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
+        corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
+        frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=int(sol.nfev),
+        wall_s=_time.perf_counter() - wall0, info=info)

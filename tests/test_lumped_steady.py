@@ -1,0 +1,148 @@
+"""The lumped model's steady state over many mesh cycles (docs/lumped.md, "Steady state"):
+its start, its load balance, its damping, its settled test, the case keys and the sweep's
+ISO K_v."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from spurdyn.cases import preset_case, resolve_cases
+from spurdyn.lumped import mesh_stiffness_table
+from spurdyn.lumped.steady import pair_rolls, simulate_steady
+from spurdyn.settings import RPM
+
+CASE = preset_case("paper-fig8")
+TABLE = mesh_stiffness_table(CASE.pair, 4, 14)
+PITCH = 2 * math.pi / CASE.pair.gear_a.teeth
+
+
+def _run(rpm: float, zeta: float, cycles: int):
+    run = CASE.run.with_(speed_a=rpm * RPM, speed_b=rpm * RPM)
+    return simulate_steady(CASE.pair, run, TABLE, zeta, cycles)
+
+
+def _k(phi: np.ndarray) -> np.ndarray:
+    """The mesh stiffness at A's rotations ``phi``: periodic in the pitch, and within one
+    pitch of the start the pairs that entered up to two pitches before (contact ratio < 2)."""
+    phase = np.asarray(phi, dtype=float) % PITCH
+    return np.asarray(TABLE(pair_rolls(CASE.pair, phase, np.arange(-2, 1)))).sum(axis=0)
+
+
+def _start_deviation(rpm: float) -> float:
+    """Largest ``|k delta / F_0 - 1|`` before the pairs in contact first change."""
+    r = _run(rpm, 0.05, 1)
+    k_now = _k(r.angle)
+    jumps = np.flatnonzero(np.abs(np.diff(k_now)) > 1e-3 * k_now.max())
+    before = slice(0, jumps[0])
+    return float(np.abs(k_now[before] * -r.gap[before] / r.info["static_force"] - 1.0).max())
+
+
+def test_a_slow_run_starts_in_static_equilibrium():
+    """The run starts at the static compression, so before the pairs in contact first
+    change the mesh carries the static force; what remains is the lag behind the
+    equilibrium that moves with the stiffness, first order in the speed (a start from an
+    uncompressed mesh would swing by 100 %)."""
+    d30, d300 = _start_deviation(30.0), _start_deviation(300.0)
+    assert d30 < 3e-4
+    assert d300 / d30 == pytest.approx(10.0, rel=0.2)
+
+
+def test_a_slow_damped_run_holds_the_load_between_changes_of_pairs():
+    """At 30 rpm, away from the changes of the pairs in contact (the last 20 % of each
+    stretch between them, where what the change set ringing has died out), ``k(phi) delta
+    = F_0`` to 1e-3: the pairs' forces sum to the static force."""
+    r = _run(30.0, 0.05, 3)
+    f0 = r.info["static_force"]
+    k_now = _k(r.angle)
+    delta = -r.gap
+    jumps = np.flatnonzero(np.abs(np.diff(k_now)) > 1e-3 * k_now.max())
+    edges = np.concatenate([[0], jumps + 1, [r.angle.size]])
+    checked = 0
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        if hi - lo < 50:
+            continue
+        sel = slice(lo + int(0.8 * (hi - lo)), hi)
+        assert np.abs(k_now[sel] * delta[sel] / f0 - 1.0).max() < 1e-3
+        checked += 1
+    assert checked >= 4
+
+
+def test_the_free_oscillation_after_a_change_of_pairs_decays_at_the_damping_ratio():
+    """In the single-contact stretch at 1,000 rpm the pair rings at its torsional frequency
+    after the second pair leaves; the logarithmic decrement of the excursion from the static
+    compression gives the damping ratio asked for within 10 %."""
+    for zeta in (0.02, 0.05):
+        r = _run(1000.0, zeta, 2)
+        f0 = r.info["static_force"]
+        phi, delta = r.angle, -r.gap
+        k_now = _k(phi)
+        exc = delta - f0 / k_now
+        jumps = np.flatnonzero(np.abs(np.diff(k_now)) > 1e-3 * k_now.max())
+        # the longest stretch without a change of pairs after the first jump
+        edges = np.concatenate([jumps + 1, [phi.size]])
+        lengths = np.diff(edges)
+        i = int(np.argmax(lengths))
+        seg = exc[edges[i] + 2:edges[i + 1] - 2]
+        peaks = [j for j in range(1, seg.size - 1) if seg[j] > seg[j - 1] and seg[j] >= seg[j + 1] and seg[j] > 0]
+        amps = seg[peaks]
+        assert amps.size >= 3
+        dec = np.log(amps[0] / amps[-1]) / (amps.size - 1)
+        measured = dec / math.sqrt(4 * math.pi ** 2 + dec ** 2)
+        assert measured == pytest.approx(zeta, rel=0.10)
+
+
+def test_the_settled_test_needs_the_run_to_settle():
+    assert not _run(15000.0, 0.0, 4).info["steady"]["settled"]
+    assert _run(4000.0, 0.05, 20).info["steady"]["settled"]
+
+
+def test_cycles_from_the_case_and_the_command_line(tmp_path, monkeypatch, capsys):
+    from spurdyn.casefile import case_from_dict, case_to_dict
+    from spurdyn.cli.main import main
+
+    case = resolve_cases("paper-fig8", {"run.cycles": 12})[0]
+    assert case.run.cycles == 12
+    assert case_from_dict(case_to_dict(case), check_step=False).run.cycles == 12
+    assert case.angle == pytest.approx(12 * PITCH)
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "paper-fig8", "--model", "lumped", "--cycles", "6", "--damping", "0.05",
+                 "--quiet", "--out", "r"]) == 0
+    s = json.loads((tmp_path / "r" / "summary.json").read_text())
+    assert s["cycles"] == 6 and isinstance(s["settled"], bool) and s["dynamic_factor"] > 1.0
+    assert s["transmission_error_pp_m"] > s["transmission_error_rms_m"] > 0
+    capsys.readouterr()
+    for argv in (["run", "paper-fig8", "--model", "lumped", "--cycles", "0"],
+                 ["run", "paper-fig8", "--cycles", "5"],
+                 ["sweep", "paper-fig8", "--rpm", "4000", "--cycles", "5"]):
+        assert main(argv + ["--out", "bad"]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("spurdyn: error: --cycles:") and err.count("\n") == 1
+    assert not (tmp_path / "bad").exists()
+
+
+def test_the_sweep_picture_takes_iso_kv_from_the_iso_module():
+    from spurdyn.iso6336.rating import dynamic_factor_at, iso_pair, rate
+    from spurdyn.sweep.resonance import resonance_estimate
+
+    est = resonance_estimate(CASE)
+    rating = rate(iso_pair(CASE.pair), CASE.run.torque)
+    rpm = np.array([1000.0, 9000.0, 12000.0, 16000.0, 20000.0])
+    assert est.iso_kv(rpm) == pytest.approx([dynamic_factor_at(rating, n * RPM) for n in rpm], rel=1e-12)
+    assert est.iso_resonance_rpm == pytest.approx(rating.resonance_speed / RPM)
+
+
+def test_the_sweep_file_holds_iso_kv_at_each_speed_and_torque():
+    from spurdyn.iso6336.rating import dynamic_factor_at, iso_pair, rate
+    from spurdyn.sweep.resonance import iso_kv_grid
+
+    rpm, torque = [2000.0, 12000.0], [0.0, 22.25, 60.0]
+    kv = iso_kv_grid(CASE, rpm, torque)
+    assert np.isnan(kv[:, 0]).all()           # no torque: ISO's line load is zero
+    for j, tq in enumerate(torque[1:], start=1):
+        r = rate(iso_pair(CASE.pair), tq)
+        assert kv[:, j] == pytest.approx([dynamic_factor_at(r, n * RPM) for n in rpm], rel=1e-12)
+    assert kv[0, 1] != kv[0, 2]     # below resonance K_v depends on the line load (N_S)

@@ -114,7 +114,7 @@ def main() -> None:
         "Written by `docs/make_implicit_validation.py` (" + time.strftime("%Y-%m-%d") +
         f", {time.time() - t0:.0f} s on this 2-core machine); the method is derived in "
         "docs/implicit.md. RK4 at the paper's step 3e-8 s (compiled), the implicit "
-        "integrator at its default step (rho_inf = 0.8, NumPy and SciPy). *RMS* is the RMS "
+        "integrator at its default step (rho_inf = 0.8, compiled, `solvers/implicit/step_compiled.py`). *RMS* is the RMS "
         "difference of the two 10-us-averaged forces over the run, against RK4's averaged "
         "peak; *impacts* counts the times the teeth strike again after a separation, and "
         "*shift* is the largest difference of those times between the two.",

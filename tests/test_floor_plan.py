@@ -40,6 +40,7 @@ FLOORS = (
     ("settings",),
     ("model",),
     ("contact",),
+    ("sector",),
     ("solvers",),
     ("lumped",),
     ("pairfile", "casefile"),

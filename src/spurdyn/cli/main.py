@@ -1,5 +1,5 @@
-"""Entry point of the ``spurdyn`` command: ``info``, ``mesh``, ``run``, ``sweep``, ``cases``,
-``plot`` and ``animate``.
+"""Entry point of the ``spurdyn`` command: ``info``, ``mesh``, ``run``, ``sweep``,
+``stiffness``, ``cases``, ``plot`` and ``animate``.
 
 Every refusal is one line on stderr, ``spurdyn: error: <field>: <reason>``, with exit
 status 2 and nothing written. ``spurdyn run`` exits with 1 when a run stopped early
@@ -15,10 +15,11 @@ import tomllib
 from pathlib import Path
 from typing import NoReturn, Sequence
 
-from spurdyn.casefile import MeshedPair, load_pair
+from spurdyn.casefile import MeshedPair
+from spurdyn.cli.inputs import meshed_case, png_target, resolve_pair
 from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics
 from spurdyn.errors import InputError
-from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
+from spurdyn.geometry.presets import PAPER_TORQUE
 from spurdyn.simulators import MODELS
 from spurdyn.settings import BACKENDS, CONTACTS, METHODS
 
@@ -32,25 +33,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(EXIT_BAD_INPUT, f"spurdyn: error: {message} (see {self.prog} --help)\n")
-
-
-def resolve_pair(name: str) -> MeshedPair:
-    """A pair by name (``paper`` or a preset such as ``paper-fig8``) or from a TOML file."""
-    from spurdyn.cases import is_preset
-
-    if name == "paper" or is_preset(name):
-        return MeshedPair(pair=paper_pair(), name="paper")
-    if not name.endswith(".toml") and not Path(name).exists():
-        raise InputError("CASE", f"unknown case {name!r}; use 'paper', a preset "
-                         "(see 'spurdyn cases') or a .toml file")
-    return load_pair(name)
-
-
-def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None,
-               grading: float | None = None) -> MeshedPair:
-    nx, ny = (case.nx, case.ny) if mesh is None else mesh
-    grading = case.grading if grading is None else grading
-    return MeshedPair(pair=case.pair, nx=nx, ny=ny, name=case.name, grading=grading)
 
 
 def _info_contact(args: argparse.Namespace, case: MeshedPair) -> tuple[str, float | None]:
@@ -81,24 +63,10 @@ def _info_contact(args: argparse.Namespace, case: MeshedPair) -> tuple[str, floa
     return contact, static_force(case.pair, float(torque))
 
 
-def _meshed_case(args: argparse.Namespace) -> MeshedPair:
-    """The pair of ``info`` and ``mesh`` with the options' mesh, a bad mesh refused before
-    any work (naming ``--grading`` when the option gave the grading)."""
-    from spurdyn.mesh.tooth import tooth_mesh
-
-    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading)
-    try:
-        tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading)
-    except InputError as err:
-        raise InputError("--grading" if err.field == "mesh.grading" and args.grading is not None
-                         else err.field, err.reason) from None
-    return case
-
-
 def cmd_info(args: argparse.Namespace) -> int:
     from spurdyn.cli.report import format_info, pair_info
 
-    case = _meshed_case(args)
+    case = meshed_case(args)
     contact, force = _info_contact(args, case)
     info = pair_info(case, contact, force)
     print(json.dumps(info, indent=2) if args.json else format_info(info))
@@ -108,8 +76,8 @@ def cmd_info(args: argparse.Namespace) -> int:
 def cmd_mesh(args: argparse.Namespace) -> int:
     from spurdyn.results.pictures import draw_mesh_position
 
-    case = _meshed_case(args)
-    png = _png_target(args.png)
+    case = meshed_case(args)
+    png = png_target(args.png)
     draw_mesh_position(case, png)
     print(f"wrote {png}")
     return 0
@@ -187,15 +155,6 @@ def cmd_cases(args: argparse.Namespace) -> int:
     return 0
 
 
-def _png_target(text: str) -> Path:
-    png = Path(text)
-    if png.suffix.lower() != ".png":
-        raise InputError("--png", f"must name a .png file (got {text!r})")
-    if not png.parent.exists():
-        raise InputError("--png", f"folder {str(png.parent)!r} does not exist")
-    return png
-
-
 def cmd_plot(args: argparse.Namespace) -> int:
     from spurdyn.results.io import load_run
     from spurdyn.results.plots import plot_contact_force
@@ -206,10 +165,10 @@ def cmd_plot(args: argparse.Namespace) -> int:
 
         if len(runs) != 1:
             raise InputError("--stress", "draws one run: give one run folder")
-        png = _png_target(args.png or "stress_history.png")
+        png = png_target(args.png or "stress_history.png")
         plot_stress_history(runs[0], png)
     else:
-        png = _png_target(args.png or "contact_force_overlay.png")
+        png = png_target(args.png or "contact_force_overlay.png")
         plot_contact_force(runs, png)
     print(f"wrote {png}")
     return 0
@@ -343,6 +302,9 @@ def build_parser() -> argparse.ArgumentParser:
     from spurdyn.cli.sweep import add_sweep_parser
 
     add_sweep_parser(sub)
+    from spurdyn.cli.stiffness import add_stiffness_parser
+
+    add_stiffness_parser(sub)
 
     cases = sub.add_parser("cases", help="list the ready-made cases (presets)")
     cases.set_defaults(func=cmd_cases)

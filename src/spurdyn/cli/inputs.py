@@ -1,0 +1,57 @@
+"""What the commands' common inputs become: a CASE argument as a pair (with the options'
+mesh), and a picture's target. Shared by ``cli.main`` and the commands beside it."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from spurdyn.casefile import MeshedPair, load_pair
+from spurdyn.cli.options import parse_mesh
+from spurdyn.errors import InputError
+from spurdyn.geometry.presets import paper_pair
+
+
+def resolve_pair(name: str) -> MeshedPair:
+    """A pair by name (``paper`` or a preset such as ``paper-fig8``) or from a TOML file."""
+    from spurdyn.cases import is_preset
+
+    if name == "paper" or is_preset(name):
+        return MeshedPair(pair=paper_pair(), name="paper")
+    if not name.endswith(".toml") and not Path(name).exists():
+        raise InputError("CASE", f"unknown case {name!r}; use 'paper', a preset "
+                         "(see 'spurdyn cases') or a .toml file")
+    return load_pair(name)
+
+
+def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None,
+               grading: float | None = None) -> MeshedPair:
+    nx, ny = (case.nx, case.ny) if mesh is None else mesh
+    grading = case.grading if grading is None else grading
+    return MeshedPair(pair=case.pair, nx=nx, ny=ny, name=case.name, grading=grading)
+
+
+def meshed_case(args: argparse.Namespace) -> MeshedPair:
+    """The pair of ``info`` and ``mesh`` with the options' mesh, a bad mesh refused before
+    any work (naming ``--grading`` when the option gave the grading)."""
+    from spurdyn.mesh.tooth import tooth_mesh
+
+    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading)
+    try:
+        tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading)
+    except InputError as err:
+        raise InputError("--grading" if err.field == "mesh.grading" and args.grading is not None
+                         else err.field, err.reason) from None
+    return case
+
+
+def png_target(text: str) -> Path:
+    png = Path(text)
+    if png.suffix.lower() != ".png":
+        raise InputError("--png", f"must name a .png file (got {text!r})")
+    if not png.parent.exists():
+        raise InputError("--png", f"folder {str(png.parent)!r} does not exist")
+    return png
+
+
+__all__ = ["meshed_case", "png_target", "resolve_pair"]

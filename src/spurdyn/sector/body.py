@@ -1,0 +1,106 @@
+"""One gear of the sector model: K teeth on their rim, the hub held (docs/sector.md).
+
+The stiffness is assembled once over the sector mesh (:mod:`spurdyn.mesh.sector`) and
+factorised with the hub's DOFs removed; a contact's load is the unit normal force spread
+over its Hertzian strip on the right flank of tooth ``k`` through the same strip-averaged
+shape functions as the paper model's distributed contact
+(:func:`spurdyn.contact.strip_numpy.strip_rows`), so a tooth of the sector is loaded
+exactly as the paper model's single tooth is.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.sparse.linalg import splu
+
+from spurdyn.contact.strip_numpy import strip_rows
+from spurdyn.fem.assembly import assemble_stiffness
+from spurdyn.geometry.gear import Gear
+from spurdyn.mesh.sector import SectorMesh, sector_mesh, turn
+from spurdyn.mesh.tooth import DEFAULT_GRADING
+from spurdyn.model.flank import Flank, make_flank
+
+
+@dataclass(frozen=True)
+class SectorBody:
+    """A gear sector ready for static analysis.
+
+    Attributes
+    ----------
+    gear
+        The gear.
+    mesh
+        Its sector mesh.
+    stiffness
+        ``(2N, 2N)`` plane-stress stiffness (N/m).
+    flank
+        The right flank of the single-tooth mesh in the tooth's own frame (strip rows).
+    """
+
+    gear: Gear
+    mesh: SectorMesh
+    stiffness: sp.csr_matrix
+    flank: Flank
+    _free: NDArray[np.intp] = field(repr=False)
+    _lu: object = field(repr=False)
+
+    def flank_coordinate(self, r: float) -> float:
+        """Flank coordinate ``t`` of the involute point of radius ``r``."""
+        f = self.flank
+        return f.ny * (r - f.r0) / (f.r_tip - f.r0)
+
+    def load(self, k: int, r: float, b: float) -> NDArray[np.float64]:
+        """Nodal forces of a unit normal force pressing on the right flank of tooth ``k`` at
+        involute radius ``r``, spread over the strip of half-width ``b`` (m; 0: a point)."""
+        nodes, w, _ = strip_rows(self.flank, self.flank_coordinate(r), b)
+        normal = self.gear.flank_normal(np.asarray(r))
+        local = np.zeros((self.mesh.tooth.n_nodes, 2))
+        # the mating flank pushes into the tooth, against the outward normal
+        np.add.at(local, nodes, -w[:, None] * normal[None, :])
+        f = np.zeros(self.mesh.n_dof)
+        f[self.mesh.tooth_dofs(k)] = turn(local, self.mesh.tooth_angle(k)).ravel()
+        return f
+
+    def solve(self, f: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Displacements (m) under the nodal forces ``f`` (columns allowed), the hub held."""
+        f = np.asarray(f, dtype=float)
+        u = np.zeros_like(f)
+        u[self._free] = self._lu.solve(np.ascontiguousarray(f[self._free]))
+        return u
+
+    def compliance(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``C = F^T K^-1 F`` (m/N) for the load columns ``F``: each load's work-conjugate
+        displacement under each other load."""
+        return loads.T @ self.solve(loads)
+
+
+def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = None,
+                inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
+                full_rim: bool = True) -> SectorBody:
+    """Mesh, assemble and factorise ``teeth`` teeth of ``gear`` from tooth ``first`` (on the
+    full rim, or with the rim cut at free radial faces: :func:`spurdyn.mesh.sector.sector_mesh`).
+    A webbed blank puts the hub at its ``hub_radius`` and a web of its width below its
+    ``rim_radius``."""
+    blank = gear.blank
+    web = (blank.rim_radius, blank.web_width) if blank is not None and blank.webbed else None
+    if inner_radius is None and web is not None:
+        inner_radius = blank.hub_radius
+    mesh = sector_mesh(gear, teeth, nx, ny, inner_radius, grading, first=first, web=web,
+                       full_rim=full_rim)
+    k = sp.csr_matrix((mesh.n_dof, mesh.n_dof))
+    for width in np.unique(mesh.width):
+        sel = mesh.width == width
+        k = k + assemble_stiffness(mesh.nodes, mesh.elements[sel], gear.material, float(width)).tocsr()
+    hub = np.concatenate([2 * mesh.hub_nodes, 2 * mesh.hub_nodes + 1])
+    free = np.setdiff1d(np.arange(mesh.n_dof), hub)
+    lu = splu(sp.csc_matrix(k[free][:, free]))
+    tooth = mesh.tooth
+    flank = make_flank(tooth, gear, tooth.nodes, np.zeros(2), 0.0, 5)
+    return SectorBody(gear=gear, mesh=mesh, stiffness=k, flank=flank, _free=free, _lu=lu)
+
+
+__all__ = ["SectorBody", "sector_body"]

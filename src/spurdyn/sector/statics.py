@@ -1,0 +1,279 @@
+"""Loaded tooth contact analysis of the sector model over one mesh cycle (docs/sector.md).
+
+At a position of the mesh cycle the tooth pairs ``j = 0, 1, ...`` that the path of contact
+holds touch at the driver's roll angles ``rho_j = rho + j p`` (``p = 2 pi / z``): the pair
+``j`` is the driver's tooth ``+j`` (its right flanks lead) and the driven gear's tooth
+``-j``. With both hubs held and the driver's hub turned so that its flanks advance by ``e``
+along the line of action (the loaded static transmission error), the pairs' normal forces
+``F`` satisfy, for the pairs in contact (the active set),
+
+    (C_A + C_B + c_H I) F + g = e,      sum F = W = T / r_b,      F >= 0,
+
+and the pairs out of contact have ``(C F)_j + g_j >= e``. ``C_g`` is each sector's
+compliance between the strip loads of all the pairs (the rim couples them), ``c_H`` the
+strip's curvature compliance (:func:`spurdyn.contact.hertz.strip_compliance`) and ``g_j``
+the pair's unloaded gap along the line of action (the two tip reliefs). The strips'
+half-widths follow their forces; a fixed-point iteration on them converges in a few
+passes. The mesh stiffness of the position is the tangent one of the active set,
+``k = 1^T C_AA^-1 1``; the single-pair stiffness of pair ``j`` is ``1 / C_jj``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.contact.hertz import effective_modulus, half_width, involute_curvature_radius, strip_compliance
+from spurdyn.geometry.pair import GearPair
+from spurdyn.model.loading import static_force
+from spurdyn.sector.body import SectorBody, sector_body
+
+#: Positions of one mesh cycle (the issue's 41).
+DEFAULT_POSITIONS = 41
+#: Relative change of the pair forces between passes that ends the half-width iteration.
+FORCE_TOL = 1e-10
+
+
+def driving_pair(pair: GearPair) -> GearPair:
+    """The pair with the driver as gear A (the analysis' frame)."""
+    if pair.driver == "a":
+        return pair
+    return GearPair(gear_a=pair.gear_b, gear_b=pair.gear_a,
+                    centre_distance=pair.centre_distance, driver="a")
+
+
+def pairs_in_path(pair: GearPair) -> int:
+    """Most tooth pairs the path of contact holds at once: ``ceil(eps_alpha)``."""
+    return int(math.ceil(pair.contact_ratio - 1e-12))
+
+
+def default_teeth(pair: GearPair) -> int:
+    """Teeth per gear by default: every tooth that carries load in a mesh cycle and one
+    neighbour on each side, at most the gear's teeth."""
+    return min(pairs_in_path(pair) + 2, pair.gear_a.teeth, pair.gear_b.teeth)
+
+
+@dataclass(frozen=True)
+class MeshCycle:
+    """The quasi-static mesh cycle of a loaded pair (driver's roll angles, SI).
+
+    Attributes
+    ----------
+    roll
+        ``(n,)`` driver's roll angle of pair 0 at each position (rad), over one pitch.
+    force
+        ``(n, P)`` normal force of each tooth pair (N; 0 out of contact or off the path).
+    transmission_error
+        ``(n,)`` loaded static transmission error along the line of action (m): how far the
+        driver's flanks advance beyond the rigid kinematics to carry the load.
+    stiffness
+        ``(n,)`` mesh stiffness ``1^T C_AA^-1 1`` (N/m).
+    single_pair
+        ``(n, P)`` single-pair stiffness ``1 / C_jj`` of each pair on the path (N/m; NaN off it).
+    half_width
+        ``(n, P)`` strip half-widths (m).
+    load
+        ``W``, the total normal force (N).
+    torque
+        The driver's torque (N m).
+    teeth
+        Teeth per gear modelled.
+    inner_radius
+        Hub radii of driver and driven (m).
+    n_dof
+        DOFs of the two sectors.
+    """
+
+    roll: NDArray[np.float64]
+    force: NDArray[np.float64]
+    transmission_error: NDArray[np.float64]
+    stiffness: NDArray[np.float64]
+    single_pair: NDArray[np.float64]
+    half_width: NDArray[np.float64]
+    load: float
+    torque: float
+    teeth: int
+    inner_radius: tuple[float, float]
+    n_dof: int
+
+    @property
+    def share(self) -> NDArray[np.float64]:
+        """``(n, P)`` each pair's share of the load."""
+        return self.force / self.load
+
+    @property
+    def stiffness_mean(self) -> float:
+        """Mean mesh stiffness over the cycle (N/m; the last position repeats the first)."""
+        return float(np.mean(self.stiffness[:-1]))
+
+    @property
+    def single_pair_max(self) -> float:
+        """Largest mesh stiffness where one pair carries the load (N/m): ISO's ``c' b``."""
+        one = (self.force > 0).sum(axis=1) == 1
+        return float(self.stiffness[one].max()) if one.any() else float("nan")
+
+    @property
+    def transmission_error_pp(self) -> float:
+        return float(self.transmission_error.max() - self.transmission_error.min())
+
+    def summary(self) -> dict[str, Any]:
+        """The figures of ``spurdyn stiffness --json``."""
+        return {
+            "torque_Nm": self.torque,
+            "load_N": self.load,
+            "teeth_per_gear": self.teeth,
+            "rim_inner_radius_m": list(self.inner_radius),
+            "n_dof": self.n_dof,
+            "positions": int(self.roll.size),
+            "mesh_stiffness_mean_N_per_m": self.stiffness_mean,
+            "mesh_stiffness_min_N_per_m": float(self.stiffness.min()),
+            "mesh_stiffness_max_N_per_m": float(self.stiffness.max()),
+            "single_pair_stiffness_max_N_per_m": self.single_pair_max,
+            "transmission_error_mean_m": float(np.mean(self.transmission_error[:-1])),
+            "transmission_error_pp_m": self.transmission_error_pp,
+            "load_share_max": float(self.share.max()),
+        }
+
+
+def _active_set(c: NDArray[np.float64], g: NDArray[np.float64], w: float) -> tuple[NDArray[np.float64], float, NDArray[np.bool_]]:
+    """Forces ``F >= 0`` and approach ``e`` with ``sum F = w`` and ``(C F + g)_j = e`` where
+    ``F_j > 0``, ``>= e`` elsewhere (the pairs' complementarity), by an active-set loop."""
+    n = g.size
+    active = np.ones(n, dtype=bool)
+    for _ in range(4 * n + 4):
+        idx = np.flatnonzero(active)
+        m = idx.size
+        a = np.zeros((m + 1, m + 1))
+        a[:m, :m] = c[np.ix_(idx, idx)]
+        a[:m, m] = -1.0
+        a[m, :m] = 1.0
+        rhs = np.concatenate([-g[idx], [w]])
+        sol = np.linalg.solve(a, rhs)
+        f = np.zeros(n)
+        f[idx] = sol[:m]
+        e = float(sol[m])
+        if (f[idx] < 0).any():
+            active[idx[np.argmin(f[idx])]] = False
+            continue
+        gap = c @ f + g - e
+        closed = (~active) & (gap < -1e-15 * max(abs(e), 1e-30))
+        if closed.any():
+            active[np.flatnonzero(closed)[np.argmin(gap[closed])]] = True
+            continue
+        return f, e, active
+    raise RuntimeError("the contact active set did not settle")     # pragma: no cover
+
+
+@dataclass(frozen=True)
+class _Law:
+    """What every position shares: the pair (driver as A), the two sectors, the load and
+    the strips' law."""
+
+    pair: GearPair
+    bodies: tuple[SectorBody, SectorBody]
+    load: float
+    estar: float
+    width: float
+    pairs: int
+
+    @property
+    def c_h(self) -> float:
+        return strip_compliance(self.estar, self.width)
+
+
+def _law(pair: GearPair, torque: float, bodies: tuple[SectorBody, SectorBody]) -> _Law:
+    dp = driving_pair(pair)
+    ga, gb = dp.gear_a, dp.gear_b
+    estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young, gb.material.poisson)
+    return _Law(dp, bodies, static_force(pair, torque), estar, min(ga.face_width, gb.face_width),
+                pairs_in_path(dp))
+
+
+def _solve_position(law: _Law, rho: float) -> tuple[list[int], NDArray[np.float64], float,
+                                                    NDArray[np.float64], NDArray[np.bool_]]:
+    """The pairs on the path at the driver's roll ``rho`` of pair 0, their forces, the
+    approach ``e``, the compliance matrix and the active set (module docstring)."""
+    dp, (body_a, body_b), w = law.pair, law.bodies, law.load
+    ga, gb = dp.gear_a, dp.gear_b
+    pitch = 2.0 * math.pi / ga.teeth
+    js = [j for j in range(law.pairs) if rho + j * pitch <= dp.end_roll_a + 1e-12]
+    rolls = np.array([rho + j * pitch for j in js])
+    ra = ga.radius_at_roll_angle(rolls)
+    rb = gb.radius_at_roll_angle(np.asarray(dp.roll_b_from_roll_a(rolls)))
+    rho_a = np.array([involute_curvature_radius(float(r), ga.base_radius) for r in ra])
+    rho_b = np.array([involute_curvature_radius(float(r), gb.base_radius) for r in rb])
+    g = np.asarray(ga.relief_depth(ra) + gb.relief_depth(rb), dtype=float)
+    f = np.full(len(js), w / len(js))
+    for _ in range(50):
+        b = np.atleast_1d(half_width(f, rho_a, rho_b, law.estar, law.width))
+        la = np.column_stack([body_a.load(j, float(r), float(bb)) for j, r, bb in zip(js, ra, b)])
+        lb = np.column_stack([body_b.load(-j, float(r), float(bb)) for j, r, bb in zip(js, rb, b)])
+        c = body_a.compliance(la) + body_b.compliance(lb) + law.c_h * np.eye(len(js))
+        c = 0.5 * (c + c.T)            # symmetric to round-off (Maxwell-Betti)
+        f_new, e, active = _active_set(c, g, w)
+        done = np.max(np.abs(f_new - f)) <= FORCE_TOL * w
+        f = f_new
+        if done:
+            break
+    return js, f, e, c, active
+
+
+def pair_forces_at(pair: GearPair, torque: float, roll: float,
+                   bodies: tuple[SectorBody, SectorBody]) -> NDArray[np.float64]:
+    """The forces (N) of the pairs ``0, 1, ...`` on the path at the driver's roll angle
+    ``roll`` of pair 0 (one position of :func:`mesh_cycle`)."""
+    return _solve_position(_law(pair, torque, bodies), roll)[1]
+
+
+def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | None = None,
+               positions: int = DEFAULT_POSITIONS, inner_radius: tuple[float | None, float | None] = (None, None),
+               grading: float = 1.0, bodies: tuple[SectorBody, SectorBody] | None = None) -> MeshCycle:
+    """The loaded tooth contact analysis of ``pair`` under the driver's ``torque`` (N m) at
+    ``positions`` positions over one mesh cycle (module docstring)."""
+    dp = driving_pair(pair)
+    ga, gb = dp.gear_a, dp.gear_b
+    n_pairs = pairs_in_path(dp)
+    k_teeth = default_teeth(dp) if teeth is None else int(teeth)
+    if bodies is None:
+        # the loaded teeth are the driver's 0 .. n-1 and the driven's 0 .. -(n-1), a
+        # neighbour either side when the sector has room
+        extra = max(k_teeth - n_pairs, 0)
+        before = (extra + 1) // 2
+        body_a = sector_body(ga, k_teeth, nx, ny, first=-before, inner_radius=inner_radius[0], grading=grading)
+        body_b = sector_body(gb, k_teeth, nx, ny, first=-(n_pairs - 1) - (extra - before),
+                             inner_radius=inner_radius[1], grading=grading)
+    else:
+        body_a, body_b = bodies
+    law = _law(pair, torque, (body_a, body_b))
+    pitch = 2.0 * math.pi / ga.teeth
+    rolls = dp.start_roll_a + pitch * np.arange(positions) / (positions - 1)
+    n = rolls.size
+    force = np.zeros((n, n_pairs))
+    te = np.zeros(n)
+    stiff = np.zeros(n)
+    single = np.full((n, n_pairs), np.nan)
+    bw = np.zeros((n, n_pairs))
+    for i, rho in enumerate(rolls):
+        js, f, e, c, active = _solve_position(law, float(rho))
+        idx = np.flatnonzero(active)
+        force[i, js] = f
+        te[i] = e
+        stiff[i] = float(np.sum(np.linalg.inv(c[np.ix_(idx, idx)])))
+        single[i, js] = 1.0 / np.diag(c)
+        ra = ga.radius_at_roll_angle(np.array([rho + j * pitch for j in js]))
+        rb = gb.radius_at_roll_angle(np.asarray(dp.roll_b_from_roll_a(np.array([rho + j * pitch for j in js]))))
+        bw[i, js] = np.atleast_1d(half_width(
+            f, [involute_curvature_radius(float(r), ga.base_radius) for r in ra],
+            [involute_curvature_radius(float(r), gb.base_radius) for r in rb], law.estar, law.width))
+    return MeshCycle(roll=rolls, force=force, transmission_error=te, stiffness=stiff,
+                     single_pair=single, half_width=bw, load=law.load, torque=float(torque),
+                     teeth=k_teeth, inner_radius=(body_a.mesh.inner_radius, body_b.mesh.inner_radius),
+                     n_dof=body_a.mesh.n_dof + body_b.mesh.n_dof)
+
+
+__all__ = ["DEFAULT_POSITIONS", "MeshCycle", "default_teeth", "driving_pair", "mesh_cycle",
+           "pair_forces_at", "pairs_in_path"]

@@ -75,7 +75,7 @@ def main() -> None:
         "with ISO's reduction below 100 N/mm of line load; the model's mean of `k` over the "
         "cycle and its largest `k` where one pair carries the load.",
         "",
-        "| pair | torque (N m) | line load (N/mm) | hub radii (mm) | k mean (N/um) | ISO c_ga b | "
+        "| pair | torque (N m) | F_t / b (N/mm) | hub radii (mm) | k mean (N/um) | ISO c_ga b | "
         "difference | single pair max (N/um) | ISO c' b | difference | static TE p-p (um) |",
         "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
         iso_row("paper 28/28, m 3.175, 20 deg, b 6.35 mm", pair, PAPER_TORQUE),
@@ -132,7 +132,7 @@ def main() -> None:
         r = mc.inner_radius[0]
         tw = 2 * twist(g, r, g.root_radius, g.face_width)
         lines.append(f"| {r * 1e3:.2f}{' (default)' if r_in is None else ''} | {mc.stiffness_mean / 1e6:.1f} | "
-                     f"{tw * 1e9 * 1e3 / 1e3:.3f} | {1 / (1 / mc.stiffness_mean - tw) / 1e6:.1f} |")
+                     f"{tw * 1e9:.3f} | {1 / (1 / mc.stiffness_mean - tw) / 1e6:.1f} |")
     lines.append("")
 
     # 4. tooth mesh
@@ -147,9 +147,9 @@ def main() -> None:
     # 5. web
     lines += ["## 5. A web", "",
               "The paper's pair on a hub of 15 mm radius, solid (web as wide as the face) or with "
-              "a thin web from the hub to 33 mm; the extra compliance against the web's twist "
-              "alone:", "",
-              "| web width (mm) | k mean (N/um) | extra compliance (um/kN) | web twist, both gears (um/kN) | ratio |",
+              "a thin web from the hub to 33 mm; the extra compliance against the extra twist "
+              "of the thinner annulus alone (both gears):", "",
+              "| web width (mm) | k mean (N/um) | extra compliance (um/kN) | extra annulus twist (um/kN) | ratio |",
               "| --- | --- | --- | --- | --- |"]
     base = None
     for ww in (g.face_width, 3e-3, 1.5e-3, 0.6e-3):
@@ -160,8 +160,8 @@ def main() -> None:
             lines.append(f"| {ww * 1e3:.2f} (solid) | {k / 1e6:.1f} | | | |")
             continue
         extra = 1 / k - 1 / base
-        tw = 2 * twist(g, 0.015, 0.033, ww)
-        lines.append(f"| {ww * 1e3:.2f} | {k / 1e6:.1f} | {extra * 1e6:.3f} | {tw * 1e6:.3f} | {extra / tw:.3f} |")
+        tw = 2 * (twist(g, 0.015, 0.033, ww) - twist(g, 0.015, 0.033, g.face_width))
+        lines.append(f"| {ww * 1e3:.2f} | {k / 1e6:.1f} | {extra * 1e9:.2f} | {tw * 1e9:.2f} | {extra / tw:.3f} |")
     lines.append("")
 
     # 6. relief
@@ -170,11 +170,11 @@ def main() -> None:
               "The NASA-like relief (linear, 20 um at the tip, from the highest point of single "
               "contact; docs/relief.md) on both gears: the static transmission error's "
               "peak-to-peak over the cycle (um):", "",
-              "| torque (N m) | line load (N/mm) | unmodified | relieved |", "| --- | --- | --- | --- |"]
+              "| torque (N m) | F_t / b (N/mm) | unmodified | relieved |", "| --- | --- | --- | --- |"]
     for tq in (5.0, PAPER_TORQUE, 60.0, 100.0, 150.0):
         a = mesh_cycle(pair, tq, 4, 14).transmission_error_pp
         b = mesh_cycle(relieved, tq, 4, 14).transmission_error_pp
-        lines.append(f"| {tq:g} | {tq / g.base_radius / g.face_width / 1e3:.0f} | {a * 1e6:.3f} | {b * 1e6:.3f} |")
+        lines.append(f"| {tq:g} | {tq / g.pitch_radius / g.face_width / 1e3:.0f} | {a * 1e6:.3f} | {b * 1e6:.3f} |")
     lines.append("")
     text = "\n".join(lines).replace("{seconds}", f"{time.time() - t0:.0f}")
     PAGE.write_text(text, encoding="utf-8")

@@ -146,3 +146,78 @@ def test_the_sweep_file_holds_iso_kv_at_each_speed_and_torque():
         r = rate(iso_pair(CASE.pair), tq)
         assert kv[:, j] == pytest.approx([dynamic_factor_at(r, n * RPM) for n in rpm], rel=1e-12)
     assert kv[0, 1] != kv[0, 2]     # below resonance K_v depends on the line load (N_S)
+
+
+def test_the_sector_stiffness_feeds_the_steady_state(tmp_path, monkeypatch, capsys):
+    """``stiffness = "sector"``: the pairs' effective stiffnesses are their shares of the
+    sector's mesh stiffness, so a slow damped run carries each pair's static share of the
+    load, and the summary's mean mesh stiffness is the sector analysis'."""
+    from spurdyn.cli.main import main
+    from spurdyn.lumped.cycle import SectorCycle
+    from spurdyn.sector.statics import mesh_cycle
+
+    mc = mesh_cycle(CASE.pair, CASE.run.torque, 4, 14, positions=41)
+    cycle = SectorCycle.from_mesh_cycle(CASE.pair, mc)
+    # at the analysis' own positions the cycle returns its forces over the static compression
+    for i in (3, 20, 35):
+        k = cycle.at(float(cycle.phase[i]))
+        delta = mc.load / mc.stiffness[i]
+        assert np.array(k) * delta == pytest.approx(mc.force[i], rel=1e-9, abs=1e-9 * mc.load)
+    run = CASE.run.with_(speed_a=3 * RPM, speed_b=3 * RPM)
+    r = simulate_steady(CASE.pair, run, cycle, 0.05, 2)
+    assert r.info["steady"]["mesh_stiffness_mean_N_per_m"] == pytest.approx(mc.stiffness_mean, rel=2e-3)
+    # slow (3 rpm) and damped: away from the changes of pairs (the last 20 % of each stretch, where
+    # the ringing the change set off has died out) the most loaded pair carries the
+    # analysis' largest share of the load
+    phase = r.angle - cycle.pitch * np.floor(r.angle / cycle.pitch)
+    ks = np.array([cycle.at(float(p)) for p in phase]).T
+    k_tot = ks.sum(axis=0)
+    expected = mc.load * ks.max(axis=0) / k_tot
+    jumps = np.flatnonzero(np.abs(np.diff(k_tot)) > 1e-3 * k_tot.max())
+    edges = np.concatenate([[0], jumps + 1, [r.angle.size]])
+    checked = 0
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        if hi - lo >= 50:
+            sel = slice(lo + int(0.8 * (hi - lo)), hi)
+            assert r.contact_force[sel] == pytest.approx(expected[sel], rel=1e-3)
+            checked += 1
+    assert checked >= 3
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "paper-fig8", "--model", "lumped", "--cycles", "4", "--stiffness", "sector",
+                 "--quiet", "--out", "s"]) == 0
+    s = json.loads((tmp_path / "s" / "summary.json").read_text())
+    assert s["mesh_stiffness_mean_N_per_m"] == pytest.approx(mc.stiffness_mean, rel=2e-3)
+    capsys.readouterr()
+    for argv in (["run", "paper-fig8", "--model", "lumped", "--stiffness", "sector"],
+                 ["run", "paper-fig8", "--stiffness", "sector", "--cycles", "3"],
+                 ["run", "paper-fig8", "--model", "lumped", "--stiffness", "rim", "--cycles", "3"]):
+        assert main(argv + ["--out", "bad"]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("spurdyn: error: --stiffness:") and err.count("\n") == 1
+    assert not (tmp_path / "bad").exists()
+
+
+def test_a_sweep_down_in_speed_stays_on_the_upper_branch(tmp_path, capsys):
+    """Continuation (``--continuation down``): each speed starts from the previous speed's
+    end state, so below the resonance the softening pair stays on the branch of large
+    amplitude that a start from rest does not reach: the jump of the nonlinear response."""
+    import xarray as xr
+
+    from spurdyn.cli.main import main
+
+    common = ["sweep", "paper-fig8", "--model", "lumped", "--cycles", "40", "--damping", "0.05",
+              "--stiffness", "sector", "--rpm", "9000,10000,11000", "--quiet"]
+    assert main(common + ["--continuation", "down", "--out", str(tmp_path / "down")]) == 0
+    assert main(common + ["--jobs", "1", "--out", str(tmp_path / "alone")]) == 0
+    down = xr.open_dataset(tmp_path / "down" / "sweep.nc").sel(model="lumped")
+    alone = xr.open_dataset(tmp_path / "alone" / "sweep.nc").sel(model="lumped")
+    assert float(down.dynamic_factor.sel(rpm=11000)) == pytest.approx(
+        float(alone.dynamic_factor.sel(rpm=11000)), rel=1e-12)       # the chain's first point
+    assert float(down.dynamic_factor.sel(rpm=9000)) > 1.5 * float(alone.dynamic_factor.sel(rpm=9000))
+    records = [json.loads(p.read_text()) for p in (tmp_path / "down" / "points").glob("*.json")]
+    assert all(r["end_transmission_error"] is not None for r in records)
+    capsys.readouterr()
+    assert main(["sweep", "paper-fig8", "--model", "lumped", "--rpm", "9000,10000",
+                 "--continuation", "down", "--out", str(tmp_path / "bad")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("spurdyn: error: --continuation:") and err.count("\n") == 1

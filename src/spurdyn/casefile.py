@@ -31,7 +31,7 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, MAX_GRADING
 from spurdyn.settings import (
-    BACKENDS, CONTACTS, INTEGRATORS, METHODS, PAPER_DT, RETIRED_METHODS, RPM, RunSettings,
+    BACKENDS, CONTACTS, INTEGRATORS, METHODS, PAPER_DT, RETIRED_METHODS, RPM, STIFFNESSES, RunSettings,
 )
 from spurdyn.solvers.check import check_run, default_dt, round_down, stable_step
 from spurdyn.solvers.implicit.alpha import accuracy_step
@@ -41,7 +41,7 @@ RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
     "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
     "keep_theta_term", "damping_ratio", "integrator", "rho_inf", "rayleigh_mass",
-    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles",
+    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles", "stiffness",
 }
 
 
@@ -245,6 +245,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         rho_inf=src.number("rho_inf", _RUN_DEFAULTS["rho_inf"], positive=False),
         **_rayleigh(src),
         cycles=src.integer("cycles", None, 1),
+        stiffness=src.choice("stiffness", "tooth", STIFFNESSES),
         name=name,
     )
     try:
@@ -355,6 +356,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         run_table.update(integrator=run.integrator, rho_inf=run.rho_inf)
     if run.cycles is not None:
         run_table["cycles"] = run.cycles
+    if run.stiffness != "tooth":
+        run_table["stiffness"] = run.stiffness
     return {
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),

@@ -34,6 +34,15 @@ CONTACTS = ("point", "hertz")
 #: Time integrators (:data:`spurdyn.solvers.loop.STEPPERS`): the paper's classical RK4, and
 #: the implicit generalized-alpha scheme (docs/implicit.md).
 INTEGRATORS = ("rk4", "implicit")
+#: Where the lumped model's mesh stiffness comes from: the paper model's root-clamped tooth
+#: pair, or the sector model's quasi-static mesh cycle (docs/sector.md).
+STIFFNESSES = ("tooth", "sector")
+#: Why the sector stiffness needs a steady state (the one place that says it).
+SECTOR_STIFFNESS_REASON = ("'sector' is a mesh cycle under constant torques: it needs a "
+                           "steady-state run (cycles; --cycles N)")
+#: Why the FE model refuses the sector stiffness.
+FE_STIFFNESS_REASON = ("is the lumped model's: the FE model's stiffness is its own teeth's "
+                       "(use --model lumped)")
 #: The generalized-alpha scheme's spectral radius at infinite frequency when the run gives
 #: none: modes far above the step's resolution lose 20 % of their amplitude a step, the
 #: pair's torsional mode a negligible part (docs/implicit.md, "The default").
@@ -131,6 +140,15 @@ class RunSettings:
     cycles
         Mesh cycles of a steady-state run under constant torques (``None``: the paper's one
         engagement with its torque ramps). The lumped model only, until the sector model.
+    stiffness
+        The lumped model's mesh stiffness, one of :data:`STIFFNESSES`: ``"tooth"`` the
+        paper model's root-clamped tooth pair (point or Hertzian per ``contact``),
+        ``"sector"`` the sector model's quasi-static mesh cycle (needs ``cycles``).
+    start_state
+        Where a steady-state run starts instead of the static compression: the
+        transmission error ``delta`` (m) and its slope ``d delta / d phi_A`` (m/rad) at the
+        start of a mesh cycle, as another run ended (``info["steady"]["end_state"]``); what a
+        sweep with continuation passes from one speed to the next.
     rayleigh_mass, rayleigh_stiffness
         Rayleigh damping ``C = a M + b K`` of the elastic teeth (``a`` in 1/s, ``b`` in
         s), acting on their deformation rate in the disk frame (implicit integrator).
@@ -165,6 +183,8 @@ class RunSettings:
     rayleigh_mass: float = 0.0
     rayleigh_stiffness: float = 0.0
     cycles: int | None = None
+    stiffness: str = "tooth"
+    start_state: tuple[float, float] | None = None
     save_every: int = 1
     frames_every: int = 100
     keep_theta_term: bool = True
@@ -215,6 +235,14 @@ class RunSettings:
         if self.integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)} "
                              f"(got {self.integrator!r})")
+        if self.stiffness not in STIFFNESSES:
+            raise InputError("stiffness", f"must be one of {', '.join(STIFFNESSES)} "
+                             f"(got {self.stiffness!r})")
+        s = self.start_state
+        if s is not None and (len(s) != 2 or not all(isinstance(v, float) and math.isfinite(v) for v in s)):
+            raise InputError("start_state", f"must be two finite numbers (got {s!r})")
+        if self.stiffness == "sector" and self.cycles is None:
+            raise InputError("stiffness", SECTOR_STIFFNESS_REASON)
 
     @property
     def damped(self) -> bool:

@@ -40,10 +40,28 @@ def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None
     The progress callback is called once, at the end (a lumped run takes a fraction of a
     second); a stop signal it raises there is left for the caller, who has the result.
     """
-    from spurdyn.lumped import mesh_stiffness_table
     from spurdyn.lumped import simulate_lumped as lumped
 
-    # the stiffness of the run's contact model: the strip's depends on the load
+    stiffness = sector_cycle(pair, case) if case.stiffness == "sector" else tooth_table(pair, case)
+    if case.cycles is not None:
+        from spurdyn.lumped.steady import simulate_steady
+
+        result = simulate_steady(pair, case, stiffness, case.damping_ratio, case.cycles)
+    else:        # one engagement: the tooth's table (the sector stiffness needs cycles)
+        result = lumped(pair, case, table=stiffness, damping_ratio=case.damping_ratio)
+    if progress is not None and len(result.angle):
+        try:
+            progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))
+        except KeyboardInterrupt:  # the run is done: keep it
+            pass
+    return result
+
+
+def tooth_table(pair: GearPair, case: RunSettings) -> Any:
+    """The paper model's single-pair stiffness table of the run's contact model (the strip's
+    depends on the load), cached per process."""
+    from spurdyn.lumped import mesh_stiffness_table
+
     hertz = case.contact == "hertz" and case.torque > 0
     key = (pair, case.nx, case.ny, case.torque if hertz else None)
     try:
@@ -54,18 +72,26 @@ def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None
         table = _hertz_table(pair, case) if hertz else mesh_stiffness_table(pair, case.nx, case.ny)
         if key is not None:
             _TABLES[key] = table
-    if case.cycles is not None:
-        from spurdyn.lumped.steady import simulate_steady
+    return table
 
-        result = simulate_steady(pair, case, table, case.damping_ratio, case.cycles)
-    else:
-        result = lumped(pair, case, table=table, damping_ratio=case.damping_ratio)
-    if progress is not None and len(result.angle):
-        try:
-            progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))
-        except KeyboardInterrupt:  # the run is done: keep it
-            pass
-    return result
+
+def sector_cycle(pair: GearPair, case: RunSettings) -> Any:
+    """The sector model's mesh cycle of the run's pair, mesh and torque as the lumped
+    model's stiffness (:class:`spurdyn.lumped.cycle.SectorCycle`), cached per process."""
+    from spurdyn.lumped.cycle import SectorCycle
+    from spurdyn.sector.statics import mesh_cycle
+
+    key = ("sector", pair, case.nx, case.ny, case.grading, case.torque)
+    try:
+        cycle = _TABLES.get(key)
+    except TypeError:  # an unhashable pair: no caching
+        key, cycle = None, None
+    if cycle is None:
+        mc = mesh_cycle(pair, case.torque, case.nx, case.ny, grading=case.grading)
+        cycle = SectorCycle.from_mesh_cycle(pair, mc)
+        if key is not None:
+            _TABLES[key] = cycle
+    return cycle
 
 
 def _hertz_table(pair: GearPair, case: RunSettings) -> Any:

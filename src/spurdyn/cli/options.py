@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 
 from spurdyn.errors import InputError
-from spurdyn.settings import INTEGRATORS, RunSettings
+from spurdyn.settings import INTEGRATORS, STIFFNESSES, RunSettings
 
 #: Options of the time integrator and damping that ``run`` and ``sweep`` share:
 #: (dest, dotted case key, label).
@@ -17,6 +17,7 @@ DYNAMICS_OVERRIDES = (
     ("rayleigh_ratio", "run.rayleigh_ratio", "--rayleigh-ratio"),
     ("rayleigh_hz", "run.rayleigh_hz", "--rayleigh-hz"),
     ("cycles", "run.cycles", "--cycles"),
+    ("stiffness", "run.stiffness", "--stiffness"),
 )
 
 
@@ -33,8 +34,10 @@ def _frequencies(text: str) -> list[float]:
 def refuse_fe_dynamics(run: RunSettings, labels: dict[str, str]) -> None:
     """Refuse, in one line, what the FE model cannot do with these settings: damping with
     RK4, a steady state of several mesh cycles."""
-    from spurdyn.settings import FE_CYCLES_REASON, FE_DAMPING_REASON
+    from spurdyn.settings import FE_CYCLES_REASON, FE_DAMPING_REASON, FE_STIFFNESS_REASON
 
+    if run.stiffness != "tooth":
+        raise InputError(labels.get("run.stiffness", "run.stiffness"), FE_STIFFNESS_REASON)
     if run.cycles is not None:
         raise InputError(labels.get("run.cycles", "run.cycles"), FE_CYCLES_REASON)
     if run.damped and run.integrator == "rk4":
@@ -66,6 +69,10 @@ def add_dynamics_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--cycles", type=int, metavar="N",
                    help="steady state: N mesh cycles under constant torques, settled figures "
                         "in the summary (lumped model; docs/lumped.md)")
+    p.add_argument("--stiffness", metavar="|".join(STIFFNESSES),
+                   help="the lumped model's mesh stiffness: tooth (the paper model's root-clamped "
+                        "tooth pair, the default) or sector (the sector model's mesh cycle: teeth "
+                        "on their rims; with --cycles; docs/sector.md)")
 
 
 def parse_mesh(text: str | None) -> tuple[int, int] | None:

@@ -20,7 +20,7 @@ from typing import Any, Iterator
 from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics
 from spurdyn.errors import InputError
 from spurdyn.sweep import backends as _backends
-from spurdyn.sweep.spec import MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
+from spurdyn.sweep.spec import CONTINUATIONS, MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
 
 #: Exit statuses of ``spurdyn sweep`` (those of ``spurdyn run``).
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
@@ -124,10 +124,20 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
     if args.model == "fe":   # not ignored in silence
         refuse_fe_dynamics(case.run, labels)
+    if args.continuation is not None:
+        if args.continuation not in CONTINUATIONS:
+            raise InputError("--continuation", f"must be one of {', '.join(CONTINUATIONS)} "
+                             f"(got {args.continuation!r})")
+        if case.run.cycles is None:
+            raise InputError("--continuation", "starts each speed from the previous one's "
+                             "settled state: it needs a steady-state sweep (--cycles N)")
+        if args.jobs is not None or args.scheduler is not None:
+            raise InputError("--continuation", "runs its speeds in turn in this process: "
+                             "leave out --jobs and --scheduler")
     out = Path(args.out) if args.out else Path("out") / f"sweep-{case.name}"
     check_out(out, args.force)
     plan = SweepPlan(case=case, model=args.model, rpms=rpms, torques=torques, out=out,
-                     keep_runs=args.keep_runs, force=args.force)
+                     keep_runs=args.keep_runs, force=args.force, continuation=args.continuation)
     check_plan(plan)
     _check_points(plan, labels, args.allow_large)
     return plan
@@ -204,6 +214,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     todo = len(points_to_compute(plan))
     if todo == 0:
         backend_cm, where = _nothing_to_run(), "no worker"
+    elif plan.continuation is not None:   # one chain in this process: no cluster
+        backend_cm, where = _nothing_to_run(), f"this process, speeds {plan.continuation}"
     elif args.scheduler is not None:
         backend_cm, where = scheduler_backend(args.scheduler), args.scheduler
     else:
@@ -263,6 +275,10 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    help="also keep each point's whole run folder in DIR/runs/")
     p.add_argument("--force", action="store_true",
                    help="compute every point again (and allow a non-sweep DIR)")
+    p.add_argument("--continuation", metavar="|".join(CONTINUATIONS),
+                   help="steady state (--cycles): run the speeds up or down in turn, each "
+                        "starting from the previous speed's end state, so that the jumps of "
+                        "the nonlinear response show (one process; default: each on its own)")
     p.add_argument("--allow-large", action="store_true",
                    help="run points even beyond 2,000,000 steps or 1 GiB of results each")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no report lines")

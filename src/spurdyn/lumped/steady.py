@@ -24,10 +24,11 @@ import time as _time
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
 from spurdyn.geometry.pair import GearPair
+from spurdyn.lumped.cycle import SectorCycle, TableCycle, pair_rolls
 from spurdyn.lumped.model import RTOL, MeshStiffnessTable, _contact_roll_a, equivalent_mass, torsional_natural_frequency
 from spurdyn.model.loading import static_force, torque_amplitudes
 from spurdyn.result import Result
@@ -48,31 +49,30 @@ def last_cycles(cycles: int) -> int:
     return max(1, min(5, cycles // 4))
 
 
-def pair_rolls(pair: GearPair, phi_a: ArrayLike, j: NDArray[np.int64]) -> NDArray[np.float64]:
-    """Roll angles on A of pairs ``j`` (rows) at A's rotations ``phi_a`` (columns)."""
-    p = 2.0 * math.pi / pair.gear_a.teeth
-    phi = np.asarray(phi_a, dtype=float)[None, :] - p * np.asarray(j, dtype=float)[:, None]
-    return _contact_roll_a(pair, phi)
+Cycle = TableCycle | SectorCycle
 
 
+def as_cycle(pair: GearPair, stiffness: MeshStiffnessTable | Cycle) -> Cycle:
+    """A single-pair table as its :class:`~spurdyn.lumped.cycle.TableCycle`; a cycle as is."""
+    return TableCycle(pair, stiffness) if isinstance(stiffness, MeshStiffnessTable) else stiffness
 
-def cycle_stiffness(pair: GearPair, table: MeshStiffnessTable,
+
+def cycle_stiffness(pair: GearPair, stiffness: MeshStiffnessTable | Cycle,
                     samples: int = 2000) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The stiffness of each tooth pair in contact over one mesh cycle under constant
     torques: rows are the pairs that entered 0, 1, ... pitches before, columns A's
     rotations ``phi`` in ``[0, p)``; returns ``(phi, k_j(phi))``. Their sum is the mesh
     stiffness ``k(phi)`` of the module docstring, whose mean sets the torsional frequency
     of the steady-state pair."""
-    pitch = 2.0 * math.pi / pair.gear_a.teeth
-    n_back = int(math.ceil(pair.theta_s / pitch))
-    phis = np.arange(samples) * (pitch / samples)
-    ks = np.asarray(table(pair_rolls(pair, phis, np.arange(-n_back, 1)))).reshape(n_back + 1, -1)
-    return phis, ks
+    cycle = as_cycle(pair, stiffness)
+    phis = np.arange(samples) * (cycle.pitch / samples)
+    return phis, cycle.grid(phis)
 
 
-def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable,
+def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessTable | Cycle,
                     damping_ratio: float, cycles: int) -> Result:
-    """The lumped pair under constant torques over ``cycles`` mesh cycles (module docstring).
+    """The lumped pair under constant torques over ``cycles`` mesh cycles (module docstring),
+    its pairs' stiffnesses from the single-pair table or a cycle (:mod:`spurdyn.lumped.cycle`).
 
     Returns a :class:`~spurdyn.result.Result` whose ``contact_force`` is the force of the
     most loaded tooth pair at each sample and ``gap`` minus the compression ``delta`` along
@@ -90,19 +90,12 @@ def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable
     w_a0 = float(case.speed_a)
     period = pitch / w_a0
     theta_s = pair.theta_s
-    start, end = pair.start_roll_a, pair.end_roll_a
-    droll = 1.0 if pair.driver == "a" else -1.0
-    roll0 = start if pair.driver == "a" else end
-    kfun = table.scalar
+    cycle = as_cycle(pair, stiffness)
     zeta2_sqrt_me = 2.0 * damping_ratio * math.sqrt(m_e)
-    n_back = int(math.ceil(theta_s / pitch))          # pairs entered before phi = 0
+    n_back = cycle.rows - 1                           # pairs entered before phi = 0
 
     def stiffnesses(phi: float) -> list[float]:
-        first = int(math.floor(phi / pitch))
-        out = []
-        for j in range(first - n_back, first + 1):
-            out.append(kfun(roll0 + droll * (phi - j * pitch)))
-        return out
+        return cycle.at(phi - pitch * math.floor(phi / pitch))
 
     def mesh_force(phi: float, delta: float, ddelta: float) -> float:
         if delta <= 0.0:
@@ -126,7 +119,7 @@ def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable
     delta0 = static / k0 if k0 > 0 else 0.0
     w_b0 = float(case.speed_b)
     v0 = s * (ra * w_a0 - rb * w_b0)
-    f_n = float(torsional_natural_frequency(pair, table.k_max))
+    f_n = float(torsional_natural_frequency(pair, cycle.k_max))
     t_end = cycles * period
     # a whole number of samples a cycle, so that every cycle is sampled at the same phases
     per_cycle = max(SAMPLES_PER_CYCLE, int(math.ceil(period / MAX_SAMPLE_INTERVAL)))
@@ -135,6 +128,8 @@ def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable
     t = np.linspace(0.0, t_end, n_out)     # ends exactly at t_end, the integration's end
     delta_ref = max(delta0, abs(v0) / (2 * math.pi * f_n), 1e-9)
     atol = np.array([1e-13, 1e-10 * w_a0, RTOL * delta_ref, RTOL * delta_ref * 2 * math.pi * f_n])
+    if case.start_state is not None:    # another run's end: the same phase of a cycle
+        delta0, v0 = case.start_state[0], case.start_state[1] * w_a0
     y0 = np.array([0.0, w_a0, delta0, v0])
     sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=RTOL, atol=atol,
                     max_step=min(period / 40.0, 0.25 / f_n), t_eval=t)
@@ -149,8 +144,10 @@ def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable
     # every pair's force at every sample
     first = np.floor(phi_a / pitch).astype(np.int64)
     j_all = np.arange(int(first.min()) - n_back, int(first.max()) + 1)
-    ks = table(pair_rolls(pair, phi_a, j_all) * 1.0) if j_all.size else np.zeros((0, n))
-    ks = np.asarray(ks).reshape(j_all.size, n)
+    rows = cycle.grid(phi_a - pitch * first)          # (rows, n): row r entered at first - r
+    ks = np.zeros((j_all.size, n))
+    for r in range(cycle.rows):
+        ks[first - r - j_all[0], np.arange(n)] = rows[r]
     k_tot = ks.sum(axis=0)
     c = zeta2_sqrt_me * np.sqrt(np.maximum(k_tot, 0.0))
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -159,7 +156,7 @@ def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable
     mesh = forces.sum(axis=0)
     most = forces.max(axis=0) if j_all.size else np.zeros(n)
     # the quasi-static largest pair force of a cycle: F_0 k_j / k, sampled finely
-    _, kq = cycle_stiffness(pair, table)
+    _, kq = cycle_stiffness(pair, cycle)
     kq_tot = kq.sum(axis=0)
     static_pair_max = float(np.max(np.where(kq_tot > 0, static * kq / np.where(kq_tot > 0, kq_tot, 1.0), 0.0)))
     # cycle by cycle: the peak mesh force and the RMS of the transmission error
@@ -188,7 +185,7 @@ def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable
         "theta_2": pair.theta_2,
         "static_force": static,
         "single_zone": (pair.theta_2, theta_s - pair.theta_2),
-        "mesh_stiffness_table": table.as_dict(),
+        "mesh_stiffness_cycle": cycle.describe(),
         "natural_frequency_hz_kmax": f_n,
         "equivalent_mass": m_e,
         "damping_ratio": damping_ratio,
@@ -213,6 +210,9 @@ def simulate_steady(pair: GearPair, case: RunSettings, table: MeshStiffnessTable
             "transmission_error_rms_m": float(np.sqrt(np.mean((te - te.mean()) ** 2))) if te.size else None,
             "transmission_error_pp_m": float(te.max() - te.min()) if te.size else None,
             "transmission_error_mean_m": float(te.mean()) if te.size else None,
+            # where the next speed of a continuation starts (a whole number of cycles: phase 0)
+            "end_state": [float(delta[-1]), float(ddelta[-1] / w_a[-1])] if n else None,
+            "start_state": None if case.start_state is None else list(case.start_state),
         },
     }
     roll_a = _contact_roll_a(pair, phi_a - pitch * first)

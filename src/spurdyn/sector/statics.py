@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from spurdyn.contact.hertz import effective_modulus, half_width, involute_curvature_radius, strip_compliance
 from spurdyn.geometry.pair import GearPair
@@ -34,6 +34,8 @@ from spurdyn.sector.body import SectorBody, sector_body
 
 #: Positions of one mesh cycle (the issue's 41).
 DEFAULT_POSITIONS = 41
+#: Samples of the cycle in :attr:`MeshCycle.stiffness_mean`.
+MEAN_SAMPLES = 4000
 #: Relative change of the pair forces between passes that ends the half-width iteration.
 FORCE_TOL = 1e-10
 
@@ -86,6 +88,8 @@ class MeshCycle:
         Hub radii of driver and driven (m).
     n_dof
         DOFs of the two sectors.
+    path
+        The driver's roll angles at the start and the end of the path of contact (rad).
     """
 
     roll: NDArray[np.float64]
@@ -99,6 +103,7 @@ class MeshCycle:
     teeth: int
     inner_radius: tuple[float, float]
     n_dof: int
+    path: tuple[float, float] = (0.0, 0.0)
 
     @property
     def share(self) -> NDArray[np.float64]:
@@ -106,9 +111,34 @@ class MeshCycle:
         return self.force / self.load
 
     @property
+    def pitch(self) -> float:
+        """The cycle's span of the driver's roll (rad)."""
+        return float(self.roll[-1] - self.roll[0])
+
+    def effective(self, phase: ArrayLike) -> NDArray[np.float64]:
+        """``(P, n)`` each pair's effective stiffness ``k_j = (F_j / W) k`` (N/m) at the
+        phases ``phase`` (rad of the driver's roll from the start of the path): linear
+        between the positions, and zero exactly where the pair is off the path, so that a
+        pair's entry and exit are sharp jumps rather than ramps one position wide."""
+        phase = np.atleast_1d(np.asarray(phase, dtype=float))
+        at = self.roll - self.roll[0]
+        on = np.isfinite(self.single_pair)
+        k = np.where(on, self.force / self.load * self.stiffness[:, None], 0.0)
+        out = np.zeros((k.shape[1], phase.size))
+        length = self.path[1] - self.path[0]
+        for j in range(k.shape[1]):
+            inside = (phase >= -j * self.pitch) & (phase <= length - j * self.pitch)
+            if inside.any() and on[:, j].any():
+                out[j, inside] = np.interp(phase[inside], at[on[:, j]], k[on[:, j], j])
+        return out
+
+    @property
     def stiffness_mean(self) -> float:
-        """Mean mesh stiffness over the cycle (N/m; the last position repeats the first)."""
-        return float(np.mean(self.stiffness[:-1]))
+        """Mean mesh stiffness over the cycle (N/m), of :meth:`effective` summed over the
+        pairs on a fine grid (the sharp entries and exits weighed by where they fall, not
+        by the positions either side)."""
+        grid = (np.arange(MEAN_SAMPLES) + 0.5) * (self.pitch / MEAN_SAMPLES)
+        return float(self.effective(grid).sum(axis=0).mean())
 
     @property
     def single_pair_max(self) -> float:
@@ -272,7 +302,8 @@ def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | Non
     return MeshCycle(roll=rolls, force=force, transmission_error=te, stiffness=stiff,
                      single_pair=single, half_width=bw, load=law.load, torque=float(torque),
                      teeth=k_teeth, inner_radius=(body_a.mesh.inner_radius, body_b.mesh.inner_radius),
-                     n_dof=body_a.mesh.n_dof + body_b.mesh.n_dof)
+                     n_dof=body_a.mesh.n_dof + body_b.mesh.n_dof,
+                     path=(dp.start_roll_a, dp.end_roll_a))
 
 
 __all__ = ["DEFAULT_POSITIONS", "MeshCycle", "default_teeth", "driving_pair", "mesh_cycle",

@@ -45,6 +45,15 @@ def _per_torque(ds: xr.Dataset) -> list[tuple[float, xr.Dataset]]:
     return [(float(ds["torque"].values), ds)]
 
 
+def _stiffness_note(ds: xr.Dataset) -> str:
+    """``", sector stiffness"`` when the sweep's lumped model took the sector model's."""
+    try:
+        stiffness = json.loads(ds.attrs.get("settings", "{}"))["run"].get("stiffness")
+    except (ValueError, KeyError, TypeError, AttributeError):
+        return ""
+    return ", sector stiffness" if stiffness == "sector" else ""
+
+
 def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
                         resonance: ResonanceEstimate | None) -> None:
     """Draw each model's dynamic factor against the speed of A on ``ax``."""
@@ -62,7 +71,8 @@ def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
             # a run stopped early has no factor: a gap in the curve, a hollow mark below
             factor = np.where(ok, part["dynamic_factor"].values.astype(float), np.nan)
             shown = ok | partial
-            label = style["label"] + (f", {torque:g} N m" if len(torques) > 1 else "")
+            label = (style["label"] + _stiffness_note(ds)
+                     + (f", {torque:g} N m" if len(torques) > 1 else ""))
             colour = line_colour(model, torques.index(torque), len(torques))
             ax.plot(rpm[shown], factor[shown], ls=style["ls"], color=colour, lw=1.4,
                     marker=style["marker"], ms=3.5 if rpm.size <= 60 else 1.5, label=label)
@@ -71,6 +81,13 @@ def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
                         marker=style["marker"], ms=7, mfc="white", mec=colour, clip_on=False,
                         transform=ax.get_xaxis_transform(),
                         label=f"{model}: run stopped early (no factor)")
+            if "settled" in part:
+                # a steady-state point whose last cycles still changed: hollow
+                loose = ok & (part["settled"].values == 0)
+                if loose.any():
+                    ax.plot(rpm[loose], factor[loose], ls="none", marker=style["marker"], ms=6,
+                            mfc="white", mec=colour, label=f"{model}: not settled (the last "
+                            "cycles still changed)")
             lost = (status == STATUS_CODES["failed"]) | (status == STATUS_CODES["not_run"])
             if lost.any():
                 ax.plot(rpm[lost], np.zeros(int(lost.sum())), ls="none", marker="x",

@@ -58,6 +58,10 @@ FIGURES: dict[str, tuple[str, str]] = {
                                "its mean over the last cycles (NaN otherwise)"),
     "transmission_error_pp": ("m", "steady-state runs: peak-to-peak of the transmission "
                               "error over the last cycles (NaN otherwise)"),
+    "end_transmission_error": ("m", "steady-state runs: the transmission error at the end of "
+                               "the last cycle (where a continuation's next speed starts)"),
+    "end_transmission_error_slope": ("m/rad", "steady-state runs: its slope d delta / d phi_A "
+                                     "at the end of the last cycle"),
 }
 
 
@@ -141,6 +145,7 @@ def point_figures(result: Result, case: Case) -> dict[str, Any]:
 
     ds = result_to_dataset(result, case)
     s = summarize(ds)
+    end = (result.info.get("steady") or {}).get("end_state") or (None, None)
     force = np.asarray(ds["contact_force"].values, float)
     finite = force[np.isfinite(force)]
     rms = float(np.sqrt(np.mean(finite * finite))) if finite.size else None
@@ -160,6 +165,8 @@ def point_figures(result: Result, case: Case) -> dict[str, Any]:
         "settled": None if "settled" not in s else float(s["settled"]),
         "transmission_error_rms": s.get("transmission_error_rms_m"),
         "transmission_error_pp": s.get("transmission_error_pp_m"),
+        "end_transmission_error": end[0],
+        "end_transmission_error_slope": end[1],
     }
 
 

@@ -113,7 +113,13 @@ def resonance_estimate(case: Case) -> ResonanceEstimate:
         # a steady-state run meshes every pair the path holds: the mean of their sum
         from spurdyn.lumped.steady import cycle_stiffness
 
-        k = float(cycle_stiffness(pair, table)[1].sum(axis=0).mean())
+        if case.run.stiffness == "sector":
+            from spurdyn.simulators import sector_cycle
+
+            source: Any = sector_cycle(pair, case.run)
+        else:
+            source = table
+        k = float(cycle_stiffness(pair, source)[1].sum(axis=0).mean())
     f_n = float(torsional_natural_frequency(pair, k))
     if not math.isfinite(f_n):  # pragma: no cover - the table refuses bad stiffness
         raise ValueError("the natural frequency is not finite")

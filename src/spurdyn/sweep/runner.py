@@ -13,9 +13,9 @@ from __future__ import annotations
 import asyncio
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any, Iterator, TextIO
 
 import xarray as xr
 
@@ -208,7 +208,10 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     missing: dict[PointKey, str] = {}
     interrupted, stopped = False, ""
     signals_before = Interrupts.count
-    stream_ = backend.run(tasks, fn) if tasks else iter(())
+    if plan.continuation is not None:
+        stream_ = _chain(plan, tasks, records, fn)
+    else:
+        stream_ = backend.run(tasks, fn) if tasks else iter(())
     try:
         for task, outcome, note in stream_:
             if outcome is None:
@@ -255,6 +258,38 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
                        reused=len(keys) - len(tasks), counts=statuses(ds),
                        interrupted=interrupted, stopped=stopped, files=(own, combined, png),
                        wall_s=time.perf_counter() - t0)
+
+
+def _chain(plan: SweepPlan, tasks: list[PointTask], records: dict[PointKey, dict[str, Any]],
+           fn: PointFn) -> Iterator[tuple[PointTask, PointOutcome | None, str]]:
+    """A continuation's points, one after the other in this process: per torque, the
+    speeds up or down, each point starting from the previous speed's end state (a stored
+    point's, or the one just computed); a point after one that failed or stopped early
+    starts on its own again."""
+    todo = {t.key: t for t in tasks}
+    for torque in plan.torque_values:
+        chain = [k for k in plan.keys() if k.torque == torque]
+        if plan.continuation == "down":
+            chain.reverse()
+        state: tuple[float, float] | None = None
+        for key in chain:
+            task = todo.get(key)
+            if task is not None:
+                if state is not None:
+                    run = task.case.run.with_(start_state=state)
+                    task = PointTask(key, replace(task.case, run=run), task.keep_result)
+                with Interrupts.installed():
+                    before = Interrupts.count
+                    outcome = fn(task)
+                    if Interrupts.count != before:
+                        raise KeyboardInterrupt
+                yield task, outcome, ""
+                figures, status = outcome.figures, outcome.status
+            else:
+                record = records.get(key, {})
+                figures, status = record, record.get("status")
+            end = (figures.get("end_transmission_error"), figures.get("end_transmission_error_slope"))
+            state = (float(end[0]), float(end[1])) if status == COMPLETE and None not in end else None
 
 
 def _without_result(outcome: PointOutcome) -> PointOutcome:

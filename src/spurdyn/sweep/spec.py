@@ -151,9 +151,17 @@ def settings_dict(case: Case) -> dict[str, Any]:
     return data
 
 
-def settings_hash(case: Case) -> str:
-    """Twelve hex digits of the SHA-256 of :func:`settings_dict` (canonical JSON)."""
-    text = json.dumps(settings_dict(case), sort_keys=True, separators=(",", ":"))
+#: Orders of a continuation sweep (:attr:`SweepPlan.continuation`).
+CONTINUATIONS = ("up", "down")
+
+
+def settings_hash(case: Case, continuation: str | None = None) -> str:
+    """Twelve hex digits of the SHA-256 of :func:`settings_dict` (canonical JSON), with the
+    sweep's ``continuation`` when it has one (its points start from another's end)."""
+    data = settings_dict(case)
+    if continuation is not None:
+        data["sweep"] = {"continuation": continuation}
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]
 
 
@@ -214,6 +222,11 @@ class SweepPlan:
         Also keep each point's whole run folder under ``out/runs/``.
     force
         Recompute the points already in ``out``.
+    continuation
+        ``None``: every point starts on its own (from the static compression); ``"up"`` or
+        ``"down"``: the speeds run in that order, one after the other in this process, each
+        point of a steady-state sweep starting from the previous speed's end state, so that
+        the jumps of the nonlinear response show.
     """
 
     case: Case
@@ -223,6 +236,7 @@ class SweepPlan:
     out: Path
     keep_runs: bool = False
     force: bool = False
+    continuation: str | None = None
 
     @property
     def torque_values(self) -> tuple[float, ...]:
@@ -230,7 +244,7 @@ class SweepPlan:
 
     @property
     def settings(self) -> str:
-        return settings_hash(self.case)
+        return settings_hash(self.case, self.continuation)
 
     def keys(self) -> list[PointKey]:
         """Every point, speed-major."""

@@ -68,9 +68,15 @@ class TableCycle:
 
     def at(self, phase: float) -> list[float]:
         """``k_r`` (N/m) of rows ``r = 0 .. rows-1`` at one phase (rad)."""
+        roll0, droll, offsets, scalar = self._consts
+        return [scalar(roll0 + droll * (phase + o)) for o in offsets]
+
+    @cached_property
+    def _consts(self) -> tuple[float, float, list[float], Any]:
+        # the pair's geometry is recomputed on every access: once here, not per call of at()
         roll0 = self.pair.start_roll_a if self.pair.driver == "a" else self.pair.end_roll_a
         droll = 1.0 if self.pair.driver == "a" else -1.0
-        return [self.table.scalar(roll0 + droll * (phase + r * self.pitch)) for r in range(self.rows)]
+        return roll0, droll, [r * self.pitch for r in range(self.rows)], self.table.scalar
 
     def grid(self, phase: ArrayLike) -> NDArray[np.float64]:
         """``(rows, n)`` ``k_r`` at the phases ``phase``."""

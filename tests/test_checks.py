@@ -81,7 +81,7 @@ def test_constraints_of_a_real_run_recomputed_with_the_reference_code(paper20k):
     tol = np.array([case.tol_disp, case.tol_vel, case.tol_acc])
     # The stepper stops each stage just below its tolerance (the largest recomputed |Phi|
     # is ~0.996e-12 m); the superposed positions carry ~1e-16 m of round-off
-    # (tests/test_fast.py), so allow that much, 1e-4 of the tolerance, and no more.
+    # (tests/test_paper_step_twins.py), so allow that much, 1e-4 of the tolerance, and no more.
     tol = tol * (1.0 + 1e-4)
     fast = CompiledStepper(system, case)
     fa, fb = (g.flank for g in system.gears)
@@ -203,7 +203,7 @@ def test_de_dx_against_C_for_the_velocity_stage(loaded20k, monkeypatch):
     fd = np.empty((m, m))
     for j in range(m):
         # the errors are affine in x: a large step keeps the round-off of the velocities
-        # (~1e-9 m/s, tests/test_fast.py) small against the change
+        # (~1e-9 m/s, tests/test_paper_step_twins.py) small against the change
         dx = np.zeros(m)
         dx[j] = max(10.0, abs(st.x[j]))
         fd[:, j] = (errors(st.x + dx) - errors(st.x - dx)) / (2 * dx[j])

@@ -9,7 +9,7 @@ it with the same quantity computed by :mod:`spurdyn.solvers.paper.step_numpy`,
 :mod:`spurdyn.model.loading`, or, where there is no NumPy counterpart, by the formula of
 docs/solver.md written out here in NumPy/SciPy. (The spline kernels, ``delta_at`` and the
 contact search are compared in tests/test_contact.py; ``predict``/``superpose`` in
-tests/test_fast.py.)
+tests/test_paper_step_twins.py.)
 
 The tolerances are round-off bounds of the computation compared, never fitted: ``EPS``
 times the size of the terms that are summed (``|K| |v|`` for a product with the
@@ -17,10 +17,10 @@ stiffness, ``|G| M^-1 |G|^T`` for the Gram matrix...). Where a quantity is a dif
 large numbers the bound is set by those: the elastic displacement ``w = R^T (Y + u) - Y``
 is a difference of ~5 cm positions leaving micrometres, so two correct codes that round
 ``w`` differently part by ``EPS |Y|`` in ``w`` and ``EPS |K| |Y|`` in the forces (a part in
-1e9 of them; tests/test_fast.py's module docstring). Those comparisons are also made with
-the kernel's own ``w`` fed to the NumPy side, where the bound is the plain product's. Each
-test checks too that a small change of an input moves the kernel's output by much more
-than its tolerance, so a tolerance that hid a real error would show.
+1e9 of them; tests/test_paper_step_twins.py's module docstring). Those comparisons are also
+made with the kernel's own ``w`` fed to the NumPy side, where the bound is the plain
+product's. Each test checks too that a small change of an input moves the kernel's output
+by much more than its tolerance, so a tolerance that hid a real error would show.
 """
 
 import math

@@ -1,12 +1,15 @@
 """spurdyn: dynamic contact analysis of spur gears by the method of Lee and Jang.
 
-Floors, each using only those below it (docs/architecture.md): ``errors``, ``settings``,
-``result`` → ``fem`` (elements, assembly, stable step) → ``geometry`` (involute teeth,
-fillets, relief, pairs) → ``mesh`` (Q8 tooth meshes) → ``model`` (what a run builds once:
-bodies, flanks, loading, stiffness) → ``contact`` (flank search, NumPy and compiled) →
-``solvers`` (the stepper contract, the paper's method in NumPy and compiled, the time
-loop) → ``lumped`` → ``results`` (files, plots) → ``sweep`` → ``casefile``/``cases`` →
-``cli``. Compiled code comes in through one gate, :mod:`spurdyn.jit`.
+Floors, each using only those below it (docs/architecture.md, tests/test_floor_plan.py):
+``errors``, ``version``, ``result``, ``jit``, ``signals`` → ``fem`` (elements, assembly,
+stable step) → ``geometry`` (involute teeth, fillets, relief, pairs) → ``iso6336`` →
+``mesh`` (Q8 meshes of a tooth and of a sector) → ``settings`` → ``model`` (what a run
+builds once: bodies, flanks, loading, stiffness) → ``contact`` (flank search, Hertzian
+strips, NumPy and compiled) → ``sector`` (the sector model's body and quasi-static mesh
+cycle) → ``solvers`` (the stepper contract, the paper's method and the implicit
+integrator, the time loop) → ``lumped`` → ``pairfile``/``casefile`` → ``results`` (files,
+plots) → ``simulators`` → ``cases`` → ``sweep`` → ``cli``. Compiled code comes in through
+one gate, :mod:`spurdyn.jit`.
 """
 
 from typing import Any

@@ -3,7 +3,7 @@
 ``body``: one gear's sector, its stiffness with the hub held and the loads a contact
 strip puts on a tooth's flank. ``statics``: the loaded tooth contact analysis over a
 mesh cycle (the static transmission error, the mesh stiffness, the load share) that
-``spurdyn stiffness`` reports. Derivation: ``docs/sector.md``.
+``spurdyn stiffness`` reports. ``plot``: its picture. Derivation: ``docs/sector.md``.
 """
 
 from __future__ import annotations

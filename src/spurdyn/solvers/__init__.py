@@ -5,7 +5,12 @@
 - :mod:`~spurdyn.solvers.layout`: typed packs for compiled code (model arrays, state,
   configuration, prediction, history columns), each defined once.
 - :mod:`~spurdyn.solvers.check`: the one run check (stable step, angle, step count).
+- :mod:`~spurdyn.solvers.limits`: the bounds of the settings against the pair, and the
+  size of a run allowed unasked.
 - :mod:`~spurdyn.solvers.paper`: the paper's method, NumPy and compiled twins side by side.
+- :mod:`~spurdyn.solvers.implicit`: the implicit integrator (generalized-alpha), NumPy
+  and compiled twins.
 - :mod:`~spurdyn.solvers.loop`: ``simulate(pair, settings) -> Result`` and the registry of
   steppers by integrator and backend.
+- :mod:`~spurdyn.solvers.warmup`: whether the compiled solver still has to be compiled.
 """

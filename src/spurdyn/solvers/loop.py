@@ -2,11 +2,15 @@
 
 The loop owns the run (history, frames, progress, stopping); a stepper
 (:class:`~spurdyn.solvers.base.Stepper`) owns the method. :data:`STEPPERS` maps a time
-integrator and a backend to the stepper that computes it: today the paper's RK4 in NumPy
+integrator and a backend to the stepper that computes it: the paper's RK4 in NumPy
 (:class:`~spurdyn.solvers.paper.stepper_numpy.NumpyStepper`, re-integrates every
 iterate) and compiled (:class:`~spurdyn.solvers.paper.stepper_compiled.CompiledStepper`,
-superposes the response to the forces). A run that cannot go on (a stage that does not
-converge, a NaN, Ctrl-C) returns what it has with ``status = "incomplete"``.
+superposes the response to the forces), and the implicit integrator in both
+(:mod:`spurdyn.solvers.implicit.stepper`). The run is checked first
+(:mod:`spurdyn.solvers.check`, with the bounds of :mod:`spurdyn.solvers.limits`); the
+commands ask :mod:`spurdyn.solvers.warmup` beforehand whether the compiled stepper will
+compile. A run that cannot go on (a stage that does not converge, a NaN, Ctrl-C) returns
+what it has with ``status = "incomplete"``.
 """
 
 from __future__ import annotations

@@ -3,9 +3,9 @@ and contact constraints enforced at the end of each step (docs/implicit.md).
 
 :mod:`~spurdyn.solvers.implicit.alpha` holds the scheme's coefficients and the default
 step, :mod:`~spurdyn.solvers.implicit.damping` the damping forces (Rayleigh's on the
-teeth, the mesh damper on the disks), :mod:`~spurdyn.solvers.implicit.step` one step
-(Newton on the positions and the constraint forces, with the contact's active set), and
-:mod:`~spurdyn.solvers.implicit.stepper` the :class:`~spurdyn.solvers.base.Stepper` the
-time loop drives. Written in NumPy and SciPy: a step is a few sparse triangular solves
-with factors kept for the whole run, not a hot loop of scalar work.
+teeth, the mesh damper on the disks), :mod:`~spurdyn.solvers.implicit.step_numpy` one
+step in NumPy and SciPy (Newton on the positions and the constraint forces, with the
+contact's active set) and :mod:`~spurdyn.solvers.implicit.step_compiled` its Numba twin,
+and :mod:`~spurdyn.solvers.implicit.stepper` the :class:`~spurdyn.solvers.base.Stepper` s
+(``backend="numpy"`` and ``"numba"``) the time loop drives.
 """

@@ -68,6 +68,14 @@ def right_flank_normal(
     return np.stack([np.cos(chi_t), -np.sin(chi_t)], axis=-1)
 
 
+def rot(phi: float) -> NDArray[np.float64]:
+    """The rotation matrix ``R(phi)``, counter-clockwise by ``phi`` (``R p`` turns ``p`` as
+    :func:`rotate` does): the one NumPy home of this matrix, which the solvers and the
+    balances read (the compiled twins use its cosine and sine)."""
+    c, s = np.cos(phi), np.sin(phi)
+    return np.array([[c, -s], [s, c]])
+
+
 def rotate(points: NDArray[np.float64], angle: float) -> NDArray[np.float64]:
     """Rotate points ``(..., 2)`` counter-clockwise by ``angle``."""
     c, s = np.cos(angle), np.sin(angle)

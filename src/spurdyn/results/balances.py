@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from spurdyn.geometry.involute import rot
 from spurdyn.model.loading import gear_torques
 from spurdyn.model.system import PairSystem
 
@@ -78,11 +79,6 @@ class Snapshot:
         return float(self.kinetic.sum() + self.strain.sum())
 
 
-def _rot(phi: float) -> NDArray[np.float64]:
-    c, s = np.cos(phi), np.sin(phi)
-    return np.array([[c, -s], [s, c]])
-
-
 def state_snapshot(system: PairSystem, tau0: float, t: float, theta: NDArray[np.float64],
                    omega: NDArray[np.float64], u: NDArray[np.float64], v: NDArray[np.float64],
                    p: float, contact_nodes: NDArray[np.int64], contact_weights: NDArray[np.float64],
@@ -117,7 +113,7 @@ def state_snapshot(system: PairSystem, tau0: float, t: float, theta: NDArray[np.
         vv = vb.reshape(-1, 2)
         m = gb.mass.reshape(-1, 2)[:, 0]
         momentum[g] = gb.inertia * gb.sense * omega[g] + np.sum(m * (y[:, 0] * vv[:, 1] - y[:, 1] * vv[:, 0]))
-        w = (y @ _rot(gb.sense * theta[g])).ravel() - gb.Y
+        w = (y @ rot(gb.sense * theta[g])).ravel() - gb.Y
         kinetic[g] = 0.5 * gb.inertia * omega[g] ** 2 + 0.5 * float(np.sum(gb.mass * vb * vb))
         strain[g] = 0.5 * float(w @ (gb.stiffness @ w))
         positions.append(y)

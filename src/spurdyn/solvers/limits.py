@@ -20,6 +20,7 @@ from typing import Any, Callable, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.fem.material import bursting_speed
+from spurdyn.model.loading import static_force
 from spurdyn.settings import PAPER_DT, RPM
 
 
@@ -91,8 +92,8 @@ def check_run_bounds(pair: Any, run: Any, field: Callable[[str], str]) -> None:
         raise InputError(field("tol_disp"), f"must lie between {tol_min:.2g} m (rounding of "
                          f"positions) and {tol_max:.2g} m (a millionth of the module) "
                          f"(got {run.tol_disp:g}); the paper uses 1e-12")
-    strain = run.torque / driver.base_radius / (driver.material.young * driver.face_width
-                                                * driver.module)
+    strain = static_force(pair, run.torque) / (driver.material.young * driver.face_width
+                                               * driver.module)
     if strain > MAX_STRAIN:
         top = MAX_STRAIN * driver.material.young * driver.face_width * driver.module \
             * driver.base_radius

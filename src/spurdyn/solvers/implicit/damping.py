@@ -18,14 +18,14 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from spurdyn.geometry.involute import rot
 from spurdyn.model.system import GearBody
 
 
 def rayleigh_forces(gb: GearBody, theta: float, omega: float, u: NDArray[np.float64],
                     v: NDArray[np.float64], a: float, b: float) -> tuple[float, NDArray[np.float64]]:
     """``(Q_theta, f_u)`` of Rayleigh damping ``a M + b K`` on one gear's tooth."""
-    c, s = math.cos(gb.sense * theta), math.sin(gb.sense * theta)
-    r = np.array([[c, -s], [s, c]])
+    r = rot(gb.sense * theta)
     y = (gb.Y + u).reshape(-1, 2)
     wy = y @ r                                 # R^T (Y + u) = w + Y, node by node
     wd = v.reshape(-1, 2) @ r                  # R^T u_dot

@@ -33,6 +33,7 @@ from scipy.sparse.linalg import splu
 
 from spurdyn.contact.hertz import strip_compliance
 from spurdyn.contact.search_numpy import ContactPair
+from spurdyn.geometry.involute import rot
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem
@@ -59,11 +60,6 @@ class ImplicitState:
     contact: ContactPair
     qdd: NDArray[np.float64]     # (2 + n_u,) accelerations [alpha_A, alpha_B, u_ddot]
     acc: NDArray[np.float64]     # (2 + n_u,) the scheme's acceleration-like variable a
-
-
-def _rot(phi: float) -> NDArray[np.float64]:
-    c, s = np.cos(phi), np.sin(phi)
-    return np.array([[c, -s], [s, c]])
 
 
 class ImplicitMethod:
@@ -139,7 +135,7 @@ class ImplicitMethod:
         out[:2] = np.linalg.solve(self.theta_block(touching), rhs[:2])
         for g, (gb, lu) in enumerate(zip(s.gears, self.lu)):
             lo, hi = 2 + s.offsets[g], 2 + s.offsets[g + 1]
-            r = _rot(gb.sense * theta[g])
+            r = rot(gb.sense * theta[g])
             local = rhs[lo:hi].reshape(-1, 2) @ r          # R^T b, node by node
             out[lo:hi] = (lu.solve(local.ravel()).reshape(-1, 2) @ r.T).ravel()
         return out
@@ -155,7 +151,7 @@ class ImplicitMethod:
         k = 0
         for g, gb in enumerate(s.gears):
             lo, hi = 2 + s.offsets[g], 2 + s.offsets[g + 1]
-            r = _rot(gb.sense * theta[g])
+            r = rot(gb.sense * theta[g])
             p3 = self.root_inv[g]
             nr = p3.shape[1]
             # A^-1 R^T e_(i,d) = sum_e P[:, i, e] R[d, e], then R node by node, times -1

@@ -13,16 +13,11 @@ from numpy.typing import NDArray
 
 from spurdyn.contact.hertz import effective_modulus
 from spurdyn.contact.search_numpy import ContactPair, find_contact
+from spurdyn.geometry.involute import rot
 from spurdyn.model.loading import gear_torques
 from spurdyn.model.flank import Flank
 from spurdyn.model.system import GearBody, PairSystem
 from spurdyn.settings import RunSettings
-
-
-def rot(phi: float) -> NDArray[np.float64]:
-    """The rotation matrix ``R(phi)`` (the compiled twin returns its cosine and sine)."""
-    c, s = np.cos(phi), np.sin(phi)
-    return np.array([[c, -s], [s, c]])
 
 
 def blocks(system: PairSystem, u: NDArray[np.float64]) -> list[NDArray[np.float64]]:

@@ -20,8 +20,9 @@ import numpy as np
 from scipy.sparse.linalg import splu
 
 from spurdyn.contact.hertz import strip_compliance
+from spurdyn.geometry.involute import rot
 from spurdyn.model.system import PairSystem
-from spurdyn.solvers.paper.dynamics_numpy import contact_at, rot, strip_law
+from spurdyn.solvers.paper.dynamics_numpy import contact_at, strip_law
 
 
 @dataclass(frozen=True)

@@ -26,13 +26,14 @@ from spurdyn.contact.constants import FLANK
 from spurdyn.contact.hertz import strip_compliance
 from spurdyn.contact.search_numpy import ContactPair, sliding_acceleration, strip_half_width
 from spurdyn.contact.strip_numpy import strip_rows
+from spurdyn.geometry.involute import rot
 from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.layout import FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_VEL, OK
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_numpy import (
     accelerations, blocks, constraint_force, contact_at, inverse_mass, jacobian, rigid_velocities,
-    paper_flanks, root_acceleration_errors, root_phi, root_phi_theta, rot, strip_law, torques,
+    paper_flanks, root_acceleration_errors, root_phi, root_phi_theta, strip_law, torques,
 )
 from spurdyn.solvers.paper.iteration_numpy import accelerated_update, band_value
 

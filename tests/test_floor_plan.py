@@ -61,7 +61,8 @@ def _unit(path: Path) -> str:
 
 
 def _imports(path: Path) -> list[tuple[str, bool]]:
-    """``(spurdyn module imported, at top level?)`` for every import in ``path``."""
+    """``(spurdyn module imported, at top level?)`` for every absolute import in ``path``
+    (relative ones are refused by :func:`test_imports_are_absolute`)."""
     tree = ast.parse(path.read_text())
     top = {id(n) for n in tree.body}
     # imports inside ``if TYPE_CHECKING:`` blocks are for annotations only
@@ -113,6 +114,15 @@ def test_imports_point_down(path):
         assert LEVEL[there] < LEVEL[here], (
             f"{path.relative_to(PACKAGE)} imports {name} ({'top level' if at_top else 'in a function'}),"
             f" floor {there} is not below {here}")
+
+
+def test_imports_are_absolute():
+    """No relative import (``from . import x``) anywhere: the floor tests above read only
+    absolute ones, so a relative import would pass them unseen."""
+    relative = [f"{path.relative_to(PACKAGE)}:{node.lineno}: {ast.unparse(node)}"
+                for path in _sources() for node in ast.walk(ast.parse(path.read_text()))
+                if isinstance(node, ast.ImportFrom) and node.level > 0]
+    assert relative == [], "relative imports: " + "; ".join(relative)
 
 
 def test_no_circles_between_modules():

@@ -12,7 +12,9 @@ Usage::
     python scripts/results_identical.py compare /tmp/before    # on the new one
 
 Both take ``--only NAME`` (repeatable) to restrict the runs. A full pass takes a few
-minutes on two cores.
+minutes on two cores. ``record`` fails (exit status 1, one line on stderr) when a run it
+records exits with a non-zero status; ``compare`` fails on a run that has a ``result.nc``
+on one side only, as on any difference.
 """
 
 from __future__ import annotations
@@ -47,8 +49,11 @@ def runs() -> dict[str, list[str]]:
     return table
 
 
-def run_all(folder: Path, only: list[str]) -> None:
+def run_all(folder: Path, only: list[str]) -> dict[str, int]:
+    """Run the table (or the runs named in ``only``) into ``folder``; returns the runs that
+    exited with a non-zero status, with that status."""
     spurdyn = shutil.which("spurdyn") or str(Path(sys.executable).parent / "spurdyn")
+    failed = {}
     for name, args in runs().items():
         if only and name not in only:
             continue
@@ -57,18 +62,23 @@ def run_all(folder: Path, only: list[str]) -> None:
                "--frames-every", "50"]
         code = subprocess.run(cmd).returncode
         print(f"{name}: exit {code}", flush=True)
+        if code:
+            failed[name] = code
+    return failed
+
+
+def _recorded(folder: Path, only: list[str]) -> set[str]:
+    """The runs with a ``result.nc`` in ``folder`` (those named in ``only``, if any)."""
+    names = {path.parent.name for path in folder.glob("*/result.nc")}
+    return {name for name in names if name in only} if only else names
 
 
 def compare(before: Path, after: Path, only: list[str]) -> list[str]:
-    problems = []
-    for old in sorted(before.glob("*/result.nc")):
-        name = old.parent.name
-        if only and name not in only:
-            continue
-        new = after / name / "result.nc"
-        if not new.exists():
-            problems.append(f"{name}: no result.nc after the change")
-            continue
+    old_names, new_names = _recorded(before, only), _recorded(after, only)
+    problems = [f"{name}: no result.nc after the change" for name in sorted(old_names - new_names)]
+    problems += [f"{name}: no result.nc before the change" for name in sorted(new_names - old_names)]
+    for name in sorted(old_names & new_names):
+        old, new = before / name / "result.nc", after / name / "result.nc"
         with xr.open_dataset(old) as a, xr.open_dataset(new) as b:
             names = set(a.variables) | set(b.variables)
             for var in sorted(names):
@@ -97,7 +107,11 @@ def main() -> int:
     parser.add_argument("--only", action="append", default=[])
     args = parser.parse_args()
     if args.action == "record":
-        run_all(args.folder, args.only)
+        failed = run_all(args.folder, args.only)
+        if failed:
+            runs_failed = ", ".join(f"{name} (exit {code})" for name, code in failed.items())
+            print(f"results_identical: record: runs failed: {runs_failed}", file=sys.stderr)
+            return 1
         return 0
     with tempfile.TemporaryDirectory() as tmp:
         run_all(Path(tmp), args.only)

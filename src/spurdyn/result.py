@@ -58,6 +58,13 @@ class Result:
         Half-width (m) and peak pressure (Pa) of Hertz's strip for the contact force at
         the contact point's radii of curvature (:mod:`spurdyn.contact.hertz`); ``None``
         for a model without a contact point.
+    pair_force, pair_roll
+        ``(n, P)`` normal force (N) of each tooth pair a model of several teeth holds, and
+        the driver's roll angle of its contact point (rad; NaN off the path of contact);
+        ``None`` for a model of one pair.
+    transmission_error
+        ``(n,)`` ``r_b,driver theta_driver - r_b,driven theta_driven`` (m) less its rigid
+        kinematic value: positive where the driver runs ahead; ``None`` where not computed.
     """
 
     time: NDArray[np.float64]
@@ -81,6 +88,9 @@ class Result:
     info: dict[str, Any] = field(default_factory=dict)
     contact_half_width: NDArray[np.float64] | None = None
     contact_pressure_max: NDArray[np.float64] | None = None
+    pair_force: NDArray[np.float64] | None = None
+    pair_roll: NDArray[np.float64] | None = None
+    transmission_error: NDArray[np.float64] | None = None
 
     @property
     def angle_deg(self) -> NDArray[np.float64]:

@@ -1,4 +1,5 @@
-"""The models a run or a sweep can use, by name: ``MODELS = {"fe": ..., "lumped": ...}``.
+"""The models a run or a sweep can use, by name: ``MODELS = {"fe": ..., "lumped": ...,
+"sector": ...}``.
 
 Each entry is a module-level function ``simulate(pair, case, progress=None) -> Result``
 (picklable, so worker processes can take it by reference); the simulators themselves are
@@ -26,6 +27,15 @@ def simulate_fe(pair: GearPair, case: RunSettings, progress: Progress | None = N
     from spurdyn.solvers.loop import simulate
 
     return simulate(pair, case, progress)
+
+
+def simulate_sector(pair: GearPair, case: RunSettings, progress: Progress | None = None) -> Result:
+    """The sector model: several elastic teeth on elastic rims, hubs with inertia, under
+    constant torques for ``case.cycles`` mesh cycles
+    (:func:`spurdyn.solvers.sector.run.simulate_sector`)."""
+    from spurdyn.solvers.sector.run import simulate_sector as sector
+
+    return sector(pair, case, progress)
 
 
 #: Mesh-stiffness tables of the lumped model, per (pair, nx, ny), kept in the process so
@@ -119,7 +129,8 @@ def _hertz_table(pair: GearPair, case: RunSettings) -> Any:
 
 
 #: Model name -> its simulate function.
-MODELS: dict[str, Simulate] = {"fe": simulate_fe, "lumped": simulate_lumped}
+MODELS: dict[str, Simulate] = {"fe": simulate_fe, "lumped": simulate_lumped,
+                               "sector": simulate_sector}
 
 
-__all__ = ["MODELS", "Progress", "Simulate", "simulate_fe", "simulate_lumped"]
+__all__ = ["MODELS", "Progress", "Simulate", "simulate_fe", "simulate_lumped", "simulate_sector"]

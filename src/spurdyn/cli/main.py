@@ -125,7 +125,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     cases = resolve_cases(args.case, overrides, labels)
     if args.vtu:  # a ParaView series is made of tooth frames: refuse a run that keeps none
         if args.model != "fe":
-            raise InputError("--vtu", "draws the FE teeth; the lumped model has none "
+            raise InputError("--vtu", f"draws the FE teeth; the {args.model} model has none "
                              "(leave out --vtu or use --model fe)")
         for case in cases:
             if case.run.frames_every < 1:
@@ -265,7 +265,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                           "files' default) or point (the paper's; its presets')")
     run.add_argument("--model", choices=tuple(MODELS), default="fe", metavar="|".join(MODELS),
                      help="fe: the paper's FE contact model (default); lumped: two disks and "
-                     "a mesh spring (docs/lumped.md)")
+                     "a mesh spring (docs/lumped.md); sector: elastic teeth on elastic rims under "
+                     "constant torques over --cycles N mesh cycles (docs/sector.md)")
     run.add_argument("--vtu", action="store_true", help="also write a ParaView time series")
     run.add_argument("--jobs", type=int, default=1, metavar="N",
                      help="run the cases of a group side by side on N processes")

@@ -33,20 +33,12 @@ from spurdyn.lumped.model import RTOL, MeshStiffnessTable, _contact_roll_a, equi
 from spurdyn.model.loading import static_force, torque_amplitudes
 from spurdyn.result import Result
 from spurdyn.settings import RunSettings
+from spurdyn.solvers.steady import SETTLE_TOL, cycle_figures, last_cycles  # noqa: F401 (re-exported)
 
-#: Relative cycle-to-cycle change of the peak mesh force and of the transmission error's
-#: RMS below which a run counts as settled.
-SETTLE_TOL = 1e-3
 #: Saved samples per mesh period, and the longest interval between samples (s): the
 #: headline's 10-us average needs several samples a window.
 SAMPLES_PER_CYCLE = 200
 MAX_SAMPLE_INTERVAL = 1e-6
-
-
-def last_cycles(cycles: int) -> int:
-    """How many of the last cycles the settled figures are taken over: a quarter of the
-    run, at least 1 and at most 5."""
-    return max(1, min(5, cycles // 4))
 
 
 Cycle = TableCycle | SectorCycle
@@ -159,23 +151,7 @@ def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessT
     _, kq = cycle_stiffness(pair, cycle)
     kq_tot = kq.sum(axis=0)
     static_pair_max = float(np.max(np.where(kq_tot > 0, static * kq / np.where(kq_tot > 0, kq_tot, 1.0), 0.0)))
-    # cycle by cycle: the peak mesh force and the RMS of the transmission error
-    done = (n - 1) // per_cycle
-    peaks, rms = [], []
-    for cyc in range(done):
-        sel = slice(cyc * per_cycle, (cyc + 1) * per_cycle)
-        peaks.append(float(mesh[sel].max()))
-        d = delta[sel]
-        rms.append(float(np.sqrt(np.mean((d - d.mean()) ** 2))))
-    settled = False
-    if len(peaks) >= 2:
-        dp = abs(peaks[-1] - peaks[-2]) / max(peaks[-1], 1e-300)
-        dr = abs(rms[-1] - rms[-2]) / max(rms[-1], 1e-300)
-        settled = bool(dp < SETTLE_TOL and dr < SETTLE_TOL)
-    m = last_cycles(cycles)
-    last = slice(max(n - 1 - m * per_cycle, 0), n)
-    window = (float(t[last][0]), float(t[-1])) if n else (0.0, 0.0)
-    te = delta[last]
+    fig = cycle_figures(t, mesh, delta, per_cycle, cycles)
     info: dict[str, Any] = {
         "model": "lumped",
         "n_dof": 2,
@@ -196,20 +172,15 @@ def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessT
         "angle_end": float(phi_a[-1]) if n else 0.0,
         "output_interval": h,
         "steady": {
-            "cycles": cycles,
-            "cycles_done": done,
+            **{k: fig[k] for k in ("cycles", "cycles_done")},
             "mesh_period_s": period,
-            "last_cycles": m,
-            "window_s": [float(window[0]), float(window[1])],
-            "settled": settled,
-            "settle_tolerance": SETTLE_TOL,
-            "peak_mesh_force_per_cycle_N": peaks,
-            "transmission_error_rms_per_cycle_m": rms,
+            **{k: fig[k] for k in ("last_cycles", "window_s", "settled", "settle_tolerance",
+                                   "peak_mesh_force_per_cycle_N",
+                                   "transmission_error_rms_per_cycle_m")},
             "static_pair_force_max_N": static_pair_max,
             "mesh_stiffness_mean_N_per_m": float(kq_tot.mean()),
-            "transmission_error_rms_m": float(np.sqrt(np.mean((te - te.mean()) ** 2))) if te.size else None,
-            "transmission_error_pp_m": float(te.max() - te.min()) if te.size else None,
-            "transmission_error_mean_m": float(te.mean()) if te.size else None,
+            **{k: fig[k] for k in ("transmission_error_rms_m", "transmission_error_pp_m",
+                                   "transmission_error_mean_m")},
             # where the next speed of a continuation starts (a whole number of cycles: phase 0)
             "end_state": [float(delta[-1]), float(ddelta[-1] / w_a[-1])] if n else None,
             "start_state": None if case.start_state is None else list(case.start_state),

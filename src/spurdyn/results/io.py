@@ -85,6 +85,35 @@ def _model_figures(result: Result, case: Case) -> dict[str, Any]:
             "single_zone": (float(zone[0]), float(zone[1]))}
 
 
+def _pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
+    """The tooth pairs' forces, roll angles and load shares, the mesh force and the
+    transmission error of a model of several teeth (none for a model of one pair)."""
+    out: dict[str, xr.Variable] = {}
+    if result.transmission_error is not None:
+        out["transmission_error"] = xr.Variable(("time",), np.asarray(result.transmission_error, float), {
+            "units": "m", "long_name": "transmission error along the line of action: r_b,driver "
+            "theta_driver - r_b,driven theta_driven less its rigid kinematic value, positive where "
+            "the driver runs ahead (the teeth yield)"})
+    if result.pair_force is None:
+        return out
+    force = np.asarray(result.pair_force, float).reshape(n, -1)
+    mesh = force.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        share = np.where(mesh[:, None] > 0, force / mesh[:, None], np.nan)
+    dims = ("time", "pair")
+    out["pair_force"] = xr.Variable(dims, force, {
+        "units": "N", "long_name": "normal force of each tooth pair, compression positive"})
+    out["mesh_force"] = xr.Variable(("time",), mesh, {
+        "units": "N", "long_name": "total normal force of the mesh along the line of action"})
+    out["load_share"] = xr.Variable(dims, share, {
+        "units": "1", "long_name": "each tooth pair's share of the mesh force (NaN with no contact)"})
+    if result.pair_roll is not None:
+        out["pair_roll_deg"] = xr.Variable(dims, np.degrees(np.asarray(result.pair_roll, float)), {
+            "units": "degree", "long_name": "driver's roll angle of each tooth pair's contact "
+            "point on its extended path of contact (NaN away from it)"})
+    return out
+
+
 def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
     """The run as an :class:`xarray.Dataset` (what ``result.nc`` holds).
 
@@ -132,6 +161,7 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
         data_vars["contact_pressure_max"] = var(
             result.contact_pressure_max, "Pa", "peak Hertzian contact pressure of the contact "
             "force (2 F / (pi b L))")
+    data_vars.update(_pair_variables(result, n))
     for j, stage in enumerate(STAGES):
         data_vars[f"residual_{stage}"] = var(
             col(result.residual, j), _STAGE_UNITS[stage],
@@ -168,7 +198,7 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
         "reason": result.reason or "",
         "steps": int(result.steps),
         "wall_s": float(result.wall_s),
-        "dt_s": float(case.run.dt),
+        "dt_s": float(result.info.get("dt_s", case.run.dt)),   # a model's own step if it sets one
         "angle_target_deg": math.degrees(case.angle),
         "n_dof": figures["n_dof"],
         "theta_s_deg": math.degrees(figures["theta_s"]),
@@ -183,6 +213,10 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
     coords = {"time": xr.Variable(t, np.asarray(result.time, float),
                                   {"units": "s", "long_name": "time since the start of contact",
                                    "standard_name": "time"})}
+    if "pair_force" in data_vars and "pair_teeth" in result.info:
+        coords["pair"] = xr.Variable(("pair",), np.asarray(result.info["pair_teeth"], np.int32), {
+            "units": "1", "long_name": "the driver's tooth of the pair (the driven gear's is its "
+            "negative; 0 enters the path at the start, negative ones later)"})
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
@@ -306,6 +340,7 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     contact = _in_contact(force)
     first = time[np.argmax(contact)] if contact.any() else None
     case = json.loads(ds.attrs["case"])
+    info = json.loads(ds.attrs.get("info", "{}") or "{}")
     steps_rows = slice(1, None) if len(time) > 1 else slice(0, None)
     iterations = {s: float(np.nanmean(ds[f"iterations_{s}"].values[steps_rows]))
                   if len(time) else None for s in STAGES}
@@ -342,8 +377,9 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         "dynamic_factor_note": head.note,
         "averaging_window_s": head.window_s,
         "first_contact_s": None if first is None else float(first),
-        "contact": case["run"].get("contact", "point"),
-        "integrator": case["run"].get("integrator", "rk4"),
+        # a model that fixes these says so in its info (the sector model: strips, implicit)
+        "contact": info.get("contact", case["run"].get("contact", "point")),
+        "integrator": info.get("integrator", case["run"].get("integrator", "rk4")),
         "contact_pressure_max_Pa": _max_or_none(ds, "contact_pressure_max"),
         "contact_half_width_max_m": _max_or_none(ds, "contact_half_width"),
         "separations": int(len(seps)),
@@ -355,7 +391,6 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     }
     # root stress along the fillets (runs with tooth frames) and ISO's nominal stresses
     summary.update(stress_summary(ds, case_from_run(ds)))
-    info = json.loads(ds.attrs.get("info", "{}") or "{}")
     if "steady" in info:
         summary.update(steady_figures(time, force, info["steady"], complete))
     model = info.get("model")

@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.sparse.linalg import splu
 
 from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.fem.assembly import assemble_stiffness
+from spurdyn.fem.factor import factor_spd
 from spurdyn.geometry.gear import Gear
 from spurdyn.mesh.sector import SectorMesh, sector_mesh, turn
 from spurdyn.mesh.tooth import DEFAULT_GRADING
@@ -97,7 +97,7 @@ def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = No
         k = k + assemble_stiffness(mesh.nodes, mesh.elements[sel], gear.material, float(width)).tocsr()
     hub = np.concatenate([2 * mesh.hub_nodes, 2 * mesh.hub_nodes + 1])
     free = np.setdiff1d(np.arange(mesh.n_dof), hub)
-    lu = splu(sp.csc_matrix(k[free][:, free]))
+    lu = factor_spd(k[free][:, free])
     tooth = mesh.tooth
     flank = make_flank(tooth, gear, tooth.nodes, np.zeros(2), 0.0, 5)
     return SectorBody(gear=gear, mesh=mesh, stiffness=k, flank=flank, _free=free, _lu=lu)

@@ -1,0 +1,17 @@
+"""The sector model in motion (docs/sector.md, section 6): two gears of elastic teeth on
+elastic rims, their hubs rigid disks with inertia, every tooth pair on the path of contact a
+unilateral contact, stepped by the generalized-alpha scheme.
+
+``system``
+    The two bodies' matrices in the hubs' frames, the teeth they hold (a sector, or the
+    whole gear with its teeth indexed round the ring) and the contact rows of a tooth pair.
+``run``
+    :func:`~spurdyn.solvers.sector.run.simulate_sector`: the static start, the time loop,
+    and the run as a :class:`~spurdyn.result.Result` with the pairs' forces and the
+    transmission error.
+
+It sits above :mod:`spurdyn.sector` (the bodies and the quasi-static mesh cycle it starts
+from) and beside :mod:`spurdyn.solvers.implicit`, whose coefficients it steps with.
+"""
+
+__all__: list[str] = []

@@ -1,0 +1,448 @@
+"""A dynamic run of the sector model under constant torques (docs/sector.md, section 6).
+
+The run starts from the static equilibrium of the loaded pair at the first position of a
+mesh cycle (the quasi-static analysis of :mod:`spurdyn.sector.statics` on the same bodies)
+with the hubs at their nominal speeds, so a quasi-static run shows no start-up oscillation,
+and lasts ``cycles`` mesh cycles. It steps the equations of
+:mod:`spurdyn.solvers.sector.system` by generalized-alpha (docs/implicit.md, section 1):
+with the equations of motion linear and the contact rows held over a step, a step is one
+solve per gear with the factor of ``S = M + gamma' C + beta' K`` (constant: factorised once
+a run) and a complementarity problem of as many unknowns as pairs on the path,
+
+    W F + v >= 0,  F >= 0,  F (W F + v) = 0,   W = beta' G S^-1 G^T + c_H I,
+
+``v`` the pairs' gaps at the end of the step without their forces, ``c_H`` the strip's
+curvature compliance. Its solution is unique (``W`` is positive definite) and found by
+trying the active sets, the fewest contacts first (two or three pairs). The columns
+``S^-1 G^T`` come from the response of each gear to unit loads on the flank DOFs of each
+tooth on the path, computed once when the tooth enters and dropped when it leaves. The
+strips' half-widths follow the forces of the step before.
+
+The mesh damper ``c = 2 zeta sqrt(k m_e)`` along the line of action, ``k`` the mean mesh
+stiffness of the quasi-static cycle and ``m_e`` the pair's reduced mass, acts while a pair
+was in contact at the end of the step before; it couples the hubs as a rank-one term, taken
+by the Sherman-Morrison formula so the factors stay those of the run.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time as _time
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.contact.hertz import effective_modulus, half_width, involute_curvature_radius
+from spurdyn.fem.factor import factor_spd
+from spurdyn.geometry.corner import corner_contact
+from spurdyn.geometry.pair import GearPair
+from spurdyn.iso6336.dynamics import reduced_mass
+from spurdyn.model.loading import static_force, torque_amplitudes
+from spurdyn.result import Result
+from spurdyn.sector.statics import _law, _solve_position, driving_pair, mesh_cycle, pairs_in_path
+from spurdyn.settings import RunSettings
+from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
+from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
+from spurdyn.solvers.sector.system import GearBlock, gear_block, teeth_for
+from spurdyn.solvers.steady import cycle_figures
+
+#: The highest frequency (Hz) the sector model's default step resolves with
+#: :data:`STEPS_PER_KEPT_PERIOD` steps a period: the pair's torsional mode (~5-6 kHz on the
+#: sector's stiffness for the paper's pair) and the mesh frequency's first harmonics lie
+#: well below; the modes of the teeth on their rim above it are damped out by the scheme.
+KEEP_FREQUENCY = 50e3
+STEPS_PER_KEPT_PERIOD = 10
+#: Fewest steps per mesh cycle: the contact point crosses each element along the flank in
+#: several steps.
+STEPS_PER_MESH_PERIOD = 200
+#: Positions of the quasi-static cycle the run reads its mean stiffness and its largest
+#: quasi-static pair force from.
+CYCLE_POSITIONS = 21
+#: How far beyond either end of the path of contact (as a fraction of the angular pitch of
+#: the driver's roll) a pair is a contact candidate: a tip corner's rigid gap grows with the
+#: square of the roll beyond the end (for the paper's pair 0.4 um at 0.003 rad, 150 um at a
+#: quarter pitch), far beyond any loaded approach there (docs/sector.md, 6.2).
+REACH = 0.25
+
+
+def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
+    """Steps per mesh cycle ``2 pi / (z omega)``: a whole number, so that every cycle is
+    sampled at the same phases, giving a step no longer than ``dt`` (by default the
+    smaller of a tenth of the period of :data:`KEEP_FREQUENCY` and 1/:data:`STEPS_PER_MESH_PERIOD`
+    of the cycle)."""
+    period = 2.0 * math.pi / (teeth * abs(speed))
+    if dt is None:
+        dt = min(1.0 / (STEPS_PER_KEPT_PERIOD * KEEP_FREQUENCY), period / STEPS_PER_MESH_PERIOD)
+    return max(int(math.ceil(period / dt - 1e-9)), 1)
+
+
+def _lcp(w: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``F >= 0`` with ``W F + v >= 0`` and ``F (W F + v) = 0`` for a small positive definite
+    ``W``: the active sets tried, the fewest contacts first."""
+    n = v.size
+    tol = 1e-12 * max(float(np.abs(v).max()), 1e-300)
+    for m in range(n + 1):
+        for act in itertools.combinations(range(n), m):
+            f = np.zeros(n)
+            if act:
+                idx = list(act)
+                f[idx] = np.linalg.solve(w[np.ix_(idx, idx)], -v[idx])
+                if (f[idx] < 0.0).any():
+                    continue
+            if (w @ f + v >= -tol).all():
+                return f
+    raise RuntimeError("the contact problem has no solution")     # pragma: no cover
+
+
+def simulate_sector(pair: GearPair, settings: RunSettings,
+                    progress: Callable[[int, float, float], None] | None = None, *,
+                    dt: float | None = None, energy: bool = False) -> Result:
+    """Run the sector model of ``pair`` with ``settings`` (module docstring).
+
+    Parameters
+    ----------
+    pair, settings
+        The pair and the run: its ``torque`` (on the driver), speeds, ``cycles`` (1 if not
+        given), mesh (``nx``, ``ny``, ``grading``), ``damping_ratio`` (the mesh damper),
+        ``rayleigh_mass``/``rayleigh_stiffness`` (the bodies) and ``rho_inf``.
+    progress
+        Called as ``progress(step, angle_reached, angle_total)`` (rad) about a hundred times.
+    dt
+        The time step (s); by default the one of :func:`steps_per_cycle`. It is shortened
+        to a whole number of steps per mesh cycle.
+    energy
+        Keep the energy balance per sample in ``info["energy"]`` (kinetic, strain,
+        strip, the torques' work, J).
+
+    Returns
+    -------
+    Result
+        ``contact_force`` the most loaded pair's force, ``gap`` the smallest gap of a pair
+        on the path, ``pair_force`` every pair's, ``transmission_error``
+        ``r_bA theta_A - r_bB theta_B`` (the driver's), ``info["steady"]`` the settled test.
+    """
+    wall0 = _time.perf_counter()
+    dp = driving_pair(pair)
+    ga, gb = dp.gear_a, dp.gear_b
+    ra, rb = ga.base_radius, gb.base_radius
+    cycles = int(settings.cycles or 1)
+    speed = float(settings.speed_a if pair.driver == "a" else settings.speed_b)
+    pitch = 2.0 * math.pi / ga.teeth
+    per_cycle = steps_per_cycle(speed, ga.teeth, dt)
+    h = pitch / speed / per_cycle
+    n_steps = per_cycle * cycles
+    (first_a, count_a), (first_b, count_b) = teeth_for(dp, cycles)
+    blocks = (gear_block(ga, 1.0, first_a, count_a, settings.nx, settings.ny, settings.grading),
+              gear_block(gb, -1.0, first_b, count_b, settings.nx, settings.ny, settings.grading))
+    bodies = (blocks[0].body, blocks[1].body)
+    na = blocks[0].n
+    n = na + blocks[1].n
+    parts = (slice(0, na), slice(na, n))
+    load = static_force(pair, settings.torque)
+    t_drv, t_drn = torque_amplitudes(dp, settings.torque)
+    estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young, gb.material.poisson)
+    width = min(ga.face_width, gb.face_width)
+    n_path = pairs_in_path(dp)
+    # the driver's teeth that come near the path: 0 .. P at the start, one more a cycle
+    k_lo = -int(math.ceil(cycles)) - 1
+    teeth = np.arange(k_lo, n_path + 1)
+
+    # -- the quasi-static cycle and the static start -------------------------------------
+    cycle = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, positions=CYCLE_POSITIONS,
+                       bodies=bodies)
+    law = _law(pair, settings.torque, bodies)
+    js, f0, e0, _, _ = _solve_position(law, dp.start_roll_a)
+    q = np.zeros(n)
+    for g, blk in enumerate(blocks):
+        sign = 1 if g == 0 else -1
+        rolls0 = [dp.start_roll_a + j * pitch for j in js]
+        hw = _half_widths(dp, rolls0, f0, estar, width)     # the strips of the static forces
+        loads = np.column_stack([blk.body.load(blk.tooth(sign * j), float(r), float(b))
+                                 for j, r, b in zip(js, _radii(dp, rolls0)[g], hw)])
+        q[parts[g]][1:] = blk.body.solve(loads @ f0)[blk.body._free]
+    q[0] = e0 / ra
+    force = np.zeros(teeth.size)
+    force[np.searchsorted(teeth, js)] = f0
+    v = np.zeros(n)
+    v[0], v[na] = speed, speed * ra / rb
+    qdd = np.zeros(n)
+    acc = np.zeros(n)
+
+    # -- the scheme and its factors ------------------------------------------------------
+    scheme = GeneralizedAlpha(settings.rho_inf)
+    bp, gp = scheme.beta_prime(h), scheme.gamma_prime(h)
+    am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
+    rayleigh = (settings.rayleigh_mass, settings.rayleigh_stiffness)
+    lus = [factor_spd(blk.matrix(1.0, gp, bp, rayleigh)) for blk in blocks]
+    z_theta = []
+    for g, blk in enumerate(blocks):
+        e = np.zeros(blk.n)
+        e[0] = 1.0
+        z_theta.append(lus[g].solve(e))
+    j_a, j_b = blocks[0].inertia, blocks[1].inertia
+    c_mesh = (mesh_damper_coefficient(settings.damping_ratio, cycle.stiffness_mean,
+                                      reduced_mass(j_a, j_b, ra, rb)) if settings.damping_ratio > 0 else 0.0)
+    # S^-1 a for the damper's direction a = (r_bA on theta_A, -r_bB on theta_B)
+    z_damp = np.concatenate([ra * z_theta[0], -rb * z_theta[1]])
+    a_z = ra * z_damp[0] - rb * z_damp[na]
+    f_ext = np.zeros(n)
+    f_ext[0], f_ext[na] = t_drv, t_drn
+    c_h = law.c_h
+    reach = REACH * pitch
+    flank_resp: dict[tuple[int, int], tuple[NDArray[np.intp], NDArray[np.float64]]] = {}
+
+    def response(g: int, k: int) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+        """Tooth ``k``'s flank DOFs on gear ``g`` (offset into ``q``) and ``S^-1`` of unit
+        loads on them, computed when the tooth first reaches the path."""
+        key = (g, blocks[g].tooth(k))
+        if key not in flank_resp:
+            blk = blocks[g]
+            dofs = blk.flank_dofs(k) + 1
+            rhs = np.zeros((blk.n, dofs.size))
+            rhs[dofs, np.arange(dofs.size)] = 1.0
+            flank_resp[key] = (dofs + parts[g].start, lus[g].solve(rhs))
+        return flank_resp[key]
+
+    def rows_at(theta_a: float, f: NDArray[np.float64]) -> list[tuple[Any, ...]]:
+        """The pairs near the path at the driver's turn ``theta_a``: their index, the
+        constant part of their gap, their rows' coefficient on ``theta_A``, the flank DOFs
+        and loads on both gears, and the columns ``S^-1 G^T``."""
+        rolls = dp.start_roll_a + theta_a + teeth * pitch
+        on = np.flatnonzero((rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach))
+        if not on.size:
+            return []
+        rigid = [rigid_gap(dp, float(rho)) for rho in rolls[on]]
+        radii = (np.array([c[2] for c in rigid]), np.array([c[3] for c in rigid]))
+        hw = _half_widths_at(dp, radii, f[on], estar, width)
+        out = []
+        for i, p in enumerate(on):
+            k = int(teeth[p])
+            g0, slope = rigid[i][0], rigid[i][1]
+            ca = -ra + slope            # d gap / d theta_A: the base circle's and the corner's
+            y = np.zeros(n)
+            cols = []
+            for g, (sign, rbase) in enumerate(((1, ca), (-1, rb))):
+                dofs, resp = response(g, sign * k)
+                lg = blocks[g].flank_load(sign * k, float(radii[g][i]), float(hw[i]))
+                y[parts[g]] += rbase * z_theta[g] + resp @ lg
+                cols.append((dofs, lg))
+            out.append((p, g0 - slope * theta_a, ca, cols, y))
+        return out
+
+    def gap_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``G x`` for the pairs ``rows`` (their constant parts not included)."""
+        return np.array([ca * x[0] + rb * x[na] + sum(float(lg @ x[dofs]) for dofs, lg in cols)
+                         for _, _, ca, cols, _ in rows])
+
+    # -- the time loop -------------------------------------------------------------------
+    n_out = n_steps + 1
+    t_out = np.arange(n_out) * h
+    th_out = np.full((n_out, 2), np.nan)
+    om_out = np.full((n_out, 2), np.nan)
+    f_out = np.full((n_out, teeth.size), np.nan)
+    gap_out = np.full(n_out, np.nan)
+    en_out = np.full((n_out, 4), np.nan) if energy else None
+
+    def save(i: int, rows: list[tuple[Any, ...]]) -> None:
+        th_out[i] = q[0], q[na]
+        om_out[i] = v[0], v[na]
+        f_out[i] = force
+        if rows:
+            gaps = gap_rows(rows, q) + np.array([row[1] for row in rows]) \
+                + c_h * force[[row[0] for row in rows]]
+            gap_out[i] = float(gaps.min())
+        if en_out is not None:
+            en_out[i] = _energies(blocks, q, v, parts, c_h, force, (t_drv, t_drn))
+
+    save(0, rows_at(0.0, force))
+    status, reason, step = "complete", "", 0
+    every = max(n_steps // 100, 1)
+    try:
+        for step in range(1, n_steps + 1):
+            a_part = (af * qdd - am * acc) / (1.0 - am)
+            q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
+            v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
+            r = f_ext.copy()
+            for g, blk in enumerate(blocks):
+                r[parts[g]] -= blk.forces(q_hat[parts[g]], v_hat[parts[g]], rayleigh)
+            damp = c_mesh > 0.0 and bool((force > 0.0).any())
+            if damp:
+                rate = ra * v_hat[0] - rb * v_hat[na]
+                r[0] -= ra * c_mesh * rate
+                r[na] += rb * c_mesh * rate
+            x0 = np.concatenate([lus[g].solve(r[parts[g]]) for g in range(2)])
+            rows = rows_at(float(q_hat[0]), force)
+            ys = np.column_stack([row[-1] for row in rows]) if rows else np.zeros((n, 0))
+            if damp:    # Sherman-Morrison: (S + gamma' c a a^T)^-1
+                k_sm = gp * c_mesh / (1.0 + gp * c_mesh * a_z)
+                x0 -= z_damp * (k_sm * (ra * x0[0] - rb * x0[na]))
+                ys -= np.outer(z_damp, k_sm * (ra * ys[0] - rb * ys[na]))
+            force = np.zeros(teeth.size)
+            if rows:
+                gy = np.column_stack([gap_rows(rows, ys[:, j]) for j in range(len(rows))])
+                w = bp * gy + c_h * np.eye(len(rows))
+                vv = np.array([row[1] for row in rows]) + gap_rows(rows, q_hat + bp * x0)
+                lam = _lcp(0.5 * (w + w.T), vv)
+                qdd_new = x0 + ys @ lam
+                force[[row[0] for row in rows]] = lam
+            else:
+                qdd_new = x0
+            if not np.isfinite(qdd_new).all():
+                status, reason = "incomplete", f"the solution became NaN at step {step}"
+                break
+            acc = a_part + (1.0 - af) / (1.0 - am) * qdd_new
+            q = q_hat + bp * qdd_new
+            v = v_hat + gp * qdd_new
+            qdd = qdd_new
+            save(step, rows)
+            if progress is not None and step % every == 0:
+                progress(step, float(q[0]), cycles * pitch)
+    except KeyboardInterrupt:
+        status, reason = "incomplete", f"interrupted by the user at step {step}"
+        step -= 1
+    n_kept = step + 1 if status == "complete" or "interrupted" in reason else step
+    return _result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
+                   gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_mesh, status, reason,
+                   _time.perf_counter() - wall0, load)
+
+
+#: Step (rad of the driver's roll) of the central difference of a pair's rigid gap.
+SLOPE_STEP = 1e-6
+
+
+def rigid_gap(dp: GearPair, rho: float) -> tuple[float, float, float, float]:
+    """``(g, dg/drho, r_a, r_b)``: a pair's gap at the kinematic position of the driver's
+    roll ``rho`` (a tip corner's off the path, :func:`spurdyn.geometry.corner.corner_contact`,
+    plus the two tip reliefs at the contact radii), its slope, and the contact radii. The
+    slope enters the pair's row, so that the force does the work the gap's change asks."""
+
+    def total(x: float) -> tuple[float, float, float]:
+        g, r_a, r_b = corner_contact(dp, x)
+        return g + float(dp.gear_a.relief_depth(r_a) + dp.gear_b.relief_depth(r_b)), r_a, r_b
+
+    g, r_a, r_b = total(rho)
+    slope = (total(rho + SLOPE_STEP)[0] - total(rho - SLOPE_STEP)[0]) / (2.0 * SLOPE_STEP)
+    return g, slope, r_a, r_b
+
+
+def _radii(dp: GearPair, rolls: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The contact radii on the driver and the driven gear at the driver's rolls."""
+    rolls = np.atleast_1d(np.asarray(rolls, dtype=float))
+    return (np.atleast_1d(dp.gear_a.radius_at_roll_angle(rolls)),
+            np.atleast_1d(dp.gear_b.radius_at_roll_angle(np.asarray(dp.roll_b_from_roll_a(rolls)))))
+
+
+def _half_widths(dp: GearPair, rolls: Any, forces: NDArray[np.float64], estar: float,
+                 width: float) -> NDArray[np.float64]:
+    """Hertz's half-widths of the pairs' forces at the driver's rolls."""
+    return _half_widths_at(dp, _radii(dp, rolls), forces, estar, width)
+
+
+def _half_widths_at(dp: GearPair, radii: tuple[NDArray[np.float64], NDArray[np.float64]],
+                    forces: NDArray[np.float64], estar: float, width: float) -> NDArray[np.float64]:
+    """Hertz's half-widths of the pairs' forces at the contact radii ``(r_a, r_b)`` (the
+    involutes' curvatures there, a tip corner's too)."""
+    ra, rb = radii
+    rho_a = [involute_curvature_radius(float(r), dp.gear_a.base_radius) for r in ra]
+    rho_b = [involute_curvature_radius(float(r), dp.gear_b.base_radius) for r in rb]
+    return np.atleast_1d(half_width(np.asarray(forces, dtype=float), rho_a, rho_b, estar, width))
+
+
+def _energies(blocks: tuple[GearBlock, GearBlock], q: NDArray[np.float64], v: NDArray[np.float64],
+              parts: tuple[slice, slice], c_h: float, force: NDArray[np.float64],
+              torques: tuple[float, float]) -> NDArray[np.float64]:
+    """Kinetic and strain energy of both gears, the strips' ``c_H F^2 / 2``, and the
+    torques' work since the start (J)."""
+    kin = strain = work = 0.0
+    for g, blk in enumerate(blocks):
+        qg, vg = q[parts[g]], v[parts[g]]
+        vel = vg[0] * blk.rot + vg[1:]
+        kin += 0.5 * (blk.hub_inertia + blk.body_inertia - float(blk.rot @ (blk.mass * blk.rot))) * vg[0] ** 2
+        kin += 0.5 * float(vel @ (blk.mass * vel))
+        strain += 0.5 * float(qg[1:] @ (blk.stiffness @ qg[1:]))
+        work += torques[g] * qg[0]
+    return np.array([kin, strain, 0.5 * c_h * float(force @ force), work])
+
+
+def _result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: tuple[GearBlock, GearBlock],
+            cycle: Any, teeth: NDArray[np.intp], n_kept: int, t: NDArray[np.float64],
+            theta: NDArray[np.float64], omega: NDArray[np.float64], forces: NDArray[np.float64],
+            gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
+            h: float, torques: tuple[float, float], c_mesh: float, status: str, reason: str,
+            wall: float, load: float) -> Result:
+    """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B."""
+    ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
+    sel = slice(0, n_kept)
+    t, theta, omega, forces, gap = t[sel], theta[sel], omega[sel], forces[sel], gap[sel]
+    n = t.size
+    mesh = forces.sum(axis=1)
+    te = ra * theta[:, 0] - rb * theta[:, 1]
+    most = forces.max(axis=1) if teeth.size else np.zeros(n)
+    pitch = 2.0 * math.pi / dp.gear_a.teeth
+    rolls = dp.start_roll_a + theta[:, :1] + teeth[None, :] * pitch
+    top = np.argmax(forces, axis=1)
+    roll_a = rolls[np.arange(n), top]
+    roll = np.column_stack([roll_a, np.asarray(dp.roll_b_from_roll_a(roll_a))])
+    torque = np.tile(np.array(torques, dtype=float), (n, 1))
+    fig = cycle_figures(t, mesh, te, per_cycle, cycles)
+    swap = pair.driver == "b"
+
+    def ab(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return x[:, ::-1].copy() if swap else x
+
+    reach = REACH * pitch
+    on = (rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach)
+    info: dict[str, Any] = {
+        "model": "sector",
+        "integrator": "implicit",
+        "contact": "hertz",
+        "rho_inf": settings.rho_inf,
+        "n_dof": int(sum(b.n for b in blocks)),
+        "case": settings.name,
+        "driver": pair.driver,
+        "theta_s": pair.theta_s,
+        "theta_2": pair.theta_2,
+        "static_force": load,
+        "single_zone": (pair.theta_2, pair.theta_s - pair.theta_2),
+        "teeth_per_gear": [b.count for b in blocks],
+        "whole_gears": [b.whole for b in blocks],
+        "rim_inner_radius_m": [b.body.mesh.inner_radius for b in blocks],
+        "hub_inertia": [b.hub_inertia for b in blocks],
+        "body_inertia": [b.body_inertia for b in blocks],
+        "mesh_damper_N_s_per_m": c_mesh,
+        "damping_ratio": settings.damping_ratio,
+        "rayleigh": [settings.rayleigh_mass, settings.rayleigh_stiffness],
+        "dt_s": h,
+        "steps_per_cycle": per_cycle,
+        "pair_teeth": teeth.tolist(),
+        "angle_end": float(theta[-1, 0]) if n else 0.0,
+        "steady": {
+            **{k: fig[k] for k in ("cycles", "cycles_done")},
+            "mesh_period_s": per_cycle * h,
+            **{k: fig[k] for k in ("last_cycles", "window_s", "settled", "settle_tolerance",
+                                   "peak_mesh_force_per_cycle_N",
+                                   "transmission_error_rms_per_cycle_m")},
+            "static_pair_force_max_N": float(cycle.force.max()),
+            "mesh_stiffness_mean_N_per_m": cycle.stiffness_mean,
+            **{k: fig[k] for k in ("transmission_error_rms_m", "transmission_error_pp_m",
+                                   "transmission_error_mean_m")},
+            "end_state": None,
+            "start_state": None,
+        },
+    }
+    if en is not None:
+        info["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
+                          "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
+    return Result(
+        time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most, gap=gap,
+        roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
+        residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
+        corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
+        frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
+        info=info, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
+        transmission_error=te)
+
+
+__all__ = ["KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "simulate_sector", "steps_per_cycle"]

@@ -1,0 +1,83 @@
+"""The settled test of a steady-state run and its figures, shared by every model that runs
+mesh cycles under constant torques (the lumped model, :mod:`spurdyn.lumped.steady`; the
+sector model, :mod:`spurdyn.solvers.sector`).
+
+A run samples each mesh cycle at the same ``per_cycle`` phases; cycle by cycle it keeps the
+peak mesh force and the RMS of the transmission error about its cycle's mean, and counts as
+settled when both change from the last cycle but one to the last by less than
+:data:`SETTLE_TOL` of their last values (docs/lumped.md, "Steady state").
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+#: Relative cycle-to-cycle change of the peak mesh force and of the transmission error's
+#: RMS below which a run counts as settled.
+SETTLE_TOL = 1e-3
+
+
+def last_cycles(cycles: int) -> int:
+    """How many of the last cycles the settled figures are taken over: a quarter of the
+    run, at least 1 and at most 5."""
+    return max(1, min(5, cycles // 4))
+
+
+def cycle_figures(time: NDArray[np.float64], mesh: NDArray[np.float64], te: NDArray[np.float64],
+                  per_cycle: int, cycles: int) -> dict[str, Any]:
+    """The settled test and the figures over the last cycles.
+
+    Parameters
+    ----------
+    time, mesh, te
+        ``(n,)`` samples (s), mesh force (N) and transmission error (m), ``per_cycle`` a
+        cycle from the start.
+    per_cycle
+        Samples per mesh cycle.
+    cycles
+        The cycles the run was asked for.
+
+    Returns
+    -------
+    dict
+        ``cycles``, ``cycles_done``, ``last_cycles``, ``window_s`` (the last cycles' span),
+        ``settled``, ``settle_tolerance``, ``peak_mesh_force_per_cycle_N``,
+        ``transmission_error_rms_per_cycle_m`` and the transmission error's RMS, peak-to-peak
+        and mean over the window (``None`` without samples).
+    """
+    n = time.size
+    done = (n - 1) // per_cycle
+    peaks, rms = [], []
+    for cyc in range(done):
+        sel = slice(cyc * per_cycle, (cyc + 1) * per_cycle)
+        peaks.append(float(mesh[sel].max()))
+        d = te[sel]
+        rms.append(float(np.sqrt(np.mean((d - d.mean()) ** 2))))
+    settled = False
+    if len(peaks) >= 2:
+        dp = abs(peaks[-1] - peaks[-2]) / max(peaks[-1], 1e-300)
+        dr = abs(rms[-1] - rms[-2]) / max(rms[-1], 1e-300)
+        settled = bool(dp < SETTLE_TOL and dr < SETTLE_TOL)
+    m = last_cycles(cycles)
+    last = slice(max(n - 1 - m * per_cycle, 0), n)
+    window = (float(time[last][0]), float(time[-1])) if n else (0.0, 0.0)
+    w = te[last]
+    return {
+        "cycles": cycles,
+        "cycles_done": done,
+        "last_cycles": m,
+        "window_s": [float(window[0]), float(window[1])],
+        "settled": settled,
+        "settle_tolerance": SETTLE_TOL,
+        "peak_mesh_force_per_cycle_N": peaks,
+        "transmission_error_rms_per_cycle_m": rms,
+        "transmission_error_rms_m": float(np.sqrt(np.mean((w - w.mean()) ** 2))) if w.size else None,
+        "transmission_error_pp_m": float(w.max() - w.min()) if w.size else None,
+        "transmission_error_mean_m": float(w.mean()) if w.size else None,
+    }
+
+
+__all__ = ["SETTLE_TOL", "cycle_figures", "last_cycles"]

@@ -72,6 +72,19 @@ def test_a_rows_rigid_part_is_the_rotation_fields_work():
             assert float(load @ rot) == pytest.approx(expect, rel=2e-3)
 
 
+def test_the_flank_load_is_the_bodys_load_on_the_flank_dofs():
+    """The step's light load (the flank's values only) is the body's whole load vector at the
+    flank's DOFs, and the body's load is zero elsewhere."""
+    for gear, sense, k in ((PAIR.gear_a, 1.0, -1), (PAIR.gear_b, -1.0, 2)):
+        blk = gear_block(gear, sense, -2, 5, **MESH, grading=1.0)
+        for r, b in ((gear.pitch_radius, 60e-6), (gear.tip_radius - 1e-4, 0.0)):
+            full = blk.body.load(k, r, b)[blk.body._free]
+            light = np.zeros_like(full)
+            light[blk.flank_dofs(k)] = blk.flank_load(k, r, b)
+            np.testing.assert_allclose(light, full, rtol=0, atol=1e-15)
+            assert np.abs(full).sum() > 0.5
+
+
 def test_the_whole_gear_numbers_its_teeth_round_the_ring():
     first_short, first_long = teeth_for(PAIR, 1.0), teeth_for(PAIR, 40.0)
     assert first_short[0][1] < PAIR.gear_a.teeth                   # a sector for a short run

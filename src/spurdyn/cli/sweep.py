@@ -131,6 +131,10 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
         if case.run.cycles is None:
             raise InputError("--continuation", "starts each speed from the previous one's "
                              "settled state: it needs a steady-state sweep (--cycles N)")
+        if args.model == "sector":
+            raise InputError("--continuation", "carries the lumped model's settled state; the "
+                             "sector model starts each speed from its static equilibrium "
+                             "(leave out --continuation or use --model lumped)")
         if args.jobs is not None or args.scheduler is not None:
             raise InputError("--continuation", "runs its speeds in turn in this process: "
                              "leave out --jobs and --scheduler")
@@ -210,7 +214,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         from spurdyn.cli.run import load_simulate
 
         load_simulate("fe")  # refuse now if this installation has no solver
-    resonance = resonance_estimate(plan.case)
+    resonance = resonance_estimate(plan.case, plan.model)
     todo = len(points_to_compute(plan))
     if todo == 0:
         backend_cm, where = _nothing_to_run(), "no worker"
@@ -255,7 +259,8 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    help="torques on the driver (N m): a list A,B,C or START:STOP:STEP; "
                    "adds a torque dimension (default: the case's torque)")
     p.add_argument("--model", default="fe", metavar="|".join(MODELS),
-                   help="fe: the paper's FE contact model (default); lumped: two disks and "
+                   help="fe: the paper's FE contact model (default); sector: elastic teeth on "
+                        "elastic rims (with --cycles; docs/sector.md); lumped: two disks and "
                    "a mesh spring")
     p.add_argument("--out", metavar="DIR", help="sweep folder (default out/sweep-<case name>); "
                    "rerunning into it resumes the sweep")

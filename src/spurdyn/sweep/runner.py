@@ -191,7 +191,7 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     if resonance is None:
         from spurdyn.sweep.resonance import resonance_estimate
 
-        resonance = resonance_estimate(plan.case)
+        resonance = resonance_estimate(plan.case, plan.model)
     fn = point_fn if point_fn is not None else _point.run_point
     out = plan.out
     keys = plan.keys()

@@ -33,6 +33,7 @@ from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import NDArray
+from threadpoolctl import threadpool_limits
 
 from spurdyn.contact.hertz import effective_modulus, half_width, involute_curvature_radius
 from spurdyn.fem.factor import factor_spd
@@ -191,24 +192,25 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     f_ext[0], f_ext[na] = t_drv, t_drn
     c_h = law.c_h
     reach = REACH * pitch
-    flank_resp: dict[tuple[int, int], tuple[NDArray[np.intp], NDArray[np.float64]]] = {}
+    flank_resp: dict[tuple[int, int], NDArray[np.float64]] = {}
 
     def response(g: int, k: int) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
-        """Tooth ``k``'s flank DOFs on gear ``g`` (offset into ``q``) and ``S^-1`` of unit
-        loads on them, computed when the tooth first reaches the path."""
-        key = (g, blocks[g].tooth(k))
+        """Tooth ``k``'s flank DOFs in gear ``g``'s coordinates and ``S_g^-1`` of unit loads
+        on them (columns), computed when the tooth first comes near the path."""
+        blk = blocks[g]
+        dofs = blk.flank_dofs(k) + 1
+        key = (g, blk.tooth(k))
         if key not in flank_resp:
-            blk = blocks[g]
-            dofs = blk.flank_dofs(k) + 1
             rhs = np.zeros((blk.n, dofs.size))
             rhs[dofs, np.arange(dofs.size)] = 1.0
-            flank_resp[key] = (dofs + parts[g].start, lus[g].solve(rhs))
-        return flank_resp[key]
+            flank_resp[key] = lus[g].solve(rhs)
+        return dofs, flank_resp[key]
 
     def rows_at(theta_a: float, f: NDArray[np.float64]) -> list[tuple[Any, ...]]:
         """The pairs near the path at the driver's turn ``theta_a``: their index, the
-        constant part of their gap, their rows' coefficient on ``theta_A``, the flank DOFs
-        and loads on both gears, and the columns ``S^-1 G^T``."""
+        constant part of their gap, and per gear the row's coefficient on the hub, the flank
+        DOFs (in the gear's coordinates), the load on them and ``S_g^-1`` of unit loads
+        there."""
         rolls = dp.start_roll_a + theta_a + teeth * pitch
         on = np.flatnonzero((rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach))
         if not on.size:
@@ -220,21 +222,52 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         for i, p in enumerate(on):
             k = int(teeth[p])
             g0, slope = rigid[i][0], rigid[i][1]
-            ca = -ra + slope            # d gap / d theta_A: the base circle's and the corner's
-            y = np.zeros(n)
-            cols = []
-            for g, (sign, rbase) in enumerate(((1, ca), (-1, rb))):
+            # d gap / d theta: the base circles' and, off the path, the corner's
+            sides = []
+            for g, (sign, coef) in enumerate(((1, -ra + slope), (-1, rb))):
                 dofs, resp = response(g, sign * k)
-                lg = blocks[g].flank_load(sign * k, float(radii[g][i]), float(hw[i]))
-                y[parts[g]] += rbase * z_theta[g] + resp @ lg
-                cols.append((dofs, lg))
-            out.append((p, g0 - slope * theta_a, ca, cols, y))
+                sides.append((coef, dofs, blocks[g].flank_load(sign * k, float(radii[g][i]), float(hw[i])), resp))
+            out.append((p, g0 - slope * theta_a, sides))
         return out
 
     def gap_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included)."""
-        return np.array([ca * x[0] + rb * x[na] + sum(float(lg @ x[dofs]) for dofs, lg in cols)
-                         for _, _, ca, cols, _ in rows])
+        return np.array([sum(coef * x[parts[g]][0] + float(lg @ x[parts[g]][dofs])
+                             for g, (coef, dofs, lg, _) in enumerate(sides)) for _, _, sides in rows])
+
+    def compliance(rows: list[tuple[Any, ...]]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(G S^-1 G^T, a^T S^-1 G^T)``: the pairs' coupling through each gear, from the
+        responses at the hub and the rows' flank DOFs only, and the damper's direction ``a``
+        (Sherman-Morrison) applied to the columns."""
+        m = len(rows)
+        w = np.zeros((m, m))
+        a_y = np.zeros(m)
+        for g in range(2):
+            where = [sides[g][1] for _, _, sides in rows]
+            idx = np.concatenate([[0], *where])
+            starts = np.cumsum([1] + [d.size for d in where])
+            cols = np.empty((idx.size, m))
+            for j, (_, _, sides) in enumerate(rows):
+                coef, _, lg, resp = sides[g]
+                cols[:, j] = coef * z_theta[g][idx] + resp[idx] @ lg
+            for i, (_, _, sides) in enumerate(rows):
+                coef, dofs, lg, _ = sides[g]
+                w[i] += coef * cols[0] + lg @ cols[starts[i]:starts[i] + dofs.size]
+            a_y += (ra if g == 0 else -rb) * cols[0]
+        return w, a_y
+
+    def columns_times(rows: list[tuple[Any, ...]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``S^-1 G^T lam`` (the full vector, without the damper's correction)."""
+        out = np.zeros(n)
+        for (_, _, sides), lj in zip(rows, lam):
+            if lj != 0.0:
+                for g, (coef, _, lg, resp) in enumerate(sides):
+                    out[parts[g]] += lj * (coef * z_theta[g] + resp @ lg)
+        return out
+
+    # G S^-1 a for the damper: the same gathers with the damper's direction as the column
+    def gap_of_damper(rows: list[tuple[Any, ...]]) -> NDArray[np.float64]:
+        return gap_rows(rows, z_damp)
 
     # -- the time loop -------------------------------------------------------------------
     n_out = n_steps + 1
@@ -259,6 +292,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     save(0, rows_at(0.0, force))
     status, reason, step = "complete", "", 0
     every = max(n_steps // 100, 1)
+    # BLAS on one thread: the products are small and another process may hold the other core
+    # (as the implicit integrator's steps, docs/implicit.md)
+    limit = threadpool_limits(limits=1, user_api="blas")
     try:
         for step in range(1, n_steps + 1):
             a_part = (af * qdd - am * acc) / (1.0 - am)
@@ -274,18 +310,20 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                 r[na] += rb * c_mesh * rate
             x0 = np.concatenate([lus[g].solve(r[parts[g]]) for g in range(2)])
             rows = rows_at(float(q_hat[0]), force)
-            ys = np.column_stack([row[-1] for row in rows]) if rows else np.zeros((n, 0))
+            k_sm = gp * c_mesh / (1.0 + gp * c_mesh * a_z) if damp else 0.0
             if damp:    # Sherman-Morrison: (S + gamma' c a a^T)^-1
-                k_sm = gp * c_mesh / (1.0 + gp * c_mesh * a_z)
                 x0 -= z_damp * (k_sm * (ra * x0[0] - rb * x0[na]))
-                ys -= np.outer(z_damp, k_sm * (ra * ys[0] - rb * ys[na]))
             force = np.zeros(teeth.size)
             if rows:
-                gy = np.column_stack([gap_rows(rows, ys[:, j]) for j in range(len(rows))])
+                gy, a_y = compliance(rows)
+                if damp:
+                    gy -= np.outer(gap_of_damper(rows), k_sm * a_y)
                 w = bp * gy + c_h * np.eye(len(rows))
                 vv = np.array([row[1] for row in rows]) + gap_rows(rows, q_hat + bp * x0)
                 lam = _lcp(0.5 * (w + w.T), vv)
-                qdd_new = x0 + ys @ lam
+                qdd_new = x0 + columns_times(rows, lam)
+                if damp:
+                    qdd_new -= z_damp * (k_sm * float(a_y @ lam))
                 force[[row[0] for row in rows]] = lam
             else:
                 qdd_new = x0
@@ -302,6 +340,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     except KeyboardInterrupt:
         status, reason = "incomplete", f"interrupted by the user at step {step}"
         step -= 1
+    finally:
+        limit.restore_original_limits()
     n_kept = step + 1 if status == "complete" or "interrupted" in reason else step
     return _result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
                    gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_mesh, status, reason,

@@ -36,9 +36,11 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.fem.assembly import assemble_lumped_mass
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
+from spurdyn.mesh.sector import turn
 from spurdyn.sector.body import SectorBody, sector_body
 from spurdyn.sector.statics import pairs_in_path
 
@@ -86,6 +88,7 @@ class GearBlock:
     body_inertia: float
     stiffness: sp.csr_matrix
     _free_of: NDArray[np.intp] = field(repr=False)
+    _side_of: NDArray[np.intp] = field(repr=False)
 
     @property
     def gear(self) -> Gear:
@@ -115,10 +118,13 @@ class GearBlock:
 
     def flank_load(self, k: int, r: float, b: float) -> NDArray[np.float64]:
         """The unit strip load of tooth ``k`` at involute radius ``r`` (half-width ``b``) on
-        :meth:`flank_dofs`."""
-        full = self.body.load(self.tooth(k), r, b)
-        dofs = self.body.mesh.tooth_dofs(self.tooth(k)).reshape(-1, 2)[self.body.flank.side_nodes]
-        return full[dofs.ravel()]
+        :meth:`flank_dofs`: :meth:`spurdyn.sector.body.SectorBody.load` on the flank alone."""
+        body = self.body
+        nodes, w, _ = strip_rows(body.flank, body.flank_coordinate(r), b)
+        out = np.zeros((body.flank.side_nodes.size, 2))
+        # the mating flank pushes into the tooth, against the outward normal
+        np.add.at(out, self._side_of[nodes], -w[:, None] * body.gear.flank_normal(np.asarray(r))[None, :])
+        return turn(out, body.mesh.tooth_angle(self.tooth(k))).ravel()
 
     def matrix(self, cm: float, cc: float, ck: float, rayleigh: tuple[float, float]) -> sp.csc_matrix:
         """``cm M_g + cc C_g + ck K_g`` (module docstring) with Rayleigh's ``(a, b)``."""
@@ -181,10 +187,12 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
     free = body._free
     free_of = np.full(mesh.n_dof, -1, dtype=np.intp)
     free_of[free] = np.arange(free.size)
+    side_of = np.full(mesh.tooth.n_nodes, -1, dtype=np.intp)
+    side_of[body.flank.side_nodes] = np.arange(body.flank.side_nodes.size)
     return GearBlock(body=body, sense=sense, first=first, count=count, mass=m_full[free],
                      rot=s_full[free], inertia=j_hub + j_body, hub_inertia=j_hub,
                      body_inertia=j_body, stiffness=body.stiffness[free][:, free].tocsr(),
-                     _free_of=free_of)
+                     _free_of=free_of, _side_of=side_of)
 
 
 __all__ = ["GearBlock", "gear_block", "rotation_field", "teeth_for"]

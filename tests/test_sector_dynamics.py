@@ -183,4 +183,5 @@ def test_spurdyn_run_model_sector_writes_the_pairs_and_the_transmission_error(tm
     assert summary["integrator"] == "implicit" and summary["contact"] == "hertz"
     assert summary["dt_s"] == pytest.approx(ds.time.values[1] - ds.time.values[0])
     assert summary["dynamic_factor"] is not None and summary["mesh_stiffness_mean_N_per_m"] > 0
+    assert (out / "mesh.png").stat().st_size > 10_000       # the pairs' picture beside the force's
     ds.close()

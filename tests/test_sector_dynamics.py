@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -185,3 +186,31 @@ def test_spurdyn_run_model_sector_writes_the_pairs_and_the_transmission_error(tm
     assert summary["dynamic_factor"] is not None and summary["mesh_stiffness_mean_N_per_m"] > 0
     assert (out / "mesh.png").stat().st_size > 10_000       # the pairs' picture beside the force's
     ds.close()
+
+
+def test_a_case_file_asks_for_its_model_and_the_flag_overrides_it(tmp_path):
+    """``[model] kind`` picks the model of a case file (``--model`` wins), survives the round
+    trip through the stored case, and a bad kind or key is refused in one line naming it."""
+    from spurdyn.casefile import case_from_dict, case_to_dict, load_case
+    from spurdyn.cli.main import main, model_of
+    from spurdyn.errors import InputError
+    from spurdyn.settings import MODEL_NAMES
+    from spurdyn.simulators import MODELS
+
+    assert tuple(MODELS) == MODEL_NAMES
+    text = (Path(__file__).resolve().parents[1] / "examples" / "pinion_23_47.toml").read_text()
+    path = tmp_path / "mine.toml"
+    path.write_text(text + '\n[model]\nkind = "sector"\n')
+    case = load_case(path)
+    assert case.model == "sector" and model_of([case], None) == "sector"
+    assert model_of([case], "lumped") == "lumped"
+    assert case_from_dict(case_to_dict(case)).model == "sector"
+    assert load_case(path, {"model.kind": "fe"}).model == "fe"
+    for extra, field in (('\n[model]\nkind = "rigid"\n', "model.kind"), ('\n[model]\nkinds = "fe"\n', "model")):
+        path.write_text(text + extra)
+        with pytest.raises(InputError) as err:
+            load_case(path)
+        assert err.value.field.startswith(field)
+    path.write_text(text + '\n[model]\nkind = "rigid"\n')
+    assert main(["run", str(path), "--out", str(tmp_path / "no")]) == 2
+    assert not (tmp_path / "no").exists()

@@ -18,7 +18,7 @@ rebuilt from it (:func:`case_from_dict`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -31,7 +31,7 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, MAX_GRADING
 from spurdyn.settings import (
-    BACKENDS, CONTACTS, INTEGRATORS, METHODS, PAPER_DT, RETIRED_METHODS, RPM, STIFFNESSES, RunSettings,
+    BACKENDS, CONTACTS, INTEGRATORS, METHODS, MODEL_NAMES, PAPER_DT, RETIRED_METHODS, RPM, STIFFNESSES, RunSettings,
 )
 from spurdyn.solvers.check import check_run, default_dt, round_down, stable_step
 from spurdyn.solvers.implicit.alpha import accuracy_step
@@ -62,12 +62,16 @@ class Case:
         Run settings in SI units; ``run.nx``, ``run.ny`` hold the mesh density.
     description
         One line saying what the case is for.
+    model
+        The model the file asks for (``[model] kind``, one of
+        :data:`~spurdyn.settings.MODEL_NAMES`; ``--model`` overrides it).
     """
 
     name: str
     pair: GearPair
     run: RunSettings
     description: str = ""
+    model: str = "fe"
 
     @property
     def meshed_pair(self) -> MeshedPair:
@@ -322,8 +326,26 @@ def case_from_dict(data: dict[str, Any], name: str = "case",
     if not isinstance(data, dict):
         raise InputError("case", "must be a table")
     meshed_pair = pair_from_dict(data, name=name)
-    return case_from_pair(meshed_pair, data.get("run"), name, overrides, labels,
+    model = _model_kind(data.get("model"), overrides or {}, labels or {})
+    case = case_from_pair(meshed_pair, data.get("run"), name, overrides, labels,
                           check_step=check_step)
+    return case if model == "fe" else replace(case, model=model)
+
+
+def _model_kind(table: Any, overrides: Mapping[str, Any], labels: Mapping[str, str]) -> str:
+    """The ``[model]`` table's ``kind`` (``"fe"`` without one); ``--model`` replaces it."""
+    if "model.kind" in overrides:
+        kind, name = overrides["model.kind"], labels.get("model.kind", "model.kind")
+    else:
+        if table is None:
+            return "fe"
+        if not isinstance(table, dict):
+            raise InputError("model", "must be a table, e.g. [model] kind = \"sector\"")
+        _check_keys(table, {"kind"}, "model")
+        kind, name = table.get("kind", "fe"), "model.kind"
+    if kind not in MODEL_NAMES:
+        raise InputError(name, f"must be one of {', '.join(MODEL_NAMES)} (got {kind!r})")
+    return str(kind)
 
 
 def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
@@ -364,4 +386,4 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         "pair": {"centre_distance": case.pair.centre_distance, "driver": case.pair.driver},
         "mesh": {"nx": run.nx, "ny": run.ny, "grading": run.grading},
         "run": run_table,
-    }
+    } | ({} if case.model == "fe" else {"model": {"kind": case.model}})

@@ -36,7 +36,7 @@ RELIEF_KEYS = ("tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_reli
 MATERIAL_KEYS = {"young", "poisson", "density", "sigma_flim", "sigma_hlim"}
 PAIR_KEYS = {"centre_distance", "driver"}
 MESH_KEYS = {"nx", "ny", "grading"}
-TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run"}
+TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run", "model"}
 
 @dataclass(frozen=True)
 class MeshedPair:

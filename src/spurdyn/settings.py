@@ -34,6 +34,10 @@ CONTACTS = ("point", "hertz")
 #: Time integrators (:data:`spurdyn.solvers.loop.STEPPERS`): the paper's classical RK4, and
 #: the implicit generalized-alpha scheme (docs/implicit.md).
 INTEGRATORS = ("rk4", "implicit")
+#: The models a case can ask for (``[model] kind``, ``--model``): the paper's one-tooth FE
+#: model, the lumped two-disk model and the sector model of several teeth on their rims
+#: (:data:`spurdyn.simulators.MODELS` holds their simulate functions, in this order).
+MODEL_NAMES = ("fe", "lumped", "sector")
 #: Where the lumped model's mesh stiffness comes from: the paper model's root-clamped tooth
 #: pair, or the sector model's quasi-static mesh cycle (docs/sector.md).
 STIFFNESSES = ("tooth", "sector")
@@ -81,7 +85,7 @@ INTEGER_BOUNDS = (("n_spline", 8, MAX_SPLINE), ("max_iter", 1, MAX_ITER),
 MAX_CYCLES = 10_000
 #: Why the FE model refuses ``cycles`` (the one place that says it).
 FE_CYCLES_REASON = ("needs a model that meshes for more than one engagement: the paper's "
-                    "one-tooth FE model covers one (use --model lumped)")
+                    "one-tooth FE model covers one (use --model sector or --model lumped)")
 
 #: Why the FE solver's RK4 refuses damping (the one place that says it).
 FE_DAMPING_REASON = ("needs the implicit integrator in the FE model: the paper's RK4 is "
@@ -139,7 +143,7 @@ class RunSettings:
         numerical dissipation, 0: the most), :data:`DEFAULT_RHO_INF`.
     cycles
         Mesh cycles of a steady-state run under constant torques (``None``: the paper's one
-        engagement with its torque ramps). The lumped model only, until the sector model.
+        engagement with its torque ramps). The lumped and the sector model.
     stiffness
         The lumped model's mesh stiffness, one of :data:`STIFFNESSES`: ``"tooth"`` the
         paper model's root-clamped tooth pair (point or Hertzian per ``contact``),

@@ -13,7 +13,7 @@ import json
 import sys
 import tomllib
 from pathlib import Path
-from typing import NoReturn, Sequence
+from typing import Any, NoReturn, Sequence
 
 from spurdyn.casefile import MeshedPair
 from spurdyn.cli.inputs import meshed_case, png_target, resolve_pair
@@ -115,6 +115,18 @@ def run_overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str
     return overrides, labels
 
 
+def model_of(cases: Any, flag: str | None) -> str:
+    """The model to run: ``--model``, else the one the cases' files ask for (``[model]
+    kind``, the FE model without one)."""
+    if flag is not None:
+        return flag
+    kinds = sorted({case.model for case in cases})
+    if len(kinds) > 1:
+        raise InputError("--model", f"the cases ask for different models ({', '.join(kinds)}); "
+                         "give --model to run them with one")
+    return kinds[0] if kinds else "fe"
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     from spurdyn.cases import resolve_cases
     from spurdyn.cli import run as runner
@@ -123,9 +135,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise InputError("--jobs", f"must be a whole number >= 1 (got {args.jobs})")
     overrides, labels = run_overrides(args)
     cases = resolve_cases(args.case, overrides, labels)
+    model = model_of(cases, args.model)
     if args.vtu:  # a ParaView series is made of tooth frames: refuse a run that keeps none
-        if args.model != "fe":
-            raise InputError("--vtu", f"draws the FE teeth; the {args.model} model has none "
+        if model != "fe":
+            raise InputError("--vtu", f"draws the FE teeth; the {model} model has none "
                              "(leave out --vtu or use --model fe)")
         for case in cases:
             if case.run.frames_every < 1:
@@ -134,15 +147,15 @@ def cmd_run(args: argparse.Namespace) -> int:
             if case.pair.driver == "b":
                 raise InputError("--vtu", f"needs tooth frames, but {case.name} is driven by "
                                  "gear B, whose runs keep none; leave out --vtu")
-    if args.model == "fe":   # not ignored in silence
+    if model == "fe":   # not ignored in silence
         for case in cases:
             refuse_fe_dynamics(case.run, labels)
     if not args.allow_large:
         from spurdyn.solvers.limits import check_size
 
         for case in cases:
-            check_size(case, labels, model=args.model)
-    simulate = runner.load_simulate(args.model)
+            check_size(case, labels, model=model)
+    simulate = runner.load_simulate(model)
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,
                             quiet=args.quiet)
@@ -263,8 +276,9 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--contact", metavar="|".join(CONTACTS),
                      help="contact model: hertz (the force over the Hertzian strip; case "
                           "files' default) or point (the paper's; its presets')")
-    run.add_argument("--model", choices=tuple(MODELS), default="fe", metavar="|".join(MODELS),
-                     help="fe: the paper's FE contact model (default); lumped: two disks and "
+    run.add_argument("--model", choices=tuple(MODELS), metavar="|".join(MODELS),
+                     help="fe: the paper's FE contact model (the default, or the case file's "
+                     "[model] kind); lumped: two disks and "
                      "a mesh spring (docs/lumped.md); sector: elastic teeth on elastic rims under "
                      "constant torques over --cycles N mesh cycles (docs/sector.md)")
     run.add_argument("--vtu", action="store_true", help="also write a ParaView time series")

@@ -108,7 +108,7 @@ def check_out(out: Path, force: bool) -> None:
 
 def build_plan(args: argparse.Namespace) -> SweepPlan:
     """Check every option and the case; the sweep to run (nothing is created)."""
-    if args.model not in MODELS:
+    if args.model is not None and args.model not in MODELS:
         raise InputError("--model", f"must be one of {', '.join(MODELS)} (got {args.model!r})")
     if args.jobs is not None:
         if args.scheduler is not None:
@@ -122,7 +122,8 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     torques = parse_torques(args.torque) if args.torque is not None else None
     overrides, labels = _overrides(args, torques)
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
-    if args.model == "fe":   # not ignored in silence
+    model = args.model or case.model          # --model, else the case file's [model] kind
+    if model == "fe":   # not ignored in silence
         refuse_fe_dynamics(case.run, labels)
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:
@@ -131,7 +132,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
         if case.run.cycles is None:
             raise InputError("--continuation", "starts each speed from the previous one's "
                              "settled state: it needs a steady-state sweep (--cycles N)")
-        if args.model == "sector":
+        if model == "sector":
             raise InputError("--continuation", "carries the lumped model's settled state; the "
                              "sector model starts each speed from its static equilibrium "
                              "(leave out --continuation or use --model lumped)")
@@ -140,7 +141,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
                              "leave out --jobs and --scheduler")
     out = Path(args.out) if args.out else Path("out") / f"sweep-{case.name}"
     check_out(out, args.force)
-    plan = SweepPlan(case=case, model=args.model, rpms=rpms, torques=torques, out=out,
+    plan = SweepPlan(case=case, model=model, rpms=rpms, torques=torques, out=out,
                      keep_runs=args.keep_runs, force=args.force, continuation=args.continuation)
     check_plan(plan)
     _check_points(plan, labels, args.allow_large)
@@ -258,8 +259,9 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--torque", metavar="LIST",
                    help="torques on the driver (N m): a list A,B,C or START:STOP:STEP; "
                    "adds a torque dimension (default: the case's torque)")
-    p.add_argument("--model", default="fe", metavar="|".join(MODELS),
-                   help="fe: the paper's FE contact model (default); sector: elastic teeth on "
+    p.add_argument("--model", metavar="|".join(MODELS),
+                   help="fe: the paper's FE contact model (the default, or the case file's "
+                        "[model] kind); sector: elastic teeth on "
                         "elastic rims (with --cycles; docs/sector.md); lumped: two disks and "
                    "a mesh spring")
     p.add_argument("--out", metavar="DIR", help="sweep folder (default out/sweep-<case name>); "

@@ -36,7 +36,6 @@ from numpy.typing import NDArray
 from threadpoolctl import threadpool_limits
 
 from spurdyn.contact.hertz import effective_modulus, half_width, involute_curvature_radius
-from spurdyn.fem.factor import factor_spd
 from spurdyn.geometry.corner import corner_contact
 from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
@@ -46,6 +45,7 @@ from spurdyn.sector.statics import _law, _solve_position, driving_pair, mesh_cyc
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
+from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.system import GearBlock, gear_block, teeth_for
 from spurdyn.solvers.steady import cycle_figures
 
@@ -99,7 +99,8 @@ def _lcp(w: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def simulate_sector(pair: GearPair, settings: RunSettings,
                     progress: Callable[[int, float, float], None] | None = None, *,
-                    dt: float | None = None, energy: bool = False) -> Result:
+                    dt: float | None = None, energy: bool = False,
+                    modes: bool | float = False) -> Result:
     """Run the sector model of ``pair`` with ``settings`` (module docstring).
 
     Parameters
@@ -116,6 +117,11 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     energy
         Keep the energy balance per sample in ``info["energy"]`` (kinetic, strain,
         strip, the torques' work, J).
+    modes
+        Reduce each body to its modes (:mod:`spurdyn.solvers.sector.reduced`): ``True``
+        keeps those below :data:`~spurdyn.solvers.sector.reduced.MODE_FACTOR` times
+        :data:`KEEP_FREQUENCY`, a number those below it (Hz); ``False`` steps the whole
+        finite-element bodies.
 
     Returns
     -------
@@ -138,9 +144,6 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     blocks = (gear_block(ga, 1.0, first_a, count_a, settings.nx, settings.ny, settings.grading),
               gear_block(gb, -1.0, first_b, count_b, settings.nx, settings.ny, settings.grading))
     bodies = (blocks[0].body, blocks[1].body)
-    na = blocks[0].n
-    n = na + blocks[1].n
-    parts = (slice(0, na), slice(na, n))
     load = static_force(pair, settings.torque)
     t_drv, t_drn = torque_amplitudes(dp, settings.torque)
     estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young, gb.material.poisson)
@@ -150,19 +153,37 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     k_lo = -int(math.ceil(cycles)) - 1
     teeth = np.arange(k_lo, n_path + 1)
 
+    # -- the scheme, the bodies as the loop sees them ------------------------------------
+    scheme = GeneralizedAlpha(settings.rho_inf)
+    bp, gp = scheme.beta_prime(h), scheme.gamma_prime(h)
+    am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
+    rayleigh = (settings.rayleigh_mass, settings.rayleigh_stiffness)
+    if modes:
+        from spurdyn.solvers.sector.bodies import ModalBody
+        from spurdyn.solvers.sector.reduced import MODE_FACTOR, reduce_gear
+
+        top = MODE_FACTOR * KEEP_FREQUENCY if modes is True else float(modes)
+        gears: tuple[Any, Any] = tuple(ModalBody(reduce_gear(blk, top), gp, bp, rayleigh) for blk in blocks)
+    else:
+        gears = tuple(FullBody(blk, gp, bp, rayleigh) for blk in blocks)
+    na = gears[0].n
+    n = na + gears[1].n
+    parts = (slice(0, na), slice(na, n))
+
     # -- the quasi-static cycle and the static start -------------------------------------
     cycle = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, positions=CYCLE_POSITIONS,
                        bodies=bodies)
     law = _law(pair, settings.torque, bodies)
     js, f0, e0, _, _ = _solve_position(law, dp.start_roll_a)
     q = np.zeros(n)
+    rolls0 = [dp.start_roll_a + j * pitch for j in js]
+    hw0 = _half_widths(dp, rolls0, f0, estar, width)     # the strips of the static forces
     for g, blk in enumerate(blocks):
         sign = 1 if g == 0 else -1
-        rolls0 = [dp.start_roll_a + j * pitch for j in js]
-        hw = _half_widths(dp, rolls0, f0, estar, width)     # the strips of the static forces
-        loads = np.column_stack([blk.body.load(blk.tooth(sign * j), float(r), float(b))
-                                 for j, r, b in zip(js, _radii(dp, rolls0)[g], hw)])
-        q[parts[g]][1:] = blk.body.solve(loads @ f0)[blk.body._free]
+        loads = np.zeros(blk.mass.size)
+        for j, r, b, fj in zip(js, _radii(dp, rolls0)[g], hw0, f0):
+            loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
+        q[parts[g]][1:] = gears[g].static(loads)
     q[0] = e0 / ra
     force = np.zeros(teeth.size)
     force[np.searchsorted(teeth, js)] = f0
@@ -171,17 +192,11 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     qdd = np.zeros(n)
     acc = np.zeros(n)
 
-    # -- the scheme and its factors ------------------------------------------------------
-    scheme = GeneralizedAlpha(settings.rho_inf)
-    bp, gp = scheme.beta_prime(h), scheme.gamma_prime(h)
-    am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
-    rayleigh = (settings.rayleigh_mass, settings.rayleigh_stiffness)
-    lus = [factor_spd(blk.matrix(1.0, gp, bp, rayleigh)) for blk in blocks]
     z_theta = []
-    for g, blk in enumerate(blocks):
-        e = np.zeros(blk.n)
+    for g in range(2):
+        e = np.zeros(gears[g].n)
         e[0] = 1.0
-        z_theta.append(lus[g].solve(e))
+        z_theta.append(gears[g].solve(e))
     j_a, j_b = blocks[0].inertia, blocks[1].inertia
     c_mesh = (mesh_damper_coefficient(settings.damping_ratio, cycle.stiffness_mean,
                                       reduced_mass(j_a, j_b, ra, rb)) if settings.damping_ratio > 0 else 0.0)
@@ -192,25 +207,12 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     f_ext[0], f_ext[na] = t_drv, t_drn
     c_h = law.c_h
     reach = REACH * pitch
-    flank_resp: dict[tuple[int, int], NDArray[np.float64]] = {}
-
-    def response(g: int, k: int) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
-        """Tooth ``k``'s flank DOFs in gear ``g``'s coordinates and ``S_g^-1`` of unit loads
-        on them (columns), computed when the tooth first comes near the path."""
-        blk = blocks[g]
-        dofs = blk.flank_dofs(k) + 1
-        key = (g, blk.tooth(k))
-        if key not in flank_resp:
-            rhs = np.zeros((blk.n, dofs.size))
-            rhs[dofs, np.arange(dofs.size)] = 1.0
-            flank_resp[key] = lus[g].solve(rhs)
-        return dofs, flank_resp[key]
 
     def rows_at(theta_a: float, f: NDArray[np.float64]) -> list[tuple[Any, ...]]:
         """The pairs near the path at the driver's turn ``theta_a``: their index, the
-        constant part of their gap, and per gear the row's coefficient on the hub, the flank
-        DOFs (in the gear's coordinates), the load on them and ``S_g^-1`` of unit loads
-        there."""
+        constant part of their gap, and per gear the row's coefficient on the hub, the
+        coordinates the load enters and its weights there, ``S_g^-1`` of unit loads there,
+        the tooth and its flank load."""
         rolls = dp.start_roll_a + theta_a + teeth * pitch
         on = np.flatnonzero((rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach))
         if not on.size:
@@ -225,49 +227,50 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             # d gap / d theta: the base circles' and, off the path, the corner's
             sides = []
             for g, (sign, coef) in enumerate(((1, -ra + slope), (-1, rb))):
-                dofs, resp = response(g, sign * k)
-                sides.append((coef, dofs, blocks[g].flank_load(sign * k, float(radii[g][i]), float(hw[i])), resp))
+                dofs, weights, load = gears[g].row(sign * k, float(radii[g][i]), float(hw[i]))
+                sides.append((coef, dofs, weights, gears[g].response(sign * k), sign * k, load))
             out.append((p, g0 - slope * theta_a, sides))
         return out
 
     def gap_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included)."""
-        return np.array([sum(coef * x[parts[g]][0] + float(lg @ x[parts[g]][dofs])
-                             for g, (coef, dofs, lg, _) in enumerate(sides)) for _, _, sides in rows])
+        return np.array([sum(side[0] * x[parts[g]][0] + float(side[2] @ x[parts[g]][side[1]])
+                             for g, side in enumerate(sides)) for _, _, sides in rows])
 
-    def compliance(rows: list[tuple[Any, ...]]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """``(G S^-1 G^T, a^T S^-1 G^T)``: the pairs' coupling through each gear, from the
-        responses at the hub and the rows' flank DOFs only, and the damper's direction ``a``
-        (Sherman-Morrison) applied to the columns."""
+    def compliance(rows: list[tuple[Any, ...]]) -> tuple[NDArray[np.float64], NDArray[np.float64],
+                                                          NDArray[np.float64]]:
+        """``(G S^-1 G^T, a^T S^-1 G^T, C_res)``: the pairs' coupling through each gear, from
+        the responses at the hub and the rows' coordinates only; the damper's direction
+        ``a`` (Sherman-Morrison) on the columns; the bodies' residual compliance between the
+        pairs' loads."""
         m = len(rows)
         w = np.zeros((m, m))
         a_y = np.zeros(m)
+        res = np.zeros((m, m))
         for g in range(2):
             where = [sides[g][1] for _, _, sides in rows]
             idx = np.concatenate([[0], *where])
             starts = np.cumsum([1] + [d.size for d in where])
             cols = np.empty((idx.size, m))
             for j, (_, _, sides) in enumerate(rows):
-                coef, _, lg, resp = sides[g]
-                cols[:, j] = coef * z_theta[g][idx] + resp[idx] @ lg
+                coef, _, wts, resp, _, _ = sides[g]
+                cols[:, j] = coef * z_theta[g][idx] + resp[idx] @ wts
             for i, (_, _, sides) in enumerate(rows):
-                coef, dofs, lg, _ = sides[g]
-                w[i] += coef * cols[0] + lg @ cols[starts[i]:starts[i] + dofs.size]
+                coef, dofs, wts, _, k_i, l_i = sides[g]
+                w[i] += coef * cols[0] + wts @ cols[starts[i]:starts[i] + dofs.size]
+                for j, (_, _, sides_j) in enumerate(rows):
+                    res[i, j] += gears[g].residual(k_i, l_i, sides_j[g][4], sides_j[g][5])
             a_y += (ra if g == 0 else -rb) * cols[0]
-        return w, a_y
+        return w, a_y, res
 
     def columns_times(rows: list[tuple[Any, ...]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
         """``S^-1 G^T lam`` (the full vector, without the damper's correction)."""
         out = np.zeros(n)
         for (_, _, sides), lj in zip(rows, lam):
             if lj != 0.0:
-                for g, (coef, _, lg, resp) in enumerate(sides):
-                    out[parts[g]] += lj * (coef * z_theta[g] + resp @ lg)
+                for g, (coef, _, wts, resp, _, _) in enumerate(sides):
+                    out[parts[g]] += lj * (coef * z_theta[g] + resp @ wts)
         return out
-
-    # G S^-1 a for the damper: the same gathers with the damper's direction as the column
-    def gap_of_damper(rows: list[tuple[Any, ...]]) -> NDArray[np.float64]:
-        return gap_rows(rows, z_damp)
 
     # -- the time loop -------------------------------------------------------------------
     n_out = n_steps + 1
@@ -277,19 +280,28 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     f_out = np.full((n_out, teeth.size), np.nan)
     gap_out = np.full(n_out, np.nan)
     en_out = np.full((n_out, 4), np.nan) if energy else None
+    c_res = np.zeros((0, 0))
 
     def save(i: int, rows: list[tuple[Any, ...]]) -> None:
         th_out[i] = q[0], q[na]
         om_out[i] = v[0], v[na]
         f_out[i] = force
+        on = [row[0] for row in rows]
         if rows:
-            gaps = gap_rows(rows, q) + np.array([row[1] for row in rows]) \
-                + c_h * force[[row[0] for row in rows]]
+            gaps = gap_rows(rows, q) + np.array([row[1] for row in rows]) + c_h * force[on] \
+                + (c_res @ force[on] if c_res.shape[0] == len(rows) else 0.0)
             gap_out[i] = float(gaps.min())
         if en_out is not None:
-            en_out[i] = _energies(blocks, q, v, parts, c_h, force, (t_drv, t_drn))
+            fo = force[on]
+            res = 0.5 * float(fo @ c_res @ fo) if c_res.shape[0] == len(rows) and rows else 0.0
+            en_out[i] = (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)),
+                         sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
+                         0.5 * c_h * float(force @ force), t_drv * q[0] + t_drn * q[na])
 
-    save(0, rows_at(0.0, force))
+    rows0 = rows_at(0.0, force)
+    if rows0:
+        c_res = compliance(rows0)[2]
+    save(0, rows0)
     status, reason, step = "complete", "", 0
     every = max(n_steps // 100, 1)
     # BLAS on one thread: the products are small and another process may hold the other core
@@ -301,24 +313,24 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
             v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
             r = f_ext.copy()
-            for g, blk in enumerate(blocks):
-                r[parts[g]] -= blk.forces(q_hat[parts[g]], v_hat[parts[g]], rayleigh)
+            for g in range(2):
+                r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
             damp = c_mesh > 0.0 and bool((force > 0.0).any())
             if damp:
                 rate = ra * v_hat[0] - rb * v_hat[na]
                 r[0] -= ra * c_mesh * rate
                 r[na] += rb * c_mesh * rate
-            x0 = np.concatenate([lus[g].solve(r[parts[g]]) for g in range(2)])
+            x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
             rows = rows_at(float(q_hat[0]), force)
             k_sm = gp * c_mesh / (1.0 + gp * c_mesh * a_z) if damp else 0.0
             if damp:    # Sherman-Morrison: (S + gamma' c a a^T)^-1
                 x0 -= z_damp * (k_sm * (ra * x0[0] - rb * x0[na]))
             force = np.zeros(teeth.size)
             if rows:
-                gy, a_y = compliance(rows)
+                gy, a_y, c_res = compliance(rows)
                 if damp:
-                    gy -= np.outer(gap_of_damper(rows), k_sm * a_y)
-                w = bp * gy + c_h * np.eye(len(rows))
+                    gy -= np.outer(gap_rows(rows, z_damp), k_sm * a_y)
+                w = bp * gy + c_res + c_h * np.eye(len(rows))
                 vv = np.array([row[1] for row in rows]) + gap_rows(rows, q_hat + bp * x0)
                 lam = _lcp(0.5 * (w + w.T), vv)
                 qdd_new = x0 + columns_times(rows, lam)
@@ -343,9 +355,12 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     finally:
         limit.restore_original_limits()
     n_kept = step + 1 if status == "complete" or "interrupted" in reason else step
-    return _result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
+    result = _result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
                    gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_mesh, status, reason,
                    _time.perf_counter() - wall0, load)
+    result.info["modes"] = [g.n - 1 for g in gears] if modes else None
+    result.info["coordinates"] = n
+    return result
 
 
 #: Step (rad of the driver's roll) of the central difference of a pair's rigid gap.
@@ -388,22 +403,6 @@ def _half_widths_at(dp: GearPair, radii: tuple[NDArray[np.float64], NDArray[np.f
     rho_a = [involute_curvature_radius(float(r), dp.gear_a.base_radius) for r in ra]
     rho_b = [involute_curvature_radius(float(r), dp.gear_b.base_radius) for r in rb]
     return np.atleast_1d(half_width(np.asarray(forces, dtype=float), rho_a, rho_b, estar, width))
-
-
-def _energies(blocks: tuple[GearBlock, GearBlock], q: NDArray[np.float64], v: NDArray[np.float64],
-              parts: tuple[slice, slice], c_h: float, force: NDArray[np.float64],
-              torques: tuple[float, float]) -> NDArray[np.float64]:
-    """Kinetic and strain energy of both gears, the strips' ``c_H F^2 / 2``, and the
-    torques' work since the start (J)."""
-    kin = strain = work = 0.0
-    for g, blk in enumerate(blocks):
-        qg, vg = q[parts[g]], v[parts[g]]
-        vel = vg[0] * blk.rot + vg[1:]
-        kin += 0.5 * (blk.hub_inertia + blk.body_inertia - float(blk.rot @ (blk.mass * blk.rot))) * vg[0] ** 2
-        kin += 0.5 * float(vel @ (blk.mass * vel))
-        strain += 0.5 * float(qg[1:] @ (blk.stiffness @ qg[1:]))
-        work += torques[g] * qg[0]
-    return np.array([kin, strain, 0.5 * c_h * float(force @ force), work])
 
 
 def _result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: tuple[GearBlock, GearBlock],

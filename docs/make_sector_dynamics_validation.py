@@ -1,0 +1,248 @@
+"""Write docs/sector_dynamics_validation.md: the sector model's dynamic run measured.
+
+    .venv/bin/python docs/make_sector_dynamics_validation.py [--quick]
+
+Every figure on the page is computed here (about 10 minutes on two cores; ``--quick``: the
+coarse 2 x 8 teeth throughout, a few minutes). The derivations are docs/sector.md, section 6.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from spurdyn.geometry.presets import paper_pair
+from spurdyn.iso6336.dynamics import reduced_mass
+from spurdyn.sector.statics import driving_pair, mesh_cycle
+from spurdyn.settings import RPM
+from spurdyn.solvers.check import run_settings
+from spurdyn.solvers.sector.run import simulate_sector
+
+HERE = Path(__file__).resolve().parent
+PAGE = HERE / "sector_dynamics_validation.md"
+PAIR = paper_pair()
+TORQUE = 60.0           # N m on the paper's pair: W = 1,436 N, 84 N/mm... x 2.7 (its line load)
+
+
+def settled_dynamic_factor(run) -> float:
+    """The most loaded pair's 10-us-averaged peak over the settled window against its
+    quasi-static value (as summary.json's ``dynamic_factor``)."""
+    from spurdyn.results.headline import averaged_peak
+
+    st = run.info["steady"]
+    sel = run.time >= st["window_s"][0] - 1e-15
+    return averaged_peak(run.time[sel], run.contact_force[sel])[0] / st["static_pair_force_max_N"]
+
+
+def load_balance(mesh: dict) -> dict:
+    """A quasi-static run (10 rpm, 100 steps a cycle: the scheme damps the pair's mode)."""
+    s = run_settings(PAIR, 10 * RPM, TORQUE, dt=1e-6, cycles=1, **mesh)
+    period = 2 * math.pi / PAIR.gear_a.teeth / s.speed_a
+    run = simulate_sector(PAIR, s, dt=period / 100)
+    w = run.info["static_force"]
+    err = np.abs(run.pair_force.sum(axis=1) / w - 1.0).max()
+    cyc = mesh_cycle(PAIR, TORQUE, **mesh, positions=101)
+    pitch = 2 * math.pi / PAIR.gear_a.teeth
+    phase = (run.theta[:, 0] % pitch) / pitch
+    eps = PAIR.contact_ratio % 1.0
+    away = (np.abs(phase - eps) > 0.08) & (phase > 0.08) & (phase < 0.92)
+    te = np.interp(phase[away] * pitch, cyc.roll - driving_pair(PAIR).start_roll_a, cyc.transmission_error)
+    return {"load_balance_max_rel": float(err),
+            "te_vs_static_max_rel": float(np.abs(run.transmission_error[away] / te - 1).max()),
+            "te_static_mean_um": float(cyc.transmission_error.mean() * 1e6)}
+
+
+def energy(mesh: dict) -> dict:
+    s = run_settings(PAIR, 1000 * RPM, TORQUE, dt=1e-6, cycles=1, rho_inf=1.0, **mesh)
+    run = simulate_sector(PAIR, s, energy=True)
+    e = run.info["energy"]
+    total = np.array(e["kinetic_J"]) + np.array(e["strain_J"]) + np.array(e["strip_J"]) - np.array(e["work_J"])
+    return {"energy_error_max_J": float(np.abs(total - total[0]).max()),
+            "energy_error_end_J": float(total[-1] - total[0]),
+            "strain_max_J": float(max(e["strain_J"]))}
+
+
+RING_RPM = 300.0
+
+
+def ring(mesh: dict, zeta: float) -> dict:
+    """After the exit of a pair at 300 rpm the pair rings over the stretch of single contact
+    (about nine periods), where the quasi-static mesh force is ``W`` itself: the ring's
+    frequency from its zero crossings and its damping ratio from the logarithmic decrement
+    of its successive peaks (a least-squares line through their logarithms)."""
+    s = run_settings(PAIR, RING_RPM * RPM, TORQUE, dt=1e-6, cycles=1, damping_ratio=zeta, **mesh)
+    run = simulate_sector(PAIR, s)
+    pitch = 2 * math.pi / PAIR.gear_a.teeth
+    phase = run.theta[:, 0] / pitch
+    single = (phase > PAIR.contact_ratio % 1.0 + 0.1) & (phase < 0.93)
+    t = run.time[single]
+    x = run.pair_force.sum(axis=1)[single] - run.info["static_force"]
+    ups = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
+    tz = t[ups] - x[ups] * (t[ups + 1] - t[ups]) / (x[ups + 1] - x[ups])
+    freq = float((len(tz) - 1) / (tz[-1] - tz[0])) if len(tz) > 1 else float("nan")
+    peaks = np.array([float(x[a:b].max()) for a, b in zip(ups[:-1], ups[1:])])
+    decay = None
+    if zeta > 0 and len(peaks) >= 3 and (peaks > 0).all():
+        delta = -np.polyfit(np.arange(len(peaks)), np.log(peaks), 1)[0]
+        decay = float(delta / math.sqrt(4 * math.pi**2 + delta**2))
+    k_mean = run.info["steady"]["mesh_stiffness_mean_N_per_m"]
+    j = [h + b for h, b in zip(run.info["hub_inertia"], run.info["body_inertia"])]
+    m_e = reduced_mass(j[0], j[1], PAIR.gear_a.base_radius, PAIR.gear_b.base_radius)
+    # the single pair's own stiffness over the stretch, W over its transmission error
+    k_single = float(np.median(run.info["static_force"] / run.transmission_error[single]))
+    c = run.info["mesh_damper_N_s_per_m"]
+    return {"zeta": zeta, "ring_hz": freq, "periods": int(len(peaks)), "decay_ratio": decay,
+            "zeta_single": c / (2 * math.sqrt(k_single * m_e)) if c else 0.0,
+            "f_mean_hz": math.sqrt(k_mean / m_e) / (2 * math.pi),
+            "f_single_hz": math.sqrt(k_single / m_e) / (2 * math.pi),
+            "k_mean": k_mean, "k_single": k_single, "m_e": m_e}
+
+
+def step_study(mesh: dict, rpm: float) -> dict:
+    out = {}
+    for label, factor in (("default", 1.0), ("half", 0.5)):
+        s = run_settings(PAIR, rpm * RPM, TORQUE, dt=1e-6, cycles=4, damping_ratio=0.05, **mesh)
+        from spurdyn.solvers.sector.run import steps_per_cycle
+
+        period = 2 * math.pi / PAIR.gear_a.teeth / s.speed_a
+        per = steps_per_cycle(s.speed_a, PAIR.gear_a.teeth)
+        t0 = time.perf_counter()
+        run = simulate_sector(PAIR, s, dt=period / (per / factor))
+        out[label] = {"dt_s": run.info["dt_s"], "dynamic_factor": settled_dynamic_factor(run),
+                      "te_rms_um": run.info["steady"]["transmission_error_rms_m"] * 1e6,
+                      "wall_s": time.perf_counter() - t0, "steps": run.steps, "n_dof": run.info["n_dof"]}
+    return out
+
+
+def sweep(mesh: dict, rpms: list[float], cycles: int) -> list[dict]:
+    rows = []
+    for rpm in rpms:
+        s = run_settings(PAIR, rpm * RPM, TORQUE, dt=1e-6, cycles=cycles, damping_ratio=0.05, **mesh)
+        t0 = time.perf_counter()
+        run = simulate_sector(PAIR, s)
+        rows.append({"rpm": rpm, "dynamic_factor": settled_dynamic_factor(run),
+                     "settled": run.info["steady"]["settled"],
+                     "te_rms_um": run.info["steady"]["transmission_error_rms_m"] * 1e6,
+                     "wall_s": time.perf_counter() - t0, "steps": run.steps})
+        print(f"  {rpm:,.0f} rpm: {rows[-1]}", flush=True)
+    return rows
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="2 x 8 teeth throughout")
+    args = ap.parse_args()
+    coarse = dict(nx=2, ny=8)
+    fine = coarse if args.quick else dict(nx=4, ny=14)
+    t0 = time.perf_counter()
+    fig: dict = {"mesh_fine": fine}
+    fig["balance"] = load_balance(fine)
+    print("balance", fig["balance"], flush=True)
+    fig["energy"] = energy(fine)
+    print("energy", fig["energy"], flush=True)
+    fig["ring"] = [ring(fine, 0.0), ring(fine, 0.05)]
+    print("ring", fig["ring"], flush=True)
+    fig["step"] = step_study(coarse, 6000.0)
+    print("step", fig["step"], flush=True)
+    from spurdyn.cases import resolve_cases
+    from spurdyn.sweep.resonance import resonance_estimate
+
+    case = resolve_cases("paper-fig8", {"run.cycles": 2, "run.torque": TORQUE, "mesh.nx": coarse["nx"],
+                                        "mesh.ny": coarse["ny"]}, {})[0]
+    res_sector = resonance_estimate(case, "sector")
+    res_lumped = resonance_estimate(case, "lumped")
+    fig["resonance"] = {"sector_rpm": res_sector.resonance_rpm, "sector_fn_hz": res_sector.natural_frequency_hz,
+                        "tooth_rpm": res_lumped.resonance_rpm, "tooth_fn_hz": res_lumped.natural_frequency_hz,
+                        "iso_rpm": res_sector.iso_resonance_rpm}
+    rpms = [1000.0, 4000.0, 7000.0, 9000.0, 10500.0, 12000.0, 13500.0, 15000.0, 17500.0, 20000.0]
+    fig["sweep"] = sweep(coarse, rpms, 5)
+    fig["iso_kv"] = res_sector.iso_kv(rpms)
+    fig["wall_s"] = time.perf_counter() - t0
+    (HERE / "sector_dynamics_validation.json").write_text(json.dumps(fig, indent=1, default=float) + "\n")
+    PAGE.write_text(render(fig), encoding="utf-8")
+    print(f"wrote {PAGE} in {fig['wall_s']:.0f} s")
+
+
+def render(f: dict) -> str:
+    b, e, r0, r5, st, res = f["balance"], f["energy"], f["ring"][0], f["ring"][1], f["step"], f["resonance"]
+    mesh = f"{f['mesh_fine']['nx']} x {f['mesh_fine']['ny']}"
+    lines = [
+        "# The sector model in motion: measured",
+        "",
+        "Written by `docs/make_sector_dynamics_validation.py` (figures in "
+        "`sector_dynamics_validation.json`); the derivations are docs/sector.md, section 6. The "
+        f"paper's pair at {TORQUE:g} N m on the driver, teeth of {mesh} elements unless said.",
+        "",
+        "## Load balance (quasi-static, 10 rpm, 100 steps a cycle)",
+        "",
+        f"- The pairs' forces sum to `T / r_b` within **{b['load_balance_max_rel'] * 100:.3f} %** "
+        "at every step (the issue asks 0.5 %).",
+        f"- Away from the path's ends the transmission error is the static mesh cycle's at the "
+        f"run's phase within {b['te_vs_static_max_rel'] * 100:.2f} % (static mean "
+        f"{b['te_static_mean_um']:.2f} µm). Near the ends the run has the tip corners' early "
+        "and late contact that the static analysis leaves out.",
+        "",
+        "## Energy (undamped, rho_inf = 1, 1,000 rpm, one cycle)",
+        "",
+        f"Kinetic and strain energy, the strips' `c_H F^2/2`, less the torques' work: largest "
+        f"error {e['energy_error_max_J'] * 1e3:.3f} mJ, at the end {e['energy_error_end_J'] * 1e3:.3f} mJ, "
+        f"against {e['strain_max_J'] * 1e3:.2f} mJ of strain energy "
+        f"({e['energy_error_max_J'] / e['strain_max_J'] * 100:.1f} %): what is left is the strips "
+        "sliding over the deformed flank (Appendix A's terms) and their half-widths a step late.",
+        "",
+        "## Natural frequency, damping",
+        "",
+        f"After a pair leaves at {RING_RPM:,.0f} rpm the pair rings over the stretch of single "
+        "contact, where the quasi-static mesh force is `W` itself:",
+        "",
+        "| | ring (zero crossings) | from the single pair's stiffness | from the cycle's mean stiffness |",
+        "| --- | --- | --- | --- |",
+        f"| undamped | {r0['ring_hz'] / 1e3:.2f} kHz | {r0['f_single_hz'] / 1e3:.2f} kHz "
+        f"(k = {r0['k_single'] / 1e6:.0f} N/µm) | {r0['f_mean_hz'] / 1e3:.2f} kHz "
+        f"(k = {r0['k_mean'] / 1e6:.0f} N/µm) |",
+        f"| zeta = 0.05 | {r5['ring_hz'] / 1e3:.2f} kHz | | |",
+        "",
+        (f"With zeta = 0.05 (the damper's coefficient set from the cycle's mean stiffness; on the "
+         f"single pair's stiffness it is a ratio of {r5['zeta_single']:.4f}) the logarithmic "
+         f"decrement of the ring's {r5['periods']} peaks gives **{r5['decay_ratio']:.4f}**."
+         if r5["decay_ratio"] is not None else "Too few periods to measure the decay."),
+        "",
+        "## Time step (6,000 rpm, 4 cycles, zeta = 0.05, 2 x 8)",
+        "",
+        "| step | dt | settled dynamic factor | TE RMS | wall |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    for k in ("default", "half"):
+        s = st[k]
+        lines.append(f"| {k} | {s['dt_s'] * 1e6:.3f} µs | {s['dynamic_factor']:.4f} | "
+                     f"{s['te_rms_um']:.3f} µm | {s['wall_s']:.1f} s ({s['steps']} steps, {s['n_dof']:,} DOFs) |")
+    d = abs(st["half"]["dynamic_factor"] / st["default"]["dynamic_factor"] - 1) * 100
+    lines += [
+        "",
+        f"Halving the step moves the dynamic factor by {d:.2f} %.",
+        "",
+        "## Dynamic factor against speed (zeta = 0.05, 5 cycles, the last one settled, 2 x 8)",
+        "",
+        f"Resonance from the sector's own mean mesh stiffness: **{res['sector_rpm']:,.0f} rpm** "
+        f"(f_n {res['sector_fn_hz'] / 1e3:.2f} kHz); from the paper model's root-clamped tooth "
+        f"pair {res['tooth_rpm']:,.0f} rpm ({res['tooth_fn_hz'] / 1e3:.2f} kHz); ISO 6336-1's "
+        f"n_E1 {res['iso_rpm']:,.0f} rpm.",
+        "",
+        "| rpm | dynamic factor | ISO K_v | TE RMS (µm) | settled | wall (s) |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for row, kv in zip(f["sweep"], f["iso_kv"] or [None] * len(f["sweep"])):
+        lines.append(f"| {row['rpm']:,.0f} | {row['dynamic_factor']:.3f} | "
+                     f"{'' if kv is None else f'{kv:.3f}'} | {row['te_rms_um']:.3f} | "
+                     f"{'yes' if row['settled'] else 'no'} | {row['wall_s']:.0f} |")
+    lines += ["", f"The page took {f['wall_s'] / 60:.1f} min.", ""]
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    main()

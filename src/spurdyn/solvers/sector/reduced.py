@@ -1,0 +1,149 @@
+"""A gear body of the sector model reduced to its low modes and its flanks' static
+flexibility (docs/sector.md, section 6.6).
+
+The body's elastic displacements in the hub's frame are a sum of ``m`` modes of the body
+with the hub held and a quasi-static remainder under the contact loads,
+
+    u = Phi eta + R f,      R = K^-1 - Phi Omega^-2 Phi^T,
+
+``Phi`` M-orthonormal with ``Phi^T K Phi = Omega^2``: the lowest modes, Ritz-augmented by
+the static response to the hub's angular acceleration ``K^-1 M s`` (so that the inertia of a
+turning rim is in the basis). ``R`` is the residual flexibility: the part of the static
+response the modes miss, which acts without inertia (the modes above the basis' highest
+lie far above the frequencies a run resolves). The contact load of a pair on a tooth is
+``f = b F``, so a pair's gap reads ``b^T Phi eta`` through the modes and the pairs couple
+through ``b_i^T R b_j``, a compliance beside the strip's ``c_H``. The gear's coordinates
+become ``(theta, eta)``: a few hundred numbers instead of tens of thousands.
+
+The flexibility blocks ``E_i^T K^-1 E_j`` between the flank DOFs of teeth ``i`` and ``j`` come
+from the static factor's response to unit loads on a flank, computed once per tooth; on a
+whole gear, whose ring is the same under a turn by a pitch, once: in the teeth's own frames
+the block depends on ``j - i`` only.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.sparse.linalg import eigsh
+
+from spurdyn.solvers.sector.system import GearBlock
+
+#: Modes kept: every mode of the held body below this multiple of the step's kept frequency.
+MODE_FACTOR = 3.0
+
+
+def _turn_block(angle: float, n_nodes: int) -> NDArray[np.float64]:
+    """``(2n, 2n)`` block rotation turning each node's vector clockwise by ``angle``
+    (:func:`spurdyn.mesh.sector.turn` as a matrix)."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.kron(np.eye(n_nodes), np.array([[c, s], [-s, c]]))
+
+
+@dataclass
+class ReducedGear:
+    """One gear's body on its modes (module docstring; SI units).
+
+    Attributes
+    ----------
+    block
+        The full gear (:class:`~spurdyn.solvers.sector.system.GearBlock`).
+    phi
+        ``(n, m)`` M-orthonormal modes of the held body (free DOFs).
+    omega2
+        ``(m,)`` their ``omega^2`` (rad^2/s^2).
+    coupling
+        ``(m,)`` ``Phi^T M s``: the modes' share of the rim's turning inertia.
+    """
+
+    block: GearBlock
+    phi: NDArray[np.float64]
+    omega2: NDArray[np.float64]
+    coupling: NDArray[np.float64]
+    _flex: dict[tuple[int, int], NDArray[np.float64]] = field(default_factory=dict, repr=False)
+    _resp: dict[int, NDArray[np.float64]] = field(default_factory=dict, repr=False)
+
+    @property
+    def m(self) -> int:
+        return self.omega2.size
+
+    def modes_at(self, k: int) -> NDArray[np.float64]:
+        """``(2 (2 ny + 1), m)`` the modes at tooth ``k``'s flank DOFs."""
+        return self.phi[self.block.flank_dofs(k)]
+
+    def _static(self, k: int) -> NDArray[np.float64]:
+        """``K^-1 E_k``: the held body's response to unit loads on tooth ``k``'s flank DOFs."""
+        key = self.block.tooth(k)
+        if key not in self._resp:
+            blk = self.block
+            dofs = blk.flank_dofs(k)
+            rhs = np.zeros((blk.mass.size, dofs.size))
+            rhs[dofs, np.arange(dofs.size)] = 1.0
+            self._resp[key] = blk.body._lu.solve(rhs)
+        return self._resp[key]
+
+    def residual(self, i: int, j: int) -> NDArray[np.float64]:
+        """``E_i^T R E_j``: the residual flexibility between the flank DOFs of teeth ``i``
+        and ``j`` (m/N)."""
+        blk = self.block
+        key = (blk.tooth(i), blk.tooth(j))
+        if key not in self._flex:
+            if blk.whole:
+                # the ring is the same under a turn by a pitch: in the teeth's frames the block
+                # of teeth (i, j) is that of (i - j, 0)
+                z = blk.count
+                d = (i - j) % z
+                base = self._static(blk.first)
+                n_side = blk.body.flank.side_nodes.size
+                t_i = _turn_block(blk.body.mesh.tooth_angle(blk.tooth(i)), n_side)
+                t_j = _turn_block(blk.body.mesh.tooth_angle(blk.tooth(j)), n_side)
+                t_d = _turn_block(blk.body.mesh.tooth_angle(blk.tooth(blk.first + d)), n_side)
+                t_0 = _turn_block(blk.body.mesh.tooth_angle(blk.first), n_side)
+                local = t_d.T @ base[blk.flank_dofs(blk.first + d)] @ t_0
+                full = t_i @ local @ t_j.T
+            else:
+                full = self._static(j)[blk.flank_dofs(i)]
+            phi_i, phi_j = self.modes_at(i), self.modes_at(j)
+            self._flex[key] = full - (phi_i / self.omega2) @ phi_j.T
+        return self._flex[key]
+
+
+def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
+    """The modes of ``block``'s held body below ``max_frequency`` (Hz), Ritz-augmented by
+    the static response to a unit hub acceleration's inertial load (module docstring)."""
+    mass = sp.diags(block.mass).tocsc()
+    k = block.stiffness.tocsc()
+    # shift-invert about 0 through the body's own static factor: the lowest modes first
+    lu = block.body._lu
+    op = sp.linalg.LinearOperator(k.shape, matvec=lambda x: lu.solve(np.asarray(x, dtype=float)),
+                                  dtype=float)
+    count = 24
+    target = (2.0 * math.pi * max_frequency) ** 2
+    while True:
+        count = min(count, k.shape[0] - 2)
+        w2, vec = eigsh(k, k=count, M=mass, sigma=0.0, which="LM", OPinv=op)
+        if w2.max() >= target or count >= k.shape[0] - 2:
+            break
+        count *= 2
+    keep = w2 < target
+    basis = np.column_stack([vec[:, keep], lu.solve(block.mass * block.rot)])
+    # Rayleigh-Ritz on the augmented basis: M-orthonormal modes diagonalising K
+    kr = basis.T @ (k @ basis)
+    mr = basis.T @ (block.mass[:, None] * basis)
+    w2r, vr = _generalized_eigh(kr, mr)
+    phi = basis @ vr
+    return ReducedGear(block=block, phi=phi, omega2=w2r, coupling=phi.T @ (block.mass * block.rot))
+
+
+def _generalized_eigh(k: NDArray[np.float64], m: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    from scipy.linalg import eigh
+
+    w2, v = eigh(0.5 * (k + k.T), 0.5 * (m + m.T))
+    return w2, v
+
+
+__all__ = ["MODE_FACTOR", "ReducedGear", "reduce_gear"]

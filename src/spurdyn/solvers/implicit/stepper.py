@@ -16,7 +16,7 @@ from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.implicit.step_numpy import ImplicitMethod, ImplicitState
-from spurdyn.solvers.layout import CP, NCOL, OK, H, ImplicitPack
+from spurdyn.solvers.layout import CP, OK, HistoryRow, ImplicitPack
 from spurdyn.solvers.paper.dynamics_numpy import torques
 from spurdyn.solvers.paper.step_numpy import initial_state
 
@@ -43,16 +43,13 @@ class ImplicitStepper(Stepper):
 
     def row(self) -> NDArray[np.float64]:
         st = self.state
-        row = np.zeros(NCOL)
-        row[H.t] = self.t
-        row[H.theta_a], row[H.theta_b] = st.theta
-        row[H.omega_a], row[H.omega_b] = st.omega
-        row[H.tau_a], row[H.tau_b] = torques(self.system, self.settings.torque, st.theta)
-        row[H.p] = st.x[-1]
-        row[H.s], row[H.alpha], row[H.beta], row[H.mode], row[H.half_width] = self.contact_columns()
-        row[H.res1] = self.residual[0]
-        row[H.it1] = self.iterations[0]
-        return row
+        tau = torques(self.system, self.settings.torque, st.theta)
+        s, alpha, beta, mode, half = self.contact_columns()
+        return np.array(HistoryRow(
+            t=self.t, theta_a=st.theta[0], theta_b=st.theta[1], omega_a=st.omega[0],
+            omega_b=st.omega[1], tau_a=tau[0], tau_b=tau[1], p=st.x[-1], s=s, alpha=alpha,
+            beta=beta, mode=mode, res1=self.residual[0], res2=0.0, res3=0.0,
+            it1=self.iterations[0], it2=0, it3=0, half_width=half), dtype=np.float64)
 
     def _advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
                  frames_every: int, frames: Frames) -> tuple[int, int, int]:

@@ -25,7 +25,8 @@ from spurdyn.model.system import (
     SENSE, FlankPair, assemble_system, build_system, gear_body, tooth_body,
 )
 from spurdyn.settings import RPM, RunSettings
-from spurdyn.solvers.layout import NCOL
+from spurdyn.solvers.layout import CP, HISTORY, NCOL, H, HistoryRow
+from spurdyn.solvers.paper.dynamics_numpy import torques
 from spurdyn.solvers.loop import STEPPERS, make_stepper
 
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "spurdyn"
@@ -232,3 +233,89 @@ def test_an_unknown_integrator_is_refused_naming_it():
     with pytest.raises(InputError) as err:
         RunSettings(speed_a=1.0, speed_b=1.0, torque=1.0, integrator="euler")
     assert err.value.field == "integrator"
+
+
+# -- the history row, declared once ----------------------------------------------------------
+
+def _history_row_calls() -> dict[str, list[ast.Call]]:
+    """``{module: [HistoryRow(...) calls]}`` over the package (the modules that build one)."""
+    found: dict[str, list[ast.Call]] = {}
+    for path in _sources():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Call) and ast.unparse(node.func).endswith("HistoryRow"):
+                found.setdefault(str(path.relative_to(PACKAGE).as_posix()), []).append(node)
+    return found
+
+
+def test_every_history_writer_builds_the_one_declared_row():
+    """The history's columns are declared once (``layout.HISTORY``); ``HistoryRow`` is that
+    declaration, its field order the column order. Each writer (the compiled ``write_row``
+    and the NumPy steppers' ``row``) builds one naming every column, so a column added to
+    the declaration and not written fails here (and in the writer, where the constructor
+    misses it); no module writes a row column by column any more."""
+    assert HistoryRow._fields == HISTORY and len(HistoryRow._fields) == NCOL
+    assert tuple(H) == tuple(range(NCOL)) and H._fields == HISTORY
+    calls = _history_row_calls()
+    assert {"solvers/paper/step_compiled.py", "solvers/paper/stepper_numpy.py"} <= set(calls)
+    assert any(m.startswith("solvers/implicit/") for m in calls)
+    for module, nodes in calls.items():
+        for node in nodes:
+            names = [k.arg for k in node.keywords]
+            assert not node.args and sorted(names) == sorted(HISTORY), (
+                f"{module}:{node.lineno} builds a HistoryRow of {names}, not of HISTORY")
+    by_column = [f"{path.relative_to(PACKAGE)}:{node.lineno}" for path in _sources()
+                 for node in ast.walk(ast.parse(path.read_text()))
+                 if isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store)
+                 and isinstance(node.slice, ast.Attribute) and ast.unparse(node.slice.value) == "H"]
+    assert by_column == [], "rows written column by column: " + "; ".join(by_column)
+
+
+def _contact_columns(stepper) -> dict[str, float]:
+    """The contact columns of a stepper's state, wherever the stepper keeps them."""
+    if hasattr(stepper, "contact_columns"):
+        values = stepper.contact_columns()
+    elif hasattr(stepper.state, "cpar"):
+        cp = stepper.state.cpar
+        values = (cp[CP.s], cp[CP.alpha], cp[CP.beta], cp[CP.mode], cp[CP.half_width])
+    else:
+        c = stepper.state.contact
+        values = (c.s, c.alpha, c.beta, c.mode, c.half_width)
+    return dict(zip(("s", "alpha", "beta", "mode", "half_width"), values))
+
+
+@pytest.mark.parametrize("integrator, backend", sorted(STEPPERS))
+def test_every_history_writer_fills_each_column_with_its_own_value(integrator, backend):
+    """Every registered stepper's history rows, written by its writer, hold column by
+    column (by name) what its state says: the value of each column is told apart from the
+    others (distributed contact under load, so none of the state's columns is 0 by chance),
+    and none is left unwritten (the rows start as NaN)."""
+    pair = paper_pair()
+    settings = RunSettings(speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE,
+                           contact="hertz", backend=backend, integrator=integrator)
+    if integrator == "implicit":
+        settings = settings.with_(dt=6.6e-7)
+    system = build_system(pair, settings)
+    stepper = make_stepper(system, settings)
+    steps = 3
+    out = np.full((steps + 1, NCOL), np.nan)
+    assert stepper.advance(steps, math.inf, 1, out, 0, []) == (steps, steps, "")
+    assert not np.isnan(out[:steps]).any()
+    assert np.array_equal(out[steps - 1], stepper.row())
+    res, its = stepper.residual, stepper.iterations
+    tau = torques(system, settings.torque, stepper.theta)
+    expected = dict(
+        t=stepper.t, theta_a=stepper.theta[0], theta_b=stepper.theta[1],
+        omega_a=stepper.omega[0], omega_b=stepper.omega[1], tau_a=tau[0], tau_b=tau[1],
+        p=stepper.x[-1], res1=res[0], it1=its[0], **_contact_columns(stepper),
+        # the implicit scheme has no velocity or acceleration stage: those columns are 0
+        **(dict(res2=0.0, res3=0.0, it2=0, it3=0) if integrator == "implicit" else
+           dict(res2=res[1], res3=res[2], it2=its[1], it3=its[2])))
+    assert set(expected) == set(HISTORY)
+    row = dict(zip(HISTORY, out[steps - 1]))
+    assert row == pytest.approx(expected, rel=0, abs=0)
+    # the columns the state sets tell each other apart (mode and the iteration counts may
+    # coincide, the displacement stage's residual is the error of the gap the constraint
+    # holds, and the implicit scheme's unused columns are 0)
+    told = [v for k, v in expected.items()
+            if k not in ("mode", "it1", "it2", "it3", "res1", "res2", "res3")]
+    assert len(set(told)) == len(told), expected

@@ -219,3 +219,31 @@ def test_the_compiled_implicit_step_follows_its_numpy_twin(contact):
     b = simulate(case.pair, run.with_(backend="numpy"))
     assert a.steps == b.steps == 150 and a.contact_force.max() > 500.0
     assert np.abs(a.contact_force - b.contact_force).max() <= 1e-8 * a.contact_force.max()
+
+
+@pytest.mark.parametrize("contact", ["point", "hertz"])
+def test_the_compiled_implicit_stepper_starts_from_the_free_start_without_a_numpy_step(
+        contact, monkeypatch):
+    """The compiled implicit stepper takes its start state and its pack from the free
+    functions both steppers call (``implicit_scheme``, ``initial_implicit_state``): it
+    builds no NumPy step (no ``ImplicitMethod``, whose per-gear factorisations it does not
+    need), and it starts from the very state the NumPy stepper starts from."""
+    from spurdyn.solvers.implicit import step_numpy
+    from spurdyn.solvers.implicit.stepper import CompiledImplicitStepper
+
+    case = RunSettings(contact=contact, speed_a=4000 * RPM, speed_b=4000 * RPM, torque=10.0,
+                       integrator="implicit", dt=6.6e-7, damping_ratio=0.05,
+                       rayleigh_mass=300.0, rayleigh_stiffness=2e-8)
+    system = build_system(PAIR, case)
+    ref = ImplicitStepper(system, case)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the compiled stepper built a NumPy step")
+
+    monkeypatch.setattr(step_numpy.ImplicitMethod, "__init__", refuse)
+    fast = CompiledImplicitStepper(system, case.with_(backend="numba"))
+    assert not isinstance(fast, ImplicitStepper)
+    for name in ("theta", "omega", "u", "v", "x", "qdd", "acc"):
+        assert np.array_equal(getattr(fast.state, name), getattr(ref.state, name)), name
+    assert fast.t == ref.t and np.array_equal(fast.row(), ref.row())
+    assert fast.I.c_mesh == ref.method.c_mesh > 0.0 and np.array_equal(fast.I.mq, ref.method.mq)

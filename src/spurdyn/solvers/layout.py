@@ -11,11 +11,17 @@ from __future__ import annotations
 
 from collections import namedtuple
 
-#: Columns of the time history, one row per saved step. Every writer (the compiled
-#: ``write_row``, the NumPy stepper's ``row``) and the reader (the time loop's result)
-#: index rows by these names.
+#: Columns of the time history, one row per saved step, declared here only: every writer
+#: builds a :class:`HistoryRow` (the compiled ``write_row`` of
+#: :mod:`spurdyn.solvers.paper.step_compiled`, the NumPy steppers' ``row``), and the
+#: reader (the time loop's result) reads the columns by these names.
 HISTORY = ("t", "theta_a", "theta_b", "omega_a", "omega_b", "tau_a", "tau_b", "p", "s",
            "alpha", "beta", "mode", "res1", "res2", "res3", "it1", "it2", "it3", "half_width")
+#: One history row by name; its field order is the column order. The writers construct it
+#: with every field named (a column added to :data:`HISTORY` and not written fails there)
+#: and copy it into the row in field order; the compiled writer passes floats only, so
+#: Numba can index the tuple in a loop.
+HistoryRow = namedtuple("HistoryRow", HISTORY)
 #: Column indices of :data:`HISTORY` by name.
 H = namedtuple("HistoryColumns", HISTORY)(*range(len(HISTORY)))
 NCOL = len(HISTORY)

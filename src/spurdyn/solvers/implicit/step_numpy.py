@@ -45,6 +45,7 @@ from spurdyn.solvers.implicit.damping import mesh_damper_coefficient, rayleigh_f
 from spurdyn.solvers.paper.dynamics_numpy import (
     blocks, contact_at, elastic, jacobian, root_phi, strip_law, torques,
 )
+from spurdyn.solvers.paper.step_numpy import initial_state
 
 
 @dataclass
@@ -62,28 +63,101 @@ class ImplicitState:
     acc: NDArray[np.float64]     # (2 + n_u,) the scheme's acceleration-like variable a
 
 
+@dataclass(frozen=True)
+class ImplicitScheme:
+    """What both implicit steppers read of a run besides the model: the scheme's
+    coefficients ``coef`` and ``bp = beta'``, ``gp = gamma'`` at the step; the strip's
+    ``law`` ``(E*, L)`` (None for the point contact) and its compliance ``c_h``; ``mq`` the
+    masses of ``q = [theta, u]``; ``base`` ``(r_bA, -r_bB)``; ``c_mesh`` the mesh damper."""
+
+    coef: GeneralizedAlpha
+    bp: float
+    gp: float
+    law: tuple[float, float] | None
+    c_h: float
+    mq: NDArray[np.float64]
+    base: NDArray[np.float64]
+    c_mesh: float
+
+
+def implicit_scheme(system: PairSystem, case: RunSettings) -> ImplicitScheme:
+    """The :class:`ImplicitScheme` of a run (the mesh damper from the pair's static
+    stiffness at the pitch point, when ``case.damping_ratio`` asks for one)."""
+    coef = GeneralizedAlpha(case.rho_inf)
+    h = case.dt
+    law = strip_law(system) if case.contact == "hertz" else None
+    ra, rb = (g.base_radius for g in system.gears)
+    c_mesh = 0.0
+    if case.damping_ratio > 0.0:
+        from spurdyn.solvers.paper.statics import static_stiffness
+
+        pair = system.pair
+        k = static_stiffness(system, pair.pitch_roll_a, static_force(pair, case.torque),
+                             case.contact).stiffness
+        m_e = reduced_mass(system.gears[0].inertia, system.gears[1].inertia, ra, rb)
+        c_mesh = mesh_damper_coefficient(case.damping_ratio, k, m_e)
+    return ImplicitScheme(
+        coef=coef, bp=coef.beta_prime(h), gp=coef.gamma_prime(h), law=law,
+        c_h=strip_compliance(*law) if law is not None else 0.0,
+        mq=np.concatenate([[g.inertia for g in system.gears], system.mass]),
+        base=np.array([ra, -rb]),    # d(delta)/d(theta): delta = r_bA th_A - r_bB th_B
+        c_mesh=c_mesh)
+
+
+def generalized_forces(system: PairSystem, case: RunSettings, scheme: ImplicitScheme,
+                       theta: NDArray[np.float64], omega: NDArray[np.float64],
+                       u: NDArray[np.float64], v: NDArray[np.float64],
+                       touching: bool) -> NDArray[np.float64]:
+    """``F(q, qdot)``: torques, elastic and damping forces, stacked like ``q``."""
+    s = system
+    out = np.empty(2 + s.n_u)
+    out[:2] = torques(s, case.torque, theta)
+    fu = blocks(s, out[2:])
+    for g, (gb, ub, vb) in enumerate(zip(s.gears, blocks(s, u), blocks(s, v))):
+        q, f = elastic(gb, theta[g], ub, case.keep_theta_term)
+        out[g] += q
+        fu[g][:] = f
+        if case.rayleigh_mass or case.rayleigh_stiffness:
+            qd, fd = rayleigh_forces(gb, theta[g], omega[g], ub, vb,
+                                     case.rayleigh_mass, case.rayleigh_stiffness)
+            out[g] += qd
+            fu[g] += fd
+    if touching and scheme.c_mesh:
+        out[:2] -= scheme.c_mesh * float(scheme.base @ omega) * scheme.base
+    return out
+
+
+def state_at(system: PairSystem, case: RunSettings, scheme: ImplicitScheme,
+             theta: NDArray[np.float64], omega: NDArray[np.float64], u: NDArray[np.float64],
+             v: NDArray[np.float64], x: NDArray[np.float64], contact: ContactPair,
+             t: float = 0.0) -> ImplicitState:
+    """The state at ``t`` with the accelerations of the forces ``x`` (``a = qddot``)."""
+    touching = bool(x[-1] < 0.0)
+    f = generalized_forces(system, case, scheme, theta, omega, u, v, touching)
+    gmat = jacobian(system, theta, contact)
+    qdd = (f + gmat.T @ x) / scheme.mq
+    return ImplicitState(t=t, theta=theta.copy(), omega=omega.copy(), u=u.copy(), v=v.copy(),
+                         x=x.copy(), contact=contact, qdd=qdd, acc=qdd.copy())
+
+
+def initial_implicit_state(system: PairSystem, case: RunSettings,
+                           scheme: ImplicitScheme) -> ImplicitState:
+    """The implicit steppers' start: the paper's
+    (:func:`~spurdyn.solvers.paper.step_numpy.initial_state`: the teeth just touching,
+    turning rigidly, with the forces of an acceleration stage at ``t = 0``) with the
+    accelerations those forces give."""
+    s0 = initial_state(system, case)
+    return state_at(system, case, scheme, s0.theta, s0.omega, s0.u, s0.v, s0.x, s0.contact, s0.t)
+
+
 class ImplicitMethod:
     """The generalized-alpha step of the paper's model (one tooth per gear, one contact)."""
 
     def __init__(self, system: PairSystem, case: RunSettings) -> None:
         self.system, self.case = system, case
-        self.coef = GeneralizedAlpha(case.rho_inf)
-        h = case.dt
-        self.bp, self.gp = self.coef.beta_prime(h), self.coef.gamma_prime(h)
-        self.law = strip_law(system) if case.contact == "hertz" else None
-        self.c_h = strip_compliance(*self.law) if self.law is not None else 0.0
-        self.mq = np.concatenate([[g.inertia for g in system.gears], system.mass])
-        ra, rb = (g.base_radius for g in system.gears)
-        self.base = np.array([ra, -rb])    # d(delta)/d(theta): delta = r_bA th_A - r_bB th_B
-        self.c_mesh = 0.0
-        if case.damping_ratio > 0.0:
-            from spurdyn.solvers.paper.statics import static_stiffness
-
-            pair = system.pair
-            k = static_stiffness(system, pair.pitch_roll_a, static_force(pair, case.torque),
-                                 case.contact).stiffness
-            m_e = reduced_mass(system.gears[0].inertia, system.gears[1].inertia, ra, rb)
-            self.c_mesh = mesh_damper_coefficient(case.damping_ratio, k, m_e)
+        self.scheme = sc = implicit_scheme(system, case)
+        self.coef, self.bp, self.gp, self.law, self.c_h = sc.coef, sc.bp, sc.gp, sc.law, sc.c_h
+        self.mq, self.base, self.c_mesh = sc.mq, sc.base, sc.c_mesh
         self.contact_at = lambda theta, u, guess, load=0.0: contact_at(
             system, theta, u, guess, load, self.law)
         ratio = self.gp / self.bp
@@ -102,23 +176,8 @@ class ImplicitMethod:
     # -- forces -------------------------------------------------------------------------
     def forces(self, theta: NDArray[np.float64], omega: NDArray[np.float64], u: NDArray[np.float64],
                v: NDArray[np.float64], touching: bool) -> NDArray[np.float64]:
-        """``F(q, qdot)``: torques, elastic and damping forces, stacked like ``q``."""
-        s, case = self.system, self.case
-        out = np.empty(2 + s.n_u)
-        out[:2] = torques(s, case.torque, theta)
-        fu = blocks(s, out[2:])
-        for g, (gb, ub, vb) in enumerate(zip(s.gears, blocks(s, u), blocks(s, v))):
-            q, f = elastic(gb, theta[g], ub, case.keep_theta_term)
-            out[g] += q
-            fu[g][:] = f
-            if case.rayleigh_mass or case.rayleigh_stiffness:
-                qd, fd = rayleigh_forces(gb, theta[g], omega[g], ub, vb,
-                                         case.rayleigh_mass, case.rayleigh_stiffness)
-                out[g] += qd
-                fu[g] += fd
-        if touching and self.c_mesh:
-            out[:2] -= self.c_mesh * float(self.base @ omega) * self.base
-        return out
+        """``F(q, qdot)`` (:func:`generalized_forces`)."""
+        return generalized_forces(self.system, self.case, self.scheme, theta, omega, u, v, touching)
 
     # -- the iteration matrix -----------------------------------------------------------
     def theta_block(self, touching: bool) -> NDArray[np.float64]:
@@ -277,11 +336,5 @@ class ImplicitMethod:
     def initial(self, theta: NDArray[np.float64], omega: NDArray[np.float64], u: NDArray[np.float64],
                 v: NDArray[np.float64], x: NDArray[np.float64], contact: ContactPair,
                 t: float = 0.0) -> ImplicitState:
-        """The state at ``t`` with the accelerations of the forces ``x`` (``a = qddot``)."""
-        touching = bool(x[-1] < 0.0)
-        f = self.forces(theta, omega, u, v, touching)
-        gmat = jacobian(self.system, theta, contact)
-        qdd = (f + gmat.T @ x) / self.mq
-        return ImplicitState(t=t, theta=theta.copy(), omega=omega.copy(), u=u.copy(), v=v.copy(),
-                             x=x.copy(), contact=contact, qdd=qdd, acc=qdd.copy())
-
+        """The state at ``t`` with the accelerations of the forces ``x`` (:func:`state_at`)."""
+        return state_at(self.system, self.case, self.scheme, theta, omega, u, v, x, contact, t)

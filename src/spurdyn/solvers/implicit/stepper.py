@@ -15,44 +15,36 @@ from threadpoolctl import threadpool_limits
 from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
-from spurdyn.solvers.implicit.step_numpy import ImplicitMethod, ImplicitState
-from spurdyn.solvers.layout import CP, NCOL, OK, H, ImplicitPack
+from spurdyn.solvers.implicit.step_numpy import (
+    ImplicitMethod, ImplicitScheme, ImplicitState, implicit_scheme, initial_implicit_state,
+)
+from spurdyn.solvers.layout import CP, OK, HistoryRow, ImplicitPack
 from spurdyn.solvers.paper.dynamics_numpy import torques
-from spurdyn.solvers.paper.step_numpy import initial_state
 
 
-class ImplicitStepper(Stepper):
-    """Steps :class:`~spurdyn.solvers.implicit.step_numpy.ImplicitMethod` from the paper's
-    start (:func:`~spurdyn.solvers.paper.step_numpy.initial_state`: the teeth just touching,
-    turning rigidly, with the forces of an acceleration stage at ``t = 0``).
+class _Implicit(Stepper):
+    """What both implicit steppers share: the history row and the loop over steps; each
+    supplies ``_one`` (one step, its status), ``contact_columns`` and ``state``.
 
     The history's first residual and iteration columns hold the Newton iteration's; the
     other two stay 0 (the scheme has no velocity or acceleration stage).
     """
 
-    def __init__(self, system: PairSystem, settings: RunSettings) -> None:
-        super().__init__(system, settings)
-        self.method = ImplicitMethod(system, settings)
-        s0 = initial_state(system, settings)
-        self.state: ImplicitState = self.method.initial(s0.theta, s0.omega, s0.u, s0.v, s0.x,
-                                                        s0.contact, s0.t)
-
     def contact_columns(self) -> tuple[float, float, float, float, float]:
-        c = self.state.contact
-        return c.s, c.alpha, c.beta, c.mode, c.half_width
+        raise NotImplementedError
+
+    def _one(self) -> int:
+        raise NotImplementedError
 
     def row(self) -> NDArray[np.float64]:
         st = self.state
-        row = np.zeros(NCOL)
-        row[H.t] = self.t
-        row[H.theta_a], row[H.theta_b] = st.theta
-        row[H.omega_a], row[H.omega_b] = st.omega
-        row[H.tau_a], row[H.tau_b] = torques(self.system, self.settings.torque, st.theta)
-        row[H.p] = st.x[-1]
-        row[H.s], row[H.alpha], row[H.beta], row[H.mode], row[H.half_width] = self.contact_columns()
-        row[H.res1] = self.residual[0]
-        row[H.it1] = self.iterations[0]
-        return row
+        tau = torques(self.system, self.settings.torque, st.theta)
+        s, alpha, beta, mode, half = self.contact_columns()
+        return np.array(HistoryRow(
+            t=self.t, theta_a=st.theta[0], theta_b=st.theta[1], omega_a=st.omega[0],
+            omega_b=st.omega[1], tau_a=tau[0], tau_b=tau[1], p=st.x[-1], s=s, alpha=alpha,
+            beta=beta, mode=mode, res1=self.residual[0], res2=0.0, res3=0.0,
+            it1=self.iterations[0], it2=0, it3=0, half_width=half), dtype=np.float64)
 
     def _advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
                  frames_every: int, frames: Frames) -> tuple[int, int, int]:
@@ -61,13 +53,6 @@ class ImplicitStepper(Stepper):
         # A diverging Newton iteration ends in a NaN the status reports: no warnings.
         with threadpool_limits(limits=1, user_api="blas"), np.errstate(all="ignore"):
             return self._steps(n, angle_end, save_every, rows, frames_every, frames)
-
-    def _one(self) -> int:
-        new, residual, its, status = self.method.step(self.state)
-        self.residual[0], self.iterations[0] = residual, its
-        if status == OK:
-            self.state = new
-        return status
 
     def _steps(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
                frames_every: int, frames: Frames) -> tuple[int, int, int]:
@@ -87,14 +72,38 @@ class ImplicitStepper(Stepper):
         return n, written, OK
 
 
-def implicit_pack(system: PairSystem, method: ImplicitMethod, ns: int) -> ImplicitPack:
+class ImplicitStepper(_Implicit):
+    """Steps :class:`~spurdyn.solvers.implicit.step_numpy.ImplicitMethod` from the paper's
+    start (:func:`~spurdyn.solvers.implicit.step_numpy.initial_implicit_state`: the teeth
+    just touching, turning rigidly, with the forces of an acceleration stage at ``t = 0``).
+    """
+
+    def __init__(self, system: PairSystem, settings: RunSettings) -> None:
+        super().__init__(system, settings)
+        self.method = ImplicitMethod(system, settings)
+        self.state: ImplicitState = initial_implicit_state(system, settings, self.method.scheme)
+
+    def contact_columns(self) -> tuple[float, float, float, float, float]:
+        c = self.state.contact
+        return c.s, c.alpha, c.beta, c.mode, c.half_width
+
+    def _one(self) -> int:
+        new, residual, its, status = self.method.step(self.state)
+        self.residual[0], self.iterations[0] = residual, its
+        if status == OK:
+            self.state = new
+        return status
+
+
+def implicit_pack(system: PairSystem, case: RunSettings, scheme: ImplicitScheme,
+                  ns: int) -> ImplicitPack:
     """The compiled step's pack: the coefficients, and the teeth's constant iteration
     blocks as one banded Cholesky factor (reverse Cuthill-McKee order) and their inverse
     at the root DOFs."""
-    case, coef = method.case, method.coef
-    ratio = method.gp / method.bp
+    coef = scheme.coef
+    ratio = scheme.gp / scheme.bp
     a, b = case.rayleigh_mass, case.rayleigh_stiffness
-    blocks = sp.block_diag([sp.diags(g.mass * (1.0 / method.bp + a * ratio))
+    blocks = sp.block_diag([sp.diags(g.mass * (1.0 / scheme.bp + a * ratio))
                             + (1.0 + b * ratio) * g.stiffness for g in system.gears], format="csr")
     perm = reverse_cuthill_mckee(blocks, symmetric_mode=True).astype(np.int64)
     permuted = blocks[perm][:, perm].tocoo()
@@ -109,41 +118,37 @@ def implicit_pack(system: PairSystem, method: ImplicitMethod, ns: int) -> Implic
     eye = np.zeros((blocks.shape[0], dofs.size))
     eye[dofs, np.arange(dofs.size)] = 1.0
     root_inv = splu(blocks.tocsc()).solve(eye)
-    law = method.law or (0.0, 0.0)
+    law = scheme.law or (0.0, 0.0)
     return ImplicitPack(
         h=case.dt, am=coef.alpha_m, af=coef.alpha_f, beta=coef.beta, gamma=coef.gamma,
-        bp=method.bp, gp=method.gp, mq=method.mq, band=np.ascontiguousarray(factor.T), perm=perm,
-        root_inv=np.ascontiguousarray(root_inv), base=method.base, c_mesh=method.c_mesh,
-        ray_a=float(a), ray_b=float(b), c_h=method.c_h, estar=float(law[0]), face=float(law[1]),
+        bp=scheme.bp, gp=scheme.gp, mq=scheme.mq, band=np.ascontiguousarray(factor.T), perm=perm,
+        root_inv=np.ascontiguousarray(root_inv), base=scheme.base, c_mesh=scheme.c_mesh,
+        ray_a=float(a), ray_b=float(b), c_h=scheme.c_h, estar=float(law[0]), face=float(law[1]),
         tol=case.tol_disp, max_iter=case.max_iter, ns=np.int64(ns))
 
 
-class CompiledImplicitStepper(ImplicitStepper):
+class CompiledImplicitStepper(_Implicit):
     """The compiled twin: :func:`spurdyn.solvers.implicit.step_compiled.step` in place on
-    the packed model of the paper's compiled stepper."""
+    the packed model of the paper's compiled stepper, from the NumPy stepper's start
+    (:func:`~spurdyn.solvers.implicit.step_numpy.initial_implicit_state`) and scheme; it
+    builds no NumPy step (no :class:`~spurdyn.solvers.implicit.step_numpy.ImplicitMethod`)."""
 
     def __init__(self, system: PairSystem, settings: RunSettings) -> None:
-        from spurdyn.solvers.paper.stepper_compiled import pack, strip_slots
+        from spurdyn.solvers.paper.stepper_compiled import contact_slots, pack, strip_slots
 
         super().__init__(system, settings)
-        st = self.state
+        scheme = implicit_scheme(system, settings)
+        st = initial_implicit_state(system, settings, scheme)
         c = st.contact
         ns = strip_slots(system, settings)
-        na = system.gears[0].mesh.n_nodes
-
-        def slots(nodes: NDArray[np.intp], w: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
-            pad = ns - nodes.size
-            return np.concatenate([nodes, np.full(pad, nodes[0])]), np.concatenate([w, np.zeros(pad)])
-
-        (nsa, wsa), (nsb, wsb) = slots(c.nodes_a, c.weights_a), slots(c.nodes_b, c.weights_b)
+        cn, cw = contact_slots(system, c, ns)
         self.P = pack(system, settings)
-        self.I = implicit_pack(system, self.method, ns)
+        self.I = implicit_pack(system, settings, scheme, ns)
         self.arrays = dict(
             theta=st.theta.copy(), omega=st.omega.copy(), u=st.u.copy(), v=st.v.copy(),
             x=st.x.copy(), qdd=st.qdd.copy(), acc=st.acc.copy(),
             cpar=np.array([c.alpha, c.beta, float(c.mode), c.s, 0.0, c.half_width]),
-            cn=np.concatenate([nsa, nsb + na]).astype(np.int64), cw=np.concatenate([wsa, wsb]),
-            normal=c.normal.copy())
+            cn=cn, cw=cw, normal=c.normal.copy())
         self.time = st.t
         self._res = np.zeros(1)
         self._its = np.zeros(1, dtype=np.int64)

@@ -18,7 +18,9 @@ from spurdyn.contact.constants import FLANK
 from spurdyn.contact.search_compiled import contact_rows, material_point, search, sliding
 from spurdyn.contact.strip_compiled import strip_half_width, strip_rows, virtual_point
 from spurdyn.jit import njit
-from spurdyn.solvers.layout import CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_STRIP, FAIL_VEL, OK, H
+from spurdyn.solvers.layout import (
+    CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_STRIP, FAIL_VEL, OK, HistoryRow,
+)
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_compiled import (
     accelerations, constraint_force, gram, gram_contact, max_abs, root_phi_theta, rotation, torque,
@@ -376,25 +378,15 @@ def advance(P, S, cfg, n_steps, angle_end, save_every, rows, frames_every, frame
 
 @njit
 def write_row(P, S, row):
-    """The history row (columns :data:`spurdyn.solvers.layout.H`) of the state ``S``."""
+    """The history row of the state ``S``: a :class:`~spurdyn.solvers.layout.HistoryRow`
+    (every column named, all floats) copied into ``row`` in field order."""
     ta, _ = torque(P.tpar, np.int64(0), S.theta[0])
     tb, _ = torque(P.tpar, np.int64(1), S.theta[1])
-    row[H.t] = S.t[0]
-    row[H.theta_a] = S.theta[0]
-    row[H.theta_b] = S.theta[1]
-    row[H.omega_a] = S.omega[0]
-    row[H.omega_b] = S.omega[1]
-    row[H.tau_a] = ta
-    row[H.tau_b] = tb
-    row[H.p] = S.x[S.x.size - 1]
-    row[H.s] = S.cpar[CP.s]
-    row[H.alpha] = S.cpar[CP.alpha]
-    row[H.beta] = S.cpar[CP.beta]
-    row[H.mode] = S.cpar[CP.mode]
-    row[H.res1] = S.res[0]
-    row[H.res2] = S.res[1]
-    row[H.res3] = S.res[2]
-    row[H.it1] = S.its[0]
-    row[H.it2] = S.its[1]
-    row[H.it3] = S.its[2]
-    row[H.half_width] = S.cpar[CP.half_width]
+    values = HistoryRow(
+        t=S.t[0], theta_a=S.theta[0], theta_b=S.theta[1], omega_a=S.omega[0],
+        omega_b=S.omega[1], tau_a=ta, tau_b=tb, p=S.x[S.x.size - 1], s=S.cpar[CP.s],
+        alpha=S.cpar[CP.alpha], beta=S.cpar[CP.beta], mode=S.cpar[CP.mode], res1=S.res[0],
+        res2=S.res[1], res3=S.res[2], it1=float(S.its[0]), it2=float(S.its[1]),
+        it3=float(S.its[2]), half_width=S.cpar[CP.half_width])
+    for i in range(len(values)):
+        row[i] = values[i]

@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 from scipy.sparse import block_diag
 
 from spurdyn.contact.constants import flank_row
+from spurdyn.contact.search_numpy import ContactPair
 from spurdyn.contact.hertz import half_width, involute_curvature_radius, strip_compliance
 from spurdyn.model.loading import gear_angles, torque_amplitudes
 from spurdyn.model.system import PairSystem
@@ -99,19 +100,25 @@ def strip_slots(system: PairSystem, settings: RunSettings) -> int:
     return int(min(2 * rows + 1, 2 * min(fa.ny, fb.ny) + 1))
 
 
-def compiled_start(system: PairSystem, settings: RunSettings, st: State) -> CompiledState:
-    """The compiled state of the NumPy start state ``st`` (with its accelerations and ``C``)."""
-    c = st.contact
+def contact_slots(system: PairSystem, c: ContactPair, ns: int
+                  ) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """The contact rows of ``c`` in ``ns`` slots per gear: nodes ``cn`` (both teeth's
+    stacked, A first) and weights ``cw``, a narrower row padded by its first node with
+    weight 0."""
     na = system.gears[0].mesh.n_nodes
-    ns = strip_slots(system, settings)
 
     def slots(nodes: NDArray[np.intp], w: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
         pad = ns - nodes.size
         return np.concatenate([nodes, np.full(pad, nodes[0])]), np.concatenate([w, np.zeros(pad)])
 
     (nsa, wsa), (nsb, wsb) = slots(c.nodes_a, c.weights_a), slots(c.nodes_b, c.weights_b)
-    cn = np.concatenate([nsa, nsb + na]).astype(np.int64)
-    cw = np.concatenate([wsa, wsb])
+    return np.concatenate([nsa, nsb + na]).astype(np.int64), np.concatenate([wsa, wsb])
+
+
+def compiled_start(system: PairSystem, settings: RunSettings, st: State) -> CompiledState:
+    """The compiled state of the NumPy start state ``st`` (with its accelerations and ``C``)."""
+    c = st.contact
+    cn, cw = contact_slots(system, c, strip_slots(system, settings))
     # Accelerations at t = 0 with the initial forces: RK4's first slope of step 1.
     alpha0, a0 = accelerations(system, settings, st.theta, st.u,
                                *constraint_force(system, st.theta, c, st.x))

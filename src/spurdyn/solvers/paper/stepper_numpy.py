@@ -8,7 +8,7 @@ from numpy.typing import NDArray
 from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
-from spurdyn.solvers.layout import FAIL_NAN, NCOL, OK, H
+from spurdyn.solvers.layout import FAIL_NAN, OK, HistoryRow
 from spurdyn.solvers.paper.step_numpy import PaperMethod, State, initial_state
 
 
@@ -23,17 +23,12 @@ class NumpyStepper(Stepper):
     def row(self) -> NDArray[np.float64]:
         st, c = self.state, self.state.contact
         tau = self.method.torques(st.theta)
-        row = np.empty(NCOL)
-        row[H.t] = st.t
-        row[H.theta_a], row[H.theta_b] = st.theta
-        row[H.omega_a], row[H.omega_b] = st.omega
-        row[H.tau_a], row[H.tau_b] = tau
-        row[H.p] = st.x[-1]
-        row[H.s], row[H.alpha], row[H.beta], row[H.mode] = c.s, c.alpha, c.beta, c.mode
-        row[H.res1], row[H.res2], row[H.res3] = self.residual
-        row[H.it1], row[H.it2], row[H.it3] = self.iterations
-        row[H.half_width] = c.half_width
-        return row
+        res, its = self.residual, self.iterations
+        return np.array(HistoryRow(
+            t=st.t, theta_a=st.theta[0], theta_b=st.theta[1], omega_a=st.omega[0],
+            omega_b=st.omega[1], tau_a=tau[0], tau_b=tau[1], p=st.x[-1], s=c.s, alpha=c.alpha,
+            beta=c.beta, mode=c.mode, res1=res[0], res2=res[1], res3=res[2], it1=its[0],
+            it2=its[1], it3=its[2], half_width=c.half_width), dtype=np.float64)
 
     def _advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
                  frames_every: int, frames: Frames) -> tuple[int, int, int]:

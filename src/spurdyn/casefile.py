@@ -31,7 +31,7 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, MAX_GRADING
 from spurdyn.settings import (
-    BACKENDS, CONTACTS, INTEGRATORS, METHODS, MODEL_NAMES, PAPER_DT, RETIRED_METHODS, RPM, STIFFNESSES, RunSettings,
+    BACKENDS, BODIES, CONTACTS, INTEGRATORS, METHODS, MODEL_NAMES, PAPER_DT, RETIRED_METHODS, RPM, STIFFNESSES, RunSettings,
 )
 from spurdyn.solvers.check import check_run, default_dt, round_down, stable_step
 from spurdyn.solvers.implicit.alpha import accuracy_step
@@ -41,7 +41,7 @@ RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
     "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
     "keep_theta_term", "damping_ratio", "integrator", "rho_inf", "rayleigh_mass",
-    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles", "stiffness",
+    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles", "stiffness", "bodies",
 }
 
 
@@ -250,6 +250,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         **_rayleigh(src),
         cycles=src.integer("cycles", None, 1),
         stiffness=src.choice("stiffness", "tooth", STIFFNESSES),
+        bodies=src.choice("bodies", "modal", BODIES),
         name=name,
     )
     try:
@@ -380,6 +381,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         run_table["cycles"] = run.cycles
     if run.stiffness != "tooth":
         run_table["stiffness"] = run.stiffness
+    if run.bodies != "modal":
+        run_table["bodies"] = run.bodies
     return {
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),

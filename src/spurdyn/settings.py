@@ -41,6 +41,9 @@ MODEL_NAMES = ("fe", "lumped", "sector")
 #: Where the lumped model's mesh stiffness comes from: the paper model's root-clamped tooth
 #: pair, or the sector model's quasi-static mesh cycle (docs/sector.md).
 STIFFNESSES = ("tooth", "sector")
+#: How the sector model steps its bodies: on their modes and the flanks' residual
+#: flexibility (fast), or whole (the reference; docs/sector.md, section 6.6).
+BODIES = ("modal", "full")
 #: Why the sector stiffness needs a steady state (the one place that says it).
 SECTOR_STIFFNESS_REASON = ("'sector' is a mesh cycle under constant torques: it needs a "
                            "steady-state run (cycles; --cycles N)")
@@ -148,6 +151,9 @@ class RunSettings:
         The lumped model's mesh stiffness, one of :data:`STIFFNESSES`: ``"tooth"`` the
         paper model's root-clamped tooth pair (point or Hertzian per ``contact``),
         ``"sector"`` the sector model's quasi-static mesh cycle (needs ``cycles``).
+    bodies
+        The sector model's bodies, one of :data:`BODIES`: ``"modal"`` their modes and the
+        flanks' residual flexibility, ``"full"`` the whole finite-element bodies.
     start_state
         Where a steady-state run starts instead of the static compression: the
         transmission error ``delta`` (m) and its slope ``d delta / d phi_A`` (m/rad) at the
@@ -188,6 +194,7 @@ class RunSettings:
     rayleigh_stiffness: float = 0.0
     cycles: int | None = None
     stiffness: str = "tooth"
+    bodies: str = "modal"
     start_state: tuple[float, float] | None = None
     save_every: int = 1
     frames_every: int = 100
@@ -239,6 +246,8 @@ class RunSettings:
         if self.integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)} "
                              f"(got {self.integrator!r})")
+        if self.bodies not in BODIES:
+            raise InputError("bodies", f"must be one of {', '.join(BODIES)} (got {self.bodies!r})")
         if self.stiffness not in STIFFNESSES:
             raise InputError("stiffness", f"must be one of {', '.join(STIFFNESSES)} "
                              f"(got {self.stiffness!r})")

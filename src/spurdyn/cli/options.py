@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 
 from spurdyn.errors import InputError
-from spurdyn.settings import INTEGRATORS, STIFFNESSES, RunSettings
+from spurdyn.settings import BODIES, INTEGRATORS, STIFFNESSES, RunSettings
 
 #: Options of the time integrator and damping that ``run`` and ``sweep`` share:
 #: (dest, dotted case key, label).
@@ -18,6 +18,7 @@ DYNAMICS_OVERRIDES = (
     ("rayleigh_hz", "run.rayleigh_hz", "--rayleigh-hz"),
     ("cycles", "run.cycles", "--cycles"),
     ("stiffness", "run.stiffness", "--stiffness"),
+    ("bodies", "run.bodies", "--bodies"),
 )
 
 
@@ -69,6 +70,9 @@ def add_dynamics_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--cycles", type=int, metavar="N",
                    help="steady state: N mesh cycles under constant torques, settled figures "
                         "in the summary (lumped model; docs/lumped.md)")
+    p.add_argument("--bodies", metavar="|".join(BODIES),
+                   help="the sector model's bodies: modal (their modes and the flanks' residual "
+                        "flexibility, the default) or full (the whole FE bodies, the reference)")
     p.add_argument("--stiffness", metavar="|".join(STIFFNESSES),
                    help="the lumped model's mesh stiffness: tooth (the paper model's root-clamped "
                         "tooth pair, the default) or sector (the sector model's mesh cycle: teeth "

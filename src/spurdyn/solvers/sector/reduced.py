@@ -121,14 +121,15 @@ def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
     lu = block.body._lu
     op = sp.linalg.LinearOperator(k.shape, matvec=lambda x: lu.solve(np.asarray(x, dtype=float)),
                                   dtype=float)
-    count = 24
+    # a first guess of a few modes a tooth and the rim's, more until one lies above the top
+    count = 2 * block.count + 24
     target = (2.0 * math.pi * max_frequency) ** 2
     while True:
         count = min(count, k.shape[0] - 2)
-        w2, vec = eigsh(k, k=count, M=mass, sigma=0.0, which="LM", OPinv=op)
+        w2, vec = eigsh(k, k=count, M=mass, sigma=0.0, which="LM", OPinv=op, tol=1e-10)
         if w2.max() >= target or count >= k.shape[0] - 2:
             break
-        count *= 2
+        count = int(count * 1.6)
     keep = w2 < target
     basis = np.column_stack([vec[:, keep], lu.solve(block.mass * block.rot)])
     # Rayleigh-Ritz on the augmented basis: M-orthonormal modes diagonalising K

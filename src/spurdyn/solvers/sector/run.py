@@ -79,6 +79,28 @@ def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
     return max(int(math.ceil(period / dt - 1e-9)), 1)
 
 
+#: What the last runs built, by what it is built from: the two bodies, their modes and the
+#: quasi-static cycle (seconds each), which the points of a sweep share.
+_CACHE: dict[Any, Any] = {}
+#: Entries kept (a body of the paper's gear on 4 x 14 teeth holds about 60 MB).
+CACHE_SIZE = 6
+
+
+def _cached(key: Any, build: Callable[[], Any]) -> Any:
+    """``build()``, kept under ``key`` (the oldest entry dropped beyond :data:`CACHE_SIZE`;
+    nothing kept for an unhashable key)."""
+    try:
+        found = _CACHE.get(key)
+    except TypeError:
+        return build()
+    if found is None:
+        found = build()
+        if len(_CACHE) >= CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = found
+    return found
+
+
 def _lcp(w: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
     """``F >= 0`` with ``W F + v >= 0`` and ``F (W F + v) = 0`` for a small positive definite
     ``W``: the active sets tried, the fewest contacts first."""
@@ -100,7 +122,7 @@ def _lcp(w: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
 def simulate_sector(pair: GearPair, settings: RunSettings,
                     progress: Callable[[int, float, float], None] | None = None, *,
                     dt: float | None = None, energy: bool = False,
-                    modes: bool | float = False) -> Result:
+                    modes: bool | float | None = None) -> Result:
     """Run the sector model of ``pair`` with ``settings`` (module docstring).
 
     Parameters
@@ -121,7 +143,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         Reduce each body to its modes (:mod:`spurdyn.solvers.sector.reduced`): ``True``
         keeps those below :data:`~spurdyn.solvers.sector.reduced.MODE_FACTOR` times
         :data:`KEEP_FREQUENCY`, a number those below it (Hz); ``False`` steps the whole
-        finite-element bodies.
+        finite-element bodies; ``None`` as ``settings.bodies`` says.
 
     Returns
     -------
@@ -141,8 +163,11 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     h = pitch / speed / per_cycle
     n_steps = per_cycle * cycles
     (first_a, count_a), (first_b, count_b) = teeth_for(dp, cycles)
-    blocks = (gear_block(ga, 1.0, first_a, count_a, settings.nx, settings.ny, settings.grading),
-              gear_block(gb, -1.0, first_b, count_b, settings.nx, settings.ny, settings.grading))
+    mesh_keys = (settings.nx, settings.ny, settings.grading)
+    blocks = tuple(_cached(("block", gear, sense, first, count, *mesh_keys),
+                           lambda gear=gear, sense=sense, first=first, count=count:
+                           gear_block(gear, sense, first, count, *mesh_keys))
+                   for gear, sense, first, count in ((ga, 1.0, first_a, count_a), (gb, -1.0, first_b, count_b)))
     bodies = (blocks[0].body, blocks[1].body)
     load = static_force(pair, settings.torque)
     t_drv, t_drn = torque_amplitudes(dp, settings.torque)
@@ -158,12 +183,17 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     bp, gp = scheme.beta_prime(h), scheme.gamma_prime(h)
     am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
     rayleigh = (settings.rayleigh_mass, settings.rayleigh_stiffness)
+    if modes is None:
+        modes = settings.bodies == "modal"
     if modes:
         from spurdyn.solvers.sector.bodies import ModalBody
         from spurdyn.solvers.sector.reduced import MODE_FACTOR, reduce_gear
 
         top = MODE_FACTOR * KEEP_FREQUENCY if modes is True else float(modes)
-        gears: tuple[Any, Any] = tuple(ModalBody(reduce_gear(blk, top), gp, bp, rayleigh) for blk in blocks)
+        gears: tuple[Any, Any] = tuple(
+            ModalBody(_cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top),
+                              lambda blk=blk: reduce_gear(blk, top)), gp, bp, rayleigh)
+            for blk in blocks)
     else:
         gears = tuple(FullBody(blk, gp, bp, rayleigh) for blk in blocks)
     na = gears[0].n
@@ -171,8 +201,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     parts = (slice(0, na), slice(na, n))
 
     # -- the quasi-static cycle and the static start -------------------------------------
-    cycle = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, positions=CYCLE_POSITIONS,
-                       bodies=bodies)
+    cycle = _cached(("cycle", pair, settings.torque, first_a, count_a, first_b, count_b, *mesh_keys),
+                    lambda: mesh_cycle(pair, settings.torque, settings.nx, settings.ny,
+                                       positions=CYCLE_POSITIONS, bodies=bodies))
     law = _law(pair, settings.torque, bodies)
     js, f0, e0, _, _ = _solve_position(law, dp.start_roll_a)
     q = np.zeros(n)
@@ -358,6 +389,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     result = _result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
                    gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_mesh, status, reason,
                    _time.perf_counter() - wall0, load)
+    result.info["bodies"] = "modal" if modes else "full"
     result.info["modes"] = [g.n - 1 for g in gears] if modes else None
     result.info["coordinates"] = n
     return result

@@ -18,10 +18,12 @@ trying the active sets, the fewest contacts first (two or three pairs). The colu
 tooth on the path, computed once when the tooth enters and dropped when it leaves. The
 strips' half-widths follow the forces of the step before.
 
-The mesh damper ``c = 2 zeta sqrt(k m_e)`` along the line of action, ``k`` the mean mesh
-stiffness of the quasi-static cycle and ``m_e`` the pair's reduced mass, acts while a pair
-was in contact at the end of the step before; it couples the hubs as a rank-one term, taken
-by the Sherman-Morrison formula so the factors stay those of the run.
+The mesh damper ``c = 2 zeta sqrt(k m_e)``, ``k`` the mean mesh stiffness of the
+quasi-static cycle and ``m_e`` the pair's reduced mass, acts along the line of action on
+the gap rates of the pairs that were in contact at the end of the step before, shared by
+their forces: ``G^T C G v`` with ``C`` their coefficients. It adds ``gamma' G^T C G`` to
+``S``, taken through the pairs' coupling ``G S^-1 G^T`` (Woodbury), so the factors stay
+those of the run.
 """
 
 from __future__ import annotations
@@ -231,9 +233,6 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     j_a, j_b = blocks[0].inertia, blocks[1].inertia
     c_mesh = (mesh_damper_coefficient(settings.damping_ratio, cycle.stiffness_mean,
                                       reduced_mass(j_a, j_b, ra, rb)) if settings.damping_ratio > 0 else 0.0)
-    # S^-1 a for the damper's direction a = (r_bA on theta_A, -r_bB on theta_B)
-    z_damp = np.concatenate([ra * z_theta[0], -rb * z_theta[1]])
-    a_z = ra * z_damp[0] - rb * z_damp[na]
     f_ext = np.zeros(n)
     f_ext[0], f_ext[na] = t_drv, t_drn
     c_h = law.c_h
@@ -263,44 +262,49 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             out.append((p, g0 - slope * theta_a, sides))
         return out
 
-    def gap_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``G x`` for the pairs ``rows`` (their constant parts not included)."""
-        return np.array([sum(side[0] * x[parts[g]][0] + float(side[2] @ x[parts[g]][side[1]])
+    def gap_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64], hub: float = 1.0) -> NDArray[np.float64]:
+        """``G x`` for the pairs ``rows`` (their constant parts not included); ``hub = 0``:
+        ``H x``, the rows' elastic part alone (the teeth's deflection at the pairs)."""
+        return np.array([sum(hub * side[0] * x[parts[g]][0] + float(side[2] @ x[parts[g]][side[1]])
                              for g, side in enumerate(sides)) for _, _, sides in rows])
 
-    def compliance(rows: list[tuple[Any, ...]]) -> tuple[NDArray[np.float64], NDArray[np.float64],
-                                                          NDArray[np.float64]]:
-        """``(G S^-1 G^T, a^T S^-1 G^T, C_res)``: the pairs' coupling through each gear, from
-        the responses at the hub and the rows' coordinates only; the damper's direction
-        ``a`` (Sherman-Morrison) on the columns; the bodies' residual compliance between the
-        pairs' loads."""
+    def compliance(rows: list[tuple[Any, ...]]) -> tuple[NDArray[np.float64], ...]:
+        """``(G S^-1 G^T, G S^-1 H^T, H S^-1 H^T, C_res)``: the pairs' coupling through each
+        gear, by their whole rows ``G`` and their elastic parts ``H``, from the responses at
+        the hub and the rows' coordinates only; and the bodies' residual compliance between
+        the pairs' loads."""
         m = len(rows)
         w = np.zeros((m, m))
-        a_y = np.zeros(m)
+        w_gh = np.zeros((m, m))
+        w_hh = np.zeros((m, m))
         res = np.zeros((m, m))
         for g in range(2):
             where = [sides[g][1] for _, _, sides in rows]
             idx = np.concatenate([[0], *where])
             starts = np.cumsum([1] + [d.size for d in where])
-            cols = np.empty((idx.size, m))
+            elastic = np.empty((idx.size, m))
             for j, (_, _, sides) in enumerate(rows):
-                coef, _, wts, resp, _, _ = sides[g]
-                cols[:, j] = coef * z_theta[g][idx] + resp[idx] @ wts
+                _, _, wts, resp, _, _ = sides[g]
+                elastic[:, j] = resp[idx] @ wts
+            cols = elastic + np.outer(z_theta[g][idx], [sides[g][0] for _, _, sides in rows])
             for i, (_, _, sides) in enumerate(rows):
                 coef, dofs, wts, _, k_i, l_i = sides[g]
-                w[i] += coef * cols[0] + wts @ cols[starts[i]:starts[i] + dofs.size]
+                at = slice(starts[i], starts[i] + dofs.size)
+                w[i] += coef * cols[0] + wts @ cols[at]
+                w_gh[i] += coef * elastic[0] + wts @ elastic[at]
+                w_hh[i] += wts @ elastic[at]
                 for j, (_, _, sides_j) in enumerate(rows):
                     res[i, j] += gears[g].residual(k_i, l_i, sides_j[g][4], sides_j[g][5])
-            a_y += (ra if g == 0 else -rb) * cols[0]
-        return w, a_y, res
+        return w, w_gh, w_hh, res
 
-    def columns_times(rows: list[tuple[Any, ...]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``S^-1 G^T lam`` (the full vector, without the damper's correction)."""
+    def columns_times(rows: list[tuple[Any, ...]], lam: NDArray[np.float64],
+                      hub: float = 1.0) -> NDArray[np.float64]:
+        """``S^-1 G^T lam`` (the full vector; ``hub = 0``: ``S^-1 H^T lam``)."""
         out = np.zeros(n)
         for (_, _, sides), lj in zip(rows, lam):
             if lj != 0.0:
                 for g, (coef, _, wts, resp, _, _) in enumerate(sides):
-                    out[parts[g]] += lj * (coef * z_theta[g] + resp @ wts)
+                    out[parts[g]] += lj * (hub * coef * z_theta[g] + resp @ wts)
         return out
 
     # -- the time loop -------------------------------------------------------------------
@@ -331,7 +335,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
 
     rows0 = rows_at(0.0, force)
     if rows0:
-        c_res = compliance(rows0)[2]
+        c_res = compliance(rows0)[3]
     save(0, rows0)
     status, reason, step = "complete", "", 0
     every = max(n_steps // 100, 1)
@@ -346,28 +350,31 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             r = f_ext.copy()
             for g in range(2):
                 r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
-            damp = c_mesh > 0.0 and bool((force > 0.0).any())
-            if damp:
-                rate = ra * v_hat[0] - rb * v_hat[na]
-                r[0] -= ra * c_mesh * rate
-                r[na] += rb * c_mesh * rate
             x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
             rows = rows_at(float(q_hat[0]), force)
-            k_sm = gp * c_mesh / (1.0 + gp * c_mesh * a_z) if damp else 0.0
-            if damp:    # Sherman-Morrison: (S + gamma' c a a^T)^-1
-                x0 -= z_damp * (k_sm * (ra * x0[0] - rb * x0[na]))
+            last = force
             force = np.zeros(teeth.size)
             if rows:
-                gy, a_y, c_res = compliance(rows)
-                if damp:
-                    gy -= np.outer(gap_rows(rows, z_damp), k_sm * a_y)
-                w = bp * gy + c_res + c_h * np.eye(len(rows))
-                vv = np.array([row[1] for row in rows]) + gap_rows(rows, q_hat + bp * x0)
+                on = [row[0] for row in rows]
+                w0, w_gh, w_hh, c_res = compliance(rows)
+                m = len(rows)
+                # the mesh damper on the teeth's deflection rate at the pairs in contact at the
+                # step before (the rows' elastic part H), shared by their forces:
+                # S + gamma' H^T C H, by Woodbury through the pairs' couplings
+                shares = last[on]
+                c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
+                    else np.zeros(m)
+                if c_pairs.any():
+                    x0 -= columns_times(rows, c_pairs * gap_rows(rows, v_hat, hub=0.0), hub=0.0)
+                g_x0, h_x0 = gap_rows(rows, x0), gap_rows(rows, x0, hub=0.0)
+                k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_hh * (gp * c_pairs)[None, :])
+                w = bp * (w0 - w_gh @ k_w @ w_gh.T) + c_res + c_h * np.eye(m)
+                vv = np.array([row[1] for row in rows]) + gap_rows(rows, q_hat) \
+                    + bp * (g_x0 - w_gh @ k_w @ h_x0)
                 lam = _lcp(0.5 * (w + w.T), vv)
-                qdd_new = x0 + columns_times(rows, lam)
-                if damp:
-                    qdd_new -= z_damp * (k_sm * float(a_y @ lam))
-                force[[row[0] for row in rows]] = lam
+                qdd_new = x0 + columns_times(rows, lam) \
+                    - columns_times(rows, k_w @ (h_x0 + w_gh.T @ lam), hub=0.0)
+                force[on] = lam
             else:
                 qdd_new = x0
             if not np.isfinite(qdd_new).all():

@@ -151,19 +151,28 @@ class GearBlock:
         return out
 
 
+#: Mesh cycles from which a run takes the whole gears: a steady state must repeat exactly
+#: from one cycle to the next, and a sector's rim changes under the mesh as the pairs move
+#: toward its ends (by less than 0.1 % of the stiffness, but more than the settled test's
+#: 1e-3 of the peak force from cycle to cycle); the rim is meshed whole anyway (1.5 times the
+#: DOFs of a five-tooth sector on the paper's pair).
+WHOLE_FROM_CYCLES = 3
+
+
 def teeth_for(pair: GearPair, cycles: float) -> tuple[tuple[int, int], tuple[int, int]]:
     """``((first, count), (first, count))`` of the driver's and the driven gear's teeth that
     a run of ``cycles`` mesh cycles needs: every tooth that reaches the path of contact (the
     driver's ``0 .. P-1`` at the start, one more entering behind them each cycle; the driven
     gear's the negatives) and a neighbour on each side; a gear's whole ring when that is as
-    many teeth as it has."""
+    many teeth as it has, or the run lasts :data:`WHOLE_FROM_CYCLES` cycles or more."""
     n_path = pairs_in_path(pair)
     first = -int(math.ceil(cycles - 1e-9)) - 1
     count = n_path - first + 1
     out = []
     for gear, lo in ((pair.gear_a, first), (pair.gear_b, -(first + count - 1))):
         z = gear.teeth
-        out.append((lo, count) if count < z else (-(z // 2), z))
+        whole = count >= z or cycles >= WHOLE_FROM_CYCLES
+        out.append((-(z // 2), z) if whole else (lo, count))
     return out[0], out[1]
 
 

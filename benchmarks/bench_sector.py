@@ -1,0 +1,93 @@
+"""Benchmark of the sector model in motion (issues 15, 16): ``python benchmarks/bench_sector.py``.
+
+Prints
+
+1. the cost of a step per coordinate of the sector model, whole bodies and modal, on the
+   paper's pair at 4,000 rpm over 3 mesh cycles at the default teeth (the loop only, its
+   setup apart), beside the paper model's RK4 and implicit steps on Fig. 8 (the issue's
+   yardstick: within 1.5 times the paper model's per step per DOF);
+2. the wall time of ``spurdyn sweep paper-fig8 --model sector --cycles 20 --damping 0.05
+   --rpm 1000:20000/40`` (modal bodies) in a fresh process and an empty folder, unless
+   ``--no-sweep``; ``--speeds N`` for fewer speeds (the sweep's time scales with them).
+
+Options: ``--jobs N`` (the sweep's workers).
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+
+def _spurdyn(args: list[str]) -> float:
+    exe = Path(sys.executable).with_name("spurdyn")
+    t0 = time.perf_counter()
+    subprocess.run([str(exe), *args], check=True, stdout=subprocess.DEVNULL)
+    return time.perf_counter() - t0
+
+
+def sector_steps() -> None:
+    from spurdyn.geometry.presets import paper_pair
+    from spurdyn.settings import RPM
+    from spurdyn.solvers.check import run_settings
+    from spurdyn.solvers.sector.run import simulate_sector
+
+    pair = paper_pair()
+    for bodies in ("full", "modal"):
+        s = run_settings(pair, 4000 * RPM, 22.25, dt=1e-6, cycles=3, bodies=bodies)
+        ticks: list[float] = []
+        run = simulate_sector(pair, s, lambda k, a, tot: ticks.append(time.perf_counter()))
+        steps = run.steps
+        # the loop from the first progress call (1 % of the steps) to the last
+        loop = (ticks[-1] - ticks[0]) / (steps * (len(ticks) - 1) / len(ticks))
+        n = run.info["coordinates"]
+        print(f"sector, {bodies} bodies: {n:,} coordinates ({run.info['n_dof']:,} FE DOFs), "
+              f"{steps:,} steps, {loop * 1e3:.2f} ms a step, {loop / n * 1e6:.3f} us a step per "
+              f"coordinate, {loop / run.info['n_dof'] * 1e6:.3f} us per FE DOF; run {run.wall_s:.1f} s")
+
+
+def paper_steps() -> None:
+    from spurdyn.cases import preset_case
+    from spurdyn.solvers.loop import simulate
+
+    case = preset_case("paper-fig8")
+    for integrator in ("rk4", "implicit"):
+        run = case.run.with_(integrator=integrator, angle=case.pair.theta_s * 0.3)
+        if integrator == "implicit":
+            from spurdyn.solvers.check import round_down
+            from spurdyn.solvers.implicit.alpha import accuracy_step
+
+            run = run.with_(dt=round_down(accuracy_step(run.speed_a, case.pair.gear_a.teeth), 2))
+        simulate(case.pair, run.with_(angle=run.dt * run.speed_a * 50))     # compile, warm
+        t0 = time.perf_counter()
+        res = simulate(case.pair, run)
+        wall = time.perf_counter() - t0
+        n = int(res.info.get("n_dof", 0)) or 1
+        print(f"paper model, {integrator}: {n:,} DOFs, {res.steps:,} steps, "
+              f"{wall / res.steps * 1e6:.1f} us a step, {wall / res.steps / n * 1e6:.3f} us a step per DOF")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--jobs", type=int, default=None)
+    parser.add_argument("--speeds", type=int, default=40)
+    parser.add_argument("--no-sweep", action="store_true")
+    args = parser.parse_args()
+    paper_steps()
+    sector_steps()
+    if args.no_sweep:
+        return
+    jobs = [] if args.jobs is None else ["--jobs", str(args.jobs)]
+    with tempfile.TemporaryDirectory() as tmp:
+        wall = _spurdyn(["sweep", "paper-fig8", "--model", "sector", "--cycles", "20", "--damping",
+                         "0.05", "--rpm", f"1000:20000/{args.speeds}", "--quiet", "--out",
+                         str(Path(tmp) / "s"), *jobs])
+        print(f"sector sweep, {args.speeds} speeds x 20 cycles, modal bodies: {wall:.1f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -8,7 +8,9 @@ with the hub held and a quasi-static remainder under the contact loads,
 
 ``Phi`` M-orthonormal with ``Phi^T K Phi = Omega^2``: the lowest modes, Ritz-augmented by
 the static response to the hub's angular acceleration ``K^-1 M s`` (so that the inertia of a
-turning rim is in the basis). ``R`` is the residual flexibility: the part of the static
+turning rim is in the basis) and to unit normal loads at a few radii of every flank (so that
+the teeth's deflection under a contact, and its rate, on which the mesh damper acts, are
+in the basis). ``R`` is the residual flexibility: the part of the static
 response the modes miss, which acts without inertia (the modes above the basis' highest
 lie far above the frequencies a run resolves). The contact load of a pair on a tooth is
 ``f = b F``, so a pair's gap reads ``b^T Phi eta`` through the modes and the pairs couple
@@ -35,6 +37,11 @@ from spurdyn.solvers.sector.system import GearBlock
 
 #: Modes kept: every mode of the held body below this multiple of the step's kept frequency.
 MODE_FACTOR = 3.0
+#: Static shapes added to the basis per tooth: the response to a unit normal load at this
+#: many radii along its flank, so that the teeth's deflection under a contact, and its rate,
+#: are in the coordinates (the mesh damper acts on that rate); what they miss is left to
+#: the residual flexibility.
+FLANK_SHAPES = 5
 
 
 def _turn_block(angle: float, n_nodes: int) -> NDArray[np.float64]:
@@ -131,7 +138,15 @@ def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
             break
         count = int(count * 1.6)
     keep = w2 < target
-    basis = np.column_stack([vec[:, keep], lu.solve(block.mass * block.rot)])
+    flank = block.body.flank
+    radii = np.linspace(flank.r0, flank.r_tip, FLANK_SHAPES + 2)[1:-1]
+    loads = np.zeros((block.mass.size, block.count * FLANK_SHAPES))
+    for t in range(block.count):
+        tooth = block.first + t
+        for i, r in enumerate(radii):
+            loads[block.flank_dofs(tooth), t * FLANK_SHAPES + i] = block.flank_load(tooth, float(r), 0.0)
+    shapes = lu.solve(np.column_stack([block.mass * block.rot, loads]))
+    basis = np.column_stack([vec[:, keep], shapes])
     # Rayleigh-Ritz on the augmented basis: M-orthonormal modes diagonalising K
     kr = basis.T @ (k @ basis)
     mr = basis.T @ (block.mass[:, None] * basis)

@@ -51,6 +51,13 @@ stepper), {total / 60:.1f} min of computing in all, made {dates[0]} – {dates[-
 > [`docs/stress_validation.md`](stress_validation.md), written by
 > `docs/make_stress_validation.py`: the fillet stress against the mesh and ISO 6336-3 for
 > three pairs, the strip against Hertz and ISO 6336-2, the dynamic root stress of Figs. 8-10.
+>
+> **The sector model (issues 15, 16)**, several elastic teeth on elastic rims, is measured on
+> [`docs/sector_validation.md`](sector_validation.md) (its quasi-static mesh cycle against
+> ISO 6336-1) and [`docs/sector_dynamics_validation.md`](sector_dynamics_validation.md)
+> (its dynamic run: load balance, energy, ring and damping, time step, modal against whole
+> bodies, dynamic factor against speed), written by `docs/make_sector_validation.py` and
+> `docs/make_sector_dynamics_validation.py`.
 
 The model is the paper's: one elastic Q8 tooth on a rigid disk per gear, the second
 tooth pair replaced by the torque ramps of its Fig. 7, undamped, frictionless, plane

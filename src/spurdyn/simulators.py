@@ -1,7 +1,7 @@
 """The models a run or a sweep can use, by name: ``MODELS = {"fe": ..., "lumped": ...,
 "sector": ...}``.
 
-Each entry is a module-level function ``simulate(pair, case, progress=None) -> Result``
+Each entry is a module-level function ``simulate(pair, settings, progress=None) -> Result``
 (picklable, so worker processes can take it by reference); the simulators themselves are
 imported when first called, so importing this registry stays cheap.
 """
@@ -18,24 +18,25 @@ Progress = Callable[[int, float, float], None]
 
 
 class Simulate(Protocol):
-    def __call__(self, pair: GearPair, case: RunSettings,
+    def __call__(self, pair: GearPair, settings: RunSettings,
                  progress: Progress | None = None) -> Result: ...
 
 
-def simulate_fe(pair: GearPair, case: RunSettings, progress: Progress | None = None) -> Result:
+def simulate_fe(pair: GearPair, settings: RunSettings, progress: Progress | None = None) -> Result:
     """The paper's FE contact model (:func:`spurdyn.solvers.loop.simulate`)."""
     from spurdyn.solvers.loop import simulate
 
-    return simulate(pair, case, progress)
+    return simulate(pair, settings, progress)
 
 
-def simulate_sector(pair: GearPair, case: RunSettings, progress: Progress | None = None) -> Result:
+def simulate_sector(pair: GearPair, settings: RunSettings,
+                    progress: Progress | None = None) -> Result:
     """The sector model: several elastic teeth on elastic rims, hubs with inertia, under
-    constant torques for ``case.cycles`` mesh cycles
+    constant torques for ``settings.cycles`` mesh cycles
     (:func:`spurdyn.solvers.sector.run.simulate_sector`)."""
     from spurdyn.solvers.sector.run import simulate_sector as sector
 
-    return sector(pair, case, progress)
+    return sector(pair, settings, progress)
 
 
 #: Mesh-stiffness tables of the lumped model, per (pair, nx, ny), kept in the process so
@@ -43,7 +44,8 @@ def simulate_sector(pair: GearPair, case: RunSettings, progress: Progress | None
 _TABLES: dict[Any, Any] = {}
 
 
-def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None = None) -> Result:
+def simulate_lumped(pair: GearPair, settings: RunSettings,
+                    progress: Progress | None = None) -> Result:
     """The lumped model (:func:`spurdyn.lumped.simulate_lumped`), damped by the run's
     ``damping_ratio``.
 
@@ -52,13 +54,14 @@ def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None
     """
     from spurdyn.lumped import simulate_lumped as lumped
 
-    stiffness = sector_cycle(pair, case) if case.stiffness == "sector" else tooth_table(pair, case)
-    if case.cycles is not None:
+    stiffness = (sector_cycle(pair, settings) if settings.stiffness == "sector"
+                 else tooth_table(pair, settings))
+    if settings.cycles is not None:
         from spurdyn.lumped.steady import simulate_steady
 
-        result = simulate_steady(pair, case, stiffness, case.damping_ratio, case.cycles)
+        result = simulate_steady(pair, settings, stiffness, settings.damping_ratio, settings.cycles)
     else:        # one engagement: the tooth's table (the sector stiffness needs cycles)
-        result = lumped(pair, case, table=stiffness, damping_ratio=case.damping_ratio)
+        result = lumped(pair, settings, table=stiffness, damping_ratio=settings.damping_ratio)
     if progress is not None and len(result.angle):
         try:
             progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))
@@ -67,44 +70,45 @@ def simulate_lumped(pair: GearPair, case: RunSettings, progress: Progress | None
     return result
 
 
-def tooth_table(pair: GearPair, case: RunSettings) -> Any:
+def tooth_table(pair: GearPair, settings: RunSettings) -> Any:
     """The paper model's single-pair stiffness table of the run's contact model (the strip's
     depends on the load), cached per process."""
     from spurdyn.lumped import mesh_stiffness_table
 
-    hertz = case.contact == "hertz" and case.torque > 0
-    key = (pair, case.nx, case.ny, case.torque if hertz else None)
+    hertz = settings.contact == "hertz" and settings.torque > 0
+    key = (pair, settings.nx, settings.ny, settings.torque if hertz else None)
     try:
         table = _TABLES.get(key)
     except TypeError:  # an unhashable pair: no caching
         key, table = None, None
     if table is None:
-        table = _hertz_table(pair, case) if hertz else mesh_stiffness_table(pair, case.nx, case.ny)
+        table = (_hertz_table(pair, settings) if hertz
+                 else mesh_stiffness_table(pair, settings.nx, settings.ny))
         if key is not None:
             _TABLES[key] = table
     return table
 
 
-def sector_cycle(pair: GearPair, case: RunSettings) -> Any:
+def sector_cycle(pair: GearPair, settings: RunSettings) -> Any:
     """The sector model's mesh cycle of the run's pair, mesh and torque as the lumped
     model's stiffness (:class:`spurdyn.lumped.cycle.SectorCycle`), cached per process."""
     from spurdyn.lumped.cycle import SectorCycle
     from spurdyn.sector.statics import mesh_cycle
 
-    key = ("sector", pair, case.nx, case.ny, case.grading, case.torque)
+    key = ("sector", pair, settings.nx, settings.ny, settings.grading, settings.torque)
     try:
         cycle = _TABLES.get(key)
     except TypeError:  # an unhashable pair: no caching
         key, cycle = None, None
     if cycle is None:
-        mc = mesh_cycle(pair, case.torque, case.nx, case.ny, grading=case.grading)
+        mc = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, grading=settings.grading)
         cycle = SectorCycle.from_mesh_cycle(pair, mc)
         if key is not None:
             _TABLES[key] = cycle
     return cycle
 
 
-def _hertz_table(pair: GearPair, case: RunSettings) -> Any:
+def _hertz_table(pair: GearPair, settings: RunSettings) -> Any:
     """The lumped model's stiffness table with the Hertzian strip of the static force
     (:func:`spurdyn.solvers.paper.statics.static_stiffness`), over the path of contact."""
     import numpy as np
@@ -114,10 +118,10 @@ def _hertz_table(pair: GearPair, case: RunSettings) -> Any:
     from spurdyn.model.system import system_for
     from spurdyn.solvers.paper.statics import static_stiffness
 
-    system = system_for(pair, case.nx, case.ny, case.n_spline, case.grading)
+    system = system_for(pair, settings.nx, settings.ny, settings.n_spline, settings.grading)
     spair = system.pair                      # the pair as the solver runs it (A driving)
     roll = np.linspace(spair.start_roll_a, spair.end_roll_a, DEFAULT_TABLE_POINTS)
-    force = static_force(pair, case.torque)
+    force = static_force(pair, settings.torque)
     k = np.array([static_stiffness(system, float(r), force, "hertz").stiffness for r in roll])
     if pair.driver != "a":
         # B drives: the solver's A is the pair's B; the table runs along the pair's A roll,

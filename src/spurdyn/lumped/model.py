@@ -214,7 +214,7 @@ def _contact_roll_a(pair: GearPair, phi_a: ArrayLike) -> NDArray[np.float64]:
 
 def simulate_lumped(
     pair: GearPair,
-    case: RunSettings,
+    settings: RunSettings,
     damping_ratio: float | None = None,
     *,
     table: MeshStiffnessTable | None = None,
@@ -226,19 +226,19 @@ def simulate_lumped(
     Parameters
     ----------
     pair
-        The gear pair; ``pair.driver`` fixes which gear ``case.torque`` drives.
-    case
+        The gear pair; ``pair.driver`` fixes which gear ``settings.torque`` drives.
+    settings
         Run settings. Used: ``speed_a``, ``speed_b`` (initial speeds, rad/s),
         ``torque`` (``tau_0``, N m), ``dt * save_every`` (output interval: the FE
         solver's saved time grid), ``angle`` (rotation of A to simulate, default
         ``theta_s``), ``nx``, ``ny`` (mesh of the stiffness table) and ``name``.
     damping_ratio
         Viscous damping ratio ``zeta`` of the pair's torsional mode: the mesh damper is
-        ``c = 2 zeta sqrt(k(roll) m_e)`` (:func:`equivalent_mass`). Default: the
-        case's ``damping_ratio``.
+        ``c = 2 zeta sqrt(k(roll) m_e)`` (:func:`equivalent_mass`). Default:
+        ``settings.damping_ratio``.
     table
         A ready stiffness table; ``None`` computes one with ``n_table`` points on the
-        case's mesh.
+        mesh of ``settings`` (``nx``, ``ny``).
     n_table, interpolation
         Passed to :func:`mesh_stiffness_table` when ``table`` is ``None``.
 
@@ -253,25 +253,25 @@ def simulate_lumped(
         ``mesh_stiffness_table`` and the integration statistics.
     """
     if damping_ratio is None:
-        damping_ratio = case.damping_ratio
+        damping_ratio = settings.damping_ratio
     if not math.isfinite(damping_ratio) or damping_ratio < 0.0:
         raise ValueError(f"damping_ratio must be >= 0 (got {damping_ratio!r})")
     wall0 = _time.perf_counter()
     if table is None:
-        table = mesh_stiffness_table(pair, case.nx, case.ny, n_table, interpolation)
+        table = mesh_stiffness_table(pair, settings.nx, settings.ny, n_table, interpolation)
 
     ga, gb = pair.gear_a, pair.gear_b
     ra, rb = ga.base_radius, gb.base_radius
     ja, jb = ga.disk_inertia, gb.disk_inertia
     s = 1.0 if pair.driver == "a" else -1.0
     (tsa, t2a), (tsb, t2b) = gear_angles(pair)
-    amp_a, amp_b = torque_amplitudes(pair, case.torque)
+    amp_a, amp_b = torque_amplitudes(pair, settings.torque)
     m_e = equivalent_mass(pair)
     zeta2_sqrt_me = 2.0 * damping_ratio * math.sqrt(m_e)
     roll0 = float(_contact_roll_a(pair, 0.0))
     droll = 1.0 if pair.driver == "a" else -1.0
     kfun: Callable[[float], float] = table.scalar
-    target = pair.theta_s if case.angle is None else float(case.angle)
+    target = pair.theta_s if settings.angle is None else float(settings.angle)
 
     def force(phi_a: float, delta: float, ddelta: float) -> float:
         if delta <= 0.0:
@@ -296,11 +296,11 @@ def simulate_lumped(
     reached.terminal = True  # type: ignore[attr-defined]
     reached.direction = 1.0  # type: ignore[attr-defined]
 
-    w_a0, w_b0 = float(case.speed_a), float(case.speed_b)
+    w_a0, w_b0 = float(settings.speed_a), float(settings.speed_b)
     v0 = s * (ra * w_a0 - rb * w_b0)
     k_ref = table.k_max
     f_n = float(torsional_natural_frequency(pair, k_ref))
-    static = static_force(pair, case.torque)
+    static = static_force(pair, settings.torque)
     delta_ref = max(static / k_ref, abs(v0) / (2 * math.pi * f_n), 1e-9)
     atol = np.array([1e-13, 1e-10 * w_a0, RTOL * delta_ref, RTOL * delta_ref * 2 * math.pi * f_n])
     mesh_period = 2.0 * math.pi / (ga.teeth * w_a0)
@@ -318,9 +318,10 @@ def simulate_lumped(
         status, reason, t_end = "incomplete", (f"gear A had not turned {target:.6g} rad after "
                                                f"{t_max:.6g} s"), float(sol.t[-1])
 
-    h = case.dt * case.save_every
+    h = settings.dt * settings.save_every
     n_out = int(math.floor(t_end / h * (1.0 + 1e-12))) + 1
-    t = (np.arange(n_out) * case.save_every) * case.dt  # step index times dt, as the FE solver
+    # step index times dt, as the FE solver
+    t = (np.arange(n_out) * settings.save_every) * settings.dt
     y = sol.sol(t)
     y[:, 0] = y0  # exact initial state
     phi_a, w_a, delta, ddelta = y
@@ -330,13 +331,13 @@ def simulate_lumped(
     k = table(roll_a)
     f = k * delta + zeta2_sqrt_me * np.sqrt(k) * ddelta
     f = np.where(delta > 0.0, np.maximum(f, 0.0), 0.0)
-    tau_a, tau_b = gear_torques(pair, case.torque, phi_a, phi_b)
+    tau_a, tau_b = gear_torques(pair, settings.torque, phi_a, phi_b)
 
     single = (pair.theta_2, pair.theta_s - pair.theta_2)
     info: dict[str, Any] = {
         "model": "lumped",
         "n_dof": 2,
-        "case": case.name,
+        "case": settings.name,
         "driver": pair.driver,
         "theta_s": pair.theta_s,
         "theta_2": pair.theta_2,

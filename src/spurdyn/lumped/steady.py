@@ -61,7 +61,7 @@ def cycle_stiffness(pair: GearPair, stiffness: MeshStiffnessTable | Cycle,
     return phis, cycle.grid(phis)
 
 
-def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessTable | Cycle,
+def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffnessTable | Cycle,
                     damping_ratio: float, cycles: int) -> Result:
     """The lumped pair under constant torques over ``cycles`` mesh cycles (module docstring),
     its pairs' stiffnesses from the single-pair table or a cycle (:mod:`spurdyn.lumped.cycle`).
@@ -76,10 +76,10 @@ def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessT
     ra, rb = ga.base_radius, gb.base_radius
     ja, jb = ga.disk_inertia, gb.disk_inertia
     s = 1.0 if pair.driver == "a" else -1.0
-    amp_a, amp_b = torque_amplitudes(pair, case.torque)
+    amp_a, amp_b = torque_amplitudes(pair, settings.torque)
     m_e = equivalent_mass(pair)
     pitch = 2.0 * math.pi / ga.teeth
-    w_a0 = float(case.speed_a)
+    w_a0 = float(settings.speed_a)
     period = pitch / w_a0
     theta_s = pair.theta_s
     cycle = as_cycle(pair, stiffness)
@@ -106,10 +106,10 @@ def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessT
         acc_b = (amp_b + s * rb * f) / jb
         return [w_a, acc_a, ddelta, s * (ra * acc_a - rb * acc_b)]
 
-    static = static_force(pair, case.torque)
+    static = static_force(pair, settings.torque)
     k0 = sum(stiffnesses(0.0))
     delta0 = static / k0 if k0 > 0 else 0.0
-    w_b0 = float(case.speed_b)
+    w_b0 = float(settings.speed_b)
     v0 = s * (ra * w_a0 - rb * w_b0)
     f_n = float(torsional_natural_frequency(pair, cycle.k_max))
     t_end = cycles * period
@@ -120,8 +120,8 @@ def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessT
     t = np.linspace(0.0, t_end, n_out)     # ends exactly at t_end, the integration's end
     delta_ref = max(delta0, abs(v0) / (2 * math.pi * f_n), 1e-9)
     atol = np.array([1e-13, 1e-10 * w_a0, RTOL * delta_ref, RTOL * delta_ref * 2 * math.pi * f_n])
-    if case.start_state is not None:    # another run's end: the same phase of a cycle
-        delta0, v0 = case.start_state[0], case.start_state[1] * w_a0
+    if settings.start_state is not None:    # another run's end: the same phase of a cycle
+        delta0, v0 = settings.start_state[0], settings.start_state[1] * w_a0
     y0 = np.array([0.0, w_a0, delta0, v0])
     sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=RTOL, atol=atol,
                     max_step=min(period / 40.0, 0.25 / f_n), t_eval=t)
@@ -155,7 +155,7 @@ def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessT
     info: dict[str, Any] = {
         "model": "lumped",
         "n_dof": 2,
-        "case": case.name,
+        "case": settings.name,
         "driver": pair.driver,
         "theta_s": theta_s,
         "theta_2": pair.theta_2,
@@ -183,7 +183,7 @@ def simulate_steady(pair: GearPair, case: RunSettings, stiffness: MeshStiffnessT
                                    "transmission_error_mean_m")},
             # where the next speed of a continuation starts (a whole number of cycles: phase 0)
             "end_state": [float(delta[-1]), float(ddelta[-1] / w_a[-1])] if n else None,
-            "start_state": None if case.start_state is None else list(case.start_state),
+            "start_state": None if settings.start_state is None else list(settings.start_state),
         },
     }
     roll_a = _contact_roll_a(pair, phi_a - pitch * first)

@@ -246,13 +246,13 @@ def solver_pair(pair: GearPair) -> GearPair:
                     driver="a")
 
 
-def build_system(pair: GearPair, case: RunSettings) -> PairSystem:
-    """The system of ``pair`` (gear A driving) on the tooth meshes of ``case``; see
+def build_system(pair: GearPair, settings: RunSettings) -> PairSystem:
+    """The system of ``pair`` (gear A driving) on the tooth meshes of ``settings``; see
     :func:`system_for`."""
     if pair.driver != "a":
         raise InputError("pair.driver", "only gear A driving is supported by the solver yet; "
                          "swap gear_a and gear_b")
-    return system_for(pair, case.nx, case.ny, case.n_spline, case.grading)
+    return system_for(pair, settings.nx, settings.ny, settings.n_spline, settings.grading)
 
 
 def system_for(pair: GearPair, nx: int, ny: int, n_spline: int,

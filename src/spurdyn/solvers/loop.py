@@ -51,15 +51,15 @@ def make_stepper(system: PairSystem, settings: RunSettings) -> Stepper:
     return getattr(importlib.import_module(module), name)(system, settings)
 
 
-def simulate(pair: GearPair, case: RunSettings, progress: Progress | None = None,
+def simulate(pair: GearPair, settings: RunSettings, progress: Progress | None = None,
              chunk: int = 500) -> Result:
-    """Simulate one tooth engagement of ``pair`` with the settings ``case``.
+    """Simulate one tooth engagement of ``pair`` with the run settings ``settings``.
 
     Parameters
     ----------
     pair
         The gear pair (gear A drives).
-    case
+    settings
         Run settings.
     progress
         Called as ``progress(step, angle_reached, angle_total)`` (rad) after each chunk.
@@ -71,50 +71,52 @@ def simulate(pair: GearPair, case: RunSettings, progress: Progress | None = None
     Result
         ``status`` is ``"incomplete"`` (with ``reason``) if the run stopped early.
     """
-    if case.cycles is not None:
+    if settings.cycles is not None:
         raise InputError("cycles", FE_CYCLES_REASON)
-    if case.damped and case.integrator == "rk4":
-        raise InputError("damping_ratio" if case.damping_ratio > 0.0 else "rayleigh_mass"
-                         if case.rayleigh_mass > 0.0 else "rayleigh_stiffness", FE_DAMPING_REASON)
+    if settings.damped and settings.integrator == "rk4":
+        raise InputError("damping_ratio" if settings.damping_ratio > 0.0 else "rayleigh_mass"
+                         if settings.rayleigh_mass > 0.0 else "rayleigh_stiffness",
+                         FE_DAMPING_REASON)
     if pair.driver == "b":
-        return _simulate_driven_by_b(pair, case, progress, chunk)
+        return _simulate_driven_by_b(pair, settings, progress, chunk)
     wall0 = time.perf_counter()
-    system = build_system(pair, case)
-    plan = check_run(pair, case, system)
+    system = build_system(pair, settings)
+    plan = check_run(pair, settings, system)
     angle = plan.angle
-    stepper = make_stepper(system, case)
-    rows = np.empty(((plan.steps + 2) // case.save_every + 8, NCOL))
+    stepper = make_stepper(system, settings)
+    rows = np.empty(((plan.steps + 2) // settings.save_every + 8, NCOL))
     rows[0] = stepper.row()
     n_rows = 1
     frames: Frames = []
-    if case.frames_every:
+    if settings.frames_every:
         frames.append((stepper.t, stepper.theta.copy(), stepper.u.copy()))
     steps, status, reason = 0, "complete", ""
     loop0 = time.perf_counter()
     try:
         while stepper.theta_a < angle:
-            if n_rows + chunk // case.save_every + 2 > rows.shape[0]:
+            if n_rows + chunk // settings.save_every + 2 > rows.shape[0]:
                 rows = np.concatenate([rows, np.empty_like(rows)])
-            done, written, stop = stepper.advance(chunk, angle, case.save_every, rows[n_rows:],
-                                                  case.frames_every, frames)
+            done, written, stop = stepper.advance(chunk, angle, settings.save_every, rows[n_rows:],
+                                                  settings.frames_every, frames)
             steps += done
             n_rows += written
             if progress is not None:
                 progress(steps, stepper.theta_a, angle)
             if stop:
                 status, reason = "incomplete", stop
-                if "did not converge" in stop and case.method == "paper" and case.contact == "point":
+                if ("did not converge" in stop and settings.method == "paper"
+                        and settings.contact == "point"):
                     reason += ("; the distributed contact (--contact hertz) may carry it "
                                "through (docs/solver.md, sections 6 and 11)")
                 break
     except KeyboardInterrupt:
         status, reason = "incomplete", f"interrupted by the user at step {steps}"
     loop = time.perf_counter() - loop0
-    return _to_result(pair, case, system, rows[:n_rows], frames, status, reason, steps,
+    return _to_result(pair, settings, system, rows[:n_rows], frames, status, reason, steps,
                       time.perf_counter() - wall0, loop)
 
 
-def _simulate_driven_by_b(pair: GearPair, case: RunSettings, progress: Progress | None,
+def _simulate_driven_by_b(pair: GearPair, settings: RunSettings, progress: Progress | None,
                           chunk: int) -> Result:
     """Gear B drives: simulate the mirror image, in which B is the first gear and drives.
 
@@ -126,9 +128,11 @@ def _simulate_driven_by_b(pair: GearPair, case: RunSettings, progress: Progress 
     """
     inner_pair = solver_pair(pair)
     ratio = pair.gear_a.base_radius / pair.gear_b.base_radius   # theta_B / theta_A
-    inner_case = case.with_(speed_a=case.speed_b, speed_b=case.speed_a, frames_every=0,
-                            angle=None if case.angle is None else case.angle * ratio)
-    r = simulate(inner_pair, inner_case, None if progress is None else
+    inner_settings = settings.with_(speed_a=settings.speed_b, speed_b=settings.speed_a,
+                                    frames_every=0,
+                                    angle=None if settings.angle is None
+                                    else settings.angle * ratio)
+    r = simulate(inner_pair, inner_settings, None if progress is None else
                  (lambda k, a, tot: progress(k, a / ratio, tot / ratio)), chunk)
     swap = (lambda a: a[:, ::-1].copy())
     corner = r.corner.copy()
@@ -154,7 +158,7 @@ def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.floa
     return np.sqrt(np.maximum(r * r - f.base_radius**2, 0.0)) / f.base_radius
 
 
-def _to_result(pair: GearPair, case: RunSettings, system: PairSystem, rows: NDArray[np.float64],
+def _to_result(pair: GearPair, settings: RunSettings, system: PairSystem, rows: NDArray[np.float64],
                frames: Frames, status: str, reason: str, steps: int, wall: float,
                loop: float) -> Result:
     col = {name: rows[:, i] for i, name in enumerate(HISTORY)}
@@ -189,12 +193,12 @@ def _to_result(pair: GearPair, case: RunSettings, system: PairSystem, rows: NDAr
             "nodes": [g.mesh.n_nodes for g in system.gears],
             "theta_s": pair.theta_s,
             "theta_2": pair.theta_2,
-            "static_force": static_force(pair, case.torque),
+            "static_force": static_force(pair, settings.torque),
             "single_zone": (single[0] - pair.start_roll_a, single[1] - pair.start_roll_a),
             "theta0": system.theta0,
-            "method": case.method,
-            "backend": case.backend,
-            "contact": case.contact,
+            "method": settings.method,
+            "backend": settings.backend,
+            "contact": settings.contact,
             "loop_s": loop,       # wall time of the time loop alone (the rest: build, check)
         },
         contact_half_width=half, contact_pressure_max=pressure,

@@ -80,22 +80,22 @@ class ImplicitScheme:
     c_mesh: float
 
 
-def implicit_scheme(system: PairSystem, case: RunSettings) -> ImplicitScheme:
+def implicit_scheme(system: PairSystem, settings: RunSettings) -> ImplicitScheme:
     """The :class:`ImplicitScheme` of a run (the mesh damper from the pair's static
-    stiffness at the pitch point, when ``case.damping_ratio`` asks for one)."""
-    coef = GeneralizedAlpha(case.rho_inf)
-    h = case.dt
-    law = strip_law(system) if case.contact == "hertz" else None
+    stiffness at the pitch point, when ``settings.damping_ratio`` asks for one)."""
+    coef = GeneralizedAlpha(settings.rho_inf)
+    h = settings.dt
+    law = strip_law(system) if settings.contact == "hertz" else None
     ra, rb = (g.base_radius for g in system.gears)
     c_mesh = 0.0
-    if case.damping_ratio > 0.0:
+    if settings.damping_ratio > 0.0:
         from spurdyn.solvers.paper.statics import static_stiffness
 
         pair = system.pair
-        k = static_stiffness(system, pair.pitch_roll_a, static_force(pair, case.torque),
-                             case.contact).stiffness
+        k = static_stiffness(system, pair.pitch_roll_a, static_force(pair, settings.torque),
+                             settings.contact).stiffness
         m_e = reduced_mass(system.gears[0].inertia, system.gears[1].inertia, ra, rb)
-        c_mesh = mesh_damper_coefficient(case.damping_ratio, k, m_e)
+        c_mesh = mesh_damper_coefficient(settings.damping_ratio, k, m_e)
     return ImplicitScheme(
         coef=coef, bp=coef.beta_prime(h), gp=coef.gamma_prime(h), law=law,
         c_h=strip_compliance(*law) if law is not None else 0.0,
@@ -104,22 +104,22 @@ def implicit_scheme(system: PairSystem, case: RunSettings) -> ImplicitScheme:
         c_mesh=c_mesh)
 
 
-def generalized_forces(system: PairSystem, case: RunSettings, scheme: ImplicitScheme,
+def generalized_forces(system: PairSystem, settings: RunSettings, scheme: ImplicitScheme,
                        theta: NDArray[np.float64], omega: NDArray[np.float64],
                        u: NDArray[np.float64], v: NDArray[np.float64],
                        touching: bool) -> NDArray[np.float64]:
     """``F(q, qdot)``: torques, elastic and damping forces, stacked like ``q``."""
     s = system
     out = np.empty(2 + s.n_u)
-    out[:2] = torques(s, case.torque, theta)
+    out[:2] = torques(s, settings.torque, theta)
     fu = blocks(s, out[2:])
     for g, (gb, ub, vb) in enumerate(zip(s.gears, blocks(s, u), blocks(s, v))):
-        q, f = elastic(gb, theta[g], ub, case.keep_theta_term)
+        q, f = elastic(gb, theta[g], ub, settings.keep_theta_term)
         out[g] += q
         fu[g][:] = f
-        if case.rayleigh_mass or case.rayleigh_stiffness:
+        if settings.rayleigh_mass or settings.rayleigh_stiffness:
             qd, fd = rayleigh_forces(gb, theta[g], omega[g], ub, vb,
-                                     case.rayleigh_mass, case.rayleigh_stiffness)
+                                     settings.rayleigh_mass, settings.rayleigh_stiffness)
             out[g] += qd
             fu[g] += fd
     if touching and scheme.c_mesh:
@@ -127,41 +127,42 @@ def generalized_forces(system: PairSystem, case: RunSettings, scheme: ImplicitSc
     return out
 
 
-def state_at(system: PairSystem, case: RunSettings, scheme: ImplicitScheme,
+def state_at(system: PairSystem, settings: RunSettings, scheme: ImplicitScheme,
              theta: NDArray[np.float64], omega: NDArray[np.float64], u: NDArray[np.float64],
              v: NDArray[np.float64], x: NDArray[np.float64], contact: ContactPair,
              t: float = 0.0) -> ImplicitState:
     """The state at ``t`` with the accelerations of the forces ``x`` (``a = qddot``)."""
     touching = bool(x[-1] < 0.0)
-    f = generalized_forces(system, case, scheme, theta, omega, u, v, touching)
+    f = generalized_forces(system, settings, scheme, theta, omega, u, v, touching)
     gmat = jacobian(system, theta, contact)
     qdd = (f + gmat.T @ x) / scheme.mq
     return ImplicitState(t=t, theta=theta.copy(), omega=omega.copy(), u=u.copy(), v=v.copy(),
                          x=x.copy(), contact=contact, qdd=qdd, acc=qdd.copy())
 
 
-def initial_implicit_state(system: PairSystem, case: RunSettings,
+def initial_implicit_state(system: PairSystem, settings: RunSettings,
                            scheme: ImplicitScheme) -> ImplicitState:
     """The implicit steppers' start: the paper's
     (:func:`~spurdyn.solvers.paper.step_numpy.initial_state`: the teeth just touching,
     turning rigidly, with the forces of an acceleration stage at ``t = 0``) with the
     accelerations those forces give."""
-    s0 = initial_state(system, case)
-    return state_at(system, case, scheme, s0.theta, s0.omega, s0.u, s0.v, s0.x, s0.contact, s0.t)
+    s0 = initial_state(system, settings)
+    return state_at(system, settings, scheme, s0.theta, s0.omega, s0.u, s0.v, s0.x, s0.contact,
+                    s0.t)
 
 
 class ImplicitMethod:
     """The generalized-alpha step of the paper's model (one tooth per gear, one contact)."""
 
-    def __init__(self, system: PairSystem, case: RunSettings) -> None:
-        self.system, self.case = system, case
-        self.scheme = sc = implicit_scheme(system, case)
+    def __init__(self, system: PairSystem, settings: RunSettings) -> None:
+        self.system, self.case = system, settings
+        self.scheme = sc = implicit_scheme(system, settings)
         self.coef, self.bp, self.gp, self.law, self.c_h = sc.coef, sc.bp, sc.gp, sc.law, sc.c_h
         self.mq, self.base, self.c_mesh = sc.mq, sc.base, sc.c_mesh
         self.contact_at = lambda theta, u, guess, load=0.0: contact_at(
             system, theta, u, guess, load, self.law)
         ratio = self.gp / self.bp
-        a, b = case.rayleigh_mass, case.rayleigh_stiffness
+        a, b = settings.rayleigh_mass, settings.rayleigh_stiffness
         # the teeth's blocks of S in the disk frame, factorised once
         self.lu = [splu(sp.csc_matrix(sp.diags(g.mass * (1.0 / self.bp + a * ratio))
                                       + (1.0 + b * ratio) * g.stiffness)) for g in system.gears]
@@ -229,8 +230,8 @@ class ImplicitMethod:
     def step(self, st: ImplicitState) -> tuple[ImplicitState, float, int, int]:
         """Advance one step; return the new state, the last residual (m), the Newton
         iterations and the status."""
-        case, sys_, coef = self.case, self.system, self.coef
-        h, bp, gp, am, af = case.dt, self.bp, self.gp, coef.alpha_m, coef.alpha_f
+        settings, sys_, coef = self.case, self.system, self.coef
+        h, bp, gp, am, af = settings.dt, self.bp, self.gp, coef.alpha_m, coef.alpha_f
         q_n = np.concatenate([st.theta, st.u])
         v_n = np.concatenate([st.omega, st.v])
         # the predictor: the accelerations of the step before
@@ -248,7 +249,7 @@ class ImplicitMethod:
         phi, predicted, gap_before = 1.0, None, 0.0
         c_force, moves = None, 0
         z_root, z_touch = None, False
-        for it in range(case.max_iter + 1):
+        for it in range(settings.max_iter + 1):
             theta, u = q[:2], q[2:]
             try:
                 c = self.contact_at(theta, u, guess, load)
@@ -290,9 +291,9 @@ class ImplicitMethod:
             residual = max(float(np.abs(s_r[2:]).max()), float(np.abs(s_r[:2]).max()) * radius,
                            float(np.abs(e[:rows]).max()) if rows else 0.0,
                            0.0 if touching else abs(float(x[-1])) * kappa ** -1)
-            if residual <= case.tol_disp and touching == was:
+            if residual <= settings.tol_disp and touching == was:
                 break
-            if it == case.max_iter or not np.isfinite(residual):
+            if it == settings.max_iter or not np.isfinite(residual):
                 status = FAIL_NEWTON if np.isfinite(residual) else FAIL_NAN
                 return st, residual, it, status
             was = touching

@@ -95,14 +95,14 @@ class ImplicitStepper(_Implicit):
         return status
 
 
-def implicit_pack(system: PairSystem, case: RunSettings, scheme: ImplicitScheme,
+def implicit_pack(system: PairSystem, settings: RunSettings, scheme: ImplicitScheme,
                   ns: int) -> ImplicitPack:
     """The compiled step's pack: the coefficients, and the teeth's constant iteration
     blocks as one banded Cholesky factor (reverse Cuthill-McKee order) and their inverse
     at the root DOFs."""
     coef = scheme.coef
     ratio = scheme.gp / scheme.bp
-    a, b = case.rayleigh_mass, case.rayleigh_stiffness
+    a, b = settings.rayleigh_mass, settings.rayleigh_stiffness
     blocks = sp.block_diag([sp.diags(g.mass * (1.0 / scheme.bp + a * ratio))
                             + (1.0 + b * ratio) * g.stiffness for g in system.gears], format="csr")
     perm = reverse_cuthill_mckee(blocks, symmetric_mode=True).astype(np.int64)
@@ -120,11 +120,11 @@ def implicit_pack(system: PairSystem, case: RunSettings, scheme: ImplicitScheme,
     root_inv = splu(blocks.tocsc()).solve(eye)
     law = scheme.law or (0.0, 0.0)
     return ImplicitPack(
-        h=case.dt, am=coef.alpha_m, af=coef.alpha_f, beta=coef.beta, gamma=coef.gamma,
+        h=settings.dt, am=coef.alpha_m, af=coef.alpha_f, beta=coef.beta, gamma=coef.gamma,
         bp=scheme.bp, gp=scheme.gp, mq=scheme.mq, band=np.ascontiguousarray(factor.T), perm=perm,
         root_inv=np.ascontiguousarray(root_inv), base=scheme.base, c_mesh=scheme.c_mesh,
         ray_a=float(a), ray_b=float(b), c_h=scheme.c_h, estar=float(law[0]), face=float(law[1]),
-        tol=case.tol_disp, max_iter=case.max_iter, ns=np.int64(ns))
+        tol=settings.tol_disp, max_iter=settings.max_iter, ns=np.int64(ns))
 
 
 class CompiledImplicitStepper(_Implicit):

@@ -73,13 +73,13 @@ class PaperMethod:
     """The paper's method, step by step, in NumPy (slow, plain): the twin of
     :func:`spurdyn.solvers.paper.step_compiled.step`."""
 
-    def __init__(self, system: PairSystem, case: RunSettings) -> None:
+    def __init__(self, system: PairSystem, settings: RunSettings) -> None:
         self.system = system
-        self.case = case
+        self.case = settings
         self.minv = inverse_mass(system)
-        self.tau0 = case.torque
+        self.tau0 = settings.torque
         # The distributed contact: its (E*, L) and the strip's compliance c_H.
-        self.law = strip_law(system) if case.contact == "hertz" else None
+        self.law = strip_law(system) if settings.contact == "hertz" else None
         self.c_h = strip_compliance(*self.law) if self.law is not None else 0.0
 
     # -- equations of motion -----------------------------------------------------------
@@ -167,8 +167,8 @@ class PaperMethod:
     # -- the step ----------------------------------------------------------------------
     def step(self, st: State, index: int = 0) -> tuple[State, StepReport]:
         """Advance one time step by the paper's three stages."""
-        case, sys_ = self.case, self.system
-        h, nlev, cap = case.dt, case.accel_levels, case.max_iter
+        settings, sys_ = self.case, self.system
+        h, nlev, cap = settings.dt, settings.accel_levels, settings.max_iter
         # The distributed contact spreads the force of this step, and averages its gap,
         # over the strip of the force at t (docs/solver.md, section 11): st.contact's rows.
         load = abs(float(st.x[-1])) if self.law is not None else 0.0
@@ -197,7 +197,7 @@ class PaperMethod:
             pi = c1.s + c_h * x[-1] if touching else 0.0
             e = np.append(self.root_errors(th1, u1), pi)
             residual[0] = np.abs(e).max()
-            if residual[0] <= case.tol_disp:
+            if residual[0] <= settings.tol_disp:
                 break
             if m == cap:
                 iters[0] = m
@@ -206,7 +206,7 @@ class PaperMethod:
                 # A penetration the band accepts is held, one outside brought just inside
                 # it: removing an accepted penetration within one step is the 1/dt^2 spike.
                 # The root rows aim at zero as before (their kicks do not reach the force).
-                target_p = band_value(e[-1], case.tol_disp, BAND_MARGIN)
+                target_p = band_value(e[-1], settings.tol_disp, BAND_MARGIN)
             active = np.ones(e.size, dtype=bool)
             active[-1] = touching
             e_up = e.copy()
@@ -235,7 +235,7 @@ class PaperMethod:
             residual[1] = np.abs(e).max()
             # At least one iteration: the displacement stage's constant force leaves a
             # velocity error up to tol/dt that would carry the gap across the band next step.
-            if residual[1] <= case.tol_vel and m > 0:
+            if residual[1] <= settings.tol_vel and m > 0:
                 break
             if m == cap:
                 iters[1] = m
@@ -267,7 +267,7 @@ class PaperMethod:
             residual[2] = np.abs(e).max()
             # At least one iteration: the stage is algebraic and its C exact, so one update
             # costs little and keeps the force from lagging the load by up to m tol/dt^2.
-            if residual[2] <= case.tol_acc and m > 0:
+            if residual[2] <= settings.tol_acc and m > 0:
                 break
             if m == cap:
                 iters[2] = m
@@ -304,19 +304,19 @@ def initial_state(system: PairSystem, settings: RunSettings) -> State:
     they approach, none if they part (docs/solver.md, section 9). Both steppers start
     from this state.
     """
-    sys_, case = system, settings
-    ref = PaperMethod(sys_, case)
+    sys_ = system
+    ref = PaperMethod(sys_, settings)
     minv = ref.minv
     theta = np.zeros(2)
-    omega = np.array([case.speed_a, case.speed_b])
+    omega = np.array([settings.speed_a, settings.speed_b])
     u = np.zeros(sys_.n_u)
     v = rigid_velocities(sys_, omega)
     contact = contact_at(sys_, theta, u, initial_contact_guess(sys_))
     s_hat = ref.normal_of(contact, v, ref.velocity_mats(theta, omega))
-    closed = abs(contact.s) <= case.tol_disp and abs(s_hat) <= case.tol_vel
+    closed = abs(contact.s) <= settings.tol_disp and abs(s_hat) <= settings.tol_vel
     g0 = jacobian(sys_, theta, contact)
     ca = (g0 * minv) @ g0.T
-    alpha0, a0 = accelerations(sys_, case, theta, u, np.zeros(2), np.zeros(sys_.n_u))
+    alpha0, a0 = accelerations(sys_, settings, theta, u, np.zeros(2), np.zeros(sys_.n_u))
     ua, ub = blocks(sys_, u)
     va, vb = blocks(sys_, v)
     ma, mb = ref.velocity_mats(theta, omega)
@@ -325,14 +325,14 @@ def initial_state(system: PairSystem, settings: RunSettings) -> State:
         sys_.gears[0].X + ua.reshape(-1, 2), sys_.gears[1].X + ub.reshape(-1, 2), rot(0.0), rot(0.0),
         va.reshape(-1, 2), vb.reshape(-1, 2), ma, mb, contact)
     x = np.zeros(sys_.n_x)
-    for m in range(case.max_iter):
+    for m in range(settings.max_iter):
         dq = minv * (g0.T @ x)
         alpha, a = alpha0 + dq[:2], a0 + dq[2:]
         st_ = ref.normal_of(contact, a, ref.acceleration_mats(theta, omega, alpha)) + extra
         pit = st_ if (closed and (st_ > 0.0 or x[-1] < 0.0)) else 0.0
         e = np.append(root_acceleration_errors(sys_, theta, omega, alpha, a), pit)
         # at least one iteration, as in the step's acceleration stage
-        if np.abs(e).max() <= case.tol_acc and m > 0:
+        if np.abs(e).max() <= settings.tol_acc and m > 0:
             break
-        x = accelerated_update(x, e, ca, case.accel_levels)
+        x = accelerated_update(x, e, ca, settings.accel_levels)
     return State(t=0.0, theta=theta, omega=omega, u=u, v=v, x=x, contact=contact)

@@ -139,10 +139,21 @@ def bodies(mesh: dict) -> dict:
     return out
 
 
+#: The bodies' Rayleigh damping of the sweep: a ratio of 0.02 at 5 and 50 kHz. The mesh
+#: damper damps the teeth's deflection only; without damping of their own, the bodies' modes
+#: (the hubs against the rims, the teeth) settle only through the scheme's dissipation, and
+#: a run at 4,000 rpm still changes its peak by 0.5 % a cycle after ten cycles.
+SWEEP_RAYLEIGH = (0.02, 5e3, 5e4)
+
+
 def sweep(mesh: dict, rpms: list[float], cycles: int) -> list[dict]:
+    from spurdyn.solvers.implicit.damping import rayleigh_from_ratio
+
+    a, b = rayleigh_from_ratio(*SWEEP_RAYLEIGH)
     rows = []
     for rpm in rpms:
-        s = run_settings(PAIR, rpm * RPM, TORQUE, dt=1e-6, cycles=cycles, damping_ratio=0.05, **mesh)
+        s = run_settings(PAIR, rpm * RPM, TORQUE, dt=1e-6, cycles=cycles, damping_ratio=0.05,
+                         rayleigh_mass=a, rayleigh_stiffness=b, **mesh)
         t0 = time.perf_counter()
         run = simulate_sector(PAIR, s)
         rows.append({"rpm": rpm, "dynamic_factor": settled_dynamic_factor(run),
@@ -259,7 +270,13 @@ def render(f: dict) -> str:
         f"{f['bodies']['te_max_rel_pp'] * 100:.2f} % of its peak-to-peak; settled dynamic factor "
         f"{f['bodies']['full']['dynamic_factor']:.4f} whole, {f['bodies']['modal']['dynamic_factor']:.4f} modal.",
         "",
-        f"## Dynamic factor against speed (zeta = 0.05, {f['sweep_cycles']} cycles, modal bodies)",
+        f"## Dynamic factor against speed (zeta = 0.05, Rayleigh {SWEEP_RAYLEIGH[0]:g} at "
+        f"{SWEEP_RAYLEIGH[1] / 1e3:g} and {SWEEP_RAYLEIGH[2] / 1e3:g} kHz, {f['sweep_cycles']} cycles, modal bodies)",
+        "",
+        "The mesh damper damps the teeth's deflection; the bodies' own modes (the hubs against the "
+        "rims, the teeth) need damping of their own to settle: without Rayleigh damping a run at "
+        "4,000 rpm still changed its peak by 0.5 % a cycle after ten cycles, with it the cycles "
+        "agree to 1e-3 (the settled test) from the sixth.",
         "",
         f"Resonance from the sector's own mean mesh stiffness: **{res['sector_rpm']:,.0f} rpm** "
         f"(f_n {res['sector_fn_hz'] / 1e3:.2f} kHz); from the paper model's root-clamped tooth "

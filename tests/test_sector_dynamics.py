@@ -17,8 +17,8 @@ from spurdyn.geometry.presets import paper_pair
 from spurdyn.sector.statics import driving_pair, mesh_cycle
 from spurdyn.settings import RPM
 from spurdyn.solvers.check import run_settings
-from spurdyn.solvers.sector.run import rigid_gap, simulate_sector
-from spurdyn.solvers.sector.system import gear_block, teeth_for
+from spurdyn.solvers.sector.run import simulate_sector
+from spurdyn.solvers.sector.system import gear_block, rigid_gap, teeth_for
 
 PAIR = paper_pair()
 MESH = dict(nx=2, ny=8)

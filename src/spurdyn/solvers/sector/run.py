@@ -12,18 +12,19 @@ a run) and a complementarity problem of as many unknowns as pairs on the path,
     W F + v >= 0,  F >= 0,  F (W F + v) = 0,   W = beta' G S^-1 G^T + c_H I,
 
 ``v`` the pairs' gaps at the end of the step without their forces, ``c_H`` the strip's
-curvature compliance. Its solution is unique (``W`` is positive definite) and found by
-trying the active sets, the fewest contacts first (two or three pairs). The columns
-``S^-1 G^T`` come from the response of each gear to unit loads on the flank DOFs of each
-tooth on the path, computed once when the tooth enters and dropped when it leaves. The
-strips' half-widths follow the forces of the step before.
+curvature compliance (and on modal bodies their residual compliance). Its solution is unique
+(``W`` is positive definite) and found by trying the active sets, the fewest contacts first
+(two or three pairs). The columns ``S^-1 G^T`` come from each gear's response to unit loads
+where a pair's load enters its coordinates (:mod:`spurdyn.solvers.sector.bodies`), needed
+only at the hub and the rows' coordinates. The strips' half-widths follow the forces of the
+step before.
 
 The mesh damper ``c = 2 zeta sqrt(k m_e)``, ``k`` the mean mesh stiffness of the
-quasi-static cycle and ``m_e`` the pair's reduced mass, acts along the line of action on
-the gap rates of the pairs that were in contact at the end of the step before, shared by
-their forces: ``G^T C G v`` with ``C`` their coefficients. It adds ``gamma' G^T C G`` to
-``S``, taken through the pairs' coupling ``G S^-1 G^T`` (Woodbury), so the factors stay
-those of the run.
+quasi-static cycle and ``m_e`` the pair's reduced mass, acts along the line of action on the
+teeth's deflection rate ``H q_dot`` (``H`` a row's elastic part) of the pairs that were in
+contact at the end of the step before, shared by their forces. It adds ``gamma' H^T C H`` to
+``S``, taken by Woodbury's formula through the pairs' couplings, so the factors stay those
+of the run.
 """
 
 from __future__ import annotations
@@ -37,8 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 from threadpoolctl import threadpool_limits
 
-from spurdyn.contact.hertz import effective_modulus, half_width, involute_curvature_radius
-from spurdyn.geometry.corner import corner_contact
+from spurdyn.contact.hertz import effective_modulus
 from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.loading import static_force, torque_amplitudes
@@ -48,8 +48,9 @@ from spurdyn.settings import RunSettings
 from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
 from spurdyn.solvers.sector.bodies import FullBody
-from spurdyn.solvers.sector.system import GearBlock, gear_block, teeth_for
-from spurdyn.solvers.steady import cycle_figures
+from spurdyn.solvers.sector.output import sector_result
+from spurdyn.solvers.sector.system import (REACH, _half_widths, _half_widths_at, _radii, gear_block,
+                                           rigid_gap, teeth_for)
 
 #: The highest frequency (Hz) the sector model's default step resolves with
 #: :data:`STEPS_PER_KEPT_PERIOD` steps a period: the pair's torsional mode (~5-6 kHz on the
@@ -63,11 +64,6 @@ STEPS_PER_MESH_PERIOD = 200
 #: Positions of the quasi-static cycle the run reads its mean stiffness and its largest
 #: quasi-static pair force from.
 CYCLE_POSITIONS = 21
-#: How far beyond either end of the path of contact (as a fraction of the angular pitch of
-#: the driver's roll) a pair is a contact candidate: a tip corner's rigid gap grows with the
-#: square of the roll beyond the end (for the paper's pair 0.4 um at 0.003 rad, 150 um at a
-#: quarter pitch), far beyond any loaded approach there (docs/sector.md, 6.2).
-REACH = 0.25
 
 
 def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
@@ -393,134 +389,13 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     finally:
         limit.restore_original_limits()
     n_kept = step + 1 if status == "complete" or "interrupted" in reason else step
-    result = _result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
+    result = sector_result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
                    gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_mesh, status, reason,
                    _time.perf_counter() - wall0, load)
     result.info["bodies"] = "modal" if modes else "full"
     result.info["modes"] = [g.n - 1 for g in gears] if modes else None
     result.info["coordinates"] = n
     return result
-
-
-#: Step (rad of the driver's roll) of the central difference of a pair's rigid gap.
-SLOPE_STEP = 1e-6
-
-
-def rigid_gap(dp: GearPair, rho: float) -> tuple[float, float, float, float]:
-    """``(g, dg/drho, r_a, r_b)``: a pair's gap at the kinematic position of the driver's
-    roll ``rho`` (a tip corner's off the path, :func:`spurdyn.geometry.corner.corner_contact`,
-    plus the two tip reliefs at the contact radii), its slope, and the contact radii. The
-    slope enters the pair's row, so that the force does the work the gap's change asks."""
-
-    def total(x: float) -> tuple[float, float, float]:
-        g, r_a, r_b = corner_contact(dp, x)
-        return g + float(dp.gear_a.relief_depth(r_a) + dp.gear_b.relief_depth(r_b)), r_a, r_b
-
-    g, r_a, r_b = total(rho)
-    slope = (total(rho + SLOPE_STEP)[0] - total(rho - SLOPE_STEP)[0]) / (2.0 * SLOPE_STEP)
-    return g, slope, r_a, r_b
-
-
-def _radii(dp: GearPair, rolls: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The contact radii on the driver and the driven gear at the driver's rolls."""
-    rolls = np.atleast_1d(np.asarray(rolls, dtype=float))
-    return (np.atleast_1d(dp.gear_a.radius_at_roll_angle(rolls)),
-            np.atleast_1d(dp.gear_b.radius_at_roll_angle(np.asarray(dp.roll_b_from_roll_a(rolls)))))
-
-
-def _half_widths(dp: GearPair, rolls: Any, forces: NDArray[np.float64], estar: float,
-                 width: float) -> NDArray[np.float64]:
-    """Hertz's half-widths of the pairs' forces at the driver's rolls."""
-    return _half_widths_at(dp, _radii(dp, rolls), forces, estar, width)
-
-
-def _half_widths_at(dp: GearPair, radii: tuple[NDArray[np.float64], NDArray[np.float64]],
-                    forces: NDArray[np.float64], estar: float, width: float) -> NDArray[np.float64]:
-    """Hertz's half-widths of the pairs' forces at the contact radii ``(r_a, r_b)`` (the
-    involutes' curvatures there, a tip corner's too)."""
-    ra, rb = radii
-    rho_a = [involute_curvature_radius(float(r), dp.gear_a.base_radius) for r in ra]
-    rho_b = [involute_curvature_radius(float(r), dp.gear_b.base_radius) for r in rb]
-    return np.atleast_1d(half_width(np.asarray(forces, dtype=float), rho_a, rho_b, estar, width))
-
-
-def _result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: tuple[GearBlock, GearBlock],
-            cycle: Any, teeth: NDArray[np.intp], n_kept: int, t: NDArray[np.float64],
-            theta: NDArray[np.float64], omega: NDArray[np.float64], forces: NDArray[np.float64],
-            gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
-            h: float, torques: tuple[float, float], c_mesh: float, status: str, reason: str,
-            wall: float, load: float) -> Result:
-    """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B."""
-    ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
-    sel = slice(0, n_kept)
-    t, theta, omega, forces, gap = t[sel], theta[sel], omega[sel], forces[sel], gap[sel]
-    n = t.size
-    mesh = forces.sum(axis=1)
-    te = ra * theta[:, 0] - rb * theta[:, 1]
-    most = forces.max(axis=1) if teeth.size else np.zeros(n)
-    pitch = 2.0 * math.pi / dp.gear_a.teeth
-    rolls = dp.start_roll_a + theta[:, :1] + teeth[None, :] * pitch
-    top = np.argmax(forces, axis=1)
-    roll_a = rolls[np.arange(n), top]
-    roll = np.column_stack([roll_a, np.asarray(dp.roll_b_from_roll_a(roll_a))])
-    torque = np.tile(np.array(torques, dtype=float), (n, 1))
-    fig = cycle_figures(t, mesh, te, per_cycle, cycles)
-    swap = pair.driver == "b"
-
-    def ab(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return x[:, ::-1].copy() if swap else x
-
-    reach = REACH * pitch
-    on = (rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach)
-    info: dict[str, Any] = {
-        "model": "sector",
-        "integrator": "implicit",
-        "contact": "hertz",
-        "rho_inf": settings.rho_inf,
-        "n_dof": int(sum(b.n for b in blocks)),
-        "case": settings.name,
-        "driver": pair.driver,
-        "theta_s": pair.theta_s,
-        "theta_2": pair.theta_2,
-        "static_force": load,
-        "single_zone": (pair.theta_2, pair.theta_s - pair.theta_2),
-        "teeth_per_gear": [b.count for b in blocks],
-        "whole_gears": [b.whole for b in blocks],
-        "rim_inner_radius_m": [b.body.mesh.inner_radius for b in blocks],
-        "hub_inertia": [b.hub_inertia for b in blocks],
-        "body_inertia": [b.body_inertia for b in blocks],
-        "mesh_damper_N_s_per_m": c_mesh,
-        "damping_ratio": settings.damping_ratio,
-        "rayleigh": [settings.rayleigh_mass, settings.rayleigh_stiffness],
-        "dt_s": h,
-        "steps_per_cycle": per_cycle,
-        "pair_teeth": teeth.tolist(),
-        "angle_end": float(theta[-1, 0]) if n else 0.0,
-        "steady": {
-            **{k: fig[k] for k in ("cycles", "cycles_done")},
-            "mesh_period_s": per_cycle * h,
-            **{k: fig[k] for k in ("last_cycles", "window_s", "settled", "settle_tolerance",
-                                   "peak_mesh_force_per_cycle_N",
-                                   "transmission_error_rms_per_cycle_m")},
-            "static_pair_force_max_N": float(cycle.force.max()),
-            "mesh_stiffness_mean_N_per_m": cycle.stiffness_mean,
-            **{k: fig[k] for k in ("transmission_error_rms_m", "transmission_error_pp_m",
-                                   "transmission_error_mean_m")},
-            "end_state": None,
-            "start_state": None,
-        },
-    }
-    if en is not None:
-        info["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
-                          "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
-    return Result(
-        time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most, gap=gap,
-        roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
-        residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
-        corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
-        frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
-        info=info, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
-        transmission_error=te)
 
 
 __all__ = ["KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "simulate_sector", "steps_per_cycle"]

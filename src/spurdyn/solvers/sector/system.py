@@ -31,13 +31,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from spurdyn.contact.hertz import half_width, involute_curvature_radius
 from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.fem.assembly import assemble_lumped_mass
+from spurdyn.geometry.corner import corner_contact
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
 from spurdyn.mesh.sector import turn
@@ -204,4 +207,52 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
                      _free_of=free_of, _side_of=side_of)
 
 
-__all__ = ["GearBlock", "gear_block", "rotation_field", "teeth_for"]
+#: How far beyond either end of the path of contact (as a fraction of the angular pitch of
+#: the driver's roll) a pair is a contact candidate: a tip corner's rigid gap grows with the
+#: square of the roll beyond the end (for the paper's pair 0.4 um at 0.003 rad, 150 um at a
+#: quarter pitch), far beyond any loaded approach there (docs/sector.md, 6.2).
+REACH = 0.25
+
+#: Step (rad of the driver's roll) of the central difference of a pair's rigid gap.
+SLOPE_STEP = 1e-6
+
+
+def rigid_gap(dp: GearPair, rho: float) -> tuple[float, float, float, float]:
+    """``(g, dg/drho, r_a, r_b)``: a pair's gap at the kinematic position of the driver's
+    roll ``rho`` (a tip corner's off the path, :func:`spurdyn.geometry.corner.corner_contact`,
+    plus the two tip reliefs at the contact radii), its slope, and the contact radii. The
+    slope enters the pair's row, so that the force does the work the gap's change asks."""
+
+    def total(x: float) -> tuple[float, float, float]:
+        g, r_a, r_b = corner_contact(dp, x)
+        return g + float(dp.gear_a.relief_depth(r_a) + dp.gear_b.relief_depth(r_b)), r_a, r_b
+
+    g, r_a, r_b = total(rho)
+    slope = (total(rho + SLOPE_STEP)[0] - total(rho - SLOPE_STEP)[0]) / (2.0 * SLOPE_STEP)
+    return g, slope, r_a, r_b
+
+
+def _radii(dp: GearPair, rolls: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The contact radii on the driver and the driven gear at the driver's rolls."""
+    rolls = np.atleast_1d(np.asarray(rolls, dtype=float))
+    return (np.atleast_1d(dp.gear_a.radius_at_roll_angle(rolls)),
+            np.atleast_1d(dp.gear_b.radius_at_roll_angle(np.asarray(dp.roll_b_from_roll_a(rolls)))))
+
+
+def _half_widths(dp: GearPair, rolls: Any, forces: NDArray[np.float64], estar: float,
+                 width: float) -> NDArray[np.float64]:
+    """Hertz's half-widths of the pairs' forces at the driver's rolls."""
+    return _half_widths_at(dp, _radii(dp, rolls), forces, estar, width)
+
+
+def _half_widths_at(dp: GearPair, radii: tuple[NDArray[np.float64], NDArray[np.float64]],
+                    forces: NDArray[np.float64], estar: float, width: float) -> NDArray[np.float64]:
+    """Hertz's half-widths of the pairs' forces at the contact radii ``(r_a, r_b)`` (the
+    involutes' curvatures there, a tip corner's too)."""
+    ra, rb = radii
+    rho_a = [involute_curvature_radius(float(r), dp.gear_a.base_radius) for r in ra]
+    rho_b = [involute_curvature_radius(float(r), dp.gear_b.base_radius) for r in rb]
+    return np.atleast_1d(half_width(np.asarray(forces, dtype=float), rho_a, rho_b, estar, width))
+
+
+__all__ = ["GearBlock", "REACH", "SLOPE_STEP", "gear_block", "rigid_gap", "rotation_field", "teeth_for"]

@@ -1,0 +1,99 @@
+"""The sector model's run as a :class:`~spurdyn.result.Result` (docs/sector.md, 6.4): the
+pairs' forces and contact rolls, the transmission error, the settled test, in the pair's
+own gears A and B."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.geometry.pair import GearPair
+from spurdyn.result import Result
+from spurdyn.settings import RunSettings
+from spurdyn.solvers.sector.system import REACH, GearBlock
+from spurdyn.solvers.steady import cycle_figures
+
+
+def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: tuple[GearBlock, GearBlock],
+            cycle: Any, teeth: NDArray[np.intp], n_kept: int, t: NDArray[np.float64],
+            theta: NDArray[np.float64], omega: NDArray[np.float64], forces: NDArray[np.float64],
+            gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
+            h: float, torques: tuple[float, float], c_mesh: float, status: str, reason: str,
+            wall: float, load: float) -> Result:
+    """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B."""
+    ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
+    sel = slice(0, n_kept)
+    t, theta, omega, forces, gap = t[sel], theta[sel], omega[sel], forces[sel], gap[sel]
+    n = t.size
+    mesh = forces.sum(axis=1)
+    te = ra * theta[:, 0] - rb * theta[:, 1]
+    most = forces.max(axis=1) if teeth.size else np.zeros(n)
+    pitch = 2.0 * math.pi / dp.gear_a.teeth
+    rolls = dp.start_roll_a + theta[:, :1] + teeth[None, :] * pitch
+    top = np.argmax(forces, axis=1)
+    roll_a = rolls[np.arange(n), top]
+    roll = np.column_stack([roll_a, np.asarray(dp.roll_b_from_roll_a(roll_a))])
+    torque = np.tile(np.array(torques, dtype=float), (n, 1))
+    fig = cycle_figures(t, mesh, te, per_cycle, cycles)
+    swap = pair.driver == "b"
+
+    def ab(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return x[:, ::-1].copy() if swap else x
+
+    reach = REACH * pitch
+    on = (rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach)
+    info: dict[str, Any] = {
+        "model": "sector",
+        "integrator": "implicit",
+        "contact": "hertz",
+        "rho_inf": settings.rho_inf,
+        "n_dof": int(sum(b.n for b in blocks)),
+        "case": settings.name,
+        "driver": pair.driver,
+        "theta_s": pair.theta_s,
+        "theta_2": pair.theta_2,
+        "static_force": load,
+        "single_zone": (pair.theta_2, pair.theta_s - pair.theta_2),
+        "teeth_per_gear": [b.count for b in blocks],
+        "whole_gears": [b.whole for b in blocks],
+        "rim_inner_radius_m": [b.body.mesh.inner_radius for b in blocks],
+        "hub_inertia": [b.hub_inertia for b in blocks],
+        "body_inertia": [b.body_inertia for b in blocks],
+        "mesh_damper_N_s_per_m": c_mesh,
+        "damping_ratio": settings.damping_ratio,
+        "rayleigh": [settings.rayleigh_mass, settings.rayleigh_stiffness],
+        "dt_s": h,
+        "steps_per_cycle": per_cycle,
+        "pair_teeth": teeth.tolist(),
+        "angle_end": float(theta[-1, 0]) if n else 0.0,
+        "steady": {
+            **{k: fig[k] for k in ("cycles", "cycles_done")},
+            "mesh_period_s": per_cycle * h,
+            **{k: fig[k] for k in ("last_cycles", "window_s", "settled", "settle_tolerance",
+                                   "peak_mesh_force_per_cycle_N",
+                                   "transmission_error_rms_per_cycle_m")},
+            "static_pair_force_max_N": float(cycle.force.max()),
+            "mesh_stiffness_mean_N_per_m": cycle.stiffness_mean,
+            **{k: fig[k] for k in ("transmission_error_rms_m", "transmission_error_pp_m",
+                                   "transmission_error_mean_m")},
+            "end_state": None,
+            "start_state": None,
+        },
+    }
+    if en is not None:
+        info["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
+                          "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
+    return Result(
+        time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most, gap=gap,
+        roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
+        residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
+        corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
+        frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
+        info=info, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
+        transmission_error=te)
+
+
+__all__ = ["sector_result"]

@@ -146,6 +146,30 @@ def bodies(mesh: dict) -> dict:
 SWEEP_RAYLEIGH = (0.02, 5e3, 5e4)
 
 
+def relief(mesh: dict) -> list[dict]:
+    """The paper's Fig. 8 (4,000 rpm, 22.25 N m, undamped) on the sector model, without and
+    with the NASA-like 20 um tip relief, over three cycles: the one-tooth model rattles with
+    the relief (validation.md, section 5); here each pair should make contact once."""
+    from spurdyn.geometry.pair import GearPair
+    from spurdyn.geometry.presets import nasa_like_relief
+
+    relieved = GearPair(gear_a=nasa_like_relief(PAIR.gear_a), gear_b=nasa_like_relief(PAIR.gear_b),
+                        centre_distance=PAIR.centre_distance)
+    out = []
+    for label, pair in (("none", PAIR), ("20 µm (nasa_like_relief)", relieved)):
+        s = run_settings(pair, 4000 * RPM, 22.25, dt=1e-6, cycles=3, **mesh)
+        run = simulate_sector(pair, s)
+        on = run.pair_force > 0
+        onsets = (on[1:] & ~on[:-1]).sum(axis=0)
+        mesh_f = run.pair_force.sum(axis=1)
+        out.append({"relief": label, "onsets_max": int(onsets.max()),
+                    "mesh_min_rel": float(mesh_f.min() / run.info["static_force"]),
+                    "mesh_max_rel": float(mesh_f.max() / run.info["static_force"]),
+                    "dynamic_factor": settled_dynamic_factor(run),
+                    "te_pp_um": float(np.ptp(run.transmission_error[run.time >= run.info["steady"]["window_s"][0]]) * 1e6)})
+    return out
+
+
 def sweep(mesh: dict, rpms: list[float], cycles: int) -> list[dict]:
     from spurdyn.solvers.implicit.damping import rayleigh_from_ratio
 
@@ -181,6 +205,8 @@ def main() -> None:
     print("step", fig["step"], flush=True)
     fig["bodies"] = bodies(fine)
     print("bodies", fig["bodies"], flush=True)
+    fig["relief"] = relief(fine)
+    print("relief", fig["relief"], flush=True)
     from spurdyn.cases import resolve_cases
     from spurdyn.sweep.resonance import resonance_estimate
 
@@ -269,6 +295,17 @@ def render(f: dict) -> str:
         f"{f['bodies']['pair_max_rel'] * 100:.2f} % of the largest pair force, the transmission error "
         f"{f['bodies']['te_max_rel_pp'] * 100:.2f} % of its peak-to-peak; settled dynamic factor "
         f"{f['bodies']['full']['dynamic_factor']:.4f} whole, {f['bodies']['modal']['dynamic_factor']:.4f} modal.",
+        "",
+        "## Tip relief: no rattle (Fig. 8: 4,000 rpm, 22.25 N m, undamped, 3 cycles)",
+        "",
+        "The one-tooth model rattles with the NASA-like relief (validation.md, section 5: 4 "
+        "impacts, dynamic factor 2.91), because its torque ramps load the pair before the "
+        "relieved teeth touch. With the teeth on their rims the load passes from pair to pair:",
+        "",
+        "| relief | contact onsets per pair (most) | mesh force / W: least, largest | dynamic factor (last cycle) | TE peak-to-peak, last cycle (µm) |",
+        "| --- | --- | --- | --- | --- |",
+        *[f"| {r['relief']} | {r['onsets_max']} | {r['mesh_min_rel']:.3f}, {r['mesh_max_rel']:.3f} | "
+          f"{r['dynamic_factor']:.3f} | {r['te_pp_um']:.2f} |" for r in f["relief"]],
         "",
         f"## Dynamic factor against speed (zeta = 0.05, Rayleigh {SWEEP_RAYLEIGH[0]:g} at "
         f"{SWEEP_RAYLEIGH[1] / 1e3:g} and {SWEEP_RAYLEIGH[2] / 1e3:g} kHz, {f['sweep_cycles']} cycles, modal bodies)",

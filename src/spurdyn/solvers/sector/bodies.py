@@ -12,7 +12,7 @@ Both give the loop the same few things for a step's matrix ``S = M + gamma' C + 
 - :meth:`residual`: the instantaneous compliance between two pairs' loads (zero for the whole
   body, ``b_i^T R b_j`` for the reduced one);
 - :meth:`static`: the coordinates of the body's static deflection under loads;
-- :meth:`kinetic`, :meth:`strain`: its energies.
+- :meth:`kinetic`, :meth:`strain`: its energies; :meth:`momentum`: its hub's momentum.
 """
 
 from __future__ import annotations
@@ -66,6 +66,11 @@ class FullBody:
         full[body._free] = loads
         return body.solve(full)[body._free]
 
+    def momentum(self, v: NDArray[np.float64]) -> float:
+        """The hub's generalised momentum ``(M v)_theta`` (kg m^2/s)."""
+        blk = self.block
+        return blk.inertia * v[0] + float((blk.mass * blk.rot) @ v[1:])
+
     def kinetic(self, v: NDArray[np.float64]) -> float:
         blk = self.block
         vel = v[1:]
@@ -117,6 +122,10 @@ class ModalBody:
     def static(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
         # the modal part of K^-1 f; the rest is the residual flexibility's, held by the forces
         return (self.reduced.phi.T @ loads) / self.reduced.omega2
+
+    def momentum(self, v: NDArray[np.float64]) -> float:
+        """The hub's generalised momentum ``(M v)_theta`` (kg m^2/s)."""
+        return float(self.mass[0] @ v)
 
     def kinetic(self, v: NDArray[np.float64]) -> float:
         return 0.5 * float(v @ (self.mass @ v))

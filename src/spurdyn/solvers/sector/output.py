@@ -84,6 +84,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         },
     }
     if en is not None:
+        info["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
         info["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
                           "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
     return Result(

@@ -136,7 +136,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         to a whole number of steps per mesh cycle.
     energy
         Keep the energy balance per sample in ``info["energy"]`` (kinetic, strain,
-        strip, the torques' work, J).
+        strip, the torques' work, J), and the hubs' momenta with the pairs' torques on
+        them in ``info["momentum"]``.
     modes
         Reduce each body to its modes (:mod:`spurdyn.solvers.sector.reduced`): ``True``
         keeps those below :data:`~spurdyn.solvers.sector.reduced.MODE_FACTOR` times
@@ -310,7 +311,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     om_out = np.full((n_out, 2), np.nan)
     f_out = np.full((n_out, teeth.size), np.nan)
     gap_out = np.full(n_out, np.nan)
-    en_out = np.full((n_out, 4), np.nan) if energy else None
+    en_out = np.full((n_out, 8), np.nan) if energy else None
     c_res = np.zeros((0, 0))
 
     def save(i: int, rows: list[tuple[Any, ...]]) -> None:
@@ -327,7 +328,11 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             res = 0.5 * float(fo @ c_res @ fo) if c_res.shape[0] == len(rows) and rows else 0.0
             en_out[i] = (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)),
                          sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
-                         0.5 * c_h * float(force @ force), t_drv * q[0] + t_drn * q[na])
+                         0.5 * c_h * float(force @ force), t_drv * q[0] + t_drn * q[na],
+                         *(gears[g].momentum(v[parts[g]]) for g in range(2)),
+                         # the pairs' generalised forces on the hubs: the rows' hub entries
+                         sum(sides[0][0] * force[p] for p, _, sides in rows),
+                         sum(sides[1][0] * force[p] for p, _, sides in rows))
 
     rows0 = rows_at(0.0, force)
     if rows0:

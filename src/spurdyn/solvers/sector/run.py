@@ -276,20 +276,20 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         w_hh = np.zeros((m, m))
         res = np.zeros((m, m))
         for g in range(2):
-            where = [sides[g][1] for _, _, sides in rows]
-            idx = np.concatenate([[0], *where])
-            starts = np.cumsum([1] + [d.size for d in where])
-            elastic = np.empty((idx.size, m))
-            for j, (_, _, sides) in enumerate(rows):
-                _, _, wts, resp, _, _ = sides[g]
-                elastic[:, j] = resp[idx] @ wts
+            # the hub and the rows' coordinates, each once (on modal bodies every row enters
+            # all the modes, so the set is the gear's coordinates)
+            idx, inverse = np.unique(np.concatenate([[0], *(sides[g][1] for _, _, sides in rows)]),
+                                     return_inverse=True)
+            at = np.split(inverse[1:], np.cumsum([sides[g][1].size for _, _, sides in rows])[:-1])
+            whole = idx.size == gears[g].n          # idx is then every coordinate, in order
+            elastic = np.column_stack([(sides[g][3] if whole else sides[g][3][idx]) @ sides[g][2]
+                                       for _, _, sides in rows])
             cols = elastic + np.outer(z_theta[g][idx], [sides[g][0] for _, _, sides in rows])
             for i, (_, _, sides) in enumerate(rows):
-                coef, dofs, wts, _, k_i, l_i = sides[g]
-                at = slice(starts[i], starts[i] + dofs.size)
-                w[i] += coef * cols[0] + wts @ cols[at]
-                w_gh[i] += coef * elastic[0] + wts @ elastic[at]
-                w_hh[i] += wts @ elastic[at]
+                coef, _, wts, _, k_i, l_i = sides[g]
+                w[i] += coef * cols[0] + wts @ cols[at[i]]
+                w_gh[i] += coef * elastic[0] + wts @ elastic[at[i]]
+                w_hh[i] += wts @ elastic[at[i]]
                 for j, (_, _, sides_j) in enumerate(rows):
                     res[i, j] += gears[g].residual(k_i, l_i, sides_j[g][4], sides_j[g][5])
         return w, w_gh, w_hh, res

@@ -122,6 +122,8 @@ BAD: dict[str, st.SearchStrategy[Any]] = {
     # without cycles even "sector" is refused (it is a mesh cycle)
     "stiffness": st.one_of(st.text(max_size=8).filter(lambda s: s != "tooth"), st.integers(),
                            st.booleans()),
+    "bodies": st.one_of(st.text(max_size=8).filter(lambda s: s not in ("modal", "full")),
+                        st.integers(), st.booleans()),
 }
 
 

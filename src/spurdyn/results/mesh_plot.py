@@ -60,9 +60,9 @@ def plot_mesh(ds: xr.Dataset, png: str | Path) -> Path:
     title = f"{ds.attrs['case_name']}: tooth pairs, {speeds_label(ds)}"
     if steady:
         title += f", last {steady['last_cycles']} of {steady['cycles']} cycles shaded"
-    if ds.attrs.get("status") != "complete":
-        title += f" (incomplete: {ds.attrs.get('reason', '')})"
-    from spurdyn.results.plots import wrap_title
+    from spurdyn.results.plots import stopped_early, wrap_title
+
+    title += stopped_early(ds)
 
     ax_f.set_title(wrap_title(title), fontsize=10)
     fig.tight_layout()

@@ -125,6 +125,14 @@ def _draw_average(ax: Axes, ds: xr.Dataset, colour: str, label: str | None) -> N
 TITLE_WIDTH, TITLE_LINES = 95, 4
 
 
+def stopped_early(ds: xr.Dataset) -> str:
+    """What a picture's title adds for a run that stopped early: ``" (incomplete: reason)"``,
+    or nothing."""
+    if ds.attrs.get("status") == "complete":
+        return ""
+    return f" (incomplete: {ds.attrs.get('reason', '')})"
+
+
 def wrap_title(title: str) -> str:
     """``title`` in lines that fit the picture (a long reason would be cut at both edges)."""
     import textwrap
@@ -151,8 +159,7 @@ def plot_contact_force(runs: Sequence[xr.Dataset], png: str | Path,
         if len(runs) == 1:
             ds = runs[0]
             title = f"{ds.attrs['case_name']}: contact force, {speeds_label(ds)}"
-            if ds.attrs.get("status") != "complete":
-                title += f" (incomplete: {ds.attrs.get('reason', '')})"
+            title += stopped_early(ds)
         else:
             title = "contact force: " + ", ".join(str(ds.attrs["case_name"]) for ds in runs)
     fig = Figure(figsize=(8, 4.8), dpi=120)

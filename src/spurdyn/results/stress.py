@@ -10,7 +10,6 @@ static load. :func:`stress_summary` turns both into the figures of ``summary.jso
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np

@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 
 from spurdyn.errors import InputError
 from spurdyn.results.frames import case_from_run, speeds_label
-from spurdyn.results.plots import wrap_title
+from spurdyn.results.plots import stopped_early, wrap_title
 from spurdyn.results.stress import iso_figures
 
 _COLOURS = ("tab:blue", "tab:orange")
@@ -66,8 +66,7 @@ def plot_stress_history(ds: xr.Dataset, png: str | Path) -> Path:
         ax_c.legend(fontsize=7, loc="best")
     title = f"{ds.attrs['case_name']}: stresses, {speeds_label(ds)}, " \
             f"{json.loads(ds.attrs['case'])['run'].get('contact', 'point')} contact"
-    if ds.attrs.get("status") != "complete":
-        title += f" (incomplete: {ds.attrs.get('reason', '')})"
+    title += stopped_early(ds)
     ax_r.set_title(wrap_title(title), fontsize=10)
     fig.tight_layout()
     png = Path(png)

@@ -153,10 +153,14 @@ def relief(mesh: dict) -> list[dict]:
     from spurdyn.geometry.pair import GearPair
     from spurdyn.geometry.presets import nasa_like_relief
 
-    relieved = GearPair(gear_a=nasa_like_relief(PAIR.gear_a), gear_b=nasa_like_relief(PAIR.gear_b),
+    def relieved(amount: float) -> GearPair:
+        return GearPair(gear_a=nasa_like_relief(PAIR.gear_a, amount=amount),
+                        gear_b=nasa_like_relief(PAIR.gear_b, amount=amount),
                         centre_distance=PAIR.centre_distance)
+
     out = []
-    for label, pair in (("none", PAIR), ("20 µm (nasa_like_relief)", relieved)):
+    for label, pair in (("none", PAIR), ("5 µm", relieved(5e-6)),
+                        ("20 µm (nasa_like_relief)", relieved(20e-6))):
         s = run_settings(pair, 4000 * RPM, 22.25, dt=1e-6, cycles=3, **mesh)
         run = simulate_sector(pair, s)
         on = run.pair_force > 0
@@ -296,16 +300,24 @@ def render(f: dict) -> str:
         f"{f['bodies']['te_max_rel_pp'] * 100:.2f} % of its peak-to-peak; settled dynamic factor "
         f"{f['bodies']['full']['dynamic_factor']:.4f} whole, {f['bodies']['modal']['dynamic_factor']:.4f} modal.",
         "",
-        "## Tip relief: no rattle (Fig. 8: 4,000 rpm, 22.25 N m, undamped, 3 cycles)",
+        "## Tip relief (Fig. 8: 4,000 rpm, 22.25 N m, undamped, 3 cycles)",
         "",
-        "The one-tooth model rattles with the NASA-like relief (validation.md, section 5: 4 "
-        "impacts, dynamic factor 2.91), because its torque ramps load the pair before the "
-        "relieved teeth touch. With the teeth on their rims the load passes from pair to pair:",
+        "The one-tooth model rattles with both reliefs (validation.md, section 5: 4 impacts, "
+        "dynamic factor 2.01 with 5 µm and 2.91 with 20 µm), because its torque ramps load the "
+        "pair before the relieved teeth touch. With the teeth on their rims the load passes from "
+        "pair to pair, and what a relief does depends on its amount against the load (the static "
+        "deflection is about 5 µm here): an onset count of 1 is a clean engagement, a mesh force "
+        "of 0 a loss of all contact.",
         "",
         "| relief | contact onsets per pair (most) | mesh force / W: least, largest | dynamic factor (last cycle) | TE peak-to-peak, last cycle (µm) |",
         "| --- | --- | --- | --- | --- |",
         *[f"| {r['relief']} | {r['onsets_max']} | {r['mesh_min_rel']:.3f}, {r['mesh_max_rel']:.3f} | "
           f"{r['dynamic_factor']:.3f} | {r['te_pp_um']:.2f} |" for r in f["relief"]],
+        "",
+        "A relief sized to the load (5 µm, about its static deflection) makes each pair engage once "
+        "and cuts the dynamic transmission error and the dynamic factor; 20 µm, four times the "
+        "deflection at this light load, opens a gap the pairs cross in flight: the mesh loses all "
+        "contact and rattles, as over-relieved gears do at light load.",
         "",
         f"## Dynamic factor against speed (zeta = 0.05, Rayleigh {SWEEP_RAYLEIGH[0]:g} at "
         f"{SWEEP_RAYLEIGH[1] / 1e3:g} and {SWEEP_RAYLEIGH[2] / 1e3:g} kHz, {f['sweep_cycles']} cycles, modal bodies)",

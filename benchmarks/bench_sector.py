@@ -16,18 +16,11 @@ Options: ``--jobs N`` (the sweep's workers).
 from __future__ import annotations
 
 import argparse
-import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
 
-
-def _spurdyn(args: list[str]) -> float:
-    exe = Path(sys.executable).with_name("spurdyn")
-    t0 = time.perf_counter()
-    subprocess.run([str(exe), *args], check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - t0
+from bench_steady import _spurdyn   # a spurdyn command in a fresh process, timed
 
 
 def sector_steps() -> None:

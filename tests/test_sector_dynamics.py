@@ -278,3 +278,23 @@ def test_the_modal_bodies_follow_the_whole_ones():
     assert m_modal.max() == pytest.approx(m_full.max(), rel=5e-3)
     te = full.transmission_error
     assert np.abs(modal.transmission_error - te).max() < 5e-3 * np.ptp(te)
+
+
+@pytest.mark.parametrize("argv, key", [
+    (["--dt", "1e-6"], "--dt"),
+    (["--integrator", "rk4"], "--integrator"),
+    (["--contact", "point"], "--contact"),
+])
+def test_the_sector_model_refuses_what_it_would_not_read(argv, key, tmp_path, capsys):
+    """Its own step, generalized-alpha and the strip: a flag that asks otherwise is refused in
+    one line naming it, exit status 2, nothing written (run and sweep)."""
+    from spurdyn.cli.main import main
+
+    commands = [["run", "paper-fig8"]] + ([] if key == "--contact" else   # sweep has no --contact
+                                          [["sweep", "paper-fig8", "--rpm", "1000,2000"]])
+    for command in commands:
+        out = tmp_path / command[0]
+        assert main([*command, "--model", "sector", "--cycles", "2", *argv, "--out", str(out)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith(f"spurdyn: error: {key}:")
+        assert not out.exists()

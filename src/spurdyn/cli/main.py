@@ -17,7 +17,8 @@ from typing import Any, NoReturn, Sequence
 
 from spurdyn.casefile import MeshedPair
 from spurdyn.cli.inputs import meshed_case, png_target, resolve_pair
-from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics
+from spurdyn.cli.options import (DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics,
+                                 refuse_sector_options)
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import PAPER_TORQUE
 from spurdyn.simulators import MODELS
@@ -147,9 +148,11 @@ def cmd_run(args: argparse.Namespace) -> int:
             if case.pair.driver == "b":
                 raise InputError("--vtu", f"needs tooth frames, but {case.name} is driven by "
                                  "gear B, whose runs keep none; leave out --vtu")
-    if model == "fe":   # not ignored in silence
-        for case in cases:
+    for case in cases:   # not ignored in silence
+        if model == "fe":
             refuse_fe_dynamics(case.run, labels)
+        elif model == "sector":
+            refuse_sector_options(case.run, labels)
     if not args.allow_large:
         from spurdyn.solvers.limits import check_size
 

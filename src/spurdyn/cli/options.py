@@ -45,6 +45,21 @@ def refuse_fe_dynamics(run: RunSettings, labels: dict[str, str]) -> None:
         raise InputError(damping_label(run, labels), FE_DAMPING_REASON)
 
 
+def refuse_sector_options(run: RunSettings, labels: dict[str, str]) -> None:
+    """Refuse, in one line, the options the sector model would not read: its step is its own
+    (of accuracy), its integrator generalized-alpha and its contact the Hertzian strip
+    (docs/sector.md, section 6)."""
+    if "run.dt" in labels:
+        raise InputError(labels["run.dt"], "the sector model sets its own step of accuracy "
+                         "(docs/sector.md, 6.3); leave it out")
+    if "run.integrator" in labels and run.integrator != "implicit":
+        raise InputError(labels["run.integrator"], "the sector model steps by generalized-alpha "
+                         "only; leave it out or give implicit")
+    if "run.contact" in labels and run.contact != "hertz":
+        raise InputError(labels["run.contact"], "the sector model's contact is the Hertzian "
+                         "strip; leave it out or give hertz")
+
+
 def damping_label(run: RunSettings, labels: dict[str, str]) -> str:
     """The key or flag of the damping a run was given (for an RK4 run's refusal)."""
     key = ("run.damping_ratio" if run.damping_ratio > 0.0 else "run.rayleigh_ratio"
@@ -97,4 +112,4 @@ def parse_mesh(text: str | None) -> tuple[int, int] | None:
 
 
 __all__ = ["DYNAMICS_OVERRIDES", "add_dynamics_options", "damping_label", "parse_mesh",
-           "refuse_fe_dynamics"]
+           "refuse_fe_dynamics", "refuse_sector_options"]

@@ -17,7 +17,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
-from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics
+from spurdyn.cli.options import (DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics,
+                                 refuse_sector_options)
 from spurdyn.errors import InputError
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep.spec import CONTINUATIONS, MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
@@ -125,6 +126,8 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     model = args.model or case.model          # --model, else the case file's [model] kind
     if model == "fe":   # not ignored in silence
         refuse_fe_dynamics(case.run, labels)
+    elif model == "sector":
+        refuse_sector_options(case.run, labels)
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:
             raise InputError("--continuation", f"must be one of {', '.join(CONTINUATIONS)} "

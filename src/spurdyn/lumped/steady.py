@@ -33,7 +33,7 @@ from spurdyn.lumped.model import RTOL, MeshStiffnessTable, _contact_roll_a, equi
 from spurdyn.model.loading import static_force, torque_amplitudes
 from spurdyn.result import Result
 from spurdyn.settings import RunSettings
-from spurdyn.solvers.steady import SETTLE_TOL, cycle_figures, last_cycles  # noqa: F401 (re-exported)
+from spurdyn.solvers.steady import cycle_figures, steady_record
 
 #: Saved samples per mesh period, and the longest interval between samples (s): the
 #: headline's 10-us average needs several samples a window.
@@ -171,20 +171,11 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         "t_end": float(t[-1]) if n else 0.0,
         "angle_end": float(phi_a[-1]) if n else 0.0,
         "output_interval": h,
-        "steady": {
-            **{k: fig[k] for k in ("cycles", "cycles_done")},
-            "mesh_period_s": period,
-            **{k: fig[k] for k in ("last_cycles", "window_s", "settled", "settle_tolerance",
-                                   "peak_mesh_force_per_cycle_N",
-                                   "transmission_error_rms_per_cycle_m")},
-            "static_pair_force_max_N": static_pair_max,
-            "mesh_stiffness_mean_N_per_m": float(kq_tot.mean()),
-            **{k: fig[k] for k in ("transmission_error_rms_m", "transmission_error_pp_m",
-                                   "transmission_error_mean_m")},
+        "steady": steady_record(
+            fig, period, static_pair_max, float(kq_tot.mean()),
             # where the next speed of a continuation starts (a whole number of cycles: phase 0)
-            "end_state": [float(delta[-1]), float(ddelta[-1] / w_a[-1])] if n else None,
-            "start_state": None if settings.start_state is None else list(settings.start_state),
-        },
+            end_state=[float(delta[-1]), float(ddelta[-1] / w_a[-1])] if n else None,
+            start_state=None if settings.start_state is None else list(settings.start_state)),
     }
     roll_a = _contact_roll_a(pair, phi_a - pitch * first)
     return Result(

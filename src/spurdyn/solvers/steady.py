@@ -80,4 +80,25 @@ def cycle_figures(time: NDArray[np.float64], mesh: NDArray[np.float64], te: NDAr
     }
 
 
-__all__ = ["SETTLE_TOL", "cycle_figures", "last_cycles"]
+def steady_record(fig: dict[str, Any], period: float, static_pair_max: float, stiffness_mean: float,
+                  end_state: list[float] | None = None,
+                  start_state: list[float] | None = None) -> dict[str, Any]:
+    """A run's ``info["steady"]``, which the summary reads
+    (:func:`spurdyn.results.io.steady_figures`): the settled test and figures of
+    :func:`cycle_figures`, the mesh period (s), the largest quasi-static pair force (N), the
+    mean mesh stiffness (N/m), and where a continuation ends and started."""
+    return {
+        **{k: fig[k] for k in ("cycles", "cycles_done")},
+        "mesh_period_s": period,
+        **{k: fig[k] for k in ("last_cycles", "window_s", "settled", "settle_tolerance",
+                               "peak_mesh_force_per_cycle_N", "transmission_error_rms_per_cycle_m")},
+        "static_pair_force_max_N": static_pair_max,
+        "mesh_stiffness_mean_N_per_m": stiffness_mean,
+        **{k: fig[k] for k in ("transmission_error_rms_m", "transmission_error_pp_m",
+                               "transmission_error_mean_m")},
+        "end_state": end_state,
+        "start_state": start_state,
+    }
+
+
+__all__ = ["SETTLE_TOL", "cycle_figures", "last_cycles", "steady_record"]

@@ -14,7 +14,7 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.result import Result
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.sector.system import REACH, GearBlock
-from spurdyn.solvers.steady import cycle_figures
+from spurdyn.solvers.steady import cycle_figures, steady_record
 
 
 def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: tuple[GearBlock, GearBlock],
@@ -69,19 +69,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         "steps_per_cycle": per_cycle,
         "pair_teeth": teeth.tolist(),
         "angle_end": float(theta[-1, 0]) if n else 0.0,
-        "steady": {
-            **{k: fig[k] for k in ("cycles", "cycles_done")},
-            "mesh_period_s": per_cycle * h,
-            **{k: fig[k] for k in ("last_cycles", "window_s", "settled", "settle_tolerance",
-                                   "peak_mesh_force_per_cycle_N",
-                                   "transmission_error_rms_per_cycle_m")},
-            "static_pair_force_max_N": float(cycle.force.max()),
-            "mesh_stiffness_mean_N_per_m": cycle.stiffness_mean,
-            **{k: fig[k] for k in ("transmission_error_rms_m", "transmission_error_pp_m",
-                                   "transmission_error_mean_m")},
-            "end_state": None,
-            "start_state": None,
-        },
+        "steady": steady_record(fig, per_cycle * h, float(cycle.force.max()), cycle.stiffness_mean),
     }
     if en is not None:
         info["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}

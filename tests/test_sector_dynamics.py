@@ -298,3 +298,103 @@ def test_the_sector_model_refuses_what_it_would_not_read(argv, key, tmp_path, ca
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and err[0].startswith(f"spurdyn: error: {key}:")
         assert not out.exists()
+
+
+def test_the_strips_weights_are_the_quadrature_of_the_edges_shape_functions():
+    """:func:`strip_weights` (all strips at once) against the strip's quadrature written
+    out point by point with :meth:`Flank.locate`; a point (``b = 0``) is ``locate`` itself."""
+    from spurdyn.contact.hertz import strip_coordinates, strip_quadrature
+    from spurdyn.contact.strip_numpy import strip_weights
+
+    blk = gear_block(PAIR.gear_a, 1.0, -1, 3, **MESH, grading=1.0)
+    flank = blk.body.flank
+    x, wq = strip_quadrature()
+    t_c = np.array([0.3, 2.5, 4.0, 7.9, 8.0])
+    b = np.array([80e-6, 150e-6, 0.0, 200e-6, 60e-6])
+    got = strip_weights(flank, t_c, b)
+    for t, hw, row in zip(t_c, b, got):
+        want = np.zeros(2 * flank.ny + 1)
+        for tk, wk in zip(strip_coordinates(t, hw, flank.r0, flank.r_tip, flank.ny, flank.base_radius, x), wq):
+            nodes, w, _ = flank.locate(float(tk))
+            want[[int(np.flatnonzero(flank.side_nodes == nd)[0]) for nd in nodes]] += wk * w
+        # round-off: a point's coordinate goes through r = sqrt(r_c^2 + 2 r_b b x) and back
+        np.testing.assert_allclose(row, want, rtol=0, atol=1e-13)
+        assert row.sum() == pytest.approx(1.0, rel=1e-13)
+    nodes, w, _ = flank.locate(4.0)
+    point = got[2][[int(np.flatnonzero(flank.side_nodes == nd)[0]) for nd in nodes]]
+    np.testing.assert_allclose(point, w, rtol=0, atol=1e-13)
+
+
+def test_the_gap_table_follows_the_rigid_gap():
+    """The run reads a pair's rigid gap, its slope and the contact radii from a table: within
+    1e-10 m, 1e-7 m/rad and 1e-9 m of :func:`rigid_gap` between the table's points, on the
+    path, at its ends and off it, with and without a tip relief; the slope is the gap's own
+    derivative (a central difference of the table)."""
+    import dataclasses
+
+    from spurdyn.geometry.presets import nasa_like_relief
+    from spurdyn.solvers.sector.system import REACH, gap_table
+
+    relieved = dataclasses.replace(PAIR, gear_a=nasa_like_relief(PAIR.gear_a, PAIR.gear_b),
+                                   gear_b=nasa_like_relief(PAIR.gear_b, PAIR.gear_a))
+    for pair in (PAIR, relieved):
+        dp = driving_pair(pair)
+        reach = REACH * 2.0 * math.pi / dp.gear_a.teeth
+        table = gap_table(dp, reach)
+        rng = np.random.default_rng(3)
+        rho = np.concatenate([rng.uniform(dp.start_roll_a - reach, dp.end_roll_a + reach, 60),
+                              [dp.start_roll_a - 1e-5, dp.end_roll_a + 3e-5]])
+        g, slope, r_a, r_b = table.at(rho)
+        for i, x in enumerate(rho):
+            want = rigid_gap(dp, float(x))
+            assert g[i] == pytest.approx(want[0], abs=1e-10)
+            assert slope[i] == pytest.approx(want[1], abs=1e-7)
+            assert r_a[i] == pytest.approx(want[2], abs=1e-9)
+            assert r_b[i] == pytest.approx(want[3], abs=1e-9)
+        d = 1e-9
+        np.testing.assert_allclose((table.at(rho + d)[0] - table.at(rho - d)[0]) / (2 * d), slope,
+                                   rtol=0, atol=1e-9)
+        # at a break (where the slope may jump) the table reads the interval to its right
+        for x in (dp.start_roll_a, dp.end_roll_a):
+            want = rigid_gap(dp, x, side=1)
+            got = table.at(np.array([x]))
+            assert got[0][0] == pytest.approx(want[0], abs=1e-12)
+            assert got[1][0] == pytest.approx(want[1], abs=1e-7)
+
+
+def test_the_bodies_rows_and_columns_are_their_matrices():
+    """Both bodies' rows, columns and residual compliance against the matrices written out:
+    ``E x`` against the turned loads at the flank DOFs (or ``Phi^T`` of them), ``S^-1 E^T``
+    against a solve, and on a whole modal gear the residual against
+    :meth:`ReducedGear.residual` tooth pair by tooth pair (round the ring too)."""
+    from spurdyn.solvers.sector.bodies import FullBody, ModalBody
+    from spurdyn.solvers.sector.reduced import reduce_gear
+
+    (fa, ca), _ = teeth_for(PAIR, 40.0)
+    blk = gear_block(PAIR.gear_a, 1.0, fa, ca, **MESH, grading=1.0)
+    red = reduce_gear(blk, 60e3)
+    ks = np.array([3, 4, -7, 10 + blk.count])
+    r = np.linspace(blk.body.flank.r0 + 1e-4, PAIR.gear_a.tip_radius - 1e-4, ks.size)
+    b = np.array([90e-6, 0.0, 120e-6, 60e-6])
+    loads = blk.flank_loads(r, b)
+    rng = np.random.default_rng(5)
+    for body in (FullBody(blk, 1e-6, 1e-12, (0.0, 0.0)), ModalBody(red, 1e-6, 1e-12, (0.0, 0.0))):
+        rows = body.rows(ks, loads)
+        x = rng.standard_normal(body.n)
+        e = np.zeros((ks.size, body.n))
+        for i, k in enumerate(ks):
+            turned = blk.flank_load(int(k), float(r[i]), float(b[i]))
+            if isinstance(body, FullBody):
+                e[i, blk.flank_dofs(int(k)) + 1] = turned
+            else:
+                e[i, 1:] = red.modes_at(int(k)).T @ turned
+        np.testing.assert_allclose(body.elastic(rows, x), e @ x, rtol=1e-12, atol=0)
+        cols = body.columns(rows)
+        want = body.solve(e.T)
+        np.testing.assert_allclose(cols, want, rtol=0, atol=1e-9 * np.abs(want).max())
+        if isinstance(body, ModalBody):
+            res = body.residual(rows)
+            turned = [blk.flank_load(int(k), float(ri), float(bi)) for k, ri, bi in zip(ks, r, b)]
+            want = np.array([[ti @ red.residual(int(ki), int(kj)) @ tj for kj, tj in zip(ks, turned)]
+                             for ki, ti in zip(ks, turned)])
+            np.testing.assert_allclose(res, want, rtol=0, atol=1e-9 * np.abs(want).max())

@@ -33,9 +33,13 @@ def effective_modulus(young_a: float, poisson_a: float, young_b: float, poisson_
     return 1.0 / ((1.0 - poisson_a**2) / young_a + (1.0 - poisson_b**2) / young_b)
 
 
-def involute_curvature_radius(radius: float, base_radius: float) -> float:
-    """Radius of curvature (m) of an involute at ``radius``: ``sqrt(r^2 - r_b^2)``."""
-    return math.sqrt(max(radius * radius - base_radius * base_radius, 0.0))
+def involute_curvature_radius(radius: Any, base_radius: float) -> Any:
+    """Radius of curvature (m) of an involute at ``radius``: ``sqrt(r^2 - r_b^2)``
+    (a scalar or an array of radii)."""
+    if np.ndim(radius) == 0:
+        return math.sqrt(max(radius * radius - base_radius * base_radius, 0.0))
+    r = np.asarray(radius, dtype=float)
+    return np.sqrt(np.maximum(r * r - base_radius * base_radius, 0.0))
 
 
 def half_width(force: Any, rho_a: Any, rho_b: Any, estar: float, face_width: float) -> Any:

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.contact.hertz import strip_coordinates, strip_quadrature
+from spurdyn.fem.element import edge_weights
 from spurdyn.model.flank import Flank
 
 
@@ -30,14 +31,25 @@ def strip_rows(flank: Flank, t_c: float, b: float) -> tuple[NDArray[np.intp], ND
     if b <= 0.0:
         nodes, w, _ = flank.locate(t_c)
         return nodes, w, flank.delta(t_c)
-    x, wq = strip_quadrature()
-    ts = strip_coordinates(t_c, b, flank.r0, flank.r_tip, flank.ny, flank.base_radius, x)
-    rows = np.minimum(np.floor(ts).astype(np.intp), flank.ny - 1)
-    lo, hi = int(rows.min()), int(rows.max())
-    acc = np.zeros(2 * (hi - lo) + 3)
-    for t, row, wk in zip(ts, rows, wq):
-        _, w, _ = flank.locate(float(t))
-        acc[2 * (row - lo):2 * (row - lo) + 3] += wk * w
-    nodes = flank.side_nodes[2 * lo:2 * hi + 3]
-    delta = flank.exact(t_c) - acc @ flank.side_Y[2 * lo:2 * hi + 3]
+    weights = strip_weights(flank, np.array([t_c]), np.array([b]))[0]
+    used = np.flatnonzero(weights)
+    lo, hi = used[0] // 2 * 2, min((used[-1] + 1) // 2 * 2, 2 * flank.ny)
+    acc = weights[lo:hi + 1]
+    nodes = flank.side_nodes[lo:hi + 1]
+    delta = flank.exact(t_c) - acc @ flank.side_Y[lo:hi + 1]
     return nodes, acc, delta
+
+
+def strip_weights(flank: Flank, t_c: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(p, 2 ny + 1)`` strip-averaged shape weights ``N_bar`` on the flank's outline nodes
+    (root to tip) of ``p`` strips around ``t_c`` with half-widths ``b`` (m; 0: the point
+    at ``t_c``). Each row sums to one."""
+    t_c, b = np.atleast_1d(t_c), np.atleast_1d(b)
+    x, wq = strip_quadrature()
+    ny = flank.ny
+    ts = strip_coordinates(t_c[:, None], b[:, None], flank.r0, flank.r_tip, ny, flank.base_radius, x[None, :])
+    rows = np.minimum(np.floor(ts).astype(np.intp), ny - 1)
+    w = edge_weights(2.0 * (ts - rows) - 1.0) * wq            # (3, p, points)
+    n = 2 * ny + 1
+    at = (2 * rows + n * np.arange(t_c.size)[:, None])[None] + np.arange(3)[:, None, None]
+    return np.bincount(at.ravel(), w.ravel(), minlength=n * t_c.size).reshape(t_c.size, n)

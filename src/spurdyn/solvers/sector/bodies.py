@@ -6,16 +6,20 @@ Both give the loop the same few things for a step's matrix ``S = M + gamma' C + 
 
 - :meth:`solve`: ``S^-1 x``;
 - :meth:`forces`: ``C v + K q``;
-- :meth:`row`: where a pair's strip load on tooth ``k`` enters the coordinates and with what
-  weights (the flank DOFs and the load; or all the modes and ``Phi^T`` of the load);
-- :meth:`response`: ``S^-1`` of unit loads there;
-- :meth:`residual`: the instantaneous compliance between two pairs' loads (zero for the whole
+- :meth:`rows`: the pairs' rows ``E`` on the gear's elastic coordinates from their unit
+  strip loads (in tooth 0's frame, :meth:`~spurdyn.solvers.sector.system.GearBlock.flank_loads`)
+  on teeth ``k``: the flank DOFs and the turned loads, or ``Phi^T`` of them;
+- :meth:`elastic`: ``E x`` (``x`` one vector of the gear's coordinates or columns of them);
+- :meth:`columns`: ``S^-1 E^T``, the full columns;
+- :meth:`residual`: the instantaneous compliance between the pairs' loads (zero for the whole
   body, ``b_i^T R b_j`` for the reduced one);
 - :meth:`static`: the coordinates of the body's static deflection under loads;
 - :meth:`kinetic`, :meth:`strain`: its energies; :meth:`momentum`: its hub's momentum.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +30,43 @@ from spurdyn.solvers.sector.reduced import ReducedGear
 from spurdyn.solvers.sector.system import GearBlock
 
 
+class FullRows(NamedTuple):
+    """The pairs' rows on a whole body: ``(p, f)`` flank coordinates and turned unit loads,
+    and each tooth's ``S^-1`` of unit loads on its flank."""
+
+    dofs: NDArray[np.intp]
+    weights: NDArray[np.float64]
+    response: list[NDArray[np.float64]]
+
+
+class ModalRows(NamedTuple):
+    """The pairs' rows on a modal body: the teeth (body numbers from its first), the unit
+    loads in tooth 0's frame and ``(p, m)`` their modal rows ``Phi^T b``."""
+
+    teeth: NDArray[np.intp]
+    loads: NDArray[np.float64]
+    modal: NDArray[np.float64]
+
+
+def _tooth_frames(reduced: ReducedGear) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The modes at each tooth's flank seen in its own frame, ``(count, f, m)``
+    (``Phi_k^T Q_k b = (Q_k^T Phi_k)^T b`` for a load ``b`` in tooth 0's frame), and the
+    static flexibility between two teeth's flanks in their frames, ``Q_i^T E_i^T K^-1 E_j
+    Q_j``: ``(count, f, f)`` by the teeth's distance round a whole ring (the same for every
+    pair of teeth that far apart), ``(count, count, f, f)`` on a sector."""
+    blk = reduced.block
+    teeth = [blk.first + t for t in range(blk.count)]
+    turns = [np.kron(np.eye(blk.flank_dofs(k).size // 2), blk.turn_of(k)) for k in teeth]
+    modes = np.array([q.T @ reduced.modes_at(k) for q, k in zip(turns, teeth)])
+    if blk.whole:
+        base = reduced._static(teeth[0])
+        flex = np.array([turns[d].T @ base[blk.flank_dofs(teeth[d])] @ turns[0] for d in range(blk.count)])
+    else:
+        flex = np.array([[turns[i].T @ reduced._static(teeth[j])[blk.flank_dofs(teeth[i])] @ turns[j]
+                          for j in range(blk.count)] for i in range(blk.count)])
+    return modes, flex
+
+
 class FullBody:
     """The whole finite-element body: ``(theta, u)``."""
 
@@ -34,7 +75,7 @@ class FullBody:
         self.rayleigh = rayleigh
         self.n = block.n
         self._lu = factor_spd(block.matrix(1.0, gp, bp, rayleigh))
-        self._resp: dict[int, NDArray[np.float64]] = {}
+        self._resp: dict[int, tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]] = {}
 
     def solve(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         return self._lu.solve(np.ascontiguousarray(x))
@@ -42,22 +83,31 @@ class FullBody:
     def forces(self, q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
         return self.block.forces(q, v, self.rayleigh)
 
-    def row(self, k: int, r: float, b: float) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]:
-        """``(coordinates, weights, flank load)`` of a pair's unit load on tooth ``k``."""
-        load = self.block.flank_load(k, r, b)
-        return self.block.flank_dofs(k) + 1, load, load
-
-    def response(self, k: int) -> NDArray[np.float64]:
+    def _tooth(self, k: int) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]:
+        """Tooth ``k``'s flank coordinates, its turn and ``S^-1`` of unit loads there
+        (computed when the tooth first comes near the path)."""
         key = self.block.tooth(k)
-        if key not in self._resp:       # computed when the tooth first comes near the path
+        if key not in self._resp:
             dofs = self.block.flank_dofs(k) + 1
             rhs = np.zeros((self.n, dofs.size))
             rhs[dofs, np.arange(dofs.size)] = 1.0
-            self._resp[key] = self.solve(rhs)
+            self._resp[key] = (dofs, self.block.turn_of(k), self.solve(rhs))
         return self._resp[key]
 
-    def residual(self, i: int, li: NDArray[np.float64], j: int, lj: NDArray[np.float64]) -> float:
-        return 0.0
+    def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64]) -> FullRows:
+        teeth = [self._tooth(int(k)) for k in ks]
+        dofs = np.array([t[0] for t in teeth])
+        turned = np.array([(ld.reshape(-1, 2) @ t[1].T).ravel() for ld, t in zip(loads, teeth)])
+        return FullRows(dofs, turned, [t[2] for t in teeth])
+
+    def elastic(self, rows: FullRows, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.einsum("pf,pf...->p...", rows.weights, x[rows.dofs])
+
+    def columns(self, rows: FullRows) -> NDArray[np.float64]:
+        return np.column_stack([resp @ w for resp, w in zip(rows.response, rows.weights)])
+
+    def residual(self, rows: FullRows) -> NDArray[np.float64]:
+        return np.zeros((rows.dofs.shape[0],) * 2)
 
     def static(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
         """The elastic coordinates of the held body under the free DOFs' ``loads``."""
@@ -97,27 +147,45 @@ class ModalBody:
         mat[1:, 1:] = np.eye(m)
         self.mass = mat.copy()
         mat[1:, 1:] += np.diag(gp * self._damp + bp * reduced.omega2)
-        self._cho = cho_factor(mat)
-        self._dofs = np.arange(1, self.n)
-        self._resp = self.solve(np.vstack([np.zeros((1, m)), np.eye(m)]))
+        # S is small and constant: its inverse makes a solve one product
+        inv = cho_solve(cho_factor(mat), np.eye(self.n))
+        self._inv = 0.5 * (inv + inv.T)
+        self._modes, self._flex = _tooth_frames(reduced)
 
     def solve(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return cho_solve(self._cho, x)
+        return self._inv @ x
 
     def forces(self, q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.zeros_like(q)
         out[1:] = self._damp * v[1:] + self.reduced.omega2 * q[1:]
         return out
 
-    def row(self, k: int, r: float, b: float) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]:
-        load = self.block.flank_load(k, r, b)
-        return self._dofs, self.reduced.modes_at(k).T @ load, load
+    def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64]) -> ModalRows:
+        blk = self.block
+        at = np.asarray(ks, dtype=np.intp) - blk.first
+        if blk.whole:
+            at %= blk.count
+        elif at.min() < 0 or at.max() >= blk.count:
+            blk.tooth(int(ks[np.argmax((at < 0) | (at >= blk.count))]))     # raises, naming it
+        return ModalRows(at, loads, np.einsum("pf,pfm->pm", loads, self._modes[at]))
 
-    def response(self, k: int) -> NDArray[np.float64]:
-        return self._resp
+    def elastic(self, rows: ModalRows, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return rows.modal @ x[1:]
 
-    def residual(self, i: int, li: NDArray[np.float64], j: int, lj: NDArray[np.float64]) -> float:
-        return float(li @ self.reduced.residual(i, j) @ lj)
+    def columns(self, rows: ModalRows) -> NDArray[np.float64]:
+        return self._inv[:, 1:] @ rows.modal.T
+
+    def residual(self, rows: ModalRows) -> NDArray[np.float64]:
+        """``b_i^T R b_j`` of the pairs' loads: the static flexibility in the teeth's frames
+        less the modes' part, ``b_i^T Phi Omega^-2 Phi^T b_j`` (the rows' own)."""
+        at = rows.teeth
+        if self.block.whole:
+            flex = self._flex[(at[:, None] - at[None, :]) % self.block.count]
+        else:
+            flex = self._flex[at[:, None], at[None, :]]
+        b = rows.loads
+        static = (b[:, None, None, :] @ (flex @ b[None, :, :, None]))[:, :, 0, 0]
+        return static - (rows.modal / self.reduced.omega2) @ rows.modal.T
 
     def static(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
         # the modal part of K^-1 f; the rest is the residual flexibility's, held by the forces
@@ -134,4 +202,4 @@ class ModalBody:
         return 0.5 * float(q[1:] @ (self.reduced.omega2 * q[1:]))
 
 
-__all__ = ["FullBody", "ModalBody"]
+__all__ = ["FullBody", "FullRows", "ModalBody", "ModalRows"]

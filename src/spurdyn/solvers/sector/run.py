@@ -32,7 +32,7 @@ from __future__ import annotations
 import itertools
 import math
 import time as _time
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -49,8 +49,8 @@ from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
 from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.output import sector_result
-from spurdyn.solvers.sector.system import (REACH, _half_widths, _half_widths_at, _radii, gear_block,
-                                           rigid_gap, teeth_for)
+from spurdyn.solvers.sector.system import (REACH, _half_widths, _half_widths_at, _radii, gap_table,
+                                           gear_block, teeth_for)
 
 #: The highest frequency (Hz) the sector model's default step resolves with
 #: :data:`STEPS_PER_KEPT_PERIOD` steps a period: the pair's torsional mode (~5-6 kHz on the
@@ -64,6 +64,15 @@ STEPS_PER_MESH_PERIOD = 200
 #: Positions of the quasi-static cycle the run reads its mean stiffness and its largest
 #: quasi-static pair force from.
 CYCLE_POSITIONS = 21
+
+
+class _Rows(NamedTuple):
+    """The pairs near the path at a step: their indices in the run's teeth, the constant
+    parts of their gaps, and per gear the rows' hub coefficients and elastic parts."""
+
+    on: NDArray[np.intp]
+    const: NDArray[np.float64]
+    sides: tuple[tuple[NDArray[np.float64], Any], ...]
 
 
 def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
@@ -99,21 +108,23 @@ def _cached(key: Any, build: Callable[[], Any]) -> Any:
     return found
 
 
-def _lcp(w: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+def _lcp(w: NDArray[np.float64], v: NDArray[np.float64],
+         guess: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
     """``F >= 0`` with ``W F + v >= 0`` and ``F (W F + v) = 0`` for a small positive definite
-    ``W``: the active sets tried, the fewest contacts first."""
+    ``W``: the active set ``guess`` (the step before's) tried first, then all of them, the
+    fewest contacts first. The solution is unique, so the order changes only the cost."""
     n = v.size
     tol = 1e-12 * max(float(np.abs(v).max()), 1e-300)
-    for m in range(n + 1):
-        for act in itertools.combinations(range(n), m):
-            f = np.zeros(n)
-            if act:
-                idx = list(act)
-                f[idx] = np.linalg.solve(w[np.ix_(idx, idx)], -v[idx])
-                if (f[idx] < 0.0).any():
-                    continue
-            if (w @ f + v >= -tol).all():
-                return f
+    first = [tuple(np.flatnonzero(guess))] if guess is not None else []
+    for act in itertools.chain(first, *(itertools.combinations(range(n), m) for m in range(n + 1))):
+        f = np.zeros(n)
+        if act:
+            idx = list(act)
+            f[idx] = np.linalg.solve(w[np.ix_(idx, idx)], -v[idx])
+            if (f[idx] < 0.0).any():
+                continue
+        if (w @ f + v >= -tol).all():
+            return f
     raise RuntimeError("the contact problem has no solution")     # pragma: no cover
 
 
@@ -235,74 +246,54 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     c_h = law.c_h
     reach = REACH * pitch
 
-    def rows_at(theta_a: float, f: NDArray[np.float64]) -> list[tuple[Any, ...]]:
-        """The pairs near the path at the driver's turn ``theta_a``: their index, the
-        constant part of their gap, and per gear the row's coefficient on the hub, the
-        coordinates the load enters and its weights there, ``S_g^-1`` of unit loads there,
-        the tooth and its flank load."""
-        rolls = dp.start_roll_a + theta_a + teeth * pitch
-        on = np.flatnonzero((rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach))
-        if not on.size:
-            return []
-        rigid = [rigid_gap(dp, float(rho)) for rho in rolls[on]]
-        radii = (np.array([c[2] for c in rigid]), np.array([c[3] for c in rigid]))
-        hw = _half_widths_at(dp, radii, f[on], estar, width)
-        out = []
-        for i, p in enumerate(on):
-            k = int(teeth[p])
-            g0, slope = rigid[i][0], rigid[i][1]
-            # d gap / d theta: the base circles' and, off the path, the corner's
-            sides = []
-            for g, (sign, coef) in enumerate(((1, -ra + slope), (-1, rb))):
-                dofs, weights, load = gears[g].row(sign * k, float(radii[g][i]), float(hw[i]))
-                sides.append((coef, dofs, weights, gears[g].response(sign * k), sign * k, load))
-            out.append((p, g0 - slope * theta_a, sides))
-        return out
+    table = _cached(("gaps", pair, reach), lambda: gap_table(dp, reach))
+    roll_0, roll_1 = dp.start_roll_a, dp.end_roll_a
 
-    def gap_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64], hub: float = 1.0) -> NDArray[np.float64]:
+    def rows_at(theta_a: float, f: NDArray[np.float64]) -> _Rows | None:
+        """The pairs near the path at the driver's turn ``theta_a``: their indices in
+        ``teeth``, the constant part of their gaps, and per gear the rows' coefficients on
+        the hub and their elastic parts (:meth:`~spurdyn.solvers.sector.bodies.FullBody.rows`)."""
+        rolls = roll_0 + theta_a + teeth * pitch
+        on = np.flatnonzero((rolls >= roll_0 - reach) & (rolls <= roll_1 + reach))
+        if not on.size:
+            return None
+        g0, slope, r_a, r_b = table.at(rolls[on])
+        hw = _half_widths_at(dp, (r_a, r_b), f[on], estar, width)
+        k = teeth[on]
+        # d gap / d theta: the base circles' and, off the path, the corner's
+        sides = tuple((coef, gears[g].rows(sign * k, blocks[g].flank_loads(r, hw)))
+                      for g, (sign, coef, r) in enumerate(((1, slope - ra, r_a), (-1, np.full(k.size, rb), r_b))))
+        return _Rows(on, g0 - slope * theta_a, sides)
+
+    def gap_rows(rows: _Rows, x: NDArray[np.float64], hub: float = 1.0) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included); ``hub = 0``:
         ``H x``, the rows' elastic part alone (the teeth's deflection at the pairs)."""
-        return np.array([sum(hub * side[0] * x[parts[g]][0] + float(side[2] @ x[parts[g]][side[1]])
-                             for g, side in enumerate(sides)) for _, _, sides in rows])
+        return sum(hub * coef * x[parts[g]][0] + gears[g].elastic(elastic, x[parts[g]])
+                   for g, (coef, elastic) in enumerate(rows.sides))
 
-    def compliance(rows: list[tuple[Any, ...]]) -> tuple[NDArray[np.float64], ...]:
-        """``(G S^-1 G^T, G S^-1 H^T, H S^-1 H^T, C_res)``: the pairs' coupling through each
-        gear, by their whole rows ``G`` and their elastic parts ``H``, from the responses at
-        the hub and the rows' coordinates only; and the bodies' residual compliance between
-        the pairs' loads."""
-        m = len(rows)
-        w = np.zeros((m, m))
-        w_gh = np.zeros((m, m))
-        w_hh = np.zeros((m, m))
-        res = np.zeros((m, m))
-        for g in range(2):
-            # the hub and the rows' coordinates, each once (on modal bodies every row enters
-            # all the modes, so the set is the gear's coordinates)
-            idx, inverse = np.unique(np.concatenate([[0], *(sides[g][1] for _, _, sides in rows)]),
-                                     return_inverse=True)
-            at = np.split(inverse[1:], np.cumsum([sides[g][1].size for _, _, sides in rows])[:-1])
-            whole = idx.size == gears[g].n          # idx is then every coordinate, in order
-            elastic = np.column_stack([(sides[g][3] if whole else sides[g][3][idx]) @ sides[g][2]
-                                       for _, _, sides in rows])
-            cols = elastic + np.outer(z_theta[g][idx], [sides[g][0] for _, _, sides in rows])
-            for i, (_, _, sides) in enumerate(rows):
-                coef, _, wts, _, k_i, l_i = sides[g]
-                w[i] += coef * cols[0] + wts @ cols[at[i]]
-                w_gh[i] += coef * elastic[0] + wts @ elastic[at[i]]
-                w_hh[i] += wts @ elastic[at[i]]
-                for j, (_, _, sides_j) in enumerate(rows):
-                    res[i, j] += gears[g].residual(k_i, l_i, sides_j[g][4], sides_j[g][5])
-        return w, w_gh, w_hh, res
+    def compliance(rows: _Rows) -> tuple[Any, ...]:
+        """``(G S^-1 G^T, G S^-1 H^T, H S^-1 H^T, C_res, S^-1 G^T, S^-1 H^T)``: the pairs'
+        coupling through each gear, by their whole rows ``G`` and their elastic parts ``H``;
+        the bodies' residual compliance between the pairs' loads; and the columns (per gear)."""
+        m = rows.on.size
+        w, w_gh, w_hh, res = (np.zeros((m, m)) for _ in range(4))
+        cols, elastic_cols = [], []
+        for g, (coef, elastic) in enumerate(rows.sides):
+            y = gears[g].columns(elastic)                       # S^-1 H^T
+            full = np.outer(z_theta[g], coef) + y               # S^-1 G^T
+            h_y = gears[g].elastic(elastic, y)
+            w += coef[:, None] * full[0][None, :] + gears[g].elastic(elastic, full)
+            w_gh += coef[:, None] * y[0][None, :] + h_y
+            w_hh += h_y
+            res += gears[g].residual(elastic)
+            cols.append(full)
+            elastic_cols.append(y)
+        return w, w_gh, w_hh, res, cols, elastic_cols
 
-    def columns_times(rows: list[tuple[Any, ...]], lam: NDArray[np.float64],
-                      hub: float = 1.0) -> NDArray[np.float64]:
-        """``S^-1 G^T lam`` (the full vector; ``hub = 0``: ``S^-1 H^T lam``)."""
-        out = np.zeros(n)
-        for (_, _, sides), lj in zip(rows, lam):
-            if lj != 0.0:
-                for g, (coef, _, wts, resp, _, _) in enumerate(sides):
-                    out[parts[g]] += lj * (hub * coef * z_theta[g] + resp @ wts)
-        return out
+    def columns_times(cols: list[NDArray[np.float64]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The full vector of the per-gear columns ``cols`` (``S^-1 G^T`` or ``S^-1 H^T``)
+        times ``lam``."""
+        return np.concatenate([c @ lam for c in cols])
 
     # -- the time loop -------------------------------------------------------------------
     n_out = n_steps + 1
@@ -314,28 +305,25 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     en_out = np.full((n_out, 8), np.nan) if energy else None
     c_res = np.zeros((0, 0))
 
-    def save(i: int, rows: list[tuple[Any, ...]]) -> None:
+    def save(i: int, rows: _Rows | None) -> None:
         th_out[i] = q[0], q[na]
         om_out[i] = v[0], v[na]
         f_out[i] = force
-        on = [row[0] for row in rows]
-        if rows:
-            gaps = gap_rows(rows, q) + np.array([row[1] for row in rows]) + c_h * force[on] \
-                + (c_res @ force[on] if c_res.shape[0] == len(rows) else 0.0)
+        fo = force[rows.on] if rows is not None else np.zeros(0)
+        if rows is not None:
+            gaps = gap_rows(rows, q) + rows.const + c_h * fo + c_res @ fo
             gap_out[i] = float(gaps.min())
         if en_out is not None:
-            fo = force[on]
-            res = 0.5 * float(fo @ c_res @ fo) if c_res.shape[0] == len(rows) and rows else 0.0
+            res = 0.5 * float(fo @ c_res @ fo) if rows is not None else 0.0
             en_out[i] = (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)),
                          sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
                          0.5 * c_h * float(force @ force), t_drv * q[0] + t_drn * q[na],
                          *(gears[g].momentum(v[parts[g]]) for g in range(2)),
                          # the pairs' generalised forces on the hubs: the rows' hub entries
-                         sum(sides[0][0] * force[p] for p, _, sides in rows),
-                         sum(sides[1][0] * force[p] for p, _, sides in rows))
+                         *((float(rows.sides[g][0] @ fo) if rows is not None else 0.0) for g in range(2)))
 
     rows0 = rows_at(0.0, force)
-    if rows0:
+    if rows0 is not None:
         c_res = compliance(rows0)[3]
     save(0, rows0)
     status, reason, step = "complete", "", 0
@@ -355,10 +343,10 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             rows = rows_at(float(q_hat[0]), force)
             last = force
             force = np.zeros(teeth.size)
-            if rows:
-                on = [row[0] for row in rows]
-                w0, w_gh, w_hh, c_res = compliance(rows)
-                m = len(rows)
+            if rows is not None:
+                on = rows.on
+                w0, w_gh, w_hh, c_res, cols, h_cols = compliance(rows)
+                m = on.size
                 # the mesh damper on the teeth's deflection rate at the pairs in contact at the
                 # step before (the rows' elastic part H), shared by their forces:
                 # S + gamma' H^T C H, by Woodbury through the pairs' couplings
@@ -366,15 +354,14 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                 c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
                     else np.zeros(m)
                 if c_pairs.any():
-                    x0 -= columns_times(rows, c_pairs * gap_rows(rows, v_hat, hub=0.0), hub=0.0)
+                    x0 -= columns_times(h_cols, c_pairs * gap_rows(rows, v_hat, hub=0.0))
                 g_x0, h_x0 = gap_rows(rows, x0), gap_rows(rows, x0, hub=0.0)
-                k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_hh * (gp * c_pairs)[None, :])
+                k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_hh * (gp * c_pairs)[None, :]) \
+                    if c_pairs.any() else np.zeros((m, m))
                 w = bp * (w0 - w_gh @ k_w @ w_gh.T) + c_res + c_h * np.eye(m)
-                vv = np.array([row[1] for row in rows]) + gap_rows(rows, q_hat) \
-                    + bp * (g_x0 - w_gh @ k_w @ h_x0)
-                lam = _lcp(0.5 * (w + w.T), vv)
-                qdd_new = x0 + columns_times(rows, lam) \
-                    - columns_times(rows, k_w @ (h_x0 + w_gh.T @ lam), hub=0.0)
+                vv = rows.const + gap_rows(rows, q_hat) + bp * (g_x0 - w_gh @ k_w @ h_x0)
+                lam = _lcp(0.5 * (w + w.T), vv, shares > 0.0)
+                qdd_new = x0 + columns_times(cols, lam) - columns_times(h_cols, k_w @ (h_x0 + w_gh.T @ lam))
                 force[on] = lam
             else:
                 qdd_new = x0

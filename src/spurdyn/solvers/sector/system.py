@@ -38,7 +38,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from spurdyn.contact.hertz import half_width, involute_curvature_radius
-from spurdyn.contact.strip_numpy import strip_rows
+from spurdyn.contact.strip_numpy import strip_weights
 from spurdyn.fem.assembly import assemble_lumped_mass
 from spurdyn.geometry.corner import corner_contact
 from spurdyn.geometry.gear import Gear
@@ -122,12 +122,24 @@ class GearBlock:
     def flank_load(self, k: int, r: float, b: float) -> NDArray[np.float64]:
         """The unit strip load of tooth ``k`` at involute radius ``r`` (half-width ``b``) on
         :meth:`flank_dofs`: :meth:`spurdyn.sector.body.SectorBody.load` on the flank alone."""
+        local = self.flank_loads(np.array([r]), np.array([b]))[0]
+        return turn(local.reshape(-1, 2), self.body.mesh.tooth_angle(self.tooth(k))).ravel()
+
+    def flank_loads(self, r: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``(p, 2 (2 ny + 1))`` unit strip loads at involute radii ``r`` with half-widths
+        ``b`` on a flank in tooth 0's frame (:meth:`flank_load` turns them to tooth ``k``)."""
         body = self.body
-        nodes, w, _ = strip_rows(body.flank, body.flank_coordinate(r), b)
-        out = np.zeros((body.flank.side_nodes.size, 2))
+        w = strip_weights(body.flank, body.flank_coordinate(r), b)
         # the mating flank pushes into the tooth, against the outward normal
-        np.add.at(out, self._side_of[nodes], -w[:, None] * body.gear.flank_normal(np.asarray(r))[None, :])
-        return turn(out, body.mesh.tooth_angle(self.tooth(k))).ravel()
+        normal = body.gear.flank_normal(np.asarray(r, dtype=float))
+        return (-w[:, :, None] * normal[:, None, :]).reshape(w.shape[0], -1)
+
+    def turn_of(self, k: int) -> NDArray[np.float64]:
+        """``(2, 2)`` the turn taking tooth 0's frame to tooth ``k``'s, node by node
+        (:func:`spurdyn.mesh.sector.turn`: ``v_k = v_0 @ Q.T``)."""
+        a = self.body.mesh.tooth_angle(self.tooth(k))
+        c, s = math.cos(a), math.sin(a)
+        return np.array([[c, s], [-s, c]])
 
     def matrix(self, cm: float, cc: float, ck: float, rayleigh: tuple[float, float]) -> sp.csc_matrix:
         """``cm M_g + cc C_g + ck K_g`` (module docstring) with Rayleigh's ``(a, b)``."""
@@ -217,19 +229,23 @@ REACH = 0.25
 SLOPE_STEP = 1e-6
 
 
-def rigid_gap(dp: GearPair, rho: float) -> tuple[float, float, float, float]:
+def _total_gap(dp: GearPair, rho: float) -> tuple[float, float, float]:
+    """``(g, r_a, r_b)``: the corner's gap and the two tip reliefs at the contact radii."""
+    g, r_a, r_b = corner_contact(dp, rho)
+    return g + float(dp.gear_a.relief_depth(r_a) + dp.gear_b.relief_depth(r_b)), r_a, r_b
+
+
+def rigid_gap(dp: GearPair, rho: float, side: int = 0) -> tuple[float, float, float, float]:
     """``(g, dg/drho, r_a, r_b)``: a pair's gap at the kinematic position of the driver's
     roll ``rho`` (a tip corner's off the path, :func:`spurdyn.geometry.corner.corner_contact`,
     plus the two tip reliefs at the contact radii), its slope, and the contact radii. The
-    slope enters the pair's row, so that the force does the work the gap's change asks."""
-
-    def total(x: float) -> tuple[float, float, float]:
-        g, r_a, r_b = corner_contact(dp, x)
-        return g + float(dp.gear_a.relief_depth(r_a) + dp.gear_b.relief_depth(r_b)), r_a, r_b
-
-    g, r_a, r_b = total(rho)
-    slope = (total(rho + SLOPE_STEP)[0] - total(rho - SLOPE_STEP)[0]) / (2.0 * SLOPE_STEP)
-    return g, slope, r_a, r_b
+    slope enters the pair's row, so that the force does the work the gap's change asks; it
+    is a central difference, or with ``side`` +1/-1 one to the right/left (where the slope
+    jumps: the path's ends, a relief's start)."""
+    g, r_a, r_b = _total_gap(dp, rho)
+    hi = _total_gap(dp, rho + SLOPE_STEP)[0] if side >= 0 else g
+    lo = _total_gap(dp, rho - SLOPE_STEP)[0] if side <= 0 else g
+    return g, (hi - lo) / ((2 if side == 0 else 1) * SLOPE_STEP), r_a, r_b
 
 
 def _radii(dp: GearPair, rolls: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -250,9 +266,72 @@ def _half_widths_at(dp: GearPair, radii: tuple[NDArray[np.float64], NDArray[np.f
     """Hertz's half-widths of the pairs' forces at the contact radii ``(r_a, r_b)`` (the
     involutes' curvatures there, a tip corner's too)."""
     ra, rb = radii
-    rho_a = [involute_curvature_radius(float(r), dp.gear_a.base_radius) for r in ra]
-    rho_b = [involute_curvature_radius(float(r), dp.gear_b.base_radius) for r in rb]
+    rho_a = involute_curvature_radius(np.asarray(ra, dtype=float), dp.gear_a.base_radius)
+    rho_b = involute_curvature_radius(np.asarray(rb, dtype=float), dp.gear_b.base_radius)
     return np.atleast_1d(half_width(np.asarray(forces, dtype=float), rho_a, rho_b, estar, width))
 
 
-__all__ = ["GearBlock", "REACH", "SLOPE_STEP", "gear_block", "rigid_gap", "rotation_field", "teeth_for"]
+#: Points per radian of the driver's roll of a :class:`GapTable` (the tip corner's gap
+#: varies as the square of the roll beyond the path; interpolated between points
+#: 1e-4 rad apart, its error is below 1e-10 m, docs/sector.md 6.2).
+GAP_TABLE_DENSITY = 1e4
+
+
+@dataclass(frozen=True)
+class GapTable:
+    """:func:`rigid_gap` tabulated over the driver's rolls: the gap a cubic Hermite
+    interpolant of its values and slopes at the points (so that the slope read is the
+    interpolant's own derivative), the contact radii linear. The points are evenly spaced
+    between breaks (the path's ends, the reliefs' starts), where the slope may jump: a break
+    is two points, the left one with the slope from the left, the right one from the right."""
+
+    rho: NDArray[np.float64]
+    gap: NDArray[np.float64]
+    slope: NDArray[np.float64]
+    r_a: NDArray[np.float64]
+    r_b: NDArray[np.float64]
+
+    def at(self, rho: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+        """``(g, dg/drho, r_a, r_b)`` at the rolls ``rho`` (within the table)."""
+        x = np.asarray(rho, dtype=float)
+        i = np.clip(np.searchsorted(self.rho, x, side="right") - 1, 0, self.rho.size - 2)
+        i += self.rho[i + 1] == self.rho[i]         # a break's left point starts no interval
+        x0 = self.rho[i]
+        h = self.rho[i + 1] - x0
+        u = (x - x0) / h
+        g0, g1 = self.gap[i], self.gap[i + 1]
+        d0, d1 = self.slope[i] * h, self.slope[i + 1] * h
+        u2, u3 = u * u, u * u * u
+        gap = (2 * u3 - 3 * u2 + 1) * g0 + (u3 - 2 * u2 + u) * d0 + (-2 * u3 + 3 * u2) * g1 + (u3 - u2) * d1
+        slope = ((6 * u2 - 6 * u) * g0 + (3 * u2 - 4 * u + 1) * d0 + (-6 * u2 + 6 * u) * g1
+                 + (3 * u2 - 2 * u) * d1) / h
+        r_a = self.r_a[i] + u * (self.r_a[i + 1] - self.r_a[i])
+        r_b = self.r_b[i] + u * (self.r_b[i + 1] - self.r_b[i])
+        return gap, slope, r_a, r_b
+
+
+def gap_table(dp: GearPair, reach: float) -> GapTable:
+    """:func:`rigid_gap` of ``dp`` tabulated over the driver's rolls of the path of contact
+    and ``reach`` (rad) beyond either end, at :data:`GAP_TABLE_DENSITY` points a radian or
+    more, with breaks at the path's ends and the reliefs' starts."""
+    lo, hi = dp.start_roll_a - reach, dp.end_roll_a + reach
+    breaks = {dp.start_roll_a, dp.end_roll_a}
+    if dp.gear_a.tip_relief > 0.0 and dp.gear_a.tip_relief_start_roll is not None:
+        breaks.add(float(dp.gear_a.tip_relief_start_roll))
+    if dp.gear_b.tip_relief > 0.0 and dp.gear_b.tip_relief_start_roll is not None:
+        breaks.add((dp.line_of_centres_length - dp.gear_b.tip_relief_start_roll * dp.gear_b.base_radius)
+                   / dp.gear_a.base_radius)
+    edges = [lo, *sorted(b for b in breaks if lo < b < hi), hi]
+    rows = []
+    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+        xs = np.linspace(a, b, max(int(math.ceil((b - a) * GAP_TABLE_DENSITY)), 1) + 1)
+        for j, x in enumerate(xs):
+            # a segment's ends take the slope from inside it (the table's own ends too)
+            side = 1 if j == 0 else -1 if j == xs.size - 1 else 0
+            rows.append((float(x), *rigid_gap(dp, float(x), side)))
+    vals = np.array(rows)
+    return GapTable(rho=vals[:, 0], gap=vals[:, 1], slope=vals[:, 2], r_a=vals[:, 3], r_b=vals[:, 4])
+
+
+__all__ = ["GAP_TABLE_DENSITY", "GapTable", "GearBlock", "REACH", "SLOPE_STEP", "gap_table", "gear_block", "rigid_gap",
+           "rotation_field", "teeth_for"]

@@ -21,10 +21,11 @@ step before.
 
 The mesh damper ``c = 2 zeta sqrt(k m_e)``, ``k`` the mean mesh stiffness of the
 quasi-static cycle and ``m_e`` the pair's reduced mass, acts along the line of action on the
-teeth's deflection rate ``H q_dot`` (``H`` a row's elastic part) of the pairs that were in
-contact at the end of the step before, shared by their forces. It adds ``gamma' H^T C H`` to
-``S``, taken by Woodbury's formula through the pairs' couplings, so the factors stay those
-of the run.
+rate of the pairs' whole deflection (bodies and strips, the deflection ``k`` is the stiffness
+of), ``-D q_dot`` with ``D`` a row's rigid part (its hub entries), for the pairs that were in
+contact at the end of the step before, shared by their forces (docs/sector.md, 6.3). It adds
+``gamma' D^T C D`` to ``S``, taken by Woodbury's formula through the pairs' couplings, so the
+factors stay those of the run.
 """
 
 from __future__ import annotations
@@ -259,21 +260,27 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             out.append((p, g0 - slope * theta_a, sides))
         return out
 
-    def gap_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64], hub: float = 1.0) -> NDArray[np.float64]:
-        """``G x`` for the pairs ``rows`` (their constant parts not included); ``hub = 0``:
-        ``H x``, the rows' elastic part alone (the teeth's deflection at the pairs)."""
-        return np.array([sum(hub * side[0] * x[parts[g]][0] + float(side[2] @ x[parts[g]][side[1]])
+    def gap_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``G x`` for the pairs ``rows`` (their constant parts not included)."""
+        return np.array([sum(side[0] * x[parts[g]][0] + float(side[2] @ x[parts[g]][side[1]])
                              for g, side in enumerate(sides)) for _, _, sides in rows])
 
+    def rigid_rows(rows: list[tuple[Any, ...]], x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``D x``: the rows' rigid part alone, their entries on the hubs (the mesh damper's
+        rows: ``-D q_dot`` is the rate of the pairs' whole approach, the bodies' and the
+        strips' compliance together, while they touch)."""
+        return np.array([sum(side[0] * x[parts[g]][0] for g, side in enumerate(sides))
+                         for _, _, sides in rows])
+
     def compliance(rows: list[tuple[Any, ...]]) -> tuple[NDArray[np.float64], ...]:
-        """``(G S^-1 G^T, G S^-1 H^T, H S^-1 H^T, C_res)``: the pairs' coupling through each
-        gear, by their whole rows ``G`` and their elastic parts ``H``, from the responses at
-        the hub and the rows' coordinates only; and the bodies' residual compliance between
-        the pairs' loads."""
+        """``(G S^-1 G^T, G S^-1 D^T, D S^-1 D^T, C_res)``: the pairs' coupling through each
+        gear, by their whole rows ``G`` and their rigid parts ``D`` (the damper's rows), from
+        the responses at the hub and the rows' coordinates only; and the bodies' residual
+        compliance between the pairs' loads."""
         m = len(rows)
         w = np.zeros((m, m))
-        w_gh = np.zeros((m, m))
-        w_hh = np.zeros((m, m))
+        w_gd = np.zeros((m, m))
+        w_dd = np.zeros((m, m))
         res = np.zeros((m, m))
         for g in range(2):
             # the hub and the rows' coordinates, each once (on modal bodies every row enters
@@ -284,24 +291,33 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             whole = idx.size == gears[g].n          # idx is then every coordinate, in order
             elastic = np.column_stack([(sides[g][3] if whole else sides[g][3][idx]) @ sides[g][2]
                                        for _, _, sides in rows])
-            cols = elastic + np.outer(z_theta[g][idx], [sides[g][0] for _, _, sides in rows])
+            rigid = np.outer(z_theta[g][idx], [sides[g][0] for _, _, sides in rows])
+            cols = elastic + rigid
             for i, (_, _, sides) in enumerate(rows):
                 coef, _, wts, _, k_i, l_i = sides[g]
                 w[i] += coef * cols[0] + wts @ cols[at[i]]
-                w_gh[i] += coef * elastic[0] + wts @ elastic[at[i]]
-                w_hh[i] += wts @ elastic[at[i]]
+                w_gd[i] += coef * rigid[0] + wts @ rigid[at[i]]
+                w_dd[i] += coef * rigid[0]
                 for j, (_, _, sides_j) in enumerate(rows):
                     res[i, j] += gears[g].residual(k_i, l_i, sides_j[g][4], sides_j[g][5])
-        return w, w_gh, w_hh, res
+        return w, w_gd, w_dd, res
 
-    def columns_times(rows: list[tuple[Any, ...]], lam: NDArray[np.float64],
-                      hub: float = 1.0) -> NDArray[np.float64]:
-        """``S^-1 G^T lam`` (the full vector; ``hub = 0``: ``S^-1 H^T lam``)."""
+    def columns_times(rows: list[tuple[Any, ...]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``S^-1 G^T lam`` (the full vector)."""
         out = np.zeros(n)
         for (_, _, sides), lj in zip(rows, lam):
             if lj != 0.0:
                 for g, (coef, _, wts, resp, _, _) in enumerate(sides):
-                    out[parts[g]] += lj * (hub * coef * z_theta[g] + resp @ wts)
+                    out[parts[g]] += lj * (coef * z_theta[g] + resp @ wts)
+        return out
+
+    def rigid_columns_times(rows: list[tuple[Any, ...]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``S^-1 D^T lam``: the responses to the hub torques of the rows' rigid parts."""
+        out = np.zeros(n)
+        for g in range(2):
+            torque = sum(lj * sides[g][0] for (_, _, sides), lj in zip(rows, lam))
+            if torque != 0.0:
+                out[parts[g]] += torque * z_theta[g]
         return out
 
     # -- the time loop -------------------------------------------------------------------
@@ -313,6 +329,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     gap_out = np.full(n_out, np.nan)
     en_out = np.full((n_out, 8), np.nan) if energy else None
     c_res = np.zeros((0, 0))
+    damper_torque = [0.0, 0.0]       # the mesh damper's torques on the hubs at the last step
 
     def save(i: int, rows: list[tuple[Any, ...]]) -> None:
         th_out[i] = q[0], q[na]
@@ -330,9 +347,10 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                          sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
                          0.5 * c_h * float(force @ force), t_drv * q[0] + t_drn * q[na],
                          *(gears[g].momentum(v[parts[g]]) for g in range(2)),
-                         # the pairs' generalised forces on the hubs: the rows' hub entries
-                         sum(sides[0][0] * force[p] for p, _, sides in rows),
-                         sum(sides[1][0] * force[p] for p, _, sides in rows))
+                         # the pairs' generalised forces on the hubs: the rows' hub entries,
+                         # and the mesh damper's torques (it acts on the hubs)
+                         sum(sides[0][0] * force[p] for p, _, sides in rows) + damper_torque[0],
+                         sum(sides[1][0] * force[p] for p, _, sides in rows) + damper_torque[1])
 
     rows0 = rows_at(0.0, force)
     if rows0:
@@ -357,24 +375,25 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             force = np.zeros(teeth.size)
             if rows:
                 on = [row[0] for row in rows]
-                w0, w_gh, w_hh, c_res = compliance(rows)
+                w0, w_gd, w_dd, c_res = compliance(rows)
                 m = len(rows)
-                # the mesh damper on the teeth's deflection rate at the pairs in contact at the
-                # step before (the rows' elastic part H), shared by their forces:
-                # S + gamma' H^T C H, by Woodbury through the pairs' couplings
+                # the mesh damper on the rate of the whole approach of the pairs in contact at
+                # the step before (the rows' rigid part D: bodies and strips together, in
+                # parallel with the mesh stiffness), shared by their forces:
+                # S + gamma' D^T C D, by Woodbury through the pairs' couplings
                 shares = last[on]
                 c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
                     else np.zeros(m)
                 if c_pairs.any():
-                    x0 -= columns_times(rows, c_pairs * gap_rows(rows, v_hat, hub=0.0), hub=0.0)
-                g_x0, h_x0 = gap_rows(rows, x0), gap_rows(rows, x0, hub=0.0)
-                k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_hh * (gp * c_pairs)[None, :])
-                w = bp * (w0 - w_gh @ k_w @ w_gh.T) + c_res + c_h * np.eye(m)
+                    x0 -= rigid_columns_times(rows, c_pairs * rigid_rows(rows, v_hat))
+                g_x0, d_x0 = gap_rows(rows, x0), rigid_rows(rows, x0)
+                k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_dd * (gp * c_pairs)[None, :])
+                w = bp * (w0 - w_gd @ k_w @ w_gd.T) + c_res + c_h * np.eye(m)
                 vv = np.array([row[1] for row in rows]) + gap_rows(rows, q_hat) \
-                    + bp * (g_x0 - w_gh @ k_w @ h_x0)
+                    + bp * (g_x0 - w_gd @ k_w @ d_x0)
                 lam = _lcp(0.5 * (w + w.T), vv)
                 qdd_new = x0 + columns_times(rows, lam) \
-                    - columns_times(rows, k_w @ (h_x0 + w_gh.T @ lam), hub=0.0)
+                    - rigid_columns_times(rows, k_w @ (d_x0 + w_gd.T @ lam))
                 force[on] = lam
             else:
                 qdd_new = x0
@@ -385,6 +404,12 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             q = q_hat + bp * qdd_new
             v = v_hat + gp * qdd_new
             qdd = qdd_new
+            if energy:
+                damper_torque[:] = [0.0, 0.0]
+                if rows and c_pairs.any():
+                    rate = c_pairs * rigid_rows(rows, v)
+                    damper_torque[:] = [-sum(sides[g][0] * r_p for (_, _, sides), r_p in zip(rows, rate))
+                                        for g in range(2)]
             save(step, rows)
             if progress is not None and step % every == 0:
                 progress(step, float(q[0]), cycles * pitch)

@@ -71,32 +71,27 @@ RING_RPM = 300.0
 
 
 def ring(mesh: dict, zeta: float) -> dict:
-    """After the exit of a pair at 300 rpm the pair rings over the stretch of single contact
-    (about nine periods), where the quasi-static mesh force is ``W`` itself: the ring's
-    frequency from its zero crossings and its damping ratio from the logarithmic decrement
-    of its successive peaks (a least-squares line through their logarithms)."""
+    """After the exit of a pair at 300 rpm the pair rings alone over the stretch of single
+    contact (about seven periods), where the quasi-static mesh force is ``W`` itself: the
+    ring's frequency and damping ratio from a damped cosine fitted to the mesh force over the
+    steps where one pair alone touches (:mod:`spurdyn.solvers.sector.ring`; docs/sector.md,
+    6.5, says why not zero crossings and peaks)."""
+    from spurdyn.solvers.sector.ring import damped_ring, single_contact_window
+
     s = run_settings(PAIR, RING_RPM * RPM, TORQUE, dt=1e-6, cycles=1, damping_ratio=zeta, **mesh)
     run = simulate_sector(PAIR, s)
-    pitch = 2 * math.pi / PAIR.gear_a.teeth
-    phase = run.theta[:, 0] / pitch
-    single = (phase > PAIR.contact_ratio % 1.0 + 0.1) & (phase < 0.93)
-    t = run.time[single]
-    x = run.pair_force.sum(axis=1)[single] - run.info["static_force"]
-    ups = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
-    tz = t[ups] - x[ups] * (t[ups + 1] - t[ups]) / (x[ups + 1] - x[ups])
-    freq = float((len(tz) - 1) / (tz[-1] - tz[0])) if len(tz) > 1 else float("nan")
-    peaks = np.array([float(x[a:b].max()) for a, b in zip(ups[:-1], ups[1:])])
-    decay = None
-    if zeta > 0 and len(peaks) >= 3 and (peaks > 0).all():
-        delta = -np.polyfit(np.arange(len(peaks)), np.log(peaks), 1)[0]
-        decay = float(delta / math.sqrt(4 * math.pi**2 + delta**2))
+    sel = single_contact_window(run, PAIR)
+    w = run.info["static_force"]
+    freq, fitted, misfit = damped_ring(run.time[sel], run.pair_force[sel].sum(axis=1) - w)
+    periods = int(freq * (run.time[sel[-1]] - run.time[sel[0]]))
     k_mean = run.info["steady"]["mesh_stiffness_mean_N_per_m"]
     j = [h + b for h, b in zip(run.info["hub_inertia"], run.info["body_inertia"])]
     m_e = reduced_mass(j[0], j[1], PAIR.gear_a.base_radius, PAIR.gear_b.base_radius)
     # the single pair's own stiffness over the stretch, W over its transmission error
-    k_single = float(np.median(run.info["static_force"] / run.transmission_error[single]))
+    k_single = float(np.median(w / run.transmission_error[sel]))
     c = run.info["mesh_damper_N_s_per_m"]
-    return {"zeta": zeta, "ring_hz": freq, "periods": int(len(peaks)), "decay_ratio": decay,
+    return {"zeta": zeta, "ring_hz": freq, "periods": periods,
+            "decay_ratio": fitted if zeta > 0 else None, "fit_misfit": misfit,
             "zeta_single": c / (2 * math.sqrt(k_single * m_e)) if c else 0.0,
             "f_mean_hz": math.sqrt(k_mean / m_e) / (2 * math.pi),
             "f_single_hz": math.sqrt(k_single / m_e) / (2 * math.pi),
@@ -140,7 +135,7 @@ def bodies(mesh: dict) -> dict:
 
 
 #: The bodies' Rayleigh damping of the sweep: a ratio of 0.02 at 5 and 50 kHz. The mesh
-#: damper damps the teeth's deflection only; without damping of their own, the bodies' modes
+#: damper damps the pairs' deflection only; without damping of their own, the bodies' modes
 #: (the hubs against the rims, the teeth) settle only through the scheme's dissipation, and
 #: a run at 4,000 rpm still changes its peak by 0.5 % a cycle after ten cycles.
 SWEEP_RAYLEIGH = (0.02, 5e3, 5e4)
@@ -263,7 +258,7 @@ def render(f: dict) -> str:
         f"After a pair leaves at {RING_RPM:,.0f} rpm the pair rings over the stretch of single "
         "contact, where the quasi-static mesh force is `W` itself:",
         "",
-        "| | ring (zero crossings) | from the single pair's stiffness | from the cycle's mean stiffness |",
+        "| | ring (fitted) | from the single pair's stiffness | from the cycle's mean stiffness |",
         "| --- | --- | --- | --- |",
         f"| undamped | {r0['ring_hz'] / 1e3:.2f} kHz | {r0['f_single_hz'] / 1e3:.2f} kHz "
         f"(k = {r0['k_single'] / 1e6:.0f} N/µm) | {r0['f_mean_hz'] / 1e3:.2f} kHz "
@@ -271,8 +266,10 @@ def render(f: dict) -> str:
         f"| zeta = 0.05 | {r5['ring_hz'] / 1e3:.2f} kHz | | |",
         "",
         (f"With zeta = 0.05 (the damper's coefficient set from the cycle's mean stiffness; on the "
-         f"single pair's stiffness it is a ratio of {r5['zeta_single']:.4f}) the logarithmic "
-         f"decrement of the ring's {r5['periods']} peaks gives **{r5['decay_ratio']:.4f}**."
+         f"single pair's stiffness it is a ratio of {r5['zeta_single']:.4f}) the damped cosine "
+         f"fitted to the ring's {r5['periods']} periods decays at **{r5['decay_ratio']:.4f}** "
+         f"({(r5['decay_ratio'] / r5['zeta_single'] - 1) * 100:+.1f} % of the single pair's ratio; "
+         f"misfit {r5['fit_misfit'] * 100:.1f} % of its amplitude)."
          if r5["decay_ratio"] is not None else "Too few periods to measure the decay."),
         "",
         "## Time step (6,000 rpm, 4 cycles, zeta = 0.05)",
@@ -322,7 +319,7 @@ def render(f: dict) -> str:
         f"## Dynamic factor against speed (zeta = 0.05, Rayleigh {SWEEP_RAYLEIGH[0]:g} at "
         f"{SWEEP_RAYLEIGH[1] / 1e3:g} and {SWEEP_RAYLEIGH[2] / 1e3:g} kHz, {f['sweep_cycles']} cycles, modal bodies)",
         "",
-        "The mesh damper damps the teeth's deflection; the bodies' own modes (the hubs against the "
+        "The mesh damper damps the pairs' deflection (hub to hub); the bodies' own modes (the hubs against the "
         "rims, the teeth) need damping of their own to settle: without Rayleigh damping a run at "
         "4,000 rpm still changed its peak by 0.5 % a cycle after ten cycles, with it the cycles "
         "agree to 1e-3 (the settled test) from the fifth (2 x 8 teeth). A run settles in time, "

@@ -9,13 +9,13 @@ with the hub held and a quasi-static remainder under the contact loads,
 ``Phi`` M-orthonormal with ``Phi^T K Phi = Omega^2``: the lowest modes, Ritz-augmented by
 the static response to the hub's angular acceleration ``K^-1 M s`` (so that the inertia of a
 turning rim is in the basis) and to unit normal loads at a few radii of every flank (so that
-the teeth's deflection under a contact, and its rate, on which the mesh damper acts, are
-in the basis). ``R`` is the residual flexibility: the part of the static
-response the modes miss, which acts without inertia (the modes above the basis' highest
-lie far above the frequencies a run resolves). The contact load of a pair on a tooth is
-``f = b F``, so a pair's gap reads ``b^T Phi eta`` through the modes and the pairs couple
-through ``b_i^T R b_j``, a compliance beside the strip's ``c_H``. The gear's coordinates
-become ``(theta, eta)``: a few hundred numbers instead of tens of thousands.
+the teeth's deflection under a contact is mostly in the basis). ``R`` is the residual
+flexibility: the part of the static response the modes miss, which acts without inertia
+(the modes above the basis' highest lie far above the frequencies a run resolves). The
+contact load of a pair on a tooth is ``f = b F``, so a pair's gap reads ``b^T Phi eta``
+through the modes and the pairs couple through ``b_i^T R b_j``, a compliance beside the
+strip's ``c_H``. The gear's coordinates become ``(theta, eta)``: a few hundred numbers
+instead of tens of thousands.
 
 The flexibility blocks ``E_i^T K^-1 E_j`` between the flank DOFs of teeth ``i`` and ``j`` come
 from the static factor's response to unit loads on a flank, computed once per tooth; on a
@@ -38,9 +38,8 @@ from spurdyn.solvers.sector.system import GearBlock
 #: Modes kept: every mode of the held body below this multiple of the step's kept frequency.
 MODE_FACTOR = 3.0
 #: Static shapes added to the basis per tooth: the response to a unit normal load at this
-#: many radii along its flank, so that the teeth's deflection under a contact, and its rate,
-#: are in the coordinates (the mesh damper acts on that rate); what they miss is left to
-#: the residual flexibility.
+#: many radii along its flank, so that the teeth's deflection under a contact is mostly in
+#: the coordinates; what they miss is left to the residual flexibility.
 FLANK_SHAPES = 5
 
 

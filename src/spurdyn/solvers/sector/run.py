@@ -21,10 +21,11 @@ step before.
 
 The mesh damper ``c = 2 zeta sqrt(k m_e)``, ``k`` the mean mesh stiffness of the
 quasi-static cycle and ``m_e`` the pair's reduced mass, acts along the line of action on the
-teeth's deflection rate ``H q_dot`` (``H`` a row's elastic part) of the pairs that were in
-contact at the end of the step before, shared by their forces. It adds ``gamma' H^T C H`` to
-``S``, taken by Woodbury's formula through the pairs' couplings, so the factors stay those
-of the run.
+rate of the pairs' whole deflection (bodies and strips, the deflection ``k`` is the stiffness
+of), ``-D q_dot`` with ``D`` a row's rigid part (its hub entries), for the pairs that were in
+contact at the end of the step before, shared by their forces (docs/sector.md, 6.3). It adds
+``gamma' D^T C D`` to ``S``, taken by Woodbury's formula through the pairs' couplings, so the
+factors stay those of the run.
 """
 
 from __future__ import annotations
@@ -265,35 +266,43 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                       for g, (sign, coef, r) in enumerate(((1, slope - ra, r_a), (-1, np.full(k.size, rb), r_b))))
         return _Rows(on, g0 - slope * theta_a, sides)
 
-    def gap_rows(rows: _Rows, x: NDArray[np.float64], hub: float = 1.0) -> NDArray[np.float64]:
-        """``G x`` for the pairs ``rows`` (their constant parts not included); ``hub = 0``:
-        ``H x``, the rows' elastic part alone (the teeth's deflection at the pairs)."""
-        return sum(hub * coef * x[parts[g]][0] + gears[g].elastic(elastic, x[parts[g]])
+    def gap_rows(rows: _Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``G x`` for the pairs ``rows`` (their constant parts not included)."""
+        return sum(coef * x[parts[g]][0] + gears[g].elastic(elastic, x[parts[g]])
                    for g, (coef, elastic) in enumerate(rows.sides))
 
+    def rigid_rows(rows: _Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``D x``: the rows' rigid part alone, their entries on the hubs (the mesh damper's
+        rows: ``-D q_dot`` is the rate of the pairs' whole approach, the bodies' and the
+        strips' compliance together, while they touch)."""
+        return sum(coef * x[parts[g]][0] for g, (coef, _) in enumerate(rows.sides))
+
     def compliance(rows: _Rows) -> tuple[Any, ...]:
-        """``(G S^-1 G^T, G S^-1 H^T, H S^-1 H^T, C_res, S^-1 G^T, S^-1 H^T)``: the pairs'
-        coupling through each gear, by their whole rows ``G`` and their elastic parts ``H``;
-        the bodies' residual compliance between the pairs' loads; and the columns (per gear)."""
+        """``(G S^-1 G^T, G S^-1 D^T, D S^-1 D^T, C_res, S^-1 G^T)``: the pairs' coupling
+        through each gear, by their whole rows ``G`` and their rigid parts ``D`` (the
+        damper's rows: ``S^-1 D^T`` is the hub's response ``z`` times the rows' hub
+        coefficients); the bodies' residual compliance between the pairs' loads; and the
+        columns (per gear)."""
         m = rows.on.size
-        w, w_gh, w_hh, res = (np.zeros((m, m)) for _ in range(4))
-        cols, elastic_cols = [], []
+        w, w_gd, w_dd, res = (np.zeros((m, m)) for _ in range(4))
+        cols = []
         for g, (coef, elastic) in enumerate(rows.sides):
-            y = gears[g].columns(elastic)                       # S^-1 H^T
-            full = np.outer(z_theta[g], coef) + y               # S^-1 G^T
-            h_y = gears[g].elastic(elastic, y)
+            z = z_theta[g]
+            full = np.outer(z, coef) + gears[g].columns(elastic)       # S^-1 G^T
             w += coef[:, None] * full[0][None, :] + gears[g].elastic(elastic, full)
-            w_gh += coef[:, None] * y[0][None, :] + h_y
-            w_hh += h_y
+            w_gd += np.outer(coef * z[0] + gears[g].elastic(elastic, z), coef)
+            w_dd += z[0] * np.outer(coef, coef)
             res += gears[g].residual(elastic)
             cols.append(full)
-            elastic_cols.append(y)
-        return w, w_gh, w_hh, res, cols, elastic_cols
+        return w, w_gd, w_dd, res, cols
 
     def columns_times(cols: list[NDArray[np.float64]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
-        """The full vector of the per-gear columns ``cols`` (``S^-1 G^T`` or ``S^-1 H^T``)
-        times ``lam``."""
+        """``S^-1 G^T lam`` from the per-gear columns ``cols``."""
         return np.concatenate([c @ lam for c in cols])
+
+    def rigid_columns_times(rows: _Rows, lam: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``S^-1 D^T lam``: the responses to the hub torques of the rows' rigid parts."""
+        return np.concatenate([float(coef @ lam) * z_theta[g] for g, (coef, _) in enumerate(rows.sides)])
 
     # -- the time loop -------------------------------------------------------------------
     n_out = n_steps + 1
@@ -304,6 +313,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     gap_out = np.full(n_out, np.nan)
     en_out = np.full((n_out, 8), np.nan) if energy else None
     c_res = np.zeros((0, 0))
+    damper_torque = [0.0, 0.0]       # the mesh damper's torques on the hubs at the last step
 
     def save(i: int, rows: _Rows | None) -> None:
         th_out[i] = q[0], q[na]
@@ -319,8 +329,10 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                          sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
                          0.5 * c_h * float(force @ force), t_drv * q[0] + t_drn * q[na],
                          *(gears[g].momentum(v[parts[g]]) for g in range(2)),
-                         # the pairs' generalised forces on the hubs: the rows' hub entries
-                         *((float(rows.sides[g][0] @ fo) if rows is not None else 0.0) for g in range(2)))
+                         # the pairs' generalised forces on the hubs: the rows' hub entries,
+                         # and the mesh damper's torques (it acts on the hubs)
+                         *((float(rows.sides[g][0] @ fo) if rows is not None else 0.0) + damper_torque[g]
+                           for g in range(2)))
 
     rows0 = rows_at(0.0, force)
     if rows0 is not None:
@@ -345,23 +357,24 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             force = np.zeros(teeth.size)
             if rows is not None:
                 on = rows.on
-                w0, w_gh, w_hh, c_res, cols, h_cols = compliance(rows)
+                w0, w_gd, w_dd, c_res, cols = compliance(rows)
                 m = on.size
-                # the mesh damper on the teeth's deflection rate at the pairs in contact at the
-                # step before (the rows' elastic part H), shared by their forces:
-                # S + gamma' H^T C H, by Woodbury through the pairs' couplings
+                # the mesh damper on the rate of the whole approach of the pairs in contact at
+                # the step before (the rows' rigid part D: bodies and strips together, in
+                # parallel with the mesh stiffness), shared by their forces:
+                # S + gamma' D^T C D, by Woodbury through the pairs' couplings
                 shares = last[on]
                 c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
                     else np.zeros(m)
                 if c_pairs.any():
-                    x0 -= columns_times(h_cols, c_pairs * gap_rows(rows, v_hat, hub=0.0))
-                g_x0, h_x0 = gap_rows(rows, x0), gap_rows(rows, x0, hub=0.0)
-                k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_hh * (gp * c_pairs)[None, :]) \
+                    x0 -= rigid_columns_times(rows, c_pairs * rigid_rows(rows, v_hat))
+                g_x0, d_x0 = gap_rows(rows, x0), rigid_rows(rows, x0)
+                k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_dd * (gp * c_pairs)[None, :]) \
                     if c_pairs.any() else np.zeros((m, m))
-                w = bp * (w0 - w_gh @ k_w @ w_gh.T) + c_res + c_h * np.eye(m)
-                vv = rows.const + gap_rows(rows, q_hat) + bp * (g_x0 - w_gh @ k_w @ h_x0)
+                w = bp * (w0 - w_gd @ k_w @ w_gd.T) + c_res + c_h * np.eye(m)
+                vv = rows.const + gap_rows(rows, q_hat) + bp * (g_x0 - w_gd @ k_w @ d_x0)
                 lam = _lcp(0.5 * (w + w.T), vv, shares > 0.0)
-                qdd_new = x0 + columns_times(cols, lam) - columns_times(h_cols, k_w @ (h_x0 + w_gh.T @ lam))
+                qdd_new = x0 + columns_times(cols, lam) - rigid_columns_times(rows, k_w @ (d_x0 + w_gd.T @ lam))
                 force[on] = lam
             else:
                 qdd_new = x0
@@ -372,6 +385,11 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             q = q_hat + bp * qdd_new
             v = v_hat + gp * qdd_new
             qdd = qdd_new
+            if energy:
+                damper_torque[:] = [0.0, 0.0]
+                if rows is not None and c_pairs.any():
+                    rate = c_pairs * rigid_rows(rows, v)
+                    damper_torque[:] = [-float(coef @ rate) for coef, _ in rows.sides]
             save(step, rows)
             if progress is not None and step % every == 0:
                 progress(step, float(q[0]), cycles * pitch)

@@ -4,6 +4,7 @@ mesh cycle, the energy balance, the whole gear's ring, and the command's files."
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -22,6 +23,9 @@ from spurdyn.solvers.sector.system import gear_block, rigid_gap, teeth_for
 
 PAIR = paper_pair()
 MESH = dict(nx=2, ny=8)
+#: The bodies without their default structural damping (the checks of the undamped
+#: equations and of the mesh damper alone).
+UNDAMPED = dict(rayleigh_mass=0.0, rayleigh_stiffness=0.0)
 
 
 def _involute(gear_centre: np.ndarray, rb: float, phi0: float, rho: float, s: np.ndarray) -> np.ndarray:
@@ -101,7 +105,7 @@ def test_the_whole_gear_numbers_its_teeth_round_the_ring():
 def quasi_static():
     """One mesh cycle at 10 rpm, 100 steps: the scheme damps the pair's mode (tens of kHz
     against a step of 2 ms), so the run is the pair's quasi-static response."""
-    s = run_settings(PAIR, 10 * RPM, 60.0, dt=1e-6, cycles=1, **MESH)
+    s = run_settings(PAIR, 10 * RPM, 60.0, dt=1e-6, cycles=1, **MESH, **UNDAMPED)
     period = 2 * math.pi / PAIR.gear_a.teeth / s.speed_a
     return s, simulate_sector(PAIR, s, dt=period / 100)
 
@@ -138,7 +142,8 @@ def test_the_undamped_run_keeps_its_energy(bodies):
     the torques' work stay constant to within the terms the model leaves out (the strips
     sliding over the deformed flank, Appendix A's terms, and their half-widths a step
     late): 4 % of the largest strain energy."""
-    s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1, rho_inf=1.0, bodies=bodies, **MESH)
+    s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1, rho_inf=1.0, bodies=bodies, **MESH,
+                     **UNDAMPED)
     run = simulate_sector(PAIR, s, energy=True)
     e = run.info["energy"]
     total = np.array(e["kinetic_J"]) + np.array(e["strain_J"]) + np.array(e["strip_J"]) - np.array(e["work_J"])
@@ -179,7 +184,8 @@ def test_the_mesh_damper_takes_energy_out_and_the_ring_down():
     pitch = 2 * math.pi / PAIR.gear_a.teeth
     ring, lost = {}, {}
     for zeta in (0.0, 0.1, 0.5):
-        s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1, damping_ratio=zeta, rho_inf=1.0, **MESH)
+        s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1, damping_ratio=zeta, rho_inf=1.0, **MESH,
+                         **UNDAMPED)
         run = simulate_sector(PAIR, s, energy=True)
         e = run.info["energy"]
         total = np.array(e["kinetic_J"]) + np.array(e["strain_J"]) + np.array(e["strip_J"]) - np.array(e["work_J"])
@@ -203,7 +209,7 @@ def test_the_ring_decays_at_the_ratio_the_damper_gives_the_pairs_stiffness():
     from spurdyn.iso6336.dynamics import reduced_mass
     from spurdyn.solvers.sector.ring import damped_ring, single_contact_window
 
-    s = run_settings(PAIR, 300 * RPM, 60.0, dt=1e-6, cycles=1, damping_ratio=0.05, nx=4, ny=14)
+    s = run_settings(PAIR, 300 * RPM, 60.0, dt=1e-6, cycles=1, damping_ratio=0.05, nx=4, ny=14, **UNDAMPED)
     run = simulate_sector(PAIR, s)
     assert run.info["bodies"] == "modal"
     sel = single_contact_window(run, PAIR)
@@ -239,7 +245,34 @@ def test_spurdyn_run_model_sector_writes_the_pairs_and_the_transmission_error(tm
     assert summary["dt_s"] == pytest.approx(ds.time.values[1] - ds.time.values[0])
     assert summary["dynamic_factor"] is not None and summary["mesh_stiffness_mean_N_per_m"] > 0
     assert (out / "mesh.png").stat().st_size > 10_000       # the pairs' picture beside the force's
+    # no Rayleigh damping given: the bodies' default, and the summary says whose it was
+    from spurdyn.solvers.sector.run import BODY_DAMPING_RATIO, KEEP_FREQUENCY
+
+    assert summary["body_damping"]["source"] == "model default"
+    assert summary["body_damping"]["rayleigh_mass"] == 0.0
+    assert summary["body_damping"]["rayleigh_stiffness"] * math.pi * KEEP_FREQUENCY == pytest.approx(BODY_DAMPING_RATIO)
     ds.close()
+
+
+def test_the_bodies_damping_is_the_models_default_unless_given_and_zero_is_none(tmp_path):
+    """A run that gives no Rayleigh damping runs the sector bodies with
+    ``BODY_DAMPING_RATIO`` at ``KEEP_FREQUENCY``; one that gives 0 runs them undamped, and
+    a case file keeps the difference through its round trip (0 is written, nothing is not)."""
+    from spurdyn.casefile import case_from_dict, case_to_dict
+    from spurdyn.cases import preset_case
+    from spurdyn.solvers.sector.run import BODY_DAMPING_RATIO, KEEP_FREQUENCY, body_rayleigh
+
+    s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1)
+    a, b = body_rayleigh(s)
+    assert a == 0.0 and b * 2 * math.pi * KEEP_FREQUENCY / 2 == pytest.approx(BODY_DAMPING_RATIO)
+    assert s.rayleigh == (0.0, 0.0) and not s.damped         # the paper model's: none
+    assert body_rayleigh(s.with_(**UNDAMPED)) == (0.0, 0.0)
+    assert body_rayleigh(s.with_(rayleigh_mass=3.0)) == (3.0, 0.0)
+    case = preset_case("paper-fig8")
+    assert case.run.rayleigh_mass is None
+    for run in (case.run, case.run.with_(**UNDAMPED)):
+        back = case_from_dict(case_to_dict(dataclasses.replace(case, run=run)))
+        assert (back.run.rayleigh_mass, back.run.rayleigh_stiffness) == (run.rayleigh_mass, run.rayleigh_stiffness)
 
 
 def test_a_case_file_asks_for_its_model_and_the_flag_overrides_it(tmp_path):

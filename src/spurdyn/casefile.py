@@ -281,13 +281,16 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
 
 def _rayleigh(src: _Source) -> dict[str, float]:
     """Rayleigh's coefficients from ``rayleigh_mass`` and ``rayleigh_stiffness``, or from a
-    damping ratio ``rayleigh_ratio`` at the two frequencies ``rayleigh_hz = [f1, f2]``."""
-    a = src.number("rayleigh_mass", 0.0, positive=False)
-    b = src.number("rayleigh_stiffness", 0.0, positive=False)
+    damping ratio ``rayleigh_ratio`` at the two frequencies ``rayleigh_hz = [f1, f2]``;
+    nothing if none of them is given (the model's default)."""
+    a = src.number("rayleigh_mass", None, positive=False)
+    b = src.number("rayleigh_stiffness", None, positive=False)
     zeta = src.number("rayleigh_ratio", None, positive=False)
     found, hz, name = src.get("rayleigh_hz")
     if zeta is None and not found:
-        return {"rayleigh_mass": a, "rayleigh_stiffness": b}
+        if a is None and b is None:
+            return {}
+        return {"rayleigh_mass": a or 0.0, "rayleigh_stiffness": b or 0.0}
     if a or b:
         raise InputError(src.field("rayleigh_ratio" if zeta is not None else "rayleigh_hz"),
                          "give Rayleigh damping either as rayleigh_mass and rayleigh_stiffness "
@@ -372,8 +375,10 @@ def case_to_dict(case: Case) -> dict[str, Any]:
     run_table.update({k: getattr(run, k) for k in (
         "n_spline", "tol_disp", "max_iter", "accel_levels", "method", "backend", "contact",
         "save_every", "frames_every", "keep_theta_term")})
-    for key in ("damping_ratio", "rayleigh_mass", "rayleigh_stiffness"):
-        if getattr(run, key):
+    if run.damping_ratio:
+        run_table["damping_ratio"] = run.damping_ratio
+    for key in ("rayleigh_mass", "rayleigh_stiffness"):
+        if getattr(run, key) is not None:       # 0 given is not the model's default
             run_table[key] = getattr(run, key)
     if run.integrator != "rk4":
         run_table.update(integrator=run.integrator, rho_inf=run.rho_inf)

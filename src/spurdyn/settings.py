@@ -162,6 +162,9 @@ class RunSettings:
     rayleigh_mass, rayleigh_stiffness
         Rayleigh damping ``C = a M + b K`` of the elastic teeth (``a`` in 1/s, ``b`` in
         s), acting on their deformation rate in the disk frame (implicit integrator).
+        ``None`` (neither given): the model's default, none for the paper's model, the
+        sector model's bodies' structural damping
+        (:data:`spurdyn.solvers.sector.run.BODY_DAMPING_RATIO`); give 0 for none.
     save_every
         Keep every k-th step in the time history.
     frames_every
@@ -190,8 +193,8 @@ class RunSettings:
     integrator: str = "rk4"
     damping_ratio: float = 0.0
     rho_inf: float = DEFAULT_RHO_INF
-    rayleigh_mass: float = 0.0
-    rayleigh_stiffness: float = 0.0
+    rayleigh_mass: float | None = None
+    rayleigh_stiffness: float | None = None
     cycles: int | None = None
     stiffness: str = "tooth"
     bodies: str = "modal"
@@ -227,6 +230,8 @@ class RunSettings:
             raise InputError("damping_ratio", f"must be a number from 0 to below 1 (got {z!r})")
         for key in ("rayleigh_mass", "rayleigh_stiffness"):
             v = getattr(self, key)
+            if v is None:
+                continue
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v < 0:
                 raise InputError(key, f"must be a number >= 0 (got {v!r})")
         n = self.cycles
@@ -260,7 +265,12 @@ class RunSettings:
     @property
     def damped(self) -> bool:
         """Whether any damping is asked for (the mesh damper or Rayleigh's)."""
-        return self.damping_ratio > 0.0 or self.rayleigh_mass > 0.0 or self.rayleigh_stiffness > 0.0
+        return self.damping_ratio > 0.0 or any(v > 0.0 for v in self.rayleigh)
+
+    @property
+    def rayleigh(self) -> tuple[float, float]:
+        """Rayleigh's ``(a, b)`` as given, 0 for one not given (the paper model's default)."""
+        return (self.rayleigh_mass or 0.0, self.rayleigh_stiffness or 0.0)
 
     @property
     def tol_vel(self) -> float:

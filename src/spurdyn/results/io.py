@@ -396,6 +396,10 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     model = info.get("model")
     if model and model != "fe":  # say which model made it (the FE solver's is implied)
         summary["model"] = model
+    if "rayleigh" in info:      # the bodies' damping the model ran with, and whose it was
+        a, b = info["rayleigh"]
+        summary["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
+                                   "source": "model default" if info.get("rayleigh_default") else "run"}
     return _jsonable(summary)
 
 

@@ -75,7 +75,7 @@ def simulate(pair: GearPair, settings: RunSettings, progress: Progress | None = 
         raise InputError("cycles", FE_CYCLES_REASON)
     if settings.damped and settings.integrator == "rk4":
         raise InputError("damping_ratio" if settings.damping_ratio > 0.0 else "rayleigh_mass"
-                         if settings.rayleigh_mass > 0.0 else "rayleigh_stiffness",
+                         if settings.rayleigh[0] > 0.0 else "rayleigh_stiffness",
                          FE_DAMPING_REASON)
     if pair.driver == "b":
         return _simulate_driven_by_b(pair, settings, progress, chunk)

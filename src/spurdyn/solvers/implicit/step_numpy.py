@@ -117,9 +117,8 @@ def generalized_forces(system: PairSystem, settings: RunSettings, scheme: Implic
         q, f = elastic(gb, theta[g], ub, settings.keep_theta_term)
         out[g] += q
         fu[g][:] = f
-        if settings.rayleigh_mass or settings.rayleigh_stiffness:
-            qd, fd = rayleigh_forces(gb, theta[g], omega[g], ub, vb,
-                                     settings.rayleigh_mass, settings.rayleigh_stiffness)
+        if any(settings.rayleigh):
+            qd, fd = rayleigh_forces(gb, theta[g], omega[g], ub, vb, *settings.rayleigh)
             out[g] += qd
             fu[g] += fd
     if touching and scheme.c_mesh:
@@ -162,7 +161,7 @@ class ImplicitMethod:
         self.contact_at = lambda theta, u, guess, load=0.0: contact_at(
             system, theta, u, guess, load, self.law)
         ratio = self.gp / self.bp
-        a, b = settings.rayleigh_mass, settings.rayleigh_stiffness
+        a, b = settings.rayleigh
         # the teeth's blocks of S in the disk frame, factorised once
         self.lu = [splu(sp.csc_matrix(sp.diags(g.mass * (1.0 / self.bp + a * ratio))
                                       + (1.0 + b * ratio) * g.stiffness)) for g in system.gears]

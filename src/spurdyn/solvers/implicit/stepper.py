@@ -102,7 +102,7 @@ def implicit_pack(system: PairSystem, settings: RunSettings, scheme: ImplicitSch
     at the root DOFs."""
     coef = scheme.coef
     ratio = scheme.gp / scheme.bp
-    a, b = settings.rayleigh_mass, settings.rayleigh_stiffness
+    a, b = settings.rayleigh
     blocks = sp.block_diag([sp.diags(g.mass * (1.0 / scheme.bp + a * ratio))
                             + (1.0 + b * ratio) * g.stiffness for g in system.gears], format="csr")
     perm = reverse_cuthill_mckee(blocks, symmetric_mode=True).astype(np.int64)

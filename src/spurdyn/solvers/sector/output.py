@@ -64,7 +64,6 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         "body_inertia": [b.body_inertia for b in blocks],
         "mesh_damper_N_s_per_m": c_mesh,
         "damping_ratio": settings.damping_ratio,
-        "rayleigh": [settings.rayleigh_mass, settings.rayleigh_stiffness],
         "dt_s": h,
         "steps_per_cycle": per_cycle,
         "pair_teeth": teeth.tolist(),

@@ -65,6 +65,21 @@ STEPS_PER_MESH_PERIOD = 200
 #: Positions of the quasi-static cycle the run reads its mean stiffness and its largest
 #: quasi-static pair force from.
 CYCLE_POSITIONS = 21
+#: The bodies' structural damping when the run gives no Rayleigh damping: stiffness
+#: proportional, this ratio at :data:`KEEP_FREQUENCY` (a tenth of it at 5 kHz, where the pair's
+#: torsional mode lies). Without any, the bodies' own modes (the teeth on their rims, which
+#: the mesh damper does not reach) ring for ever and a run never settles (docs/sector.md,
+#: 6.5). An ASSUMPTION of typical magnitude, not a measured property of a gear; give
+#: ``rayleigh_mass``/``rayleigh_stiffness`` (0 for none) to set another.
+BODY_DAMPING_RATIO = 0.02
+
+
+def body_rayleigh(settings: RunSettings) -> tuple[float, float]:
+    """Rayleigh's ``(a, b)`` of the sector model's bodies: the run's, or if it gives none,
+    :data:`BODY_DAMPING_RATIO` at :data:`KEEP_FREQUENCY` on the stiffness alone."""
+    if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
+        return 0.0, 2.0 * BODY_DAMPING_RATIO / (2.0 * math.pi * KEEP_FREQUENCY)
+    return settings.rayleigh
 
 
 class _Rows(NamedTuple):
@@ -140,7 +155,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     pair, settings
         The pair and the run: its ``torque`` (on the driver), speeds, ``cycles`` (1 if not
         given), mesh (``nx``, ``ny``, ``grading``), ``damping_ratio`` (the mesh damper),
-        ``rayleigh_mass``/``rayleigh_stiffness`` (the bodies) and ``rho_inf``.
+        ``rayleigh_mass``/``rayleigh_stiffness`` (the bodies; :func:`body_rayleigh` if
+        neither is given) and ``rho_inf``.
     progress
         Called as ``progress(step, angle_reached, angle_total)`` (rad) about a hundred times.
     dt
@@ -193,7 +209,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     scheme = GeneralizedAlpha(settings.rho_inf)
     bp, gp = scheme.beta_prime(h), scheme.gamma_prime(h)
     am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
-    rayleigh = (settings.rayleigh_mass, settings.rayleigh_stiffness)
+    rayleigh = body_rayleigh(settings)
     if modes is None:
         modes = settings.bodies == "modal"
     if modes:
@@ -402,10 +418,14 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     result = sector_result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
                    gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_mesh, status, reason,
                    _time.perf_counter() - wall0, load)
+    result.info["rayleigh"] = list(rayleigh)
+    # the bodies' damping was the model's default (BODY_DAMPING_RATIO), not the run's
+    result.info["rayleigh_default"] = settings.rayleigh_mass is None and settings.rayleigh_stiffness is None
     result.info["bodies"] = "modal" if modes else "full"
     result.info["modes"] = [g.n - 1 for g in gears] if modes else None
     result.info["coordinates"] = n
     return result
 
 
-__all__ = ["KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "simulate_sector", "steps_per_cycle"]
+__all__ = ["BODY_DAMPING_RATIO", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh", "simulate_sector",
+           "steps_per_cycle"]

@@ -458,3 +458,60 @@ def test_the_bodies_rows_and_columns_are_their_matrices():
             want = np.array([[ti @ red.residual(int(ki), int(kj)) @ tj for kj, tj in zip(ks, turned)]
                              for ki, ti in zip(ks, turned)])
             np.testing.assert_allclose(res, want, rtol=0, atol=1e-9 * np.abs(want).max())
+
+
+def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
+    """Three cycles, then three more from their end state (a continuation's next speed, here
+    the same one): the pair forces and the transmission error are those of one run of six
+    cycles over its last three, to round-off, the teeth numbered on by three; and at twice
+    the speed the continued run starts with the end state's shape, its rates scaled."""
+    from spurdyn.solvers.sector.run import unpack_state
+
+    s3 = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, damping_ratio=0.05, **MESH)
+    first = simulate_sector(PAIR, s3)
+    end = first.info["sector_end_state"]
+    again = simulate_sector(PAIR, s3.with_(start_state=end))
+    whole = simulate_sector(PAIR, s3.with_(cycles=6))
+    assert again.info["tooth_offset"] == -3
+    n = again.steps
+    half = whole.steps - n
+    scale = np.nanmax(whole.pair_force)
+    np.testing.assert_allclose(np.nansum(again.pair_force, axis=1), np.nansum(whole.pair_force[half:], axis=1),
+                               rtol=0, atol=1e-8 * scale)
+    np.testing.assert_allclose(again.transmission_error, whole.transmission_error[half:], rtol=0,
+                               atol=1e-8 * np.abs(whole.transmission_error).max())
+    # at another speed the state's shape carries over, its rates scale with the speed
+    fast = simulate_sector(PAIR, s3.with_(speed_a=2 * s3.speed_a, speed_b=2 * s3.speed_b, start_state=end))
+    assert fast.omega[0, 0] == pytest.approx(2 * s3.speed_a * unpack_state(end, fast.info["coordinates"]).dq[0])
+    assert fast.transmission_error[0] == pytest.approx(first.transmission_error[-1], rel=1e-9)
+    # a state of other bodies, or on a sector, is refused in one line naming the key
+    from spurdyn.errors import InputError
+
+    with pytest.raises(InputError) as err:
+        simulate_sector(PAIR, s3.with_(start_state=end[:1] + (3.0,) + end[2:]))
+    assert err.value.field == "start_state"
+    with pytest.raises(InputError):
+        simulate_sector(PAIR, s3.with_(cycles=1, start_state=end))
+
+
+def test_a_sector_sweep_carries_each_speeds_end_to_the_next(tmp_path, capsys):
+    """``spurdyn sweep --model sector --continuation up``: the chain's first point is the
+    point a sweep without continuation computes; the next starts from its end (and so
+    differs from a start at the static equilibrium); fewer than three cycles (a sector
+    rather than whole gears) are refused in one line."""
+    from spurdyn.cli.main import main
+
+    common = ["sweep", "paper-fig8", "--model", "sector", "--cycles", "3", "--damping", "0.05",
+              "--mesh", "2x8", "--rpm", "4000,5000", "--quiet"]
+    assert main(common + ["--continuation", "up", "--out", str(tmp_path / "up")]) == 0
+    assert main(common + ["--jobs", "1", "--out", str(tmp_path / "alone")]) == 0
+    up = xr.open_dataset(tmp_path / "up" / "sweep.nc").sel(model="sector")
+    alone = xr.open_dataset(tmp_path / "alone" / "sweep.nc").sel(model="sector")
+    assert float(up.peak_force.sel(rpm=4000)) == pytest.approx(float(alone.peak_force.sel(rpm=4000)), rel=1e-6)
+    assert abs(float(up.peak_force.sel(rpm=5000)) / float(alone.peak_force.sel(rpm=5000)) - 1) > 1e-4
+    capsys.readouterr()
+    assert main(["sweep", "paper-fig8", "--model", "sector", "--cycles", "2", "--mesh", "2x8",
+                 "--rpm", "4000,5000", "--continuation", "up", "--out", str(tmp_path / "bad")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("spurdyn: error: --continuation:") and err.count("\n") == 1
+    assert not (tmp_path / "bad").exists()

@@ -158,7 +158,9 @@ class RunSettings:
         Where a steady-state run starts instead of the static compression: the
         transmission error ``delta`` (m) and its slope ``d delta / d phi_A`` (m/rad) at the
         start of a mesh cycle, as another run ended (``info["steady"]["end_state"]``); what a
-        sweep with continuation passes from one speed to the next.
+        sweep with continuation passes from one speed to the next. The sector model's is its
+        whole state per angle (:func:`spurdyn.solvers.sector.run.pack_state`,
+        ``info["sector_end_state"]``).
     rayleigh_mass, rayleigh_stiffness
         Rayleigh damping ``C = a M + b K`` of the elastic teeth (``a`` in 1/s, ``b`` in
         s), acting on their deformation rate in the disk frame (implicit integrator).
@@ -198,7 +200,7 @@ class RunSettings:
     cycles: int | None = None
     stiffness: str = "tooth"
     bodies: str = "modal"
-    start_state: tuple[float, float] | None = None
+    start_state: tuple[float, ...] | None = None
     save_every: int = 1
     frames_every: int = 100
     keep_theta_term: bool = True
@@ -257,8 +259,8 @@ class RunSettings:
             raise InputError("stiffness", f"must be one of {', '.join(STIFFNESSES)} "
                              f"(got {self.stiffness!r})")
         s = self.start_state
-        if s is not None and (len(s) != 2 or not all(isinstance(v, float) and math.isfinite(v) for v in s)):
-            raise InputError("start_state", f"must be two finite numbers (got {s!r})")
+        if s is not None and (len(s) < 2 or not all(isinstance(v, float) and math.isfinite(v) for v in s)):
+            raise InputError("start_state", f"must be finite numbers, two for the lumped model (got {s!r})"[:200])
         if self.stiffness == "sector" and self.cycles is None:
             raise InputError("stiffness", SECTOR_STIFFNESS_REASON)
 

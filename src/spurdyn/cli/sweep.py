@@ -135,10 +135,11 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
         if case.run.cycles is None:
             raise InputError("--continuation", "starts each speed from the previous one's "
                              "settled state: it needs a steady-state sweep (--cycles N)")
-        if model == "sector":
-            raise InputError("--continuation", "carries the lumped model's settled state; the "
-                             "sector model starts each speed from its static equilibrium "
-                             "(leave out --continuation or use --model lumped)")
+        from spurdyn.solvers.sector.system import WHOLE_FROM_CYCLES
+
+        if model == "sector" and case.run.cycles < WHOLE_FROM_CYCLES:
+            raise InputError("--continuation", "carries the sector model's whole gears from one "
+                             f"speed to the next: give --cycles {WHOLE_FROM_CYCLES} or more")
         if args.jobs is not None or args.scheduler is not None:
             raise InputError("--continuation", "runs its speeds in turn in this process: "
                              "leave out --jobs and --scheduler")

@@ -167,6 +167,9 @@ def point_figures(result: Result, case: Case) -> dict[str, Any]:
         "transmission_error_pp": s.get("transmission_error_pp_m"),
         "end_transmission_error": end[0],
         "end_transmission_error_slope": end[1],
+        # the sector model's whole end state, kept in memory for a continuation's next speed
+        # (not a figure: not stored)
+        "end_state": result.info.get("sector_end_state"),
     }
 
 

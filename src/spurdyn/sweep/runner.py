@@ -271,7 +271,7 @@ def _chain(plan: SweepPlan, tasks: list[PointTask], records: dict[PointKey, dict
         chain = [k for k in plan.keys() if k.torque == torque]
         if plan.continuation == "down":
             chain.reverse()
-        state: tuple[float, float] | None = None
+        state: tuple[float, ...] | None = None
         for key in chain:
             task = todo.get(key)
             if task is not None:
@@ -289,7 +289,10 @@ def _chain(plan: SweepPlan, tasks: list[PointTask], records: dict[PointKey, dict
                 record = records.get(key, {})
                 figures, status = record, record.get("status")
             end = (figures.get("end_transmission_error"), figures.get("end_transmission_error_slope"))
-            state = (float(end[0]), float(end[1])) if status == COMPLETE and None not in end else None
+            if figures.get("end_state") is not None:       # the sector model's whole state
+                state = tuple(figures["end_state"]) if status == COMPLETE else None
+            else:
+                state = (float(end[0]), float(end[1])) if status == COMPLETE and None not in end else None
 
 
 def _without_result(outcome: PointOutcome) -> PointOutcome:

@@ -50,8 +50,8 @@ from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
 from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.output import sector_result
-from spurdyn.solvers.sector.system import (REACH, _half_widths, _half_widths_at, _radii, gap_table,
-                                           gear_block, teeth_for)
+from spurdyn.solvers.sector.system import (REACH, WHOLE_FROM_CYCLES, _half_widths, _half_widths_at, _radii,
+                                           gap_table, gear_block, teeth_for)
 
 #: The highest frequency (Hz) the sector model's default step resolves with
 #: :data:`STEPS_PER_KEPT_PERIOD` steps a period: the pair's torsional mode (~5-6 kHz on the
@@ -144,6 +144,50 @@ def _lcp(w: NDArray[np.float64], v: NDArray[np.float64],
     raise RuntimeError("the contact problem has no solution")     # pragma: no cover
 
 
+class SectorState(NamedTuple):
+    """Where a run of the sector model starts instead of the static equilibrium: the state at
+    the start of a mesh cycle as another run of the same bodies ended, per radian of the
+    driver's turn so that it holds at another speed (``v = omega dq``, ``a = omega^2 ddq``).
+
+    ``offset``: the body tooth of the driver that the run's pair 0 is (a run of ``N`` cycles
+    ends ``N`` teeth on); ``q`` with the hubs' turns less the whole pitches; ``dq``, ``ddq``
+    and ``qdd`` the velocities and the scheme's two accelerations per angle; ``teeth``,
+    ``forces`` the pairs' forces by the driver's body tooth."""
+
+    offset: int
+    q: NDArray[np.float64]
+    dq: NDArray[np.float64]
+    ddq: NDArray[np.float64]
+    qdd: NDArray[np.float64]
+    teeth: NDArray[np.intp]
+    forces: NDArray[np.float64]
+
+
+def pack_state(state: SectorState) -> tuple[float, ...]:
+    """``state`` as the flat numbers of :attr:`RunSettings.start_state`."""
+    n = state.q.size
+    return tuple(float(x) for x in (state.offset, n, *state.q, *state.dq, *state.ddq, *state.qdd,
+                                    state.teeth.size, *state.teeth, *state.forces))
+
+
+def unpack_state(flat: tuple[float, ...], n: int) -> SectorState:
+    """The :class:`SectorState` of :func:`pack_state`'s numbers, for bodies of ``n``
+    coordinates (refused in one line if they are another's)."""
+    from spurdyn.errors import InputError
+
+    if len(flat) < 2 or int(flat[1]) != n or len(flat) < 2 + 4 * n + 1:
+        raise InputError("start_state", f"is not a state of these sector bodies ({n} coordinates): "
+                         "start from another run of the same case and mesh")
+    x = np.asarray(flat, dtype=float)
+    q, dq, ddq, qdd = (x[2 + i * n:2 + (i + 1) * n] for i in range(4))
+    m = int(x[2 + 4 * n])
+    rest = x[3 + 4 * n:]
+    if rest.size != 2 * m:
+        raise InputError("start_state", "is not a state of the sector model")
+    return SectorState(int(x[0]), q.copy(), dq.copy(), ddq.copy(), qdd.copy(),
+                       rest[:m].astype(np.intp), rest[m:].copy())
+
+
 def simulate_sector(pair: GearPair, settings: RunSettings,
                     progress: Callable[[int, float, float], None] | None = None, *,
                     dt: float | None = None, energy: bool = False,
@@ -232,23 +276,39 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                     lambda: mesh_cycle(pair, settings.torque, settings.nx, settings.ny,
                                        positions=CYCLE_POSITIONS, bodies=bodies))
     law = _law(pair, settings.torque, bodies)
-    js, f0, e0, _, _ = _solve_position(law, dp.start_roll_a)
-    q = np.zeros(n)
-    rolls0 = [dp.start_roll_a + j * pitch for j in js]
-    hw0 = _half_widths(dp, rolls0, f0, estar, width)     # the strips of the static forces
-    for g, blk in enumerate(blocks):
-        sign = 1 if g == 0 else -1
-        loads = np.zeros(blk.mass.size)
-        for j, r, b, fj in zip(js, _radii(dp, rolls0)[g], hw0, f0):
-            loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
-        q[parts[g]][1:] = gears[g].static(loads)
-    q[0] = e0 / ra
-    force = np.zeros(teeth.size)
-    force[np.searchsorted(teeth, js)] = f0
-    v = np.zeros(n)
-    v[0], v[na] = speed, speed * ra / rb
-    qdd = np.zeros(n)
-    acc = np.zeros(n)
+    start = settings.start_state
+    if start is not None:
+        # another run's end (a sweep's continuation): its state per angle at this speed
+        if not (blocks[0].whole and blocks[1].whole):
+            from spurdyn.errors import InputError
+
+            raise InputError("start_state", "a sector run starts from another's end only on whole "
+                             f"gears: give {WHOLE_FROM_CYCLES} cycles or more")
+        st = unpack_state(start, n)
+        offset = st.offset
+        q, v, acc, qdd = st.q.copy(), speed * st.dq, speed**2 * st.ddq, speed**2 * st.qdd
+        force = np.zeros(teeth.size)
+        at = dict(zip(st.teeth.tolist(), st.forces))
+        force[:] = [at.get(int(k) + offset, 0.0) for k in teeth]
+    else:
+        offset = 0
+        js, f0, e0, _, _ = _solve_position(law, dp.start_roll_a)
+        q = np.zeros(n)
+        rolls0 = [dp.start_roll_a + j * pitch for j in js]
+        hw0 = _half_widths(dp, rolls0, f0, estar, width)     # the strips of the static forces
+        for g, blk in enumerate(blocks):
+            sign = 1 if g == 0 else -1
+            loads = np.zeros(blk.mass.size)
+            for j, r, b, fj in zip(js, _radii(dp, rolls0)[g], hw0, f0):
+                loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
+            q[parts[g]][1:] = gears[g].static(loads)
+        q[0] = e0 / ra
+        force = np.zeros(teeth.size)
+        force[np.searchsorted(teeth, js)] = f0
+        v = np.zeros(n)
+        v[0], v[na] = speed, speed * ra / rb
+        qdd = np.zeros(n)
+        acc = np.zeros(n)
 
     z_theta = []
     for g in range(2):
@@ -276,7 +336,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             return None
         g0, slope, r_a, r_b = table.at(rolls[on])
         hw = _half_widths_at(dp, (r_a, r_b), f[on], estar, width)
-        k = teeth[on]
+        k = teeth[on] + offset            # the driver's body teeth (a continuation runs on)
         # d gap / d theta: the base circles' and, off the path, the corner's
         sides = tuple((coef, gears[g].rows(sign * k, blocks[g].flank_loads(r, hw)))
                       for g, (sign, coef, r) in enumerate(((1, slope - ra, r_a), (-1, np.full(k.size, rb), r_b))))
@@ -418,6 +478,16 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     result = sector_result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
                    gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_mesh, status, reason,
                    _time.perf_counter() - wall0, load)
+    if status == "complete" and blocks[0].whole and blocks[1].whole:
+        # where the next speed of a continuation starts: this end, the teeth N on
+        q_end = q.copy()
+        q_end[0] -= cycles * pitch
+        q_end[na] -= cycles * 2.0 * math.pi / gb.teeth
+        loaded = np.flatnonzero(force > 0.0)
+        result.info["sector_end_state"] = pack_state(SectorState(
+            offset - cycles, q_end, v / speed, acc / speed**2, qdd / speed**2,
+            teeth[loaded] + offset, force[loaded]))
+    result.info["tooth_offset"] = offset
     result.info["rayleigh"] = list(rayleigh)
     # the bodies' damping was the model's default (BODY_DAMPING_RATIO), not the run's
     result.info["rayleigh_default"] = settings.rayleigh_mass is None and settings.rayleigh_stiffness is None
@@ -427,5 +497,5 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     return result
 
 
-__all__ = ["BODY_DAMPING_RATIO", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh", "simulate_sector",
-           "steps_per_cycle"]
+__all__ = ["BODY_DAMPING_RATIO", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "SectorState", "body_rayleigh",
+           "pack_state", "simulate_sector", "steps_per_cycle", "unpack_state"]

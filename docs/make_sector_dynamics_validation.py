@@ -103,19 +103,43 @@ def ring(mesh: dict, zeta: float) -> dict:
 
 
 def step_study(mesh: dict, rpm: float) -> dict:
-    out = {}
-    for label, factor in (("default", 1.0), ("half", 0.5)):  # modal bodies
-        s = run_settings(PAIR, rpm * RPM, TORQUE, dt=1e-6, cycles=4, damping_ratio=0.05, **mesh)
-        from spurdyn.solvers.sector.run import steps_per_cycle
+    """The default step against a half and a tenth of it (the reference: the sector model has
+    no RK4 twin), 4 cycles: the settled dynamic factor, the 10-us-averaged mesh force's RMS
+    difference over the run against its peak, and the contact onsets' times."""
+    from spurdyn.results.headline import moving_average
+    from spurdyn.solvers.sector.run import steps_per_cycle
 
+    out: dict = {}
+    runs = {}
+    for label, factor in (("default", 1), ("half", 2), ("tenth", 10)):  # modal bodies
+        s = run_settings(PAIR, rpm * RPM, TORQUE, dt=1e-6, cycles=4, damping_ratio=0.05, **mesh)
         period = 2 * math.pi / PAIR.gear_a.teeth / s.speed_a
         per = steps_per_cycle(s.speed_a, PAIR.gear_a.teeth)
         t0 = time.perf_counter()
-        run = simulate_sector(PAIR, s, dt=period / (per / factor))
+        run = simulate_sector(PAIR, s, dt=period / (per * factor))
+        runs[label] = (factor, run)
         out[label] = {"dt_s": run.info["dt_s"], "dynamic_factor": settled_dynamic_factor(run),
                       "te_rms_um": run.info["steady"]["transmission_error_rms_m"] * 1e6,
                       "wall_s": time.perf_counter() - t0, "steps": run.steps, "n_dof": run.info["n_dof"]}
+    _, ref = runs["tenth"]
+    ref_mesh = moving_average(ref.time, np.nansum(ref.pair_force, axis=1))
+    ref_onsets = _onsets(ref)
+    for label in ("default", "half"):
+        factor, run = runs[label]
+        mesh_force = moving_average(run.time, np.nansum(run.pair_force, axis=1))
+        at = ref_mesh[:: 10 // factor][: mesh_force.size]           # the same instants
+        out[label]["mesh_rms_rel"] = float(np.sqrt(np.mean((mesh_force - at) ** 2)) / np.nanmax(at))
+        onsets = _onsets(run)
+        out[label]["onset_max_s"] = float(max((min(abs(t - r) for r in ref_onsets) for t in onsets), default=0.0))
+        out[label]["df_vs_tenth_rel"] = out[label]["dynamic_factor"] / out["tenth"]["dynamic_factor"] - 1
     return out
+
+
+def _onsets(run) -> list[float]:
+    """Times a pair starts to touch (its force turns positive)."""
+    on = np.nan_to_num(run.pair_force) > 0
+    steps, _ = np.nonzero(on[1:] & ~on[:-1])
+    return [float(run.time[i + 1]) for i in steps]
 
 
 def bodies(mesh: dict) -> dict:
@@ -204,7 +228,8 @@ def main() -> None:
     print("energy", fig["energy"], flush=True)
     fig["ring"] = [ring(fine, 0.0), ring(fine, 0.05)]
     print("ring", fig["ring"], flush=True)
-    fig["step"] = step_study(fine, 6000.0)
+    fig["step_rpms"] = [2000.0, 6000.0, 14000.0]
+    fig["step"] = {f"{rpm:.0f}": step_study(fine, rpm) for rpm in fig["step_rpms"]}
     print("step", fig["step"], flush=True)
     fig["bodies"] = bodies(fine)
     print("bodies", fig["bodies"], flush=True)
@@ -276,19 +301,29 @@ def render(f: dict) -> str:
          f"misfit {r5['fit_misfit'] * 100:.1f} % of its amplitude)."
          if r5["decay_ratio"] is not None else "Too few periods to measure the decay."),
         "",
-        "## Time step (6,000 rpm, 4 cycles, zeta = 0.05)",
+        "## Time step (4 cycles, zeta = 0.05, against a tenth of the default step)",
         "",
-        "| step | dt | settled dynamic factor | TE RMS | wall |",
-        "| --- | --- | --- | --- | --- |",
+        "The sector model has no RK4 twin; its reference is the same scheme at a tenth of the "
+        "default step. The issue's measures: the 10-µs-averaged mesh force's RMS difference over "
+        "the run against its peak (asked: within 2 %), the contact onsets' times (within 2 µs) "
+        "and the settled dynamic factor (within 1 %).",
+        "",
+        "| rpm | step | dt | settled dynamic factor | against the tenth | averaged force RMS | onsets | TE RMS | wall |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
-    for k in ("default", "half"):
-        s = st[k]
-        lines.append(f"| {k} | {s['dt_s'] * 1e6:.3f} µs | {s['dynamic_factor']:.4f} | "
-                     f"{s['te_rms_um']:.3f} µm | {s['wall_s']:.1f} s ({s['steps']} steps, {s['n_dof']:,} DOFs) |")
-    d = abs(st["half"]["dynamic_factor"] / st["default"]["dynamic_factor"] - 1) * 100
+    for rpm, study in st.items():
+        for k in ("default", "half", "tenth"):
+            s = study[k]
+            vs = (f"{s['df_vs_tenth_rel'] * 100:+.2f} %", f"{s['mesh_rms_rel'] * 100:.2f} %",
+                  f"{s['onset_max_s'] * 1e6:.2f} µs") if k != "tenth" else ("reference", "", "")
+            lines.append(f"| {float(rpm):,.0f} | {k} | {s['dt_s'] * 1e6:.3f} µs | {s['dynamic_factor']:.4f} | "
+                         f"{vs[0]} | {vs[1]} | {vs[2]} | {s['te_rms_um']:.3f} µm | {s['wall_s']:.1f} s "
+                         f"({s['steps']} steps) |")
+    worst = max(abs(study["default"]["df_vs_tenth_rel"]) for study in st.values()) * 100
     lines += [
         "",
-        f"Halving the step moves the dynamic factor by {d:.2f} %.",
+        f"At the default step the settled dynamic factor is within {worst:.2f} % of the tenth's at "
+        "every speed.",
         "",
         "## Modal bodies against the whole ones (3,000 rpm, 2 cycles, zeta = 0.05)",
         "",

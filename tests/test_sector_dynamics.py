@@ -473,6 +473,12 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
     again = simulate_sector(PAIR, s3.with_(start_state=end))
     whole = simulate_sector(PAIR, s3.with_(cycles=6))
     assert again.info["tooth_offset"] == -3
+    # the end state is a continuation's, kept in memory: not in result.nc
+    from spurdyn.casefile import Case
+    from spurdyn.results.io import result_to_dataset
+
+    ds = result_to_dataset(first, Case(name="c", pair=PAIR, run=s3, model="sector"))
+    assert "sector_end_state" not in ds.attrs["info"] and "tooth_offset" in ds.attrs["info"]
     n = again.steps
     half = whole.steps - n
     scale = np.nanmax(whole.pair_force)

@@ -205,7 +205,9 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
         "theta_2_deg": math.degrees(figures["theta_2"]),
         "single_zone_deg": np.degrees(np.array(figures["single_zone"])),
         "static_force_N": figures["static_force"],
-        "info": json.dumps(_jsonable(result.info)),
+        # the sector model's end state (its whole coordinates, for a continuation's next run)
+        # is kept in memory, not in the file
+        "info": json.dumps(_jsonable({k: v for k, v in result.info.items() if k != "sector_end_state"})),
     }
     from spurdyn.version import __version__
 

@@ -188,6 +188,41 @@ def unpack_state(flat: tuple[float, ...], n: int) -> SectorState:
                        rest[:m].astype(np.intp), rest[m:].copy())
 
 
+def _compiled_loop(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...], teeth: NDArray[np.intp],
+                   offset: int, table: Any, consts: tuple[float, ...], f_ext: NDArray[np.float64],
+                   outs: tuple[NDArray[np.float64], ...], n_steps: int, every: int,
+                   progress: Callable[[int, float, float], None] | None,
+                   total: float, done: list[int]) -> tuple[int, bool]:
+    """Run the loop with :func:`spurdyn.solvers.sector.step_compiled.run_steps` (modal bodies
+    of whole gears), ``every`` steps a call; ``(last step, whether it failed)``."""
+    from spurdyn.contact.hertz import strip_quadrature
+    from spurdyn.solvers.sector.step_compiled import run_steps
+
+    per_gear = []
+    for body, blk in zip(gears, blocks):
+        fl = blk.body.flank
+        geo = np.array([fl.r0, fl.r_tip, float(fl.ny), fl.base_radius, blk.gear.half_angle_base])
+        per_gear.append((np.ascontiguousarray(body._inv), np.ascontiguousarray(body._damp),
+                         np.ascontiguousarray(body.reduced.omega2), np.ascontiguousarray(body._modes),
+                         np.ascontiguousarray(body._flex), geo, blk.first, blk.count))
+    (i0, d0, o0, mo0, fx0, g0, fi0, c0), (i1, d1, o1, mo1, fx1, g1, fi1, c1) = per_gear
+    xq, wq = strip_quadrature()
+    q, v, acc, qdd, force = state
+    step = 0
+    while step < n_steps:
+        chunk = min(every, n_steps - step)
+        step, failed = run_steps(step, chunk, q, v, acc, qdd, force, i0, i1, d0, d1, o0, o1, mo0, mo1,
+                                 fx0, fx1, g0, g1, fi0, fi1, c0, c1, np.asarray(teeth, np.int64), int(offset),
+                                 table.rho, table.gap, table.slope, table.r_a, table.r_b,
+                                 np.array(consts, dtype=float), xq, wq, f_ext, *outs)
+        if failed:
+            return step, True
+        done[0] = step
+        if progress is not None:
+            progress(step, float(q[0]), total)
+    return step, False
+
+
 def simulate_sector(pair: GearPair, settings: RunSettings,
                     progress: Callable[[int, float, float], None] | None = None, *,
                     dt: float | None = None, energy: bool = False,
@@ -419,8 +454,19 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     # BLAS on one thread: the products are small and another process may hold the other core
     # (as the implicit integrator's steps, docs/implicit.md)
     limit = threadpool_limits(limits=1, user_api="blas")
+    compiled = (settings.backend == "numba" and modes and not energy
+                and blocks[0].whole and blocks[1].whole)
+    done = [0]          # the compiled loop's last finished step (an interrupt comes between chunks)
     try:
-        for step in range(1, n_steps + 1):
+        if compiled:        # the same loop, compiled (step_compiled.py), in chunks for progress
+            step, failed = _compiled_loop(gears, blocks, (q, v, acc, qdd, force), teeth, offset, table,
+                                          (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h, c_mesh,
+                                           am, af, beta, gamma, h, bp, gp),
+                                          f_ext, (th_out, om_out, f_out, gap_out), n_steps, every,
+                                          progress, cycles * pitch, done)
+            if failed:
+                status, reason = "incomplete", f"the solution became NaN at step {step}"
+        for step in range(step + 1, n_steps + 1) if not compiled else ():
             a_part = (af * qdd - am * acc) / (1.0 - am)
             q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
             v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
@@ -470,6 +516,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             if progress is not None and step % every == 0:
                 progress(step, float(q[0]), cycles * pitch)
     except KeyboardInterrupt:
+        if compiled:
+            step = done[0] + 1
         status, reason = "incomplete", f"interrupted by the user at step {step}"
         step -= 1
     finally:

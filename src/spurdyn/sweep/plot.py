@@ -121,7 +121,9 @@ def draw_dynamic_factor(ax: plt.Axes, datasets: Mapping[str, xr.Dataset],
     seen: dict[str, object] = {}
     for h, lab in zip(handles, labels):
         seen.setdefault(lab, h)
-    ax.legend(list(seen.values()), list(seen), fontsize=8, loc="upper left")
+    # below the axes: inside, the legend hid the resonance lines' labels and the curves' peaks
+    ax.legend(list(seen.values()), list(seen), fontsize=8, loc="upper center",
+              bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
 
 
 def plot_dynamic_factor(datasets: Mapping[str, xr.Dataset], png: str | Path,

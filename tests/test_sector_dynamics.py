@@ -270,6 +270,11 @@ def test_the_bodies_damping_is_the_models_default_unless_given_and_zero_is_none(
     assert body_rayleigh(s.with_(rayleigh_mass=3.0)) == (3.0, 0.0)
     case = preset_case("paper-fig8")
     assert case.run.rayleigh_mass is None
+    # a sector sweep's points say which bodies' damping they ran with; the others' hash is as before
+    from spurdyn.sweep.spec import settings_hash
+
+    assert settings_hash(case, None, "sector") != settings_hash(case)
+    assert settings_hash(case, None, "lumped") == settings_hash(case)
     for run in (case.run, case.run.with_(**UNDAMPED)):
         back = case_from_dict(case_to_dict(dataclasses.replace(case, run=run)))
         assert (back.run.rayleigh_mass, back.run.rayleigh_stiffness) == (run.rayleigh_mass, run.rayleigh_stiffness)

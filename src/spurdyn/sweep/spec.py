@@ -155,12 +155,18 @@ def settings_dict(case: Case) -> dict[str, Any]:
 CONTINUATIONS = ("up", "down")
 
 
-def settings_hash(case: Case, continuation: str | None = None) -> str:
+def settings_hash(case: Case, continuation: str | None = None, model: str | None = None) -> str:
     """Twelve hex digits of the SHA-256 of :func:`settings_dict` (canonical JSON), with the
-    sweep's ``continuation`` when it has one (its points start from another's end)."""
+    sweep's ``continuation`` when it has one (its points start from another's end), and for
+    the sector ``model`` without Rayleigh damping given the bodies' default damping it then
+    runs with (so that points of a version before that default are not taken for its)."""
     data = settings_dict(case)
     if continuation is not None:
         data["sweep"] = {"continuation": continuation}
+    if model == "sector" and case.run.rayleigh_mass is None and case.run.rayleigh_stiffness is None:
+        from spurdyn.solvers.sector.run import body_rayleigh
+
+        data["run"]["sector_body_rayleigh"] = list(body_rayleigh(case.run))
     text = json.dumps(data, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]
 
@@ -244,7 +250,7 @@ class SweepPlan:
 
     @property
     def settings(self) -> str:
-        return settings_hash(self.case, self.continuation)
+        return settings_hash(self.case, self.continuation, self.model)
 
     def keys(self) -> list[PointKey]:
         """Every point, speed-major."""

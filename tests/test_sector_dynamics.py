@@ -470,7 +470,7 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
     the same one): the pair forces and the transmission error are those of one run of six
     cycles over its last three, to round-off, the teeth numbered on by three; and at twice
     the speed the continued run starts with the end state's shape, its rates scaled."""
-    from spurdyn.solvers.sector.run import unpack_state
+    from spurdyn.solvers.sector.state import unpack_state
 
     s3 = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, damping_ratio=0.05, **MESH)
     first = simulate_sector(PAIR, s3)

@@ -159,7 +159,7 @@ class RunSettings:
         transmission error ``delta`` (m) and its slope ``d delta / d phi_A`` (m/rad) at the
         start of a mesh cycle, as another run ended (``info["steady"]["end_state"]``); what a
         sweep with continuation passes from one speed to the next. The sector model's is its
-        whole state per angle (:func:`spurdyn.solvers.sector.run.pack_state`,
+        whole state per angle (:func:`spurdyn.solvers.sector.state.pack_state`,
         ``info["sector_end_state"]``).
     rayleigh_mass, rayleigh_stiffness
         Rayleigh damping ``C = a M + b K`` of the elastic teeth (``a`` in 1/s, ``b`` in

@@ -50,6 +50,7 @@ from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
 from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.output import sector_result
+from spurdyn.solvers.sector.state import SectorState, pack_state, unpack_state
 from spurdyn.solvers.sector.system import (REACH, WHOLE_FROM_CYCLES, _half_widths, _half_widths_at, _radii,
                                            gap_table, gear_block, teeth_for)
 
@@ -142,85 +143,6 @@ def _lcp(w: NDArray[np.float64], v: NDArray[np.float64],
         if (w @ f + v >= -tol).all():
             return f
     raise RuntimeError("the contact problem has no solution")     # pragma: no cover
-
-
-class SectorState(NamedTuple):
-    """Where a run of the sector model starts instead of the static equilibrium: the state at
-    the start of a mesh cycle as another run of the same bodies ended, per radian of the
-    driver's turn so that it holds at another speed (``v = omega dq``, ``a = omega^2 ddq``).
-
-    ``offset``: the body tooth of the driver that the run's pair 0 is (a run of ``N`` cycles
-    ends ``N`` teeth on); ``q`` with the hubs' turns less the whole pitches; ``dq``, ``ddq``
-    and ``qdd`` the velocities and the scheme's two accelerations per angle; ``teeth``,
-    ``forces`` the pairs' forces by the driver's body tooth."""
-
-    offset: int
-    q: NDArray[np.float64]
-    dq: NDArray[np.float64]
-    ddq: NDArray[np.float64]
-    qdd: NDArray[np.float64]
-    teeth: NDArray[np.intp]
-    forces: NDArray[np.float64]
-
-
-def pack_state(state: SectorState) -> tuple[float, ...]:
-    """``state`` as the flat numbers of :attr:`RunSettings.start_state`."""
-    n = state.q.size
-    return tuple(float(x) for x in (state.offset, n, *state.q, *state.dq, *state.ddq, *state.qdd,
-                                    state.teeth.size, *state.teeth, *state.forces))
-
-
-def unpack_state(flat: tuple[float, ...], n: int) -> SectorState:
-    """The :class:`SectorState` of :func:`pack_state`'s numbers, for bodies of ``n``
-    coordinates (refused in one line if they are another's)."""
-    from spurdyn.errors import InputError
-
-    if len(flat) < 2 or int(flat[1]) != n or len(flat) < 2 + 4 * n + 1:
-        raise InputError("start_state", f"is not a state of these sector bodies ({n} coordinates): "
-                         "start from another run of the same case and mesh")
-    x = np.asarray(flat, dtype=float)
-    q, dq, ddq, qdd = (x[2 + i * n:2 + (i + 1) * n] for i in range(4))
-    m = int(x[2 + 4 * n])
-    rest = x[3 + 4 * n:]
-    if rest.size != 2 * m:
-        raise InputError("start_state", "is not a state of the sector model")
-    return SectorState(int(x[0]), q.copy(), dq.copy(), ddq.copy(), qdd.copy(),
-                       rest[:m].astype(np.intp), rest[m:].copy())
-
-
-def _compiled_loop(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...], teeth: NDArray[np.intp],
-                   offset: int, table: Any, consts: tuple[float, ...], f_ext: NDArray[np.float64],
-                   outs: tuple[NDArray[np.float64], ...], n_steps: int, every: int,
-                   progress: Callable[[int, float, float], None] | None,
-                   total: float, done: list[int]) -> tuple[int, bool]:
-    """Run the loop with :func:`spurdyn.solvers.sector.step_compiled.run_steps` (modal bodies
-    of whole gears), ``every`` steps a call; ``(last step, whether it failed)``."""
-    from spurdyn.contact.hertz import strip_quadrature
-    from spurdyn.solvers.sector.step_compiled import run_steps
-
-    per_gear = []
-    for body, blk in zip(gears, blocks):
-        fl = blk.body.flank
-        geo = np.array([fl.r0, fl.r_tip, float(fl.ny), fl.base_radius, blk.gear.half_angle_base])
-        per_gear.append((np.ascontiguousarray(body._inv), np.ascontiguousarray(body._damp),
-                         np.ascontiguousarray(body.reduced.omega2), np.ascontiguousarray(body._modes),
-                         np.ascontiguousarray(body._flex), geo, blk.first, blk.count))
-    (i0, d0, o0, mo0, fx0, g0, fi0, c0), (i1, d1, o1, mo1, fx1, g1, fi1, c1) = per_gear
-    xq, wq = strip_quadrature()
-    q, v, acc, qdd, force = state
-    step = 0
-    while step < n_steps:
-        chunk = min(every, n_steps - step)
-        step, failed = run_steps(step, chunk, q, v, acc, qdd, force, i0, i1, d0, d1, o0, o1, mo0, mo1,
-                                 fx0, fx1, g0, g1, fi0, fi1, c0, c1, np.asarray(teeth, np.int64), int(offset),
-                                 table.rho, table.gap, table.slope, table.r_a, table.r_b,
-                                 np.array(consts, dtype=float), xq, wq, f_ext, *outs)
-        if failed:
-            return step, True
-        done[0] = step
-        if progress is not None:
-            progress(step, float(q[0]), total)
-    return step, False
 
 
 def simulate_sector(pair: GearPair, settings: RunSettings,
@@ -459,62 +381,65 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     done = [0]          # the compiled loop's last finished step (an interrupt comes between chunks)
     try:
         if compiled:        # the same loop, compiled (step_compiled.py), in chunks for progress
-            step, failed = _compiled_loop(gears, blocks, (q, v, acc, qdd, force), teeth, offset, table,
-                                          (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h, c_mesh,
-                                           am, af, beta, gamma, h, bp, gp),
-                                          f_ext, (th_out, om_out, f_out, gap_out), n_steps, every,
-                                          progress, cycles * pitch, done)
+            from spurdyn.solvers.sector.stepper_compiled import run_compiled
+
+            step, failed = run_compiled(gears, blocks, (q, v, acc, qdd, force), teeth, offset, table,
+                                        (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h, c_mesh,
+                                         am, af, beta, gamma, h, bp, gp),
+                                        f_ext, (th_out, om_out, f_out, gap_out), n_steps, every,
+                                        progress, cycles * pitch, done)
             if failed:
                 status, reason = "incomplete", f"the solution became NaN at step {step}"
-        for step in range(step + 1, n_steps + 1) if not compiled else ():
-            a_part = (af * qdd - am * acc) / (1.0 - am)
-            q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
-            v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
-            r = f_ext.copy()
-            for g in range(2):
-                r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
-            x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
-            rows = rows_at(float(q_hat[0]), force)
-            last = force
-            force = np.zeros(teeth.size)
-            if rows is not None:
-                on = rows.on
-                w0, w_gd, w_dd, c_res, cols = compliance(rows)
-                m = on.size
-                # the mesh damper on the rate of the whole approach of the pairs in contact at
-                # the step before (the rows' rigid part D: bodies and strips together, in
-                # parallel with the mesh stiffness), shared by their forces:
-                # S + gamma' D^T C D, by Woodbury through the pairs' couplings
-                shares = last[on]
-                c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
-                    else np.zeros(m)
-                if c_pairs.any():
-                    x0 -= rigid_columns_times(rows, c_pairs * rigid_rows(rows, v_hat))
-                g_x0, d_x0 = gap_rows(rows, x0), rigid_rows(rows, x0)
-                k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_dd * (gp * c_pairs)[None, :]) \
-                    if c_pairs.any() else np.zeros((m, m))
-                w = bp * (w0 - w_gd @ k_w @ w_gd.T) + c_res + c_h * np.eye(m)
-                vv = rows.const + gap_rows(rows, q_hat) + bp * (g_x0 - w_gd @ k_w @ d_x0)
-                lam = _lcp(0.5 * (w + w.T), vv, shares > 0.0)
-                qdd_new = x0 + columns_times(cols, lam) - rigid_columns_times(rows, k_w @ (d_x0 + w_gd.T @ lam))
-                force[on] = lam
-            else:
-                qdd_new = x0
-            if not np.isfinite(qdd_new).all():
-                status, reason = "incomplete", f"the solution became NaN at step {step}"
-                break
-            acc = a_part + (1.0 - af) / (1.0 - am) * qdd_new
-            q = q_hat + bp * qdd_new
-            v = v_hat + gp * qdd_new
-            qdd = qdd_new
-            if energy:
-                damper_torque[:] = [0.0, 0.0]
-                if rows is not None and c_pairs.any():
-                    rate = c_pairs * rigid_rows(rows, v)
-                    damper_torque[:] = [-float(coef @ rate) for coef, _ in rows.sides]
-            save(step, rows)
-            if progress is not None and step % every == 0:
-                progress(step, float(q[0]), cycles * pitch)
+        else:
+            for step in range(1, n_steps + 1):
+                a_part = (af * qdd - am * acc) / (1.0 - am)
+                q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
+                v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
+                r = f_ext.copy()
+                for g in range(2):
+                    r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
+                x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
+                rows = rows_at(float(q_hat[0]), force)
+                last = force
+                force = np.zeros(teeth.size)
+                if rows is not None:
+                    on = rows.on
+                    w0, w_gd, w_dd, c_res, cols = compliance(rows)
+                    m = on.size
+                    # the mesh damper on the rate of the whole approach of the pairs in contact at
+                    # the step before (the rows' rigid part D: bodies and strips together, in
+                    # parallel with the mesh stiffness), shared by their forces:
+                    # S + gamma' D^T C D, by Woodbury through the pairs' couplings
+                    shares = last[on]
+                    c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
+                        else np.zeros(m)
+                    if c_pairs.any():
+                        x0 -= rigid_columns_times(rows, c_pairs * rigid_rows(rows, v_hat))
+                    g_x0, d_x0 = gap_rows(rows, x0), rigid_rows(rows, x0)
+                    k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_dd * (gp * c_pairs)[None, :]) \
+                        if c_pairs.any() else np.zeros((m, m))
+                    w = bp * (w0 - w_gd @ k_w @ w_gd.T) + c_res + c_h * np.eye(m)
+                    vv = rows.const + gap_rows(rows, q_hat) + bp * (g_x0 - w_gd @ k_w @ d_x0)
+                    lam = _lcp(0.5 * (w + w.T), vv, shares > 0.0)
+                    qdd_new = x0 + columns_times(cols, lam) - rigid_columns_times(rows, k_w @ (d_x0 + w_gd.T @ lam))
+                    force[on] = lam
+                else:
+                    qdd_new = x0
+                if not np.isfinite(qdd_new).all():
+                    status, reason = "incomplete", f"the solution became NaN at step {step}"
+                    break
+                acc = a_part + (1.0 - af) / (1.0 - am) * qdd_new
+                q = q_hat + bp * qdd_new
+                v = v_hat + gp * qdd_new
+                qdd = qdd_new
+                if energy:
+                    damper_torque[:] = [0.0, 0.0]
+                    if rows is not None and c_pairs.any():
+                        rate = c_pairs * rigid_rows(rows, v)
+                        damper_torque[:] = [-float(coef @ rate) for coef, _ in rows.sides]
+                save(step, rows)
+                if progress is not None and step % every == 0:
+                    progress(step, float(q[0]), cycles * pitch)
     except KeyboardInterrupt:
         if compiled:
             step = done[0] + 1
@@ -545,5 +470,5 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     return result
 
 
-__all__ = ["BODY_DAMPING_RATIO", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "SectorState", "body_rayleigh",
-           "pack_state", "simulate_sector", "steps_per_cycle", "unpack_state"]
+__all__ = ["BODY_DAMPING_RATIO", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh", "simulate_sector",
+           "steps_per_cycle"]

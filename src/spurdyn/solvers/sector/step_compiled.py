@@ -81,6 +81,10 @@ def _half_width(force, r_a, r_b, rb_a, rb_b, estar, width):
     return math.sqrt(4.0 * abs(force) * r_star / (math.pi * estar * width))
 
 
+#: Counts of pairs near the path whose active sets the loop orders once (two to four occur).
+ORDERS = 6
+
+
 @njit
 def _masks_by_size(n):
     """All ``2^n`` masks, the fewest members first (ties in increasing order)."""
@@ -171,6 +175,10 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
     z1 = inv1[:, 0].copy()
     inv0_e = inv0[:, 1:].copy()
     inv1_e = inv1[:, 1:].copy()
+    # the active sets to try, by size, for each count of pairs up to ORDERS (made once)
+    orders = np.full((ORDERS + 1, 1 << ORDERS), -1, np.int64)
+    for k in range(ORDERS + 1):
+        orders[k, :1 << k] = _masks_by_size(k)
     loads0 = np.empty((nt, nf))
     loads1 = np.empty((nt, nf))
     for step in range(first_step + 1, first_step + steps + 1):
@@ -269,7 +277,8 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
             w = bp * (w0 - w_gd @ k_w @ w_gd.T) + res + c_h * np.eye(p)
             vv = (const + coef0 * q_hat[0] + rows0 @ q_hat[1:na] + coef1 * q_hat[na] + rows1 @ q_hat[na + 1:]
                   + bp * (g_x0 - w_gd @ (k_w @ d_x0)))
-            lam, found = _lcp_ordered(0.5 * (w + w.T), vv, guess, _masks_by_size(p))
+            order = orders[p, :1 << p] if p <= ORDERS else _masks_by_size(p)
+            lam, found = _lcp_ordered(0.5 * (w + w.T), vv, guess, order)
             if not found:
                 return step, 1
             qdd_new = x0.copy()

@@ -1,0 +1,57 @@
+"""Where a run of the sector model starts when it continues another's end (docs/sector.md,
+6.3, "From another run's end"): the state and its flat numbers, as
+:attr:`~spurdyn.settings.RunSettings.start_state` carries them."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.errors import InputError
+
+
+class SectorState(NamedTuple):
+    """Where a run of the sector model starts instead of the static equilibrium: the state at
+    the start of a mesh cycle as another run of the same bodies ended, per radian of the
+    driver's turn so that it holds at another speed (``v = omega dq``, ``a = omega^2 ddq``).
+
+    ``offset``: the body tooth of the driver that the run's pair 0 is (a run of ``N`` cycles
+    ends ``N`` teeth on); ``q`` with the hubs' turns less the whole pitches; ``dq``, ``ddq``
+    and ``qdd`` the velocities and the scheme's two accelerations per angle; ``teeth``,
+    ``forces`` the pairs' forces by the driver's body tooth."""
+
+    offset: int
+    q: NDArray[np.float64]
+    dq: NDArray[np.float64]
+    ddq: NDArray[np.float64]
+    qdd: NDArray[np.float64]
+    teeth: NDArray[np.intp]
+    forces: NDArray[np.float64]
+
+
+def pack_state(state: SectorState) -> tuple[float, ...]:
+    """``state`` as the flat numbers of :attr:`RunSettings.start_state`."""
+    n = state.q.size
+    return tuple(float(x) for x in (state.offset, n, *state.q, *state.dq, *state.ddq, *state.qdd,
+                                    state.teeth.size, *state.teeth, *state.forces))
+
+
+def unpack_state(flat: tuple[float, ...], n: int) -> SectorState:
+    """The :class:`SectorState` of :func:`pack_state`'s numbers, for bodies of ``n``
+    coordinates (refused in one line if they are another's)."""
+    if len(flat) < 2 or int(flat[1]) != n or len(flat) < 2 + 4 * n + 1:
+        raise InputError("start_state", f"is not a state of these sector bodies ({n} coordinates): "
+                         "start from another run of the same case and mesh")
+    x = np.asarray(flat, dtype=float)
+    q, dq, ddq, qdd = (x[2 + i * n:2 + (i + 1) * n] for i in range(4))
+    m = int(x[2 + 4 * n])
+    rest = x[3 + 4 * n:]
+    if rest.size != 2 * m:
+        raise InputError("start_state", "is not a state of the sector model")
+    return SectorState(int(x[0]), q.copy(), dq.copy(), ddq.copy(), qdd.copy(),
+                       rest[:m].astype(np.intp), rest[m:].copy())
+
+
+__all__ = ["SectorState", "pack_state", "unpack_state"]

@@ -199,13 +199,15 @@ def test_the_mesh_damper_takes_energy_out_and_the_ring_down():
     assert lost[0.5] > lost[0.1] > 5 * abs(lost[0.0])
 
 
-def test_the_ring_decays_at_the_ratio_the_damper_gives_the_pairs_stiffness():
+def test_the_ring_decays_at_the_ratio_asked():
     """After a pair leaves at 300 rpm the remaining pair rings alone (about seven periods).
-    The mesh damper ``c = 2 zeta sqrt(k_mean m_e)`` gives a two-inertia pair of the stretch's
-    own stiffness ``k_s = W / e`` the ratio ``c / (2 sqrt(k_s m_e))``; the ring's damping ratio
-    (a damped cosine fitted to the mesh force) is that within 10 %, on the default modal
-    bodies of 4 x 14 teeth, where a damper on the teeth's deflection alone left the strips' and
-    the residual compliance outside it and gave 0.0475 for 0.0567 (docs/sector.md 6.3)."""
+    The mesh damper ``c = 2 zeta sqrt(k(phi) m_e)`` follows the cycle's mesh stiffness, so a
+    two-inertia pair of the stretch's own stiffness ``k_s = W / e`` has the ratio ``zeta``
+    asked; the ring's damping ratio (a damped cosine fitted to the mesh force) is that within
+    10 % (the issue's check), on the default modal bodies of 4 x 14 teeth. A damper of the
+    mean stiffness gave 0.057 for 0.05 there, and one on the teeth's deflection alone, which
+    left the strips' and the residual compliance outside it, 0.0475 for 0.0567 (docs/sector.md
+    6.3)."""
     from spurdyn.iso6336.dynamics import reduced_mass
     from spurdyn.solvers.sector.ring import damped_ring, single_contact_window
 
@@ -218,9 +220,11 @@ def test_the_ring_decays_at_the_ratio_the_damper_gives_the_pairs_stiffness():
     k_s = float(np.median(w / run.transmission_error[sel]))
     j = [a + b for a, b in zip(run.info["hub_inertia"], run.info["body_inertia"])]
     m_e = reduced_mass(j[0], j[1], PAIR.gear_a.base_radius, PAIR.gear_b.base_radius)
-    asked = run.info["mesh_damper_N_s_per_m"] / (2 * math.sqrt(k_s * m_e))
+    # the damper over the window is the stretch's: 2 zeta sqrt(k_s m_e) (the cycle's k_s)
+    c_window = run.info["mesh_damper_range_N_s_per_m"][0]
+    assert c_window / (2 * math.sqrt(k_s * m_e)) == pytest.approx(0.05, rel=0.03)
     assert misfit < 0.05                                  # one damped mode, not a beat
-    assert zeta == pytest.approx(asked, rel=0.1)
+    assert zeta == pytest.approx(0.05, rel=0.1)
     # the damper damps the pair's mode, it does not stiffen it (5.3 kHz undamped)
     assert freq == pytest.approx(math.sqrt(k_s / m_e) / (2 * math.pi), rel=0.1)
 

@@ -14,9 +14,10 @@ with ``c_m = 2 zeta sqrt(k m_e)`` for a damping ratio ``zeta`` of the pair's tor
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from spurdyn.geometry.involute import rot
 from spurdyn.model.system import GearBody
@@ -39,9 +40,11 @@ def rayleigh_forces(gb: GearBody, theta: float, omega: float, u: NDArray[np.floa
     return q, f
 
 
-def mesh_damper_coefficient(zeta: float, stiffness: float, reduced_mass: float) -> float:
-    """``c_m = 2 zeta sqrt(k m_e)`` (N s/m) of a torsional mode ``k``, ``m_e``."""
-    return 2.0 * zeta * math.sqrt(stiffness * reduced_mass)
+def mesh_damper_coefficient(zeta: float, stiffness: ArrayLike, reduced_mass: float) -> Any:
+    """``c_m = 2 zeta sqrt(k m_e)`` (N s/m) of a torsional mode ``k``, ``m_e`` (a float for a
+    float ``k``, an array for an array of them)."""
+    c = 2.0 * zeta * np.sqrt(np.asarray(stiffness, dtype=float) * reduced_mass)
+    return float(c) if c.ndim == 0 else c
 
 
 def rayleigh_from_ratio(zeta: float, f1: float, f2: float) -> tuple[float, float]:

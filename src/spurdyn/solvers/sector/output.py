@@ -21,7 +21,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
             cycle: Any, teeth: NDArray[np.intp], n_kept: int, t: NDArray[np.float64],
             theta: NDArray[np.float64], omega: NDArray[np.float64], forces: NDArray[np.float64],
             gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
-            h: float, torques: tuple[float, float], c_mesh: float, status: str, reason: str,
+            h: float, torques: tuple[float, float], c_table: NDArray[np.float64], status: str, reason: str,
             wall: float, load: float) -> Result:
     """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B."""
     ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
@@ -62,7 +62,9 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         "rim_inner_radius_m": [b.body.mesh.inner_radius for b in blocks],
         "hub_inertia": [b.hub_inertia for b in blocks],
         "body_inertia": [b.body_inertia for b in blocks],
-        "mesh_damper_N_s_per_m": c_mesh,
+        # the mesh damper follows the cycle's stiffness: its mean and range over a cycle
+        "mesh_damper_N_s_per_m": float(c_table[:-1].mean()),
+        "mesh_damper_range_N_s_per_m": [float(c_table.min()), float(c_table.max())],
         "damping_ratio": settings.damping_ratio,
         "dt_s": h,
         "steps_per_cycle": per_cycle,

@@ -19,8 +19,10 @@ where a pair's load enters its coordinates (:mod:`spurdyn.solvers.sector.bodies`
 only at the hub and the rows' coordinates. The strips' half-widths follow the forces of the
 step before.
 
-The mesh damper ``c = 2 zeta sqrt(k m_e)``, ``k`` the mean mesh stiffness of the
-quasi-static cycle and ``m_e`` the pair's reduced mass, acts along the line of action on the
+The mesh damper ``c = 2 zeta sqrt(k(phi) m_e)``, ``k(phi)`` the mesh stiffness of the
+quasi-static cycle at the driver's phase (so that the pair's torsional mode has the ratio
+``zeta`` in single and in double contact alike, as in the lumped model) and ``m_e`` the
+pair's reduced mass, acts along the line of action on the
 rate of the pairs' whole deflection (bodies and strips, the deflection ``k`` is the stiffness
 of), ``-D q_dot`` with ``D`` a row's rigid part (its hub entries), for the pairs that were in
 contact at the end of the step before, shared by their forces (docs/sector.md, 6.3). It adds
@@ -66,6 +68,8 @@ STEPS_PER_MESH_PERIOD = 200
 #: Positions of the quasi-static cycle the run reads its mean stiffness and its largest
 #: quasi-static pair force from.
 CYCLE_POSITIONS = 21
+#: Phases over a mesh cycle at which the mesh damper's coefficient is tabulated.
+DAMPER_SAMPLES = 512
 #: The bodies' structural damping when the run gives no Rayleigh damping: stiffness
 #: proportional, this ratio at :data:`KEEP_FREQUENCY` (a tenth of it at 5 kHz, where the pair's
 #: torsional mode lies). Without any, the bodies' own modes (the teeth on their rims, which
@@ -81,6 +85,27 @@ def body_rayleigh(settings: RunSettings) -> tuple[float, float]:
     if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
         return 0.0, 2.0 * BODY_DAMPING_RATIO / (2.0 * math.pi * KEEP_FREQUENCY)
     return settings.rayleigh
+
+
+def mesh_damper_table(cycle: Any, zeta: float, m_e: float, pitch: float) -> NDArray[np.float64]:
+    """The mesh damper's ``c(phi) = 2 zeta sqrt(k(phi) m_e)`` (N s/m) at
+    :data:`DAMPER_SAMPLES` + 1 even phases ``phi`` of the driver over a pitch from the start
+    of the path (the last the first again: the cycle repeats), ``k(phi)`` the quasi-static
+    mesh stiffness of ``cycle`` (:meth:`~spurdyn.sector.statics.MeshCycle.effective`, its
+    pairs' entries and exits sharp)."""
+    k = cycle.effective(np.arange(DAMPER_SAMPLES) * (pitch / DAMPER_SAMPLES)).sum(axis=0)
+    return np.asarray(mesh_damper_coefficient(zeta, np.append(k, k[0]), m_e), dtype=float)
+
+
+def damper_at(table: NDArray[np.float64], pitch: float, theta: float) -> float:
+    """The mesh damper's coefficient at the driver's turn ``theta`` (rad from the start):
+    ``table`` (:func:`mesh_damper_table`) linear between its phases, as the compiled loop
+    reads it."""
+    n = table.size - 1
+    x = (theta % pitch) / pitch * n
+    i = min(int(x), n - 1)
+    f = x - i
+    return float(table[i] * (1.0 - f) + table[i + 1] * f)
 
 
 class _Rows(NamedTuple):
@@ -273,8 +298,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         e[0] = 1.0
         z_theta.append(gears[g].solve(e))
     j_a, j_b = blocks[0].inertia, blocks[1].inertia
-    c_mesh = (mesh_damper_coefficient(settings.damping_ratio, cycle.stiffness_mean,
-                                      reduced_mass(j_a, j_b, ra, rb)) if settings.damping_ratio > 0 else 0.0)
+    c_table = mesh_damper_table(cycle, settings.damping_ratio, reduced_mass(j_a, j_b, ra, rb), pitch)
     f_ext = np.zeros(n)
     f_ext[0], f_ext[na] = t_drv, t_drn
     c_h = law.c_h
@@ -384,9 +408,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             from spurdyn.solvers.sector.stepper_compiled import run_compiled
 
             step, failed = run_compiled(gears, blocks, (q, v, acc, qdd, force), teeth, offset, table,
-                                        (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h, c_mesh,
+                                        (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h,
                                          am, af, beta, gamma, h, bp, gp),
-                                        f_ext, (th_out, om_out, f_out, gap_out), n_steps, every,
+                                        f_ext, c_table, (th_out, om_out, f_out, gap_out), n_steps, every,
                                         progress, cycles * pitch, done)
             if failed:
                 status, reason = "incomplete", f"the solution became NaN at step {step}"
@@ -411,6 +435,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                     # parallel with the mesh stiffness), shared by their forces:
                     # S + gamma' D^T C D, by Woodbury through the pairs' couplings
                     shares = last[on]
+                    c_mesh = damper_at(c_table, pitch, float(q_hat[0]))
                     c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
                         else np.zeros(m)
                     if c_pairs.any():
@@ -449,7 +474,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         limit.restore_original_limits()
     n_kept = step + 1 if status == "complete" or "interrupted" in reason else step
     result = sector_result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
-                   gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_mesh, status, reason,
+                   gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_table, status, reason,
                    _time.perf_counter() - wall0, load)
     if status == "complete" and blocks[0].whole and blocks[1].whole:
         # where the next speed of a continuation starts: this end, the teeth N on
@@ -470,5 +495,5 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     return result
 
 
-__all__ = ["BODY_DAMPING_RATIO", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh", "simulate_sector",
-           "steps_per_cycle"]
+__all__ = ["BODY_DAMPING_RATIO", "DAMPER_SAMPLES", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
+           "damper_at", "mesh_damper_table", "simulate_sector", "steps_per_cycle"]

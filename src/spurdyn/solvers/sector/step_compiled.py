@@ -154,16 +154,18 @@ def _lcp_ordered(w, v, guess, order):
 def run_steps(first_step, steps, q, v, acc, qdd, force,
               inv0, inv1, damp0, damp1, om0, om1, modes0, modes1, flex0, flex1,
               geo0, geo1, first0, first1, count0, count1,
-              teeth, offset, t_rho, t_gap, t_slope, t_ra, t_rb, consts, xq, wq, f_ext,
+              teeth, offset, t_rho, t_gap, t_slope, t_ra, t_rb, consts, xq, wq, f_ext, c_table,
               th_out, om_out, f_out, gap_out):
     """``steps`` steps from ``first_step`` (the state changed in place, the saved columns
     written at ``first_step + 1 ...``). ``consts``: ``roll_0, roll_1, reach, pitch, r_bA,
-    r_bB, E*, L, c_H, c_mesh, alpha_m, alpha_f, beta, gamma, h, beta', gamma'``.
+    r_bB, E*, L, c_H, alpha_m, alpha_f, beta, gamma, h, beta', gamma'``; ``c_table`` the mesh
+    damper's coefficient over a pitch (``run.mesh_damper_table``, read as ``run.damper_at``).
 
     Returns the last step done and 0, or the step whose solution was not finite and 1."""
     roll_0, roll_1, reach, pitch = consts[0], consts[1], consts[2], consts[3]
-    ra, rb, estar, width, c_h, c_mesh = consts[4], consts[5], consts[6], consts[7], consts[8], consts[9]
-    am, af, beta, gamma, h, bp, gp = consts[10], consts[11], consts[12], consts[13], consts[14], consts[15], consts[16]
+    ra, rb, estar, width, c_h = consts[4], consts[5], consts[6], consts[7], consts[8]
+    am, af, beta, gamma, h, bp, gp = consts[9], consts[10], consts[11], consts[12], consts[13], consts[14], consts[15]
+    n_damp = c_table.size - 1
     na = inv0.shape[0]
     nb = inv1.shape[0]
     n = na + nb
@@ -253,6 +255,11 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
                 total += shares[a]
                 if shares[a] > 0.0:
                     guess |= 1 << a
+            # the damper's coefficient at this phase (run.damper_at)
+            x_d = (theta % pitch) / pitch * n_damp
+            i_d = min(int(x_d), n_damp - 1)
+            f_d = x_d - i_d
+            c_mesh = c_table[i_d] * (1.0 - f_d) + c_table[i_d + 1] * f_d
             c_pairs = np.zeros(p)
             damped = False
             if c_mesh > 0.0 and total > 0.0:

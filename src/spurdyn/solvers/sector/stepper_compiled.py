@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 
 def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...], teeth: NDArray[np.intp],
-                 offset: int, table: Any, consts: tuple[float, ...], f_ext: NDArray[np.float64],
+                 offset: int, table: Any, consts: tuple[float, ...], f_ext: NDArray[np.float64], c_table: NDArray[np.float64],
                  outs: tuple[NDArray[np.float64], ...], n_steps: int, every: int,
                  progress: Callable[[int, float, float], None] | None,
                  total: float, done: list[int]) -> tuple[int, bool]:
@@ -37,7 +37,7 @@ def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...]
         step, failed = run_steps(step, chunk, q, v, acc, qdd, force, i0, i1, d0, d1, o0, o1, mo0, mo1,
                                  fx0, fx1, g0, g1, fi0, fi1, c0, c1, teeth64, int(offset),
                                  table.rho, table.gap, table.slope, table.r_a, table.r_b,
-                                 constants, xq, wq, f_ext, *outs)
+                                 constants, xq, wq, f_ext, c_table, *outs)
         if failed:
             return step, True
         done[0] = step

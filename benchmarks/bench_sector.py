@@ -31,7 +31,7 @@ def sector_steps() -> None:
 
     pair = paper_pair()
     for bodies in ("full", "modal"):
-        s = run_settings(pair, 4000 * RPM, 22.25, dt=1e-6, cycles=3, bodies=bodies)
+        s = run_settings(pair, 4000 * RPM, 22.25, dt=1e-6, cycles=3, max_cycles=3, bodies=bodies)
         ticks: list[float] = []
         run = simulate_sector(pair, s, lambda k, a, tot: ticks.append(time.perf_counter()))
         steps = run.steps

@@ -221,3 +221,34 @@ def test_a_sweep_down_in_speed_stays_on_the_upper_branch(tmp_path, capsys):
                  "--continuation", "down", "--out", str(tmp_path / "bad")]) == 2
     err = capsys.readouterr().err
     assert err.startswith("spurdyn: error: --continuation:") and err.count("\n") == 1
+
+
+def test_the_lumped_run_goes_on_until_it_settles_and_max_cycles_bounds_it(tmp_path, capsys):
+    """Above the resonance (18,000 rpm, zeta = 0.05) twenty cycles are too short for the
+    transient to decay: asked exactly (``max_cycles = cycles``) the run has not settled; by
+    default it goes on, a cycle at a time, and settles before its bound. ``--max-cycles``
+    without ``--cycles``, or below them, is refused in one line naming it, nothing written."""
+    from spurdyn.cli.main import main
+    from spurdyn.geometry.presets import paper_pair
+    from spurdyn.settings import RPM, SETTLE_CYCLES_FACTOR
+    from spurdyn.simulators import MODELS
+    from spurdyn.solvers.check import run_settings
+
+    pair = paper_pair()
+    s = run_settings(pair, 18000 * RPM, 22.25, cycles=20, damping_ratio=0.05, stiffness="sector")
+    exact = MODELS["lumped"](pair, s.with_(max_cycles=20)).info["steady"]
+    more = MODELS["lumped"](pair, s).info["steady"]
+    assert not exact["settled"] and exact["cycles_done"] == 20
+    assert more["settled"] and 20 < more["cycles_done"] < SETTLE_CYCLES_FACTOR * 20
+    assert more["max_cycles"] == SETTLE_CYCLES_FACTOR * 20
+    # the first cycles are the exact run's (the extension only appends)
+    n = len(exact["peak_mesh_force_per_cycle_N"])
+    np.testing.assert_allclose(more["peak_mesh_force_per_cycle_N"][:n], exact["peak_mesh_force_per_cycle_N"],
+                               rtol=1e-12)
+    for argv, label in ((["--max-cycles", "5"], "--max-cycles"),
+                        (["--model", "lumped", "--cycles", "5", "--max-cycles", "3"], "--max-cycles")):
+        capsys.readouterr()
+        assert main(["run", "paper-fig8", *argv, "--out", str(tmp_path / "bad")]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"spurdyn: error: {label}:") and err.count("\n") == 1
+        assert not (tmp_path / "bad").exists()

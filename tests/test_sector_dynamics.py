@@ -476,11 +476,11 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
     the speed the continued run starts with the end state's shape, its rates scaled."""
     from spurdyn.solvers.sector.state import unpack_state
 
-    s3 = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, damping_ratio=0.05, **MESH)
+    s3 = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, max_cycles=3, damping_ratio=0.05, **MESH)
     first = simulate_sector(PAIR, s3)
     end = first.info["sector_end_state"]
     again = simulate_sector(PAIR, s3.with_(start_state=end))
-    whole = simulate_sector(PAIR, s3.with_(cycles=6))
+    whole = simulate_sector(PAIR, s3.with_(cycles=6, max_cycles=6))
     assert again.info["tooth_offset"] == -3
     # the end state is a continuation's, kept in memory: not in result.nc
     from spurdyn.casefile import Case
@@ -506,7 +506,7 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
         simulate_sector(PAIR, s3.with_(start_state=end[:1] + (3.0,) + end[2:]))
     assert err.value.field == "start_state"
     with pytest.raises(InputError):
-        simulate_sector(PAIR, s3.with_(cycles=1, start_state=end))
+        simulate_sector(PAIR, s3.with_(cycles=1, max_cycles=1, start_state=end))
 
 
 def test_a_sector_sweep_carries_each_speeds_end_to_the_next(tmp_path, capsys):
@@ -516,7 +516,7 @@ def test_a_sector_sweep_carries_each_speeds_end_to_the_next(tmp_path, capsys):
     rather than whole gears) are refused in one line."""
     from spurdyn.cli.main import main
 
-    common = ["sweep", "paper-fig8", "--model", "sector", "--cycles", "3", "--damping", "0.05",
+    common = ["sweep", "paper-fig8", "--model", "sector", "--cycles", "3", "--max-cycles", "3", "--damping", "0.05",
               "--mesh", "2x8", "--rpm", "4000,5000", "--quiet"]
     assert main(common + ["--continuation", "up", "--out", str(tmp_path / "up")]) == 0
     assert main(common + ["--jobs", "1", "--out", str(tmp_path / "alone")]) == 0
@@ -537,7 +537,7 @@ def test_the_compiled_loop_is_the_numpy_loops_twin():
     default; docs/sector.md 6.3): pair forces, transmission error, gaps and hubs against the
     NumPy loop to round-off, through engagements, exits and the mesh damper; and the end
     state a continuation starts from is the same."""
-    s = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, damping_ratio=0.05, **MESH)
+    s = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, max_cycles=3, damping_ratio=0.05, **MESH)
     fast = simulate_sector(PAIR, s)
     ref = simulate_sector(PAIR, s.with_(backend="numpy"))
     assert fast.status == ref.status == "complete"
@@ -549,3 +549,25 @@ def test_the_compiled_loop_is_the_numpy_loops_twin():
     np.testing.assert_allclose(fast.gap, ref.gap, rtol=0, atol=1e-15, equal_nan=True)
     np.testing.assert_allclose(fast.omega, ref.omega, rtol=1e-12)
     np.testing.assert_allclose(fast.info["sector_end_state"], ref.info["sector_end_state"], rtol=1e-6, atol=1e-12)
+
+
+def test_a_run_not_settled_goes_on_a_cycle_at_a_time_until_it_settles():
+    """``max_cycles``: a run not settled after its cycles goes on, one cycle at a time, and
+    stops at the first cycle end where the settled test holds. So it is the run asked for
+    exactly those cycles (the same arrays, to the bit), the run of one cycle fewer has not
+    settled, and by default it may go on to ``SETTLE_CYCLES_FACTOR`` times its cycles."""
+    from spurdyn.settings import SETTLE_CYCLES_FACTOR
+
+    s = run_settings(PAIR, 6000 * RPM, 22.25, cycles=3, max_cycles=12, damping_ratio=0.1, backend="numpy", **MESH)
+    run = simulate_sector(PAIR, s)
+    st = run.info["steady"]
+    done = st["cycles_done"]
+    assert st["settled"] and 3 < done < 12 and st["cycles"] == 3 and st["max_cycles"] == 12
+    exact = simulate_sector(PAIR, s.with_(cycles=done, max_cycles=done))
+    for name in ("pair_force", "transmission_error", "theta", "omega", "time"):
+        np.testing.assert_array_equal(getattr(run, name), getattr(exact, name))
+    assert run.info["sector_end_state"] == exact.info["sector_end_state"]
+    short = simulate_sector(PAIR, s.with_(cycles=done - 1, max_cycles=done - 1))
+    assert not short.info["steady"]["settled"]
+    assert simulate_sector(PAIR, s.with_(cycles=done - 1, max_cycles=None)).info["steady"]["max_cycles"] == \
+        SETTLE_CYCLES_FACTOR * (done - 1)

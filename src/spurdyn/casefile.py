@@ -41,7 +41,7 @@ RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
     "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
     "keep_theta_term", "damping_ratio", "integrator", "rho_inf", "rayleigh_mass",
-    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles", "stiffness", "bodies",
+    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles", "max_cycles", "stiffness", "bodies",
 }
 
 
@@ -249,6 +249,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         rho_inf=src.number("rho_inf", _RUN_DEFAULTS["rho_inf"], positive=False),
         **_rayleigh(src),
         cycles=src.integer("cycles", None, 1),
+        max_cycles=src.integer("max_cycles", None, 1),
         stiffness=src.choice("stiffness", "tooth", STIFFNESSES),
         bodies=src.choice("bodies", "modal", BODIES),
         name=name,
@@ -384,6 +385,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         run_table.update(integrator=run.integrator, rho_inf=run.rho_inf)
     if run.cycles is not None:
         run_table["cycles"] = run.cycles
+    if run.max_cycles is not None:
+        run_table["max_cycles"] = run.max_cycles
     if run.stiffness != "tooth":
         run_table["stiffness"] = run.stiffness
     if run.bodies != "modal":

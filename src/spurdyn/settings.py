@@ -86,6 +86,10 @@ INTEGER_BOUNDS = (("n_spline", 8, MAX_SPLINE), ("max_iter", 1, MAX_ITER),
 
 #: Most mesh cycles of a steady-state run (20 settle a damped pair many times over).
 MAX_CYCLES = 10_000
+#: A steady-state run that gives no ``max_cycles`` goes on, if it has not settled after its
+#: ``cycles``, up to this many times them: a run settles in time (its transient decays as
+#: ``exp(-zeta omega_n t)``), and at high speed a mesh cycle is short (docs/sector.md, 6.5).
+SETTLE_CYCLES_FACTOR = 4
 #: Why the FE model refuses ``cycles`` (the one place that says it).
 FE_CYCLES_REASON = ("needs a model that meshes for more than one engagement: the paper's "
                     "one-tooth FE model covers one (use --model sector or --model lumped)")
@@ -147,6 +151,11 @@ class RunSettings:
     cycles
         Mesh cycles of a steady-state run under constant torques (``None``: the paper's one
         engagement with its torque ramps). The lumped and the sector model.
+    max_cycles
+        Most mesh cycles of a steady-state run: one that has not settled after ``cycles``
+        goes on, cycle by cycle, until it settles or has run these (``None``: the model's
+        default, :data:`SETTLE_CYCLES_FACTOR` times ``cycles``; equal to ``cycles`` for a run
+        of exactly ``cycles``).
     stiffness
         The lumped model's mesh stiffness, one of :data:`STIFFNESSES`: ``"tooth"`` the
         paper model's root-clamped tooth pair (point or Hertzian per ``contact``),
@@ -198,6 +207,7 @@ class RunSettings:
     rayleigh_mass: float | None = None
     rayleigh_stiffness: float | None = None
     cycles: int | None = None
+    max_cycles: int | None = None
     stiffness: str = "tooth"
     bodies: str = "modal"
     start_state: tuple[float, ...] | None = None
@@ -239,6 +249,14 @@ class RunSettings:
         n = self.cycles
         if n is not None and (not isinstance(n, int) or isinstance(n, bool) or not 1 <= n <= MAX_CYCLES):
             raise InputError("cycles", f"must be a whole number from 1 to {MAX_CYCLES:,} (got {n!r})")
+        m = self.max_cycles
+        if m is not None:
+            if not isinstance(m, int) or isinstance(m, bool) or not 1 <= m <= MAX_CYCLES:
+                raise InputError("max_cycles", f"must be a whole number from 1 to {MAX_CYCLES:,} (got {m!r})")
+            if n is None:
+                raise InputError("max_cycles", "bounds a steady-state run: give its cycles too (--cycles N)")
+            if m < n:
+                raise InputError("max_cycles", f"must be at least the run's cycles, {n} (got {m})")
         r = self.rho_inf
         if not isinstance(r, (int, float)) or isinstance(r, bool) or not 0.0 <= r <= 1.0:
             raise InputError("rho_inf", f"must be a number from 0 to 1 (got {r!r})")
@@ -263,6 +281,16 @@ class RunSettings:
             raise InputError("start_state", f"must be finite numbers, two for the lumped model (got {s!r})"[:200])
         if self.stiffness == "sector" and self.cycles is None:
             raise InputError("stiffness", SECTOR_STIFFNESS_REASON)
+
+    @property
+    def cycles_limit(self) -> int | None:
+        """Most mesh cycles the run may go on to if it has not settled: ``max_cycles``, or
+        :data:`SETTLE_CYCLES_FACTOR` times ``cycles`` (``None`` without ``cycles``)."""
+        if self.cycles is None:
+            return None
+        if self.max_cycles is not None:
+            return self.max_cycles
+        return min(SETTLE_CYCLES_FACTOR * self.cycles, MAX_CYCLES)
 
     @property
     def damped(self) -> bool:

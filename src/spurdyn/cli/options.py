@@ -17,6 +17,7 @@ DYNAMICS_OVERRIDES = (
     ("rayleigh_ratio", "run.rayleigh_ratio", "--rayleigh-ratio"),
     ("rayleigh_hz", "run.rayleigh_hz", "--rayleigh-hz"),
     ("cycles", "run.cycles", "--cycles"),
+    ("max_cycles", "run.max_cycles", "--max-cycles"),
     ("stiffness", "run.stiffness", "--stiffness"),
     ("bodies", "run.bodies", "--bodies"),
 )
@@ -84,7 +85,11 @@ def add_dynamics_options(p: argparse.ArgumentParser) -> None:
                    help="the two frequencies (Hz) at which the teeth have --rayleigh-ratio")
     p.add_argument("--cycles", type=int, metavar="N",
                    help="steady state: N mesh cycles under constant torques, settled figures "
-                        "in the summary (lumped model; docs/lumped.md)")
+                        "in the summary (lumped and sector models; docs/lumped.md, docs/sector.md)")
+    p.add_argument("--max-cycles", type=int, metavar="M",
+                   help="steady state: a run not settled after --cycles goes on, a cycle at a "
+                        "time, until it settles or has run M (default 4 x --cycles; give "
+                        "--max-cycles N to run exactly N)")
     p.add_argument("--bodies", metavar="|".join(BODIES),
                    help="the sector model's bodies: modal (their modes and the flanks' residual "
                         "flexibility, the default) or full (the whole FE bodies, the reference)")

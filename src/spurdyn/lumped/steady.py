@@ -14,7 +14,8 @@ mesh, ``c = 2 zeta sqrt(k(phi) m_e)`` (the damping ratio of the pair's torsional
 the mesh stiffness of the moment), is shared in proportion to the pairs' stiffnesses,
 ``c_j = c k_j / k``. The run starts from the static compression ``delta_0 = F_0 / k(0)``
 at nominal speeds, so a quasi-static run starts at rest in the mesh, and lasts ``N`` mesh
-cycles (``N p`` of A's rotation).
+cycles (``N p`` of A's rotation), and if it has not settled then, one more at a time until it
+has or has run ``max_cycles`` (:attr:`~spurdyn.settings.RunSettings.cycles_limit`).
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from spurdyn.lumped.model import RTOL, MeshStiffnessTable, _contact_roll_a, equi
 from spurdyn.model.loading import static_force, torque_amplitudes
 from spurdyn.result import Result
 from spurdyn.settings import RunSettings
-from spurdyn.solvers.steady import cycle_figures, steady_record
+from spurdyn.solvers.steady import cycle_figures, settled_after, steady_record
 
 #: Saved samples per mesh period, and the longest interval between samples (s): the
 #: headline's 10-us average needs several samples a window.
@@ -123,35 +124,55 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
     if settings.start_state is not None:    # another run's end: the same phase of a cycle
         delta0, v0 = settings.start_state[0], settings.start_state[1] * w_a0
     y0 = np.array([0.0, w_a0, delta0, v0])
-    sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=RTOL, atol=atol,
-                    max_step=min(period / 40.0, 0.25 / f_n), t_eval=t)
+    step = min(period / 40.0, 0.25 / f_n)
+    sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=RTOL, atol=atol, max_step=step, t_eval=t)
     status, reason = "complete", ""
     if sol.status != 0:
         status, reason = "incomplete", f"integration failed: {sol.message}"
-    t = sol.t
-    phi_a, w_a, delta, ddelta = sol.y
+    t, y, nfev = sol.t, sol.y, int(sol.nfev)
+
+    def pair_forces(phi_a: NDArray[np.float64], delta: NDArray[np.float64],
+                    ddelta: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+        """Every pair's force at every sample, and the pairs' numbers."""
+        n = phi_a.size
+        first = np.floor(phi_a / pitch).astype(np.int64)
+        j_all = np.arange(int(first.min()) - n_back, int(first.max()) + 1)
+        rows = cycle.grid(phi_a - pitch * first)          # (rows, n): row r entered at first - r
+        ks = np.zeros((j_all.size, n))
+        for r in range(cycle.rows):
+            ks[first - r - j_all[0], np.arange(n)] = rows[r]
+        k_tot = ks.sum(axis=0)
+        c = zeta2_sqrt_me * np.sqrt(np.maximum(k_tot, 0.0))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = np.where(k_tot > 0, ks / k_tot, 0.0)
+        return np.where(delta > 0, np.maximum(ks * delta + c * share * ddelta, 0.0), 0.0), j_all
+
+    # not settled, and it may go on (max_cycles): one more cycle from where it ended
+    target, limit = cycles, max(settings.cycles_limit or cycles, cycles)
+    while status == "complete" and target < limit:
+        last2 = y[:, -2 * per_cycle - 1:]
+        if settled_after(pair_forces(last2[0], last2[2], last2[3])[0].sum(axis=0), last2[2], per_cycle, 2):
+            break
+        t_more = np.linspace(target * period, (target + 1) * period, per_cycle + 1)
+        more = solve_ivp(rhs, (t_more[0], t_more[-1]), y[:, -1], method="DOP853", rtol=RTOL, atol=atol,
+                         max_step=step, t_eval=t_more)
+        nfev += int(more.nfev)
+        if more.status != 0:
+            status, reason = "incomplete", f"integration failed: {more.message}"
+        t, y = np.concatenate([t, more.t[1:]]), np.concatenate([y, more.y[:, 1:]], axis=1)
+        target += 1
+    phi_a, w_a, delta, ddelta = y
     n = t.size
     phi_b = (ra * phi_a - s * delta) / rb
     w_b = (ra * w_a - s * ddelta) / rb
-    # every pair's force at every sample
-    first = np.floor(phi_a / pitch).astype(np.int64)
-    j_all = np.arange(int(first.min()) - n_back, int(first.max()) + 1)
-    rows = cycle.grid(phi_a - pitch * first)          # (rows, n): row r entered at first - r
-    ks = np.zeros((j_all.size, n))
-    for r in range(cycle.rows):
-        ks[first - r - j_all[0], np.arange(n)] = rows[r]
-    k_tot = ks.sum(axis=0)
-    c = zeta2_sqrt_me * np.sqrt(np.maximum(k_tot, 0.0))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        share = np.where(k_tot > 0, ks / k_tot, 0.0)
-    forces = np.where(delta > 0, np.maximum(ks * delta + c * share * ddelta, 0.0), 0.0)
+    forces, j_all = pair_forces(phi_a, delta, ddelta)
     mesh = forces.sum(axis=0)
     most = forces.max(axis=0) if j_all.size else np.zeros(n)
     # the quasi-static largest pair force of a cycle: F_0 k_j / k, sampled finely
     _, kq = cycle_stiffness(pair, cycle)
     kq_tot = kq.sum(axis=0)
     static_pair_max = float(np.max(np.where(kq_tot > 0, static * kq / np.where(kq_tot > 0, kq_tot, 1.0), 0.0)))
-    fig = cycle_figures(t, mesh, delta, per_cycle, cycles)
+    fig = cycle_figures(t, mesh, delta, per_cycle, cycles, limit)
     info: dict[str, Any] = {
         "model": "lumped",
         "n_dof": 2,
@@ -167,7 +188,7 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         "damping_ratio": damping_ratio,
         "integrator": "DOP853",
         "rtol": RTOL,
-        "nfev": int(sol.nfev),
+        "nfev": nfev,
         "t_end": float(t[-1]) if n else 0.0,
         "angle_end": float(phi_a[-1]) if n else 0.0,
         "output_interval": h,
@@ -177,7 +198,7 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
             end_state=[float(delta[-1]), float(ddelta[-1] / w_a[-1])] if n else None,
             start_state=None if settings.start_state is None else list(settings.start_state)),
     }
-    roll_a = _contact_roll_a(pair, phi_a - pitch * first)
+    roll_a = _contact_roll_a(pair, phi_a - pitch * np.floor(phi_a / pitch))
     return Result(
         time=t, angle=phi_a.copy(), contact_force=most, gap=-delta,
         roll=np.column_stack([roll_a, pair.roll_b_from_roll_a(roll_a)]),
@@ -185,5 +206,5 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         torque=np.column_stack([np.full(n, amp_a), np.full(n, amp_b)]),
         residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
         corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
-        frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=int(sol.nfev),
+        frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=nfev,
         wall_s=_time.perf_counter() - wall0, info=info)

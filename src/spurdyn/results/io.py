@@ -420,6 +420,8 @@ def steady_figures(time: NDArray[np.float64], force: NDArray[np.float64],
     m = steady["last_cycles"]
     return {
         "cycles": steady["cycles"],
+        "cycles_done": steady["cycles_done"],
+        "max_cycles": steady.get("max_cycles"),
         "settled": bool(steady["settled"]) and complete,
         "settle_tolerance": steady["settle_tolerance"],
         "peak_force_N": None if peak is None else peak[0],

@@ -54,6 +54,8 @@ FIGURES: dict[str, tuple[str, str]] = {
     "settled": ("1", "steady-state runs (cycles): 1 if the cycle-to-cycle change of the peak "
                 "mesh force and of the transmission error's RMS fell below the tolerance, "
                 "else 0; NaN for a one-engagement run"),
+    "cycles_done": ("1", "steady-state runs: the mesh cycles run (more than asked where the "
+                    "run went on to settle, up to max_cycles; NaN for a one-engagement run)"),
     "transmission_error_rms": ("m", "steady-state runs: RMS of the transmission error about "
                                "its mean over the last cycles (NaN otherwise)"),
     "transmission_error_pp": ("m", "steady-state runs: peak-to-peak of the transmission "
@@ -163,6 +165,7 @@ def point_figures(result: Result, case: Case) -> dict[str, Any]:
         "steps": s["steps"],
         "wall_s": s["wall_s"],
         "settled": None if "settled" not in s else float(s["settled"]),
+        "cycles_done": s.get("cycles_done"),
         "transmission_error_rms": s.get("transmission_error_rms_m"),
         "transmission_error_pp": s.get("transmission_error_pp_m"),
         "end_transmission_error": end[0],

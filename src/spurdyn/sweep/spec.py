@@ -157,16 +157,23 @@ CONTINUATIONS = ("up", "down")
 
 def settings_hash(case: Case, continuation: str | None = None, model: str | None = None) -> str:
     """Twelve hex digits of the SHA-256 of :func:`settings_dict` (canonical JSON), with the
-    sweep's ``continuation`` when it has one (its points start from another's end), and for
-    the sector ``model`` without Rayleigh damping given the bodies' default damping it then
-    runs with (so that points of a version before that default are not taken for its)."""
+    sweep's ``continuation`` when it has one (its points start from another's end), and what
+    a steady-state run takes by default where the case gives nothing (the most cycles it may
+    go on to; for the sector ``model`` the bodies' damping) and the sector model's revision,
+    so that points of a version before those defaults are not taken for its."""
     data = settings_dict(case)
     if continuation is not None:
         data["sweep"] = {"continuation": continuation}
-    if model == "sector" and case.run.rayleigh_mass is None and case.run.rayleigh_stiffness is None:
-        from spurdyn.solvers.sector.run import body_rayleigh
+    if model == "sector":
+        from spurdyn.solvers.sector.run import SECTOR_REVISION, body_rayleigh, cycles_limit
 
-        data["run"]["sector_body_rayleigh"] = list(body_rayleigh(case.run))
+        data["run"]["sector_revision"] = SECTOR_REVISION
+        if case.run.rayleigh_mass is None and case.run.rayleigh_stiffness is None:
+            data["run"]["sector_body_rayleigh"] = list(body_rayleigh(case.run))
+        if case.run.max_cycles is None:
+            data["run"]["cycles_limit"] = cycles_limit(case.run)
+    elif case.run.cycles is not None and case.run.max_cycles is None:
+        data["run"]["cycles_limit"] = case.run.cycles_limit
     text = json.dumps(data, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]
 

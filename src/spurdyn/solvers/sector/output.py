@@ -21,7 +21,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
             cycle: Any, teeth: NDArray[np.intp], n_kept: int, t: NDArray[np.float64],
             theta: NDArray[np.float64], omega: NDArray[np.float64], forces: NDArray[np.float64],
             gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
-            h: float, torques: tuple[float, float], c_table: NDArray[np.float64], status: str, reason: str,
+            max_cycles: int, h: float, torques: tuple[float, float], c_table: NDArray[np.float64], status: str, reason: str,
             wall: float, load: float) -> Result:
     """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B."""
     ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
@@ -37,7 +37,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
     roll_a = rolls[np.arange(n), top]
     roll = np.column_stack([roll_a, np.asarray(dp.roll_b_from_roll_a(roll_a))])
     torque = np.tile(np.array(torques, dtype=float), (n, 1))
-    fig = cycle_figures(t, mesh, te, per_cycle, cycles)
+    fig = cycle_figures(t, mesh, te, per_cycle, cycles, max_cycles)
     swap = pair.driver == "b"
 
     def ab(x: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -53,6 +53,7 @@ from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
 from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.output import sector_result
 from spurdyn.solvers.sector.state import SectorState, pack_state, unpack_state
+from spurdyn.solvers.steady import settled_after
 from spurdyn.solvers.sector.system import (REACH, WHOLE_FROM_CYCLES, _half_widths, _half_widths_at, _radii,
                                            gap_table, gear_block, teeth_for)
 
@@ -68,6 +69,10 @@ STEPS_PER_MESH_PERIOD = 200
 #: Positions of the quasi-static cycle the run reads its mean stiffness and its largest
 #: quasi-static pair force from.
 CYCLE_POSITIONS = 21
+#: Bumped when a change of the model makes a run of the same settings differ (a sweep's
+#: settings hash carries it, so that its stored points are not taken for the new model's):
+#: 2, the mesh damper following the cycle's stiffness.
+SECTOR_REVISION = 2
 #: Phases over a mesh cycle at which the mesh damper's coefficient is tabulated.
 DAMPER_SAMPLES = 512
 #: The bodies' structural damping when the run gives no Rayleigh damping: stiffness
@@ -85,6 +90,16 @@ def body_rayleigh(settings: RunSettings) -> tuple[float, float]:
     if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
         return 0.0, 2.0 * BODY_DAMPING_RATIO / (2.0 * math.pi * KEEP_FREQUENCY)
     return settings.rayleigh
+
+
+def cycles_limit(settings: RunSettings) -> int:
+    """Most mesh cycles a sector run may go on to if it has not settled (``max_cycles``; by
+    default :data:`~spurdyn.settings.SETTLE_CYCLES_FACTOR` times its cycles on whole gears,
+    and on a sector of teeth, which covers only the cycles asked, those)."""
+    cycles = int(settings.cycles or 1)
+    if settings.max_cycles is None and cycles < WHOLE_FROM_CYCLES:
+        return cycles
+    return int(settings.cycles_limit or cycles)
 
 
 def mesh_damper_table(cycle: Any, zeta: float, m_e: float, pitch: float) -> NDArray[np.float64]:
@@ -210,12 +225,13 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     ga, gb = dp.gear_a, dp.gear_b
     ra, rb = ga.base_radius, gb.base_radius
     cycles = int(settings.cycles or 1)
+    most = cycles_limit(settings)
     speed = float(settings.speed_a if pair.driver == "a" else settings.speed_b)
     pitch = 2.0 * math.pi / ga.teeth
     per_cycle = steps_per_cycle(speed, ga.teeth, dt)
     h = pitch / speed / per_cycle
     n_steps = per_cycle * cycles
-    (first_a, count_a), (first_b, count_b) = teeth_for(dp, cycles)
+    (first_a, count_a), (first_b, count_b) = teeth_for(dp, most)
     mesh_keys = (settings.nx, settings.ny, settings.grading)
     blocks = tuple(_cached(("block", gear, sense, first, count, *mesh_keys),
                            lambda gear=gear, sense=sense, first=first, count=count:
@@ -227,8 +243,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young, gb.material.poisson)
     width = min(ga.face_width, gb.face_width)
     n_path = pairs_in_path(dp)
-    # the driver's teeth that come near the path: 0 .. P at the start, one more a cycle
-    k_lo = -int(math.ceil(cycles)) - 1
+    # the driver's teeth that come near the path: 0 .. P at the start, one more a cycle (of
+    # as many as the run may go on to; the result keeps those of the cycles it ran)
+    k_lo = -most - 1
     teeth = np.arange(k_lo, n_path + 1)
 
     # -- the scheme, the bodies as the loop sees them ------------------------------------
@@ -363,7 +380,6 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
 
     # -- the time loop -------------------------------------------------------------------
     n_out = n_steps + 1
-    t_out = np.arange(n_out) * h
     th_out = np.full((n_out, 2), np.nan)
     om_out = np.full((n_out, 2), np.nan)
     f_out = np.full((n_out, teeth.size), np.nan)
@@ -403,68 +419,83 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     compiled = (settings.backend == "numba" and modes and not energy
                 and blocks[0].whole and blocks[1].whole)
     done = [0]          # the compiled loop's last finished step (an interrupt comes between chunks)
+    target = cycles     # the cycles the run goes to: more, one at a time, until it settles
     try:
-        if compiled:        # the same loop, compiled (step_compiled.py), in chunks for progress
-            from spurdyn.solvers.sector.stepper_compiled import run_compiled
+        while True:     # a segment of cycles, then the settled test
+            first = step
+            if compiled:        # the same loop, compiled (step_compiled.py), in chunks for progress
+                from spurdyn.solvers.sector.stepper_compiled import run_compiled
 
-            step, failed = run_compiled(gears, blocks, (q, v, acc, qdd, force), teeth, offset, table,
-                                        (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h,
-                                         am, af, beta, gamma, h, bp, gp),
-                                        f_ext, c_table, (th_out, om_out, f_out, gap_out), n_steps, every,
-                                        progress, cycles * pitch, done)
-            if failed:
-                status, reason = "incomplete", f"the solution became NaN at step {step}"
-        else:
-            for step in range(1, n_steps + 1):
-                a_part = (af * qdd - am * acc) / (1.0 - am)
-                q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
-                v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
-                r = f_ext.copy()
-                for g in range(2):
-                    r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
-                x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
-                rows = rows_at(float(q_hat[0]), force)
-                last = force
-                force = np.zeros(teeth.size)
-                if rows is not None:
-                    on = rows.on
-                    w0, w_gd, w_dd, c_res, cols = compliance(rows)
-                    m = on.size
-                    # the mesh damper on the rate of the whole approach of the pairs in contact at
-                    # the step before (the rows' rigid part D: bodies and strips together, in
-                    # parallel with the mesh stiffness), shared by their forces:
-                    # S + gamma' D^T C D, by Woodbury through the pairs' couplings
-                    shares = last[on]
-                    c_mesh = damper_at(c_table, pitch, float(q_hat[0]))
-                    c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
-                        else np.zeros(m)
-                    if c_pairs.any():
-                        x0 -= rigid_columns_times(rows, c_pairs * rigid_rows(rows, v_hat))
-                    g_x0, d_x0 = gap_rows(rows, x0), rigid_rows(rows, x0)
-                    k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_dd * (gp * c_pairs)[None, :]) \
-                        if c_pairs.any() else np.zeros((m, m))
-                    w = bp * (w0 - w_gd @ k_w @ w_gd.T) + c_res + c_h * np.eye(m)
-                    vv = rows.const + gap_rows(rows, q_hat) + bp * (g_x0 - w_gd @ k_w @ d_x0)
-                    lam = _lcp(0.5 * (w + w.T), vv, shares > 0.0)
-                    qdd_new = x0 + columns_times(cols, lam) - rigid_columns_times(rows, k_w @ (d_x0 + w_gd.T @ lam))
-                    force[on] = lam
-                else:
-                    qdd_new = x0
-                if not np.isfinite(qdd_new).all():
+                step, failed = run_compiled(gears, blocks, (q, v, acc, qdd, force), teeth, offset, table,
+                                            (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h,
+                                             am, af, beta, gamma, h, bp, gp),
+                                            f_ext, c_table, (th_out, om_out, f_out, gap_out), first, n_steps, every,
+                                            progress, target * pitch, done)
+                if failed:
                     status, reason = "incomplete", f"the solution became NaN at step {step}"
-                    break
-                acc = a_part + (1.0 - af) / (1.0 - am) * qdd_new
-                q = q_hat + bp * qdd_new
-                v = v_hat + gp * qdd_new
-                qdd = qdd_new
-                if energy:
-                    damper_torque[:] = [0.0, 0.0]
-                    if rows is not None and c_pairs.any():
-                        rate = c_pairs * rigid_rows(rows, v)
-                        damper_torque[:] = [-float(coef @ rate) for coef, _ in rows.sides]
-                save(step, rows)
-                if progress is not None and step % every == 0:
-                    progress(step, float(q[0]), cycles * pitch)
+            else:
+                for step in range(first + 1, n_steps + 1):
+                    a_part = (af * qdd - am * acc) / (1.0 - am)
+                    q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
+                    v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
+                    r = f_ext.copy()
+                    for g in range(2):
+                        r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
+                    x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
+                    rows = rows_at(float(q_hat[0]), force)
+                    last = force
+                    force = np.zeros(teeth.size)
+                    if rows is not None:
+                        on = rows.on
+                        w0, w_gd, w_dd, c_res, cols = compliance(rows)
+                        m = on.size
+                        # the mesh damper on the rate of the whole approach of the pairs in contact at
+                        # the step before (the rows' rigid part D: bodies and strips together, in
+                        # parallel with the mesh stiffness), shared by their forces:
+                        # S + gamma' D^T C D, by Woodbury through the pairs' couplings
+                        shares = last[on]
+                        c_mesh = damper_at(c_table, pitch, float(q_hat[0]))
+                        c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 \
+                            else np.zeros(m)
+                        if c_pairs.any():
+                            x0 -= rigid_columns_times(rows, c_pairs * rigid_rows(rows, v_hat))
+                        g_x0, d_x0 = gap_rows(rows, x0), rigid_rows(rows, x0)
+                        k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_dd * (gp * c_pairs)[None, :]) \
+                            if c_pairs.any() else np.zeros((m, m))
+                        w = bp * (w0 - w_gd @ k_w @ w_gd.T) + c_res + c_h * np.eye(m)
+                        vv = rows.const + gap_rows(rows, q_hat) + bp * (g_x0 - w_gd @ k_w @ d_x0)
+                        lam = _lcp(0.5 * (w + w.T), vv, shares > 0.0)
+                        qdd_new = x0 + columns_times(cols, lam) - rigid_columns_times(rows, k_w @ (d_x0 + w_gd.T @ lam))
+                        force[on] = lam
+                    else:
+                        qdd_new = x0
+                    if not np.isfinite(qdd_new).all():
+                        status, reason = "incomplete", f"the solution became NaN at step {step}"
+                        break
+                    acc = a_part + (1.0 - af) / (1.0 - am) * qdd_new
+                    q = q_hat + bp * qdd_new
+                    v = v_hat + gp * qdd_new
+                    qdd = qdd_new
+                    if energy:
+                        damper_torque[:] = [0.0, 0.0]
+                        if rows is not None and c_pairs.any():
+                            rate = c_pairs * rigid_rows(rows, v)
+                            damper_torque[:] = [-float(coef @ rate) for coef, _ in rows.sides]
+                    save(step, rows)
+                    if progress is not None and step % every == 0:
+                        progress(step, float(q[0]), target * pitch)
+            lo, hi = max(target - 2, 0) * per_cycle, n_steps + 1       # the last two cycles
+            if status != "complete" or target >= most or settled_after(
+                    f_out[lo:hi].sum(axis=1), ra * th_out[lo:hi, 0] - rb * th_out[lo:hi, 1], per_cycle,
+                    min(target, 2)):
+                break
+            # not settled, and it may go on: one more cycle
+            target += 1
+            n_steps += per_cycle
+            th_out, om_out, f_out, gap_out = (np.concatenate([x, np.full((per_cycle,) + x.shape[1:], np.nan)])
+                                              for x in (th_out, om_out, f_out, gap_out))
+            if en_out is not None:
+                en_out = np.concatenate([en_out, np.full((per_cycle, 8), np.nan)])
     except KeyboardInterrupt:
         if compiled:
             step = done[0] + 1
@@ -473,17 +504,19 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     finally:
         limit.restore_original_limits()
     n_kept = step + 1 if status == "complete" or "interrupted" in reason else step
-    result = sector_result(pair, dp, settings, blocks, cycle, teeth, n_kept, t_out, th_out, om_out, f_out,
-                   gap_out, en_out, per_cycle, cycles, h, (t_drv, t_drn), c_table, status, reason,
-                   _time.perf_counter() - wall0, load)
+    # the teeth of the cycles run (those of the cycles it might have gone on to never came)
+    keep = teeth >= -target - 1
+    result = sector_result(pair, dp, settings, blocks, cycle, teeth[keep], n_kept, np.arange(th_out.shape[0]) * h,
+                           th_out, om_out, f_out[:, keep], gap_out, en_out, per_cycle, cycles, most, h,
+                           (t_drv, t_drn), c_table, status, reason, _time.perf_counter() - wall0, load)
     if status == "complete" and blocks[0].whole and blocks[1].whole:
         # where the next speed of a continuation starts: this end, the teeth N on
         q_end = q.copy()
-        q_end[0] -= cycles * pitch
-        q_end[na] -= cycles * 2.0 * math.pi / gb.teeth
+        q_end[0] -= target * pitch
+        q_end[na] -= target * 2.0 * math.pi / gb.teeth
         loaded = np.flatnonzero(force > 0.0)
         result.info["sector_end_state"] = pack_state(SectorState(
-            offset - cycles, q_end, v / speed, acc / speed**2, qdd / speed**2,
+            offset - target, q_end, v / speed, acc / speed**2, qdd / speed**2,
             teeth[loaded] + offset, force[loaded]))
     result.info["tooth_offset"] = offset
     result.info["rayleigh"] = list(rayleigh)
@@ -495,5 +528,5 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     return result
 
 
-__all__ = ["BODY_DAMPING_RATIO", "DAMPER_SAMPLES", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
-           "damper_at", "mesh_damper_table", "simulate_sector", "steps_per_cycle"]
+__all__ = ["BODY_DAMPING_RATIO", "DAMPER_SAMPLES", "SECTOR_REVISION", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
+           "cycles_limit", "damper_at", "mesh_damper_table", "simulate_sector", "steps_per_cycle"]

@@ -12,11 +12,12 @@ from numpy.typing import NDArray
 
 def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...], teeth: NDArray[np.intp],
                  offset: int, table: Any, consts: tuple[float, ...], f_ext: NDArray[np.float64], c_table: NDArray[np.float64],
-                 outs: tuple[NDArray[np.float64], ...], n_steps: int, every: int,
+                 outs: tuple[NDArray[np.float64], ...], first: int, n_steps: int, every: int,
                  progress: Callable[[int, float, float], None] | None,
                  total: float, done: list[int]) -> tuple[int, bool]:
     """Run the loop with :func:`spurdyn.solvers.sector.step_compiled.run_steps` (modal bodies
-    of whole gears), ``every`` steps a call; ``(last step, whether it failed)``."""
+    of whole gears) from step ``first`` to ``n_steps``, ``every`` steps a call; ``(last step,
+    whether it failed)``."""
     from spurdyn.contact.hertz import strip_quadrature
     from spurdyn.solvers.sector.step_compiled import run_steps
 
@@ -31,7 +32,7 @@ def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...]
     xq, wq = strip_quadrature()
     q, v, acc, qdd, force = state
     teeth64, constants = np.asarray(teeth, np.int64), np.array(consts, dtype=float)
-    step = 0
+    step = first
     while step < n_steps:
         chunk = min(every, n_steps - step)
         step, failed = run_steps(step, chunk, q, v, acc, qdd, force, i0, i1, d0, d1, o0, o1, mo0, mo1,

@@ -67,7 +67,9 @@ def test_the_coefficients_give_the_asked_high_frequency_dissipation_and_second_o
 
 def test_the_default_step_is_one_of_accuracy():
     assert accuracy_step(4000 * RPM, 28) == pytest.approx(1 / 1.5e6)       # 150 kHz / 10
-    assert accuracy_step(30000 * RPM, 28) == pytest.approx(60 / 30000 / 28 / 200)
+    assert accuracy_step(30000 * RPM, 28) == pytest.approx(60 / 30000 / 28 / 175)
+    # Fig. 9 (20,000 rpm): 6.1e-7 s once rounded down, at least 20 times RK4's 3e-8 s
+    assert accuracy_step(20000 * RPM, 28) >= 6.1e-7 > 20 * 3e-8
     assert rayleigh_from_ratio(0.05, 1e3, 1e5)[0] / (2 * 1e3 * 2 * math.pi) \
         + rayleigh_from_ratio(0.05, 1e3, 1e5)[1] * 2 * math.pi * 1e3 / 2 == pytest.approx(0.05)
 

@@ -147,15 +147,19 @@ def plot_sweep_folder(out: Path, png: Path, resonance: ResonanceEstimate | None)
     """Draw every model's sweep found in the folder ``out`` (``sweep_<model>.nc``)."""
     datasets = model_datasets(out)
     names = sorted({str(ds.attrs.get("case_name", "")) for ds in datasets.values()})
-    cycles = set()
+    cycles, exact = set(), True
     for ds in datasets.values():
         try:
-            cycles.add(json.loads(ds.attrs.get("settings", "{}"))["run"].get("cycles"))
+            run = json.loads(ds.attrs.get("settings", "{}"))["run"]
         except (ValueError, KeyError, TypeError):
             cycles.add(None)
+            continue
+        cycles.add(run.get("cycles"))
+        # a steady state goes on until it settles unless max_cycles is its cycles
+        exact &= run.get("cycles") is None or run.get("max_cycles") == run.get("cycles")
     each = ("one engagement per point" if cycles == {None} else
             f"steady state over {', '.join(str(c) for c in sorted(c for c in cycles if c))} "
-            "mesh cycles per point (last cycles)")
+            f"mesh cycles per point{'' if exact else ', more until settled'} (last cycles)")
     title = f"{', '.join(names)}: dynamic factor against speed, {each}"
     if len({ds.attrs.get("settings_hash") for ds in datasets.values()}) > 1:
         title += "\n(the models' sweeps in this folder have different settings)"

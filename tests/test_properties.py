@@ -119,6 +119,8 @@ BAD: dict[str, st.SearchStrategy[Any]] = {
     "rayleigh_hz": st.one_of(st.integers(), st.text(max_size=5),
                              st.lists(_floats(-1e6, 1e6), max_size=3)),
     "cycles": st.one_of(NOT_WHOLE, st.integers(-(2**63), 0), st.integers(10_001, INT64)),
+    # without cycles any bound is refused (it bounds a steady-state run)
+    "max_cycles": st.one_of(NOT_WHOLE, st.integers(-(2**63), INT64)),
     # without cycles even "sector" is refused (it is a mesh cycle)
     "stiffness": st.one_of(st.text(max_size=8).filter(lambda s: s != "tooth"), st.integers(),
                            st.booleans()),

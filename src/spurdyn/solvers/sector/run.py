@@ -46,16 +46,31 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.loading import static_force, torque_amplitudes
 from spurdyn.result import Result
-from spurdyn.sector.statics import _law, _solve_position, driving_pair, mesh_cycle, pairs_in_path
+from spurdyn.sector.statics import (
+    _law,
+    _solve_position,
+    driving_pair,
+    mesh_cycle,
+    pairs_in_path,
+)
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
-from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
 from spurdyn.solvers.sector.bodies import FullBody
+from spurdyn.solvers.sector.cache import _cached
+from spurdyn.solvers.sector.damper import damper_at, mesh_damper_table
 from spurdyn.solvers.sector.output import sector_result
 from spurdyn.solvers.sector.state import SectorState, pack_state, unpack_state
+from spurdyn.solvers.sector.system import (
+    REACH,
+    WHOLE_FROM_CYCLES,
+    _half_widths,
+    _half_widths_at,
+    _radii,
+    gap_table,
+    gear_block,
+    teeth_for,
+)
 from spurdyn.solvers.steady import settled_after
-from spurdyn.solvers.sector.system import (REACH, WHOLE_FROM_CYCLES, _half_widths, _half_widths_at, _radii,
-                                           gap_table, gear_block, teeth_for)
 
 #: The highest frequency (Hz) the sector model's default step resolves with
 #: :data:`STEPS_PER_KEPT_PERIOD` steps a period: the pair's torsional mode (~5-6 kHz on the
@@ -73,8 +88,6 @@ CYCLE_POSITIONS = 21
 #: settings hash carries it, so that its stored points are not taken for the new model's):
 #: 2, the mesh damper following the cycle's stiffness.
 SECTOR_REVISION = 2
-#: Phases over a mesh cycle at which the mesh damper's coefficient is tabulated.
-DAMPER_SAMPLES = 512
 #: The bodies' structural damping when the run gives no Rayleigh damping: stiffness
 #: proportional, this ratio at :data:`KEEP_FREQUENCY` (a tenth of it at 5 kHz, where the pair's
 #: torsional mode lies). Without any, the bodies' own modes (the teeth on their rims, which
@@ -102,27 +115,6 @@ def cycles_limit(settings: RunSettings) -> int:
     return int(settings.cycles_limit or cycles)
 
 
-def mesh_damper_table(cycle: Any, zeta: float, m_e: float, pitch: float) -> NDArray[np.float64]:
-    """The mesh damper's ``c(phi) = 2 zeta sqrt(k(phi) m_e)`` (N s/m) at
-    :data:`DAMPER_SAMPLES` + 1 even phases ``phi`` of the driver over a pitch from the start
-    of the path (the last the first again: the cycle repeats), ``k(phi)`` the quasi-static
-    mesh stiffness of ``cycle`` (:meth:`~spurdyn.sector.statics.MeshCycle.effective`, its
-    pairs' entries and exits sharp)."""
-    k = cycle.effective(np.arange(DAMPER_SAMPLES) * (pitch / DAMPER_SAMPLES)).sum(axis=0)
-    return np.asarray(mesh_damper_coefficient(zeta, np.append(k, k[0]), m_e), dtype=float)
-
-
-def damper_at(table: NDArray[np.float64], pitch: float, theta: float) -> float:
-    """The mesh damper's coefficient at the driver's turn ``theta`` (rad from the start):
-    ``table`` (:func:`mesh_damper_table`) linear between its phases, as the compiled loop
-    reads it."""
-    n = table.size - 1
-    x = (theta % pitch) / pitch * n
-    i = min(int(x), n - 1)
-    f = x - i
-    return float(table[i] * (1.0 - f) + table[i + 1] * f)
-
-
 class _Rows(NamedTuple):
     """The pairs near the path at a step: their indices in the run's teeth, the constant
     parts of their gaps, and per gear the rows' hub coefficients and elastic parts."""
@@ -141,28 +133,6 @@ def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
     if dt is None:
         dt = min(1.0 / (STEPS_PER_KEPT_PERIOD * KEEP_FREQUENCY), period / STEPS_PER_MESH_PERIOD)
     return max(int(math.ceil(period / dt - 1e-9)), 1)
-
-
-#: What the last runs built, by what it is built from: the two bodies, their modes and the
-#: quasi-static cycle (seconds each), which the points of a sweep share.
-_CACHE: dict[Any, Any] = {}
-#: Entries kept (a body of the paper's gear on 4 x 14 teeth holds about 60 MB).
-CACHE_SIZE = 6
-
-
-def _cached(key: Any, build: Callable[[], Any]) -> Any:
-    """``build()``, kept under ``key`` (the oldest entry dropped beyond :data:`CACHE_SIZE`;
-    nothing kept for an unhashable key)."""
-    try:
-        found = _CACHE.get(key)
-    except TypeError:
-        return build()
-    if found is None:
-        found = build()
-        if len(_CACHE) >= CACHE_SIZE:
-            _CACHE.pop(next(iter(_CACHE)))
-        _CACHE[key] = found
-    return found
 
 
 def _lcp(w: NDArray[np.float64], v: NDArray[np.float64],
@@ -528,5 +498,5 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     return result
 
 
-__all__ = ["BODY_DAMPING_RATIO", "DAMPER_SAMPLES", "SECTOR_REVISION", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
-           "cycles_limit", "damper_at", "mesh_damper_table", "simulate_sector", "steps_per_cycle"]
+__all__ = ["BODY_DAMPING_RATIO", "SECTOR_REVISION", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
+           "cycles_limit", "simulate_sector", "steps_per_cycle"]

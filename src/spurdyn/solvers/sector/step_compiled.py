@@ -159,7 +159,7 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
     """``steps`` steps from ``first_step`` (the state changed in place, the saved columns
     written at ``first_step + 1 ...``). ``consts``: ``roll_0, roll_1, reach, pitch, r_bA,
     r_bB, E*, L, c_H, alpha_m, alpha_f, beta, gamma, h, beta', gamma'``; ``c_table`` the mesh
-    damper's coefficient over a pitch (``run.mesh_damper_table``, read as ``run.damper_at``).
+    damper's coefficient over a pitch (``damper.mesh_damper_table``, read as ``damper.damper_at``).
 
     Returns the last step done and 0, or the step whose solution was not finite and 1."""
     roll_0, roll_1, reach, pitch = consts[0], consts[1], consts[2], consts[3]
@@ -255,7 +255,7 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
                 total += shares[a]
                 if shares[a] > 0.0:
                     guess |= 1 << a
-            # the damper's coefficient at this phase (run.damper_at)
+            # the damper's coefficient at this phase (damper.damper_at)
             x_d = (theta % pitch) / pitch * n_damp
             i_d = min(int(x_d), n_damp - 1)
             f_d = x_d - i_d

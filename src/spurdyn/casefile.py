@@ -41,7 +41,7 @@ RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
     "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
     "keep_theta_term", "damping_ratio", "integrator", "rho_inf", "rayleigh_mass",
-    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles", "max_cycles", "stiffness", "bodies",
+    "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles", "max_cycles", "stiffness", "bodies", "back_flanks",
 }
 
 
@@ -157,7 +157,7 @@ class _Source:
             raise InputError(name, f"must be one of {', '.join(allowed)} (got {value!r})")
         return str(value)
 
-    def boolean(self, key: str, default: bool) -> bool:
+    def boolean(self, key: str, default: bool | None) -> bool | None:
         found, value, name = self.get(key)
         if not found:
             return default
@@ -252,6 +252,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         max_cycles=src.integer("max_cycles", None, 1),
         stiffness=src.choice("stiffness", "tooth", STIFFNESSES),
         bodies=src.choice("bodies", "modal", BODIES),
+        back_flanks=src.boolean("back_flanks", None),
         name=name,
     )
     try:
@@ -391,6 +392,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         run_table["stiffness"] = run.stiffness
     if run.bodies != "modal":
         run_table["bodies"] = run.bodies
+    if run.back_flanks is not None:
+        run_table["back_flanks"] = run.back_flanks
     return {
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),

@@ -62,6 +62,10 @@ class Result:
         ``(n, P)`` normal force (N) of each tooth pair a model of several teeth holds, and
         the driver's roll angle of its contact point (rad; NaN off the path of contact);
         ``None`` for a model of one pair.
+    back_force
+        ``(n, B)`` normal force (N) of each pair of back flanks (the driver's tooth
+        ``info["back_pair_teeth"][i]`` on the driven gear's ``-k + 1``, along the back line of
+        action); ``None`` where the back flanks are not contacts.
     transmission_error
         ``(n,)`` ``r_b,driver theta_driver - r_b,driven theta_driven`` (m) less its rigid
         kinematic value: positive where the driver runs ahead; ``None`` where not computed.
@@ -90,6 +94,7 @@ class Result:
     contact_pressure_max: NDArray[np.float64] | None = None
     pair_force: NDArray[np.float64] | None = None
     pair_roll: NDArray[np.float64] | None = None
+    back_force: NDArray[np.float64] | None = None
     transmission_error: NDArray[np.float64] | None = None
 
     @property

@@ -163,6 +163,9 @@ class RunSettings:
     bodies
         The sector model's bodies, one of :data:`BODIES`: ``"modal"`` their modes and the
         flanks' residual flexibility, ``"full"`` the whole finite-element bodies.
+    back_flanks
+        Whether the sector model's back flanks are contacts too (backlash and rattle): ``None``
+        where the pair has backlash (:func:`spurdyn.solvers.sector.run.back_flanks_on`).
     start_state
         Where a steady-state run starts instead of the static compression: the
         transmission error ``delta`` (m) and its slope ``d delta / d phi_A`` (m/rad) at the
@@ -210,6 +213,7 @@ class RunSettings:
     max_cycles: int | None = None
     stiffness: str = "tooth"
     bodies: str = "modal"
+    back_flanks: bool | None = None
     start_state: tuple[float, ...] | None = None
     save_every: int = 1
     frames_every: int = 100
@@ -271,6 +275,8 @@ class RunSettings:
         if self.integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)} "
                              f"(got {self.integrator!r})")
+        if self.back_flanks is not None and not isinstance(self.back_flanks, bool):
+            raise InputError("back_flanks", f"must be true or false (got {self.back_flanks!r})")
         if self.bodies not in BODIES:
             raise InputError("bodies", f"must be one of {', '.join(BODIES)} (got {self.bodies!r})")
         if self.stiffness not in STIFFNESSES:

@@ -20,6 +20,7 @@ DYNAMICS_OVERRIDES = (
     ("max_cycles", "run.max_cycles", "--max-cycles"),
     ("stiffness", "run.stiffness", "--stiffness"),
     ("bodies", "run.bodies", "--bodies"),
+    ("back_flanks", "run.back_flanks", "--back-flanks"),
 )
 
 
@@ -31,6 +32,12 @@ def _frequencies(text: str) -> list[float]:
     if len(values) != 2:
         raise argparse.ArgumentTypeError(f"must be two frequencies in Hz, F1,F2 (got {text!r})")
     return values
+
+
+def _on_off(text: str) -> bool:
+    if text not in ("on", "off"):
+        raise argparse.ArgumentTypeError(f"must be on or off (got {text!r})")
+    return text == "on"
 
 
 def refuse_fe_dynamics(run: RunSettings, labels: dict[str, str]) -> None:
@@ -93,6 +100,9 @@ def add_dynamics_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--bodies", metavar="|".join(BODIES),
                    help="the sector model's bodies: modal (their modes and the flanks' residual "
                         "flexibility, the default) or full (the whole FE bodies, the reference)")
+    p.add_argument("--back-flanks", type=_on_off, metavar="on|off",
+                   help="the sector model's back flanks as contacts too (backlash, rattle; "
+                        "default: on where the pair has backlash; docs/sector.md)")
     p.add_argument("--stiffness", metavar="|".join(STIFFNESSES),
                    help="the lumped model's mesh stiffness: tooth (the paper model's root-clamped "
                         "tooth pair, the default) or sector (the sector model's mesh cycle: teeth "

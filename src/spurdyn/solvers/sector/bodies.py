@@ -8,7 +8,8 @@ Both give the loop the same few things for a step's matrix ``S = M + gamma' C + 
 - :meth:`forces`: ``C v + K q``;
 - :meth:`rows`: the pairs' rows ``E`` on the gear's elastic coordinates from their unit
   strip loads (in tooth 0's frame, :meth:`~spurdyn.solvers.sector.system.GearBlock.flank_loads`)
-  on teeth ``k``: the flank DOFs and the turned loads, or ``Phi^T`` of them;
+  on teeth ``k``, on their right (drive) or left (back) flanks: the flank DOFs and the loads
+  turned (and mirrored) there, or ``Phi^T`` of them;
 - :meth:`elastic`: ``E x`` (``x`` one vector of the gear's coordinates or columns of them);
 - :meth:`columns`: ``S^-1 E^T``, the full columns;
 - :meth:`residual`: the instantaneous compliance between the pairs' loads (zero for the whole
@@ -32,7 +33,7 @@ from spurdyn.solvers.sector.system import GearBlock
 
 class FullRows(NamedTuple):
     """The pairs' rows on a whole body: ``(p, f)`` flank coordinates and turned unit loads,
-    and each tooth's ``S^-1`` of unit loads on its flank."""
+    and each flank's ``S^-1`` of unit loads on it."""
 
     dofs: NDArray[np.intp]
     weights: NDArray[np.float64]
@@ -40,30 +41,37 @@ class FullRows(NamedTuple):
 
 
 class ModalRows(NamedTuple):
-    """The pairs' rows on a modal body: the teeth (body numbers from its first), the unit
-    loads in tooth 0's frame and ``(p, m)`` their modal rows ``Phi^T b``."""
+    """The pairs' rows on a modal body: the teeth (body numbers from its first) and flanks
+    (0 right, 1 left), the unit loads in tooth 0's frame and ``(p, m)`` their modal rows
+    ``Phi^T b``."""
 
     teeth: NDArray[np.intp]
+    sides: NDArray[np.intp]
     loads: NDArray[np.float64]
     modal: NDArray[np.float64]
 
 
-def _tooth_frames(reduced: ReducedGear) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The modes at each tooth's flank seen in its own frame, ``(count, f, m)``
-    (``Phi_k^T Q_k b = (Q_k^T Phi_k)^T b`` for a load ``b`` in tooth 0's frame), and the
-    static flexibility between two teeth's flanks in their frames, ``Q_i^T E_i^T K^-1 E_j
-    Q_j``: ``(count, f, f)`` by the teeth's distance round a whole ring (the same for every
-    pair of teeth that far apart), ``(count, count, f, f)`` on a sector."""
+def _tooth_frames(reduced: ReducedGear, sides: int = 1) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The modes at each flank seen in its own frame, ``(count, sides, f, m)``
+    (``Phi_k^T T_k b = (T_k^T Phi_k)^T b`` for a load ``b`` on tooth 0's right flank, ``T_k``
+    the turn to tooth ``k``'s flank and, on a left flank, the mirror before it), and the
+    static flexibility between two flanks in their frames, ``T_i^T E_i^T K^-1 E_j T_j``:
+    ``(count, sides, sides, f, f)`` by the teeth's distance round a whole ring (the same for
+    every pair of teeth that far apart), ``(count, sides, count, sides, f, f)`` on a sector.
+    ``sides`` 1 keeps the right (drive) flanks, 2 the left (back) ones as well."""
     blk = reduced.block
     teeth = [blk.first + t for t in range(blk.count)]
-    turns = [np.kron(np.eye(blk.flank_dofs(k).size // 2), blk.turn_of(k)) for k in teeth]
-    modes = np.array([q.T @ reduced.modes_at(k) for q, k in zip(turns, teeth)])
+    n_side = blk.flank_dofs(teeth[0]).size // 2
+    turns = [[np.kron(np.eye(n_side), blk.turn_of(k, s)) for s in range(sides)] for k in teeth]
+    modes = np.array([[q[s].T @ reduced.modes_at(k, s) for s in range(sides)] for q, k in zip(turns, teeth)])
     if blk.whole:
-        base = reduced._static(teeth[0])
-        flex = np.array([turns[d].T @ base[blk.flank_dofs(teeth[d])] @ turns[0] for d in range(blk.count)])
+        base = [reduced._static(teeth[0], t) for t in range(sides)]
+        flex = np.array([[[turns[d][s].T @ base[t][blk.flank_dofs(teeth[d], s)] @ turns[0][t]
+                           for t in range(sides)] for s in range(sides)] for d in range(blk.count)])
     else:
-        flex = np.array([[turns[i].T @ reduced._static(teeth[j])[blk.flank_dofs(teeth[i])] @ turns[j]
-                          for j in range(blk.count)] for i in range(blk.count)])
+        flex = np.array([[[[turns[i][s].T @ reduced._static(teeth[j], t)[blk.flank_dofs(teeth[i], s)] @ turns[j][t]
+                            for t in range(sides)] for j in range(blk.count)] for s in range(sides)]
+                         for i in range(blk.count)])
     return modes, flex
 
 
@@ -75,7 +83,7 @@ class FullBody:
         self.rayleigh = rayleigh
         self.n = block.n
         self._lu = factor_spd(block.matrix(1.0, gp, bp, rayleigh))
-        self._resp: dict[int, tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]] = {}
+        self._resp: dict[tuple[int, int], tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]] = {}
 
     def solve(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         return self._lu.solve(np.ascontiguousarray(x))
@@ -83,19 +91,22 @@ class FullBody:
     def forces(self, q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
         return self.block.forces(q, v, self.rayleigh)
 
-    def _tooth(self, k: int) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]:
-        """Tooth ``k``'s flank coordinates, its turn and ``S^-1`` of unit loads there
-        (computed when the tooth first comes near the path)."""
-        key = self.block.tooth(k)
+    def _tooth(self, k: int, side: int = 0) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]:
+        """Tooth ``k``'s flank ``side`` (0 right, 1 left): its coordinates, the map from tooth
+        0's right flank to it and ``S^-1`` of unit loads there (computed when the flank first
+        comes near its path)."""
+        key = (self.block.tooth(k), side)
         if key not in self._resp:
-            dofs = self.block.flank_dofs(k) + 1
+            dofs = self.block.flank_dofs(k, side) + 1
             rhs = np.zeros((self.n, dofs.size))
             rhs[dofs, np.arange(dofs.size)] = 1.0
-            self._resp[key] = (dofs, self.block.turn_of(k), self.solve(rhs))
+            self._resp[key] = (dofs, self.block.turn_of(k, side), self.solve(rhs))
         return self._resp[key]
 
-    def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64]) -> FullRows:
-        teeth = [self._tooth(int(k)) for k in ks]
+    def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64],
+             sides: NDArray[np.intp] | None = None) -> FullRows:
+        sides = np.zeros(len(ks), np.intp) if sides is None else sides
+        teeth = [self._tooth(int(k), int(s)) for k, s in zip(ks, sides)]
         dofs = np.array([t[0] for t in teeth])
         turned = np.array([(ld.reshape(-1, 2) @ t[1].T).ravel() for ld, t in zip(loads, teeth)])
         return FullRows(dofs, turned, [t[2] for t in teeth])
@@ -132,9 +143,11 @@ class FullBody:
 
 
 class ModalBody:
-    """The body on its modes: ``(theta, eta)`` (:mod:`spurdyn.solvers.sector.reduced`)."""
+    """The body on its modes: ``(theta, eta)`` (:mod:`spurdyn.solvers.sector.reduced`);
+    ``sides`` 2 makes the left (back) flanks contacts too (:func:`_tooth_frames`)."""
 
-    def __init__(self, reduced: ReducedGear, gp: float, bp: float, rayleigh: tuple[float, float]) -> None:
+    def __init__(self, reduced: ReducedGear, gp: float, bp: float, rayleigh: tuple[float, float],
+                 sides: int = 1) -> None:
         self.reduced = reduced
         self.block = reduced.block
         m = reduced.m
@@ -150,7 +163,7 @@ class ModalBody:
         # S is small and constant: its inverse makes a solve one product
         inv = cho_solve(cho_factor(mat), np.eye(self.n))
         self._inv = 0.5 * (inv + inv.T)
-        self._modes, self._flex = _tooth_frames(reduced)
+        self._modes, self._flex = _tooth_frames(reduced, sides)
 
     def solve(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         return self._inv @ x
@@ -160,14 +173,16 @@ class ModalBody:
         out[1:] = self._damp * v[1:] + self.reduced.omega2 * q[1:]
         return out
 
-    def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64]) -> ModalRows:
+    def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64],
+             sides: NDArray[np.intp] | None = None) -> ModalRows:
         blk = self.block
+        sides = np.zeros(len(ks), np.intp) if sides is None else np.asarray(sides, np.intp)
         at = np.asarray(ks, dtype=np.intp) - blk.first
         if blk.whole:
             at %= blk.count
         elif at.min() < 0 or at.max() >= blk.count:
             blk.tooth(int(ks[np.argmax((at < 0) | (at >= blk.count))]))     # raises, naming it
-        return ModalRows(at, loads, np.einsum("pf,pfm->pm", loads, self._modes[at]))
+        return ModalRows(at, sides, loads, np.einsum("pf,pfm->pm", loads, self._modes[at, sides]))
 
     def elastic(self, rows: ModalRows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         return rows.modal @ x[1:]
@@ -178,11 +193,11 @@ class ModalBody:
     def residual(self, rows: ModalRows) -> NDArray[np.float64]:
         """``b_i^T R b_j`` of the pairs' loads: the static flexibility in the teeth's frames
         less the modes' part, ``b_i^T Phi Omega^-2 Phi^T b_j`` (the rows' own)."""
-        at = rows.teeth
+        at, sd = rows.teeth, rows.sides
         if self.block.whole:
-            flex = self._flex[(at[:, None] - at[None, :]) % self.block.count]
+            flex = self._flex[(at[:, None] - at[None, :]) % self.block.count, sd[:, None], sd[None, :]]
         else:
-            flex = self._flex[at[:, None], at[None, :]]
+            flex = self._flex[at[:, None], sd[:, None], at[None, :], sd[None, :]]
         b = rows.loads
         static = (b[:, None, None, :] @ (flex @ b[None, :, :, None]))[:, :, 0, 0]
         return static - (rows.modal / self.reduced.omega2) @ rows.modal.T

@@ -22,8 +22,10 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
             theta: NDArray[np.float64], omega: NDArray[np.float64], forces: NDArray[np.float64],
             gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
             max_cycles: int, h: float, torques: tuple[float, float], c_table: NDArray[np.float64], status: str, reason: str,
-            wall: float, load: float) -> Result:
-    """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B."""
+            wall: float, load: float,
+            back: tuple[NDArray[np.intp], NDArray[np.float64]] | None = None) -> Result:
+    """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B; ``back`` the
+    back flanks' driver teeth and forces where they are contacts."""
     ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
     sel = slice(0, n_kept)
     t, theta, omega, forces, gap = t[sel], theta[sel], omega[sel], forces[sel], gap[sel]
@@ -69,9 +71,15 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         "dt_s": h,
         "steps_per_cycle": per_cycle,
         "pair_teeth": teeth.tolist(),
+        "back_flanks": back is not None,
+        "backlash_normal_m": dp.backlash_normal,
         "angle_end": float(theta[-1, 0]) if n else 0.0,
         "steady": steady_record(fig, per_cycle * h, float(cycle.force.max()), cycle.stiffness_mean),
     }
+    back_force = None
+    if back is not None:
+        back_force = back[1][sel]
+        info["back_pair_teeth"] = back[0].tolist()
     if en is not None:
         info["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
         info["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
@@ -83,7 +91,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
         info=info, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
-        transmission_error=te)
+        back_force=back_force, transmission_error=te)
 
 
 __all__ = ["sector_result"]

@@ -71,22 +71,23 @@ class ReducedGear:
     omega2: NDArray[np.float64]
     coupling: NDArray[np.float64]
     _flex: dict[tuple[int, int], NDArray[np.float64]] = field(default_factory=dict, repr=False)
-    _resp: dict[int, NDArray[np.float64]] = field(default_factory=dict, repr=False)
+    _resp: dict[tuple[int, int], NDArray[np.float64]] = field(default_factory=dict, repr=False)
 
     @property
     def m(self) -> int:
         return self.omega2.size
 
-    def modes_at(self, k: int) -> NDArray[np.float64]:
-        """``(2 (2 ny + 1), m)`` the modes at tooth ``k``'s flank DOFs."""
-        return self.phi[self.block.flank_dofs(k)]
+    def modes_at(self, k: int, side: int = 0) -> NDArray[np.float64]:
+        """``(2 (2 ny + 1), m)`` the modes at tooth ``k``'s flank DOFs (``side`` 0 the right
+        flank, 1 the left)."""
+        return self.phi[self.block.flank_dofs(k, side)]
 
-    def _static(self, k: int) -> NDArray[np.float64]:
+    def _static(self, k: int, side: int = 0) -> NDArray[np.float64]:
         """``K^-1 E_k``: the held body's response to unit loads on tooth ``k``'s flank DOFs."""
-        key = self.block.tooth(k)
+        key = (self.block.tooth(k), side)
         if key not in self._resp:
             blk = self.block
-            dofs = blk.flank_dofs(k)
+            dofs = blk.flank_dofs(k, side)
             rhs = np.zeros((blk.mass.size, dofs.size))
             rhs[dofs, np.arange(dofs.size)] = 1.0
             self._resp[key] = blk.body._lu.solve(rhs)

@@ -66,6 +66,8 @@ from spurdyn.solvers.sector.system import (
     _half_widths,
     _half_widths_at,
     _radii,
+    back_roll_sum,
+    back_teeth,
     gap_table,
     gear_block,
     teeth_for,
@@ -103,6 +105,20 @@ def body_rayleigh(settings: RunSettings) -> tuple[float, float]:
     if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
         return 0.0, 2.0 * BODY_DAMPING_RATIO / (2.0 * math.pi * KEEP_FREQUENCY)
     return settings.rayleigh
+
+
+#: Normal backlash (m) from which the back flanks are contacts when the run does not say
+#: (``RunSettings.back_flanks`` None): a pair with less is taken as the nominal tight pair
+#: whose back flanks are not modelled (docs/sector.md, 6.7).
+BACKLASH_FLOOR = 1e-9
+
+
+def back_flanks_on(pair: GearPair, settings: RunSettings) -> bool:
+    """Whether the run's back flanks are contacts: as ``settings.back_flanks`` says, or by
+    default where the pair has backlash (more than :data:`BACKLASH_FLOOR`)."""
+    if settings.back_flanks is not None:
+        return bool(settings.back_flanks)
+    return pair.backlash_normal > BACKLASH_FLOOR
 
 
 def cycles_limit(settings: RunSettings) -> int:
@@ -201,7 +217,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     per_cycle = steps_per_cycle(speed, ga.teeth, dt)
     h = pitch / speed / per_cycle
     n_steps = per_cycle * cycles
-    (first_a, count_a), (first_b, count_b) = teeth_for(dp, most)
+    back = back_flanks_on(dp, settings)
+    (first_a, count_a), (first_b, count_b) = teeth_for(dp, most, back)
     mesh_keys = (settings.nx, settings.ny, settings.grading)
     blocks = tuple(_cached(("block", gear, sense, first, count, *mesh_keys),
                            lambda gear=gear, sense=sense, first=first, count=count:
@@ -217,6 +234,14 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     # as many as the run may go on to; the result keeps those of the cycles it ran)
     k_lo = -most - 1
     teeth = np.arange(k_lo, n_path + 1)
+    # the contacts: the drive flanks of those teeth, and with the back flanks those of the
+    # driver's teeth that come near the back path (each on the driven gear's tooth -k + 1)
+    jn = dp.backlash_normal
+    sigma = back_roll_sum(dp)
+    back_k = np.arange(*np.array(back_teeth(dp, most, REACH * pitch)) + [0, 1]) if back else np.zeros(0, np.intp)
+    c_teeth = np.concatenate([teeth, back_k]).astype(np.intp)
+    c_side = np.concatenate([np.zeros(teeth.size, np.intp), np.ones(back_k.size, np.intp)])
+    n_c = c_teeth.size
 
     # -- the scheme, the bodies as the loop sees them ------------------------------------
     scheme = GeneralizedAlpha(settings.rho_inf)
@@ -232,7 +257,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         top = MODE_FACTOR * KEEP_FREQUENCY if modes is True else float(modes)
         gears: tuple[Any, Any] = tuple(
             ModalBody(_cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top),
-                              lambda blk=blk: reduce_gear(blk, top)), gp, bp, rayleigh)
+                              lambda blk=blk: reduce_gear(blk, top)), gp, bp, rayleigh, 2 if back else 1)
             for blk in blocks)
     else:
         gears = tuple(FullBody(blk, gp, bp, rayleigh) for blk in blocks)
@@ -256,9 +281,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         st = unpack_state(start, n)
         offset = st.offset
         q, v, acc, qdd = st.q.copy(), speed * st.dq, speed**2 * st.ddq, speed**2 * st.qdd
-        force = np.zeros(teeth.size)
-        at = dict(zip(st.teeth.tolist(), st.forces))
-        force[:] = [at.get(int(k) + offset, 0.0) for k in teeth]
+        force = np.zeros(n_c)
+        at = dict(zip(zip(st.teeth.tolist(), st.sides.tolist()), st.forces))
+        force[:] = [at.get((int(k) + offset, int(sd)), 0.0) for k, sd in zip(c_teeth, c_side)]
     else:
         offset = 0
         js, f0, e0, _, _ = _solve_position(law, dp.start_roll_a)
@@ -272,8 +297,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                 loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
             q[parts[g]][1:] = gears[g].static(loads)
         q[0] = e0 / ra
-        force = np.zeros(teeth.size)
-        force[np.searchsorted(teeth, js)] = f0
+        force = np.zeros(n_c)
+        force[np.searchsorted(teeth, js)] = f0      # the drive flanks come first
         v = np.zeros(n)
         v[0], v[na] = speed, speed * ra / rb
         qdd = np.zeros(n)
@@ -295,20 +320,27 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     roll_0, roll_1 = dp.start_roll_a, dp.end_roll_a
 
     def rows_at(theta_a: float, f: NDArray[np.float64]) -> _Rows | None:
-        """The pairs near the path at the driver's turn ``theta_a``: their indices in
-        ``teeth``, the constant part of their gaps, and per gear the rows' coefficients on
-        the hub and their elastic parts (:meth:`~spurdyn.solvers.sector.bodies.FullBody.rows`)."""
-        rolls = roll_0 + theta_a + teeth * pitch
+        """The contacts near their paths at the driver's turn ``theta_a``: their indices in
+        ``c_teeth``, the constant part of their gaps, and per gear the rows' coefficients on
+        the hub and their elastic parts (:meth:`~spurdyn.solvers.sector.bodies.FullBody.rows`).
+        A back flank's roll is ``Sigma - rho`` (:func:`~spurdyn.solvers.sector.system.back_roll_sum`),
+        running backwards as the driver turns, and its gap the mirror image's plus the
+        backlash, opening as the driver runs ahead (docs/sector.md, 6.7)."""
+        rolls = roll_0 + theta_a + c_teeth * pitch
+        rolls = np.where(c_side == 1, sigma - rolls, rolls)
         on = np.flatnonzero((rolls >= roll_0 - reach) & (rolls <= roll_1 + reach))
         if not on.size:
             return None
         g0, slope, r_a, r_b = table.at(rolls[on])
         hw = _half_widths_at(dp, (r_a, r_b), f[on], estar, width)
-        k = teeth[on] + offset            # the driver's body teeth (a continuation runs on)
+        sd = c_side[on]
+        sgn = np.where(sd == 1, -1.0, 1.0)        # d roll / d theta_A
+        k = c_teeth[on] + offset          # the driver's body teeth (a continuation runs on)
         # d gap / d theta: the base circles' and, off the path, the corner's
-        sides = tuple((coef, gears[g].rows(sign * k, blocks[g].flank_loads(r, hw)))
-                      for g, (sign, coef, r) in enumerate(((1, slope - ra, r_a), (-1, np.full(k.size, rb), r_b))))
-        return _Rows(on, g0 - slope * theta_a, sides)
+        sides = tuple((coef, gears[g].rows(kg, blocks[g].flank_loads(r, hw), sd))
+                      for g, (kg, coef, r) in enumerate(((k, sgn * (slope - ra), r_a),
+                                                          (-k + sd, sgn * rb, r_b))))
+        return _Rows(on, g0 - sgn * slope * theta_a + jn * sd, sides)
 
     def gap_rows(rows: _Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included)."""
@@ -352,7 +384,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     n_out = n_steps + 1
     th_out = np.full((n_out, 2), np.nan)
     om_out = np.full((n_out, 2), np.nan)
-    f_out = np.full((n_out, teeth.size), np.nan)
+    f_out = np.full((n_out, n_c), np.nan)
     gap_out = np.full(n_out, np.nan)
     en_out = np.full((n_out, 8), np.nan) if energy else None
     c_res = np.zeros((0, 0))
@@ -396,9 +428,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             if compiled:        # the same loop, compiled (step_compiled.py), in chunks for progress
                 from spurdyn.solvers.sector.stepper_compiled import run_compiled
 
-                step, failed = run_compiled(gears, blocks, (q, v, acc, qdd, force), teeth, offset, table,
+                step, failed = run_compiled(gears, blocks, (q, v, acc, qdd, force), c_teeth, c_side, offset, table,
                                             (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h,
-                                             am, af, beta, gamma, h, bp, gp),
+                                             am, af, beta, gamma, h, bp, gp, sigma, jn),
                                             f_ext, c_table, (th_out, om_out, f_out, gap_out), first, n_steps, every,
                                             progress, target * pitch, done)
                 if failed:
@@ -414,7 +446,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                     x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
                     rows = rows_at(float(q_hat[0]), force)
                     last = force
-                    force = np.zeros(teeth.size)
+                    force = np.zeros(n_c)
                     if rows is not None:
                         on = rows.on
                         w0, w_gd, w_dd, c_res, cols = compliance(rows)
@@ -476,9 +508,11 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     n_kept = step + 1 if status == "complete" or "interrupted" in reason else step
     # the teeth of the cycles run (those of the cycles it might have gone on to never came)
     keep = teeth >= -target - 1
+    back_keep = back_k >= back_teeth(dp, target, REACH * pitch)[0] if back else np.zeros(0, bool)
     result = sector_result(pair, dp, settings, blocks, cycle, teeth[keep], n_kept, np.arange(th_out.shape[0]) * h,
-                           th_out, om_out, f_out[:, keep], gap_out, en_out, per_cycle, cycles, most, h,
-                           (t_drv, t_drn), c_table, status, reason, _time.perf_counter() - wall0, load)
+                           th_out, om_out, f_out[:, :teeth.size][:, keep], gap_out, en_out, per_cycle, cycles, most, h,
+                           (t_drv, t_drn), c_table, status, reason, _time.perf_counter() - wall0, load,
+                           back=(back_k[back_keep], f_out[:, teeth.size:][:, back_keep]) if back else None)
     if status == "complete" and blocks[0].whole and blocks[1].whole:
         # where the next speed of a continuation starts: this end, the teeth N on
         q_end = q.copy()
@@ -487,7 +521,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         loaded = np.flatnonzero(force > 0.0)
         result.info["sector_end_state"] = pack_state(SectorState(
             offset - target, q_end, v / speed, acc / speed**2, qdd / speed**2,
-            teeth[loaded] + offset, force[loaded]))
+            c_teeth[loaded] + offset, force[loaded], c_side[loaded]))
     result.info["tooth_offset"] = offset
     result.info["rayleigh"] = list(rayleigh)
     # the bodies' damping was the model's default (BODY_DAMPING_RATIO), not the run's
@@ -498,5 +532,5 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     return result
 
 
-__all__ = ["BODY_DAMPING_RATIO", "SECTOR_REVISION", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
+__all__ = ["BACKLASH_FLOOR", "BODY_DAMPING_RATIO", "SECTOR_REVISION", "back_flanks_on", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
            "cycles_limit", "simulate_sector", "steps_per_cycle"]

@@ -20,7 +20,8 @@ class SectorState(NamedTuple):
     ``offset``: the body tooth of the driver that the run's pair 0 is (a run of ``N`` cycles
     ends ``N`` teeth on); ``q`` with the hubs' turns less the whole pitches; ``dq``, ``ddq``
     and ``qdd`` the velocities and the scheme's two accelerations per angle; ``teeth``,
-    ``forces`` the pairs' forces by the driver's body tooth."""
+    ``forces``, ``sides`` the contacts' forces by the driver's body tooth and flank (0 the
+    drive flank, 1 the back flank)."""
 
     offset: int
     q: NDArray[np.float64]
@@ -29,13 +30,14 @@ class SectorState(NamedTuple):
     qdd: NDArray[np.float64]
     teeth: NDArray[np.intp]
     forces: NDArray[np.float64]
+    sides: NDArray[np.intp]
 
 
 def pack_state(state: SectorState) -> tuple[float, ...]:
     """``state`` as the flat numbers of :attr:`RunSettings.start_state`."""
     n = state.q.size
     return tuple(float(x) for x in (state.offset, n, *state.q, *state.dq, *state.ddq, *state.qdd,
-                                    state.teeth.size, *state.teeth, *state.forces))
+                                    state.teeth.size, *state.teeth, *state.forces, *state.sides))
 
 
 def unpack_state(flat: tuple[float, ...], n: int) -> SectorState:
@@ -48,10 +50,10 @@ def unpack_state(flat: tuple[float, ...], n: int) -> SectorState:
     q, dq, ddq, qdd = (x[2 + i * n:2 + (i + 1) * n] for i in range(4))
     m = int(x[2 + 4 * n])
     rest = x[3 + 4 * n:]
-    if rest.size != 2 * m:
+    if rest.size != 3 * m:
         raise InputError("start_state", "is not a state of the sector model")
     return SectorState(int(x[0]), q.copy(), dq.copy(), ddq.copy(), qdd.copy(),
-                       rest[:m].astype(np.intp), rest[m:].copy())
+                       rest[:m].astype(np.intp), rest[m:2 * m].copy(), rest[2 * m:].astype(np.intp))
 
 
 __all__ = ["SectorState", "pack_state", "unpack_state"]

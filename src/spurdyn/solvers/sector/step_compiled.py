@@ -4,9 +4,10 @@ the same equations (the rows, the couplings, the mesh damper by Woodbury, the co
 problem by active sets with the step before's first, the generalized-alpha update).
 
 Everything a step reads is an array or a scalar: per gear the inverse of ``S``, the modes'
-damping and ``omega^2``, the modes at each tooth's flank in its own frame, the static
-flexibility between two flanks by the teeth's distance round the ring, and the flank's
-geometry; the pair's rigid-gap table; the scheme's constants. It runs ``steps`` steps from the
+damping and ``omega^2``, the modes at each flank in its own frame, the static flexibility
+between two flanks by the teeth's distance round the ring, and the flank's geometry; the
+contacts' teeth and flanks (0 the drive flanks, 1 the back flanks); the pair's rigid-gap
+table; the scheme's constants. It runs ``steps`` steps from the
 state it is given (changed in place) and writes the saved columns.
 """
 
@@ -154,24 +155,27 @@ def _lcp_ordered(w, v, guess, order):
 def run_steps(first_step, steps, q, v, acc, qdd, force,
               inv0, inv1, damp0, damp1, om0, om1, modes0, modes1, flex0, flex1,
               geo0, geo1, first0, first1, count0, count1,
-              teeth, offset, t_rho, t_gap, t_slope, t_ra, t_rb, consts, xq, wq, f_ext, c_table,
+              teeth, sides, offset, t_rho, t_gap, t_slope, t_ra, t_rb, consts, xq, wq, f_ext, c_table,
               th_out, om_out, f_out, gap_out):
     """``steps`` steps from ``first_step`` (the state changed in place, the saved columns
     written at ``first_step + 1 ...``). ``consts``: ``roll_0, roll_1, reach, pitch, r_bA,
-    r_bB, E*, L, c_H, alpha_m, alpha_f, beta, gamma, h, beta', gamma'``; ``c_table`` the mesh
+    r_bB, E*, L, c_H, alpha_m, alpha_f, beta, gamma, h, beta', gamma', Sigma, j_n`` (the back
+    flanks' roll sum and the backlash, ``system.back_roll_sum``); ``c_table`` the mesh
     damper's coefficient over a pitch (``damper.mesh_damper_table``, read as ``damper.damper_at``).
+    Contact ``i`` is the driver's tooth ``teeth[i]`` on its flank ``sides[i]``.
 
     Returns the last step done and 0, or the step whose solution was not finite and 1."""
     roll_0, roll_1, reach, pitch = consts[0], consts[1], consts[2], consts[3]
     ra, rb, estar, width, c_h = consts[4], consts[5], consts[6], consts[7], consts[8]
     am, af, beta, gamma, h, bp, gp = consts[9], consts[10], consts[11], consts[12], consts[13], consts[14], consts[15]
+    sigma, jn = consts[16], consts[17]
     n_damp = c_table.size - 1
     na = inv0.shape[0]
     nb = inv1.shape[0]
     n = na + nb
     m0 = om0.size
     m1 = om1.size
-    nf = modes0.shape[1]
+    nf = modes0.shape[2]
     nt = teeth.size
     z0 = inv0[:, 0].copy()
     z1 = inv1[:, 0].copy()
@@ -196,11 +200,13 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
         x0[:na] = inv0 @ r[:na]
         x0[na:] = inv1 @ r[na:]
         theta = q_hat[0]
-        # the pairs near the path
+        # the contacts near their paths (a back flank's roll runs backwards: system.back_roll_sum)
         on = np.empty(nt, np.int64)
         p = 0
         for i in range(nt):
             roll = roll_0 + theta + teeth[i] * pitch
+            if sides[i]:
+                roll = sigma - roll
             if roll >= roll_0 - reach and roll <= roll_1 + reach:
                 on[p] = i
                 p += 1
@@ -214,23 +220,30 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
             coef1 = np.full(p, rb)
             at0 = np.empty(p, np.int64)
             at1 = np.empty(p, np.int64)
+            sd = np.empty(p, np.int64)
             for a in range(p):
                 i = on[a]
+                sd[a] = sides[i]
+                # d roll / d theta_A: +1 on a drive flank, -1 on a back flank
+                sgn = -1.0 if sd[a] else 1.0
                 rho = roll_0 + theta + teeth[i] * pitch
+                if sd[a]:
+                    rho = sigma - rho
                 g0, slope, r_a, r_b = _table_at(t_rho, t_gap, t_slope, t_ra, t_rb, rho)
                 hw = _half_width(last[i], r_a, r_b, geo0[3], geo1[3], estar, width)
-                const[a] = g0 - slope * theta
-                coef0[a] = slope - ra
+                const[a] = g0 - sgn * slope * theta + (jn if sd[a] else 0.0)
+                coef0[a] = sgn * (slope - ra)
+                coef1[a] = sgn * rb
                 k = teeth[i] + offset
                 at0[a] = (k - first0) % count0
-                at1[a] = (-k - first1) % count1
+                at1[a] = (-k + sd[a] - first1) % count1
                 _flank_load(geo0, r_a, hw, xq, wq, loads0[a])
                 _flank_load(geo1, r_b, hw, xq, wq, loads1[a])
             rows0 = np.empty((p, m0))
             rows1 = np.empty((p, m1))
             for a in range(p):
-                rows0[a] = loads0[a] @ modes0[at0[a]]
-                rows1[a] = loads1[a] @ modes1[at1[a]]
+                rows0[a] = loads0[a] @ modes0[at0[a], sd[a]]
+                rows1[a] = loads1[a] @ modes1[at1[a], sd[a]]
             # couplings (docs/sector.md 6.3): per gear S^-1 G^T = z c^T + S^-1 E^T
             full0 = np.outer(z0, coef0) + inv0_e @ rows0.T
             full1 = np.outer(z1, coef1) + inv1_e @ rows1.T
@@ -244,7 +257,8 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
                 for c in range(p):
                     d0 = (at0[a] - at0[c]) % count0
                     d1 = (at1[a] - at1[c]) % count1
-                    res[a, c] = loads0[a] @ (flex0[d0] @ loads0[c]) + loads1[a] @ (flex1[d1] @ loads1[c])
+                    res[a, c] = (loads0[a] @ (flex0[d0, sd[a], sd[c]] @ loads0[c])
+                                 + loads1[a] @ (flex1[d1, sd[a], sd[c]] @ loads1[c]))
             res -= (rows0 / om0) @ rows0.T + (rows1 / om1) @ rows1.T
             # the mesh damper, shared by the forces of the step before
             shares = np.empty(p)

@@ -11,13 +11,14 @@ from numpy.typing import NDArray
 
 
 def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...], teeth: NDArray[np.intp],
-                 offset: int, table: Any, consts: tuple[float, ...], f_ext: NDArray[np.float64], c_table: NDArray[np.float64],
+                 sides: NDArray[np.intp], offset: int, table: Any, consts: tuple[float, ...], f_ext: NDArray[np.float64], c_table: NDArray[np.float64],
                  outs: tuple[NDArray[np.float64], ...], first: int, n_steps: int, every: int,
                  progress: Callable[[int, float, float], None] | None,
                  total: float, done: list[int]) -> tuple[int, bool]:
     """Run the loop with :func:`spurdyn.solvers.sector.step_compiled.run_steps` (modal bodies
-    of whole gears) from step ``first`` to ``n_steps``, ``every`` steps a call; ``(last step,
-    whether it failed)``."""
+    of whole gears) from step ``first`` to ``n_steps``, ``every`` steps a call, contact ``i``
+    the driver's tooth ``teeth[i]`` on its flank ``sides[i]``; ``(last step, whether it
+    failed)``."""
     from spurdyn.contact.hertz import strip_quadrature
     from spurdyn.solvers.sector.step_compiled import run_steps
 
@@ -31,12 +32,12 @@ def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...]
     (i0, d0, o0, mo0, fx0, g0, fi0, c0), (i1, d1, o1, mo1, fx1, g1, fi1, c1) = per_gear
     xq, wq = strip_quadrature()
     q, v, acc, qdd, force = state
-    teeth64, constants = np.asarray(teeth, np.int64), np.array(consts, dtype=float)
+    teeth64, sides64, constants = np.asarray(teeth, np.int64), np.asarray(sides, np.int64), np.array(consts, dtype=float)
     step = first
     while step < n_steps:
         chunk = min(every, n_steps - step)
         step, failed = run_steps(step, chunk, q, v, acc, qdd, force, i0, i1, d0, d1, o0, o1, mo0, mo1,
-                                 fx0, fx1, g0, g1, fi0, fi1, c0, c1, teeth64, int(offset),
+                                 fx0, fx1, g0, g1, fi0, fi1, c0, c1, teeth64, sides64, int(offset),
                                  table.rho, table.gap, table.slope, table.r_a, table.r_b,
                                  constants, xq, wq, f_ext, c_table, *outs)
         if failed:

@@ -92,6 +92,7 @@ class GearBlock:
     stiffness: sp.csr_matrix
     _free_of: NDArray[np.intp] = field(repr=False)
     _side_of: NDArray[np.intp] = field(repr=False)
+    _left: NDArray[np.intp] = field(repr=False)
 
     @property
     def gear(self) -> Gear:
@@ -114,16 +115,20 @@ class GearBlock:
             raise IndexError(f"tooth {k} is not in the sector {self.first}..{self.first + self.count - 1}")
         return k
 
-    def flank_dofs(self, k: int) -> NDArray[np.intp]:
-        """``(2 (2 ny + 1),)`` free-DOF numbers of tooth ``k``'s right flank, root to tip."""
-        dofs = self.body.mesh.tooth_dofs(self.tooth(k)).reshape(-1, 2)[self.body.flank.side_nodes]
+    def flank_dofs(self, k: int, side: int = 0) -> NDArray[np.intp]:
+        """``(2 (2 ny + 1),)`` free-DOF numbers of tooth ``k``'s right flank (``side`` 0, the
+        drive flank) or left flank (1, the back flank, node for node the right one's mirror
+        image across the tooth's centre line), root to tip."""
+        nodes = self.body.flank.side_nodes if side == 0 else self._left
+        dofs = self.body.mesh.tooth_dofs(self.tooth(k)).reshape(-1, 2)[nodes]
         return self._free_of[dofs.ravel()]
 
-    def flank_load(self, k: int, r: float, b: float) -> NDArray[np.float64]:
+    def flank_load(self, k: int, r: float, b: float, side: int = 0) -> NDArray[np.float64]:
         """The unit strip load of tooth ``k`` at involute radius ``r`` (half-width ``b``) on
-        :meth:`flank_dofs`: :meth:`spurdyn.sector.body.SectorBody.load` on the flank alone."""
+        :meth:`flank_dofs` of ``side``: :meth:`spurdyn.sector.body.SectorBody.load` on the
+        flank alone (on the left flank its mirror image)."""
         local = self.flank_loads(np.array([r]), np.array([b]))[0]
-        return turn(local.reshape(-1, 2), self.body.mesh.tooth_angle(self.tooth(k))).ravel()
+        return (local.reshape(-1, 2) @ self.turn_of(k, side).T).ravel()
 
     def flank_loads(self, r: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
         """``(p, 2 (2 ny + 1))`` unit strip loads at involute radii ``r`` with half-widths
@@ -134,12 +139,15 @@ class GearBlock:
         normal = body.gear.flank_normal(np.asarray(r, dtype=float))
         return (-w[:, :, None] * normal[:, None, :]).reshape(w.shape[0], -1)
 
-    def turn_of(self, k: int) -> NDArray[np.float64]:
-        """``(2, 2)`` the turn taking tooth 0's frame to tooth ``k``'s, node by node
-        (:func:`spurdyn.mesh.sector.turn`: ``v_k = v_0 @ Q.T``)."""
+    def turn_of(self, k: int, side: int = 0) -> NDArray[np.float64]:
+        """``(2, 2)`` the map taking a vector at a node of tooth 0's right flank to tooth
+        ``k``'s flank ``side``, node by node (``v_k = v_0 @ Q.T``): the turn of
+        :func:`spurdyn.mesh.sector.turn`, after, for the left flank, the mirror ``x -> -x``
+        across the tooth's centre line (tooth 0 lies along +y)."""
         a = self.body.mesh.tooth_angle(self.tooth(k))
         c, s = math.cos(a), math.sin(a)
-        return np.array([[c, s], [-s, c]])
+        q = np.array([[c, s], [-s, c]])
+        return q * np.array([-1.0, 1.0]) if side else q
 
     def matrix(self, cm: float, cc: float, ck: float, rayleigh: tuple[float, float]) -> sp.csc_matrix:
         """``cm M_g + cc C_g + ck K_g`` (module docstring) with Rayleigh's ``(a, b)``."""
@@ -174,20 +182,48 @@ class GearBlock:
 WHOLE_FROM_CYCLES = 3
 
 
-def teeth_for(pair: GearPair, cycles: float) -> tuple[tuple[int, int], tuple[int, int]]:
+def back_roll_sum(dp: GearPair) -> float:
+    """``Sigma = psi_bA + 2 alpha_w`` (rad): the sum of the rolls of one driver tooth's two
+    flanks on their lines of action (docs/sector.md, 6.7). The driver's tooth ``k``, whose drive
+    flank is at the roll ``rho = rho_start + theta_A + k p``, has its back flank at the roll
+    ``Sigma - rho`` on the back line of action (the drive line's mirror image across the line
+    of centres), facing the back flank of the driven gear's tooth ``-k + 1``."""
+    return 2.0 * dp.gear_a.half_angle_base + 2.0 * dp.working_pressure_angle
+
+
+def back_teeth(dp: GearPair, cycles: float, reach: float) -> tuple[int, int]:
+    """``(lo, hi)``: the driver's teeth whose back flank comes within ``reach`` (rad of roll)
+    of the back path of contact over a run of ``cycles`` mesh cycles from the start of a
+    cycle, and one more on each side (the transmission error moves the rolls a little)."""
+    pitch = 2.0 * math.pi / dp.gear_a.teeth
+    sigma = back_roll_sum(dp)
+    r0, r1 = dp.start_roll_a, dp.end_roll_a
+    hi = int(math.floor((sigma - 2.0 * r0 + reach) / pitch))
+    lo = int(math.ceil((sigma - r0 - r1 - reach) / pitch - cycles - 1e-9))
+    return lo - 1, hi + 1
+
+
+def teeth_for(pair: GearPair, cycles: float,
+              back: bool = False) -> tuple[tuple[int, int], tuple[int, int]]:
     """``((first, count), (first, count))`` of the driver's and the driven gear's teeth that
     a run of ``cycles`` mesh cycles needs: every tooth that reaches the path of contact (the
     driver's ``0 .. P-1`` at the start, one more entering behind them each cycle; the driven
-    gear's the negatives) and a neighbour on each side; a gear's whole ring when that is as
-    many teeth as it has, or the run lasts :data:`WHOLE_FROM_CYCLES` cycles or more."""
+    gear's the negatives), with ``back`` every pair of back flanks near the back path
+    (:func:`back_teeth`: the driver's ``k`` and the driven gear's ``-k + 1``), and a
+    neighbour on each side; a gear's whole ring when that is as many teeth as it has, or the
+    run lasts :data:`WHOLE_FROM_CYCLES` cycles or more."""
     n_path = pairs_in_path(pair)
-    first = -int(math.ceil(cycles - 1e-9)) - 1
-    count = n_path - first + 1
+    lo_a, hi_a = -int(math.ceil(cycles - 1e-9)) - 1, n_path
+    lo_b, hi_b = -hi_a, -lo_a
+    if back:
+        k_lo, k_hi = back_teeth(pair, cycles, REACH * 2.0 * math.pi / pair.gear_a.teeth)
+        lo_a, hi_a = min(lo_a, k_lo - 1), max(hi_a, k_hi + 1)
+        lo_b, hi_b = min(lo_b, -k_hi), max(hi_b, -k_lo + 2)
     out = []
-    for gear, lo in ((pair.gear_a, first), (pair.gear_b, -(first + count - 1))):
+    for gear, lo, hi in ((pair.gear_a, lo_a, hi_a), (pair.gear_b, lo_b, hi_b)):
         z = gear.teeth
-        whole = count >= z or cycles >= WHOLE_FROM_CYCLES
-        out.append((-(z // 2), z) if whole else (lo, count))
+        whole = hi - lo + 1 >= z or cycles >= WHOLE_FROM_CYCLES
+        out.append((-(z // 2), z) if whole else (lo, hi - lo + 1))
     return out[0], out[1]
 
 
@@ -216,7 +252,22 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
     return GearBlock(body=body, sense=sense, first=first, count=count, mass=m_full[free],
                      rot=s_full[free], inertia=j_hub + j_body, hub_inertia=j_hub,
                      body_inertia=j_body, stiffness=body.stiffness[free][:, free].tocsr(),
-                     _free_of=free_of, _side_of=side_of)
+                     _free_of=free_of, _side_of=side_of,
+                     _left=mirror_nodes(mesh.tooth.nodes, body.flank.side_nodes))
+
+
+def mirror_nodes(nodes: NDArray[np.float64], side: NDArray[np.intp]) -> NDArray[np.intp]:
+    """The nodes at the mirror images ``(-x, y)`` of the nodes ``side`` of a tooth mesh whose
+    centre line is the y axis (the left flank's nodes of the right flank's, in its order).
+    The tooth mesh is symmetric node for node; a mesh that is not is refused."""
+    from scipy.spatial import cKDTree
+
+    dist, idx = cKDTree(nodes).query(nodes[side] * np.array([-1.0, 1.0]))
+    scale = float(np.abs(nodes).max())
+    if dist.max() > 1e-9 * scale:
+        raise ValueError(f"the tooth mesh is not symmetric: a flank node's mirror image is "
+                         f"{dist.max():.3g} m from the nearest node")
+    return idx.astype(np.intp)
 
 
 #: How far beyond either end of the path of contact (as a fraction of the angular pitch of
@@ -333,5 +384,6 @@ def gap_table(dp: GearPair, reach: float) -> GapTable:
     return GapTable(rho=vals[:, 0], gap=vals[:, 1], slope=vals[:, 2], r_a=vals[:, 3], r_b=vals[:, 4])
 
 
-__all__ = ["GAP_TABLE_DENSITY", "GapTable", "GearBlock", "REACH", "SLOPE_STEP", "gap_table", "gear_block", "rigid_gap",
-           "rotation_field", "teeth_for"]
+__all__ = ["GAP_TABLE_DENSITY", "GapTable", "GearBlock", "REACH", "SLOPE_STEP", "back_roll_sum", "back_teeth",
+           "gap_table", "gear_block",
+           "mirror_nodes", "rigid_gap", "rotation_field", "teeth_for"]

@@ -106,6 +106,7 @@ BAD: dict[str, st.SearchStrategy[Any]] = {
     "save_every": st.one_of(NOT_WHOLE, st.integers(-(2**63), 0), st.integers(10_000, INT64)),
     "frames_every": st.one_of(NOT_WHOLE, st.integers(-(2**63), -1)),
     "keep_theta_term": st.one_of(st.integers(), st.text(max_size=5), st.floats()),
+    "back_flanks": st.one_of(st.integers(), st.text(max_size=5), st.floats()),
     "damping_ratio": st.one_of(NOT_A_NUMBER, NOT_FINITE, _floats(-1e308, -1e-300),
                                _floats(1.0, 1e308)),
     "integrator": st.one_of(st.text(max_size=8).filter(lambda s: s not in ("rk4", "implicit")),

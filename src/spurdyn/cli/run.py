@@ -253,8 +253,11 @@ def report_line(summary: dict[str, Any]) -> str:
     else:
         peak_s = f"peak {peak:,.1f} N" + (f" = {dyn:.3f} x static" if dyn is not None else "") \
             + f" ({window}; raw {raw:,.1f} N)"
+    back = summary.get("back_flanks") or {}
+    back_s = (f", back flanks {back['peak_force_N']:,.1f} N at most ({back['steps_in_contact']:,} steps)"
+              if back.get("steps_in_contact") else "")
     return (f"{summary['case']}: complete, {steps} in {summary['wall_s']:.1f} s, {peak_s}, "
-            f"{summary['separations']} separation(s)")
+            f"{summary['separations']} separation(s){back_s}")
 
 
 def _report(summary: dict[str, Any], quiet: bool) -> None:

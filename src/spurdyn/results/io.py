@@ -111,6 +111,14 @@ def _pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
         out["pair_roll_deg"] = xr.Variable(dims, np.degrees(np.asarray(result.pair_roll, float)), {
             "units": "degree", "long_name": "driver's roll angle of each tooth pair's contact "
             "point on its extended path of contact (NaN away from it)"})
+    if result.back_force is not None:
+        back = np.asarray(result.back_force, float).reshape(n, -1)
+        out["back_pair_force"] = xr.Variable(("time", "back_pair"), back, {
+            "units": "N", "long_name": "normal force of each pair of back flanks (the driver's "
+            "tooth k on the driven gear's -k+1) along the back line of action, compression positive"})
+        out["back_mesh_force"] = xr.Variable(("time",), back.sum(axis=1), {
+            "units": "N", "long_name": "total normal force on the back flanks along the back line "
+            "of action (the driver's torque from the mesh is r_b (mesh_force - back_mesh_force))"})
     return out
 
 
@@ -215,6 +223,10 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
     coords = {"time": xr.Variable(t, np.asarray(result.time, float),
                                   {"units": "s", "long_name": "time since the start of contact",
                                    "standard_name": "time"})}
+    if "back_pair_force" in data_vars:
+        coords["back_pair"] = xr.Variable(("back_pair",), np.asarray(result.info["back_pair_teeth"], np.int32), {
+            "units": "1", "long_name": "the driver's tooth of the pair of back flanks (the driven "
+            "gear's is -k+1)"})
     if "pair_force" in data_vars and "pair_teeth" in result.info:
         coords["pair"] = xr.Variable(("pair",), np.asarray(result.info["pair_teeth"], np.int32), {
             "units": "1", "long_name": "the driver's tooth of the pair (the driven gear's is its "
@@ -398,6 +410,14 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     model = info.get("model")
     if model and model != "fe":  # say which model made it (the FE solver's is implied)
         summary["model"] = model
+    if "back_flanks" in info:   # the sector model: whether the back flanks were contacts
+        back = {"contacts": bool(info["back_flanks"]), "backlash_normal_m": info.get("backlash_normal_m")}
+        if "back_mesh_force" in ds:
+            bf = ds["back_mesh_force"].values
+            back.update(peak_force_N=float(np.nanmax(bf, initial=0.0)),
+                        steps_in_contact=int((bf > 0).sum()),
+                        steps_without_drive_contact=int((ds["mesh_force"].values <= 0).sum()))
+        summary["back_flanks"] = back
     if "rayleigh" in info:      # the bodies' damping the model ran with, and whose it was
         a, b = info["rayleigh"]
         summary["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,

@@ -1,8 +1,9 @@
 """The picture of a run of several tooth pairs (the sector model): ``mesh.png``.
 
-Three panels against the rotation of gear A: each pair's force with the mesh force, each
-pair's share of the load, and the transmission error; the settled window of a steady-state
-run shaded; an incomplete run says so in the title.
+Three panels against the rotation of gear A: each pair's force with the mesh force (and, where
+the back flanks are contacts, their forces below zero), each pair's share of the load, and the
+transmission error; the settled window of a steady-state run shaded; an incomplete run says so
+in the title.
 """
 
 from __future__ import annotations
@@ -41,6 +42,12 @@ def plot_mesh(ds: xr.Dataset, png: str | Path) -> Path:
             ax_f.plot(angle, force[:, j], lw=0.8, label=f"pair {int(teeth[j])}")
             ax_s.plot(angle, share[:, j], lw=0.8)
     ax_f.plot(angle, ds["mesh_force"].values, color="k", lw=1.2, label="mesh force")
+    if "back_pair_force" in ds:     # the back flanks' forces, drawn below zero
+        back = ds["back_pair_force"].values
+        if np.nanmax(back, initial=0.0) > 0.0:
+            ax_f.plot(angle, -ds["back_mesh_force"].values, color="C3", lw=1.0,
+                      label="back flanks (drawn negative)")
+            ax_f.axhline(0.0, color="0.5", lw=0.5)
     if np.isfinite(static):
         ax_f.axhline(static, color="k", ls="--", lw=0.8, label=f"T/r_b = {static:,.0f} N")
     ax_f.set_ylabel("normal force (N)")

@@ -88,8 +88,9 @@ STEPS_PER_MESH_PERIOD = 200
 CYCLE_POSITIONS = 21
 #: Bumped when a change of the model makes a run of the same settings differ (a sweep's
 #: settings hash carries it, so that its stored points are not taken for the new model's):
-#: 2, the mesh damper following the cycle's stiffness.
-SECTOR_REVISION = 2
+#: 2, the mesh damper following the cycle's stiffness; 3, the back flanks contacts by default
+#: where the pair has backlash.
+SECTOR_REVISION = 3
 #: The bodies' structural damping when the run gives no Rayleigh damping: stiffness
 #: proportional, this ratio at :data:`KEEP_FREQUENCY` (a tenth of it at 5 kHz, where the pair's
 #: torsional mode lies). Without any, the bodies' own modes (the teeth on their rims, which

@@ -20,7 +20,12 @@ from spurdyn.sector.statics import driving_pair
 from spurdyn.settings import RPM
 from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.sector.run import back_flanks_on, simulate_sector
-from spurdyn.solvers.sector.system import back_roll_sum, gear_block, rigid_gap, teeth_for
+from spurdyn.solvers.sector.system import (
+    back_roll_sum,
+    gear_block,
+    rigid_gap,
+    teeth_for,
+)
 
 PAIR = paper_pair()
 MESH = dict(nx=2, ny=8)

@@ -59,6 +59,18 @@ from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.cache import _cached
 from spurdyn.solvers.sector.damper import damper_at, mesh_damper_table
 from spurdyn.solvers.sector.output import sector_result
+from spurdyn.solvers.sector.rules import (
+    BACKLASH_FLOOR,
+    BODY_DAMPING_RATIO,
+    CYCLE_POSITIONS,
+    KEEP_FREQUENCY,
+    SECTOR_REVISION,
+    STEPS_PER_MESH_PERIOD,
+    back_flanks_on,
+    body_rayleigh,
+    cycles_limit,
+    steps_per_cycle,
+)
 from spurdyn.solvers.sector.state import SectorState, pack_state, unpack_state
 from spurdyn.solvers.sector.system import (
     REACH,
@@ -74,63 +86,6 @@ from spurdyn.solvers.sector.system import (
 )
 from spurdyn.solvers.steady import settled_after
 
-#: The highest frequency (Hz) the sector model's default step resolves with
-#: :data:`STEPS_PER_KEPT_PERIOD` steps a period: the pair's torsional mode (~5-6 kHz on the
-#: sector's stiffness for the paper's pair) and the mesh frequency's first harmonics lie
-#: well below; the modes of the teeth on their rim above it are damped out by the scheme.
-KEEP_FREQUENCY = 50e3
-STEPS_PER_KEPT_PERIOD = 10
-#: Fewest steps per mesh cycle: the contact point crosses each element along the flank in
-#: several steps.
-STEPS_PER_MESH_PERIOD = 200
-#: Positions of the quasi-static cycle the run reads its mean stiffness and its largest
-#: quasi-static pair force from.
-CYCLE_POSITIONS = 21
-#: Bumped when a change of the model makes a run of the same settings differ (a sweep's
-#: settings hash carries it, so that its stored points are not taken for the new model's):
-#: 2, the mesh damper following the cycle's stiffness; 3, the back flanks contacts by default
-#: where the pair has backlash.
-SECTOR_REVISION = 3
-#: The bodies' structural damping when the run gives no Rayleigh damping: stiffness
-#: proportional, this ratio at :data:`KEEP_FREQUENCY` (a tenth of it at 5 kHz, where the pair's
-#: torsional mode lies). Without any, the bodies' own modes (the teeth on their rims, which
-#: the mesh damper does not reach) ring for ever and a run never settles (docs/sector.md,
-#: 6.5). An ASSUMPTION of typical magnitude, not a measured property of a gear; give
-#: ``rayleigh_mass``/``rayleigh_stiffness`` (0 for none) to set another.
-BODY_DAMPING_RATIO = 0.02
-
-
-def body_rayleigh(settings: RunSettings) -> tuple[float, float]:
-    """Rayleigh's ``(a, b)`` of the sector model's bodies: the run's, or if it gives none,
-    :data:`BODY_DAMPING_RATIO` at :data:`KEEP_FREQUENCY` on the stiffness alone."""
-    if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
-        return 0.0, 2.0 * BODY_DAMPING_RATIO / (2.0 * math.pi * KEEP_FREQUENCY)
-    return settings.rayleigh
-
-
-#: Normal backlash (m) from which the back flanks are contacts when the run does not say
-#: (``RunSettings.back_flanks`` None): a pair with less is taken as the nominal tight pair
-#: whose back flanks are not modelled (docs/sector.md, 6.7).
-BACKLASH_FLOOR = 1e-9
-
-
-def back_flanks_on(pair: GearPair, settings: RunSettings) -> bool:
-    """Whether the run's back flanks are contacts: as ``settings.back_flanks`` says, or by
-    default where the pair has backlash (more than :data:`BACKLASH_FLOOR`)."""
-    if settings.back_flanks is not None:
-        return bool(settings.back_flanks)
-    return pair.backlash_normal > BACKLASH_FLOOR
-
-
-def cycles_limit(settings: RunSettings) -> int:
-    """Most mesh cycles a sector run may go on to if it has not settled (``max_cycles``; by
-    default :data:`~spurdyn.settings.SETTLE_CYCLES_FACTOR` times its cycles on whole gears,
-    and on a sector of teeth, which covers only the cycles asked, those)."""
-    cycles = int(settings.cycles or 1)
-    if settings.max_cycles is None and cycles < WHOLE_FROM_CYCLES:
-        return cycles
-    return int(settings.cycles_limit or cycles)
-
 
 class _Rows(NamedTuple):
     """The pairs near the path at a step: their indices in the run's teeth, the constant
@@ -139,17 +94,6 @@ class _Rows(NamedTuple):
     on: NDArray[np.intp]
     const: NDArray[np.float64]
     sides: tuple[tuple[NDArray[np.float64], Any], ...]
-
-
-def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
-    """Steps per mesh cycle ``2 pi / (z omega)``: a whole number, so that every cycle is
-    sampled at the same phases, giving a step no longer than ``dt`` (by default the
-    smaller of a tenth of the period of :data:`KEEP_FREQUENCY` and 1/:data:`STEPS_PER_MESH_PERIOD`
-    of the cycle)."""
-    period = 2.0 * math.pi / (teeth * abs(speed))
-    if dt is None:
-        dt = min(1.0 / (STEPS_PER_KEPT_PERIOD * KEEP_FREQUENCY), period / STEPS_PER_MESH_PERIOD)
-    return max(int(math.ceil(period / dt - 1e-9)), 1)
 
 
 def _lcp(w: NDArray[np.float64], v: NDArray[np.float64],

@@ -43,7 +43,6 @@ from spurdyn.fem.assembly import assemble_lumped_mass
 from spurdyn.geometry.corner import corner_contact
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
-from spurdyn.mesh.sector import turn
 from spurdyn.sector.body import SectorBody, sector_body
 from spurdyn.sector.statics import pairs_in_path
 

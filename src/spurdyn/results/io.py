@@ -31,11 +31,17 @@ from numpy.typing import NDArray
 
 from spurdyn.casefile import Case, case_to_dict
 from spurdyn.errors import InputError
-from spurdyn.results.beside import beside
-from spurdyn.results.frames import ToothFrames, case_from_run, speeds_label, tooth_frames
-from spurdyn.results.headline import averaged_peak, headline
-from spurdyn.results.stress import root_stress_variables, stress_summary
 from spurdyn.result import STAGES, Result
+from spurdyn.results.beside import beside
+from spurdyn.results.frames import (
+    ToothFrames,
+    case_from_run,
+    speeds_label,
+    tooth_frames,
+)
+from spurdyn.results.headline import headline
+from spurdyn.results.pairs import _pair_variables, back_flank_figures, steady_figures
+from spurdyn.results.stress import root_stress_variables, stress_summary
 
 RESULT_FILE = "result.nc"
 CSV_FILE = "contact_force.csv"
@@ -83,43 +89,6 @@ def _model_figures(result: Result, case: Case) -> dict[str, Any]:
     return {"n_dof": n_dof, "theta_s": theta_s, "theta_2": theta_2,
             "static_force": float(info.get("static_force", case.static_force)),
             "single_zone": (float(zone[0]), float(zone[1]))}
-
-
-def _pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
-    """The tooth pairs' forces, roll angles and load shares, the mesh force and the
-    transmission error of a model of several teeth (none for a model of one pair)."""
-    out: dict[str, xr.Variable] = {}
-    if result.transmission_error is not None:
-        out["transmission_error"] = xr.Variable(("time",), np.asarray(result.transmission_error, float), {
-            "units": "m", "long_name": "transmission error along the line of action: r_b,driver "
-            "theta_driver - r_b,driven theta_driven less its rigid kinematic value, positive where "
-            "the driver runs ahead (the teeth yield)"})
-    if result.pair_force is None:
-        return out
-    force = np.asarray(result.pair_force, float).reshape(n, -1)
-    mesh = force.sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        share = np.where(mesh[:, None] > 0, force / mesh[:, None], np.nan)
-    dims = ("time", "pair")
-    out["pair_force"] = xr.Variable(dims, force, {
-        "units": "N", "long_name": "normal force of each tooth pair, compression positive"})
-    out["mesh_force"] = xr.Variable(("time",), mesh, {
-        "units": "N", "long_name": "total normal force of the mesh along the line of action"})
-    out["load_share"] = xr.Variable(dims, share, {
-        "units": "1", "long_name": "each tooth pair's share of the mesh force (NaN with no contact)"})
-    if result.pair_roll is not None:
-        out["pair_roll_deg"] = xr.Variable(dims, np.degrees(np.asarray(result.pair_roll, float)), {
-            "units": "degree", "long_name": "driver's roll angle of each tooth pair's contact "
-            "point on its extended path of contact (NaN away from it)"})
-    if result.back_force is not None:
-        back = np.asarray(result.back_force, float).reshape(n, -1)
-        out["back_pair_force"] = xr.Variable(("time", "back_pair"), back, {
-            "units": "N", "long_name": "normal force of each pair of back flanks (the driver's "
-            "tooth k on the driven gear's -k+1) along the back line of action, compression positive"})
-        out["back_mesh_force"] = xr.Variable(("time",), back.sum(axis=1), {
-            "units": "N", "long_name": "total normal force on the back flanks along the back line "
-            "of action (the driver's torque from the mesh is r_b (mesh_force - back_mesh_force))"})
-    return out
 
 
 def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
@@ -411,53 +380,12 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     if model and model != "fe":  # say which model made it (the FE solver's is implied)
         summary["model"] = model
     if "back_flanks" in info:   # the sector model: whether the back flanks were contacts
-        back = {"contacts": bool(info["back_flanks"]), "backlash_normal_m": info.get("backlash_normal_m")}
-        if "back_mesh_force" in ds:
-            bf = ds["back_mesh_force"].values
-            back.update(peak_force_N=float(np.nanmax(bf, initial=0.0)),
-                        steps_in_contact=int((bf > 0).sum()),
-                        steps_without_drive_contact=int((ds["mesh_force"].values <= 0).sum()))
-        summary["back_flanks"] = back
+        summary["back_flanks"] = back_flank_figures(ds, info)
     if "rayleigh" in info:      # the bodies' damping the model ran with, and whose it was
         a, b = info["rayleigh"]
         summary["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
                                    "source": "model default" if info.get("rayleigh_default") else "run"}
     return _jsonable(summary)
-
-
-def steady_figures(time: NDArray[np.float64], force: NDArray[np.float64],
-                   steady: dict[str, Any], complete: bool) -> dict[str, Any]:
-    """The settled figures of a steady-state run (docs/lumped.md): the dynamic factor of
-    the most loaded tooth pair's 10-us-averaged force over the last cycles against the
-    largest pair force of a quasi-static cycle, the transmission error's RMS and
-    peak-to-peak there, and whether the run settled."""
-    lo, _ = steady["window_s"]
-    sel = time >= lo - 1e-15
-    static = float(steady["static_pair_force_max_N"])
-    peak = averaged_peak(time[sel], force[sel])
-    raw = float(np.nanmax(force[sel])) if sel.any() else None
-    ok = complete and peak is not None and static > 0
-    m = steady["last_cycles"]
-    return {
-        "cycles": steady["cycles"],
-        "cycles_done": steady["cycles_done"],
-        "max_cycles": steady.get("max_cycles"),
-        "settled": bool(steady["settled"]) and complete,
-        "settle_tolerance": steady["settle_tolerance"],
-        "peak_force_N": None if peak is None else peak[0],
-        "peak_force_raw_N": raw,
-        "static_force_N": static,
-        "dynamic_factor": peak[0] / static if ok else None,
-        "dynamic_factor_raw": raw / static if ok and raw is not None else None,
-        "dynamic_factor_note": (f"the most loaded tooth pair's 10-us-averaged force over the last "
-                                f"{m} mesh cycle(s) against its largest quasi-static value"
-                                + ("" if steady["settled"] else "; the run had not settled: "
-                                   "its cycle-to-cycle change was above the tolerance")
-                                if ok else "none: the run stopped early"),
-        "transmission_error_rms_m": steady["transmission_error_rms_m"],
-        "transmission_error_pp_m": steady["transmission_error_pp_m"],
-        "mesh_stiffness_mean_N_per_m": steady["mesh_stiffness_mean_N_per_m"],
-    }
 
 
 def write_csv(ds: xr.Dataset, path: Path) -> None:

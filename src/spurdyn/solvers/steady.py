@@ -110,7 +110,7 @@ def steady_record(fig: dict[str, Any], period: float, static_pair_max: float, st
                   end_state: list[float] | None = None,
                   start_state: list[float] | None = None) -> dict[str, Any]:
     """A run's ``info["steady"]``, which the summary reads
-    (:func:`spurdyn.results.io.steady_figures`): the settled test and figures of
+    (:func:`spurdyn.results.pairs.steady_figures`): the settled test and figures of
     :func:`cycle_figures`, the mesh period (s), the largest quasi-static pair force (N), the
     mean mesh stiffness (N/m), and where a continuation ends and started."""
     return {

@@ -183,7 +183,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     # driver's teeth that come near the back path (each on the driven gear's tooth -k + 1)
     jn = dp.backlash_normal
     sigma = back_roll_sum(dp)
-    back_k = np.arange(*np.array(back_teeth(dp, most, REACH * pitch)) + [0, 1]) if back else np.zeros(0, np.intp)
+    back_lo, back_hi = back_teeth(dp, most, REACH * pitch) if back else (0, -1)
+    back_k = np.arange(back_lo, back_hi + 1)
     c_teeth = np.concatenate([teeth, back_k]).astype(np.intp)
     c_side = np.concatenate([np.zeros(teeth.size, np.intp), np.ones(back_k.size, np.intp)])
     n_c = c_teeth.size

@@ -217,7 +217,7 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
         else:
             const = np.empty(p)
             coef0 = np.empty(p)
-            coef1 = np.full(p, rb)
+            coef1 = np.empty(p)
             at0 = np.empty(p, np.int64)
             at1 = np.empty(p, np.int64)
             sd = np.empty(p, np.int64)

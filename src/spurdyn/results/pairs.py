@@ -1,0 +1,104 @@
+"""What a model of several tooth pairs adds to a run's files (the sector model, and the
+lumped model's steady state): the pairs' forces, shares and rolls and the back flanks' forces
+as variables of ``result.nc``, and the settled figures and the back flanks' figures of
+``summary.json`` (docs/sector.md 6.4, 6.7; docs/lumped.md)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from spurdyn.result import Result
+from spurdyn.results.headline import averaged_peak
+
+
+def _pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
+    """The tooth pairs' forces, roll angles and load shares, the mesh force and the
+    transmission error of a model of several teeth (none for a model of one pair)."""
+    out: dict[str, xr.Variable] = {}
+    if result.transmission_error is not None:
+        out["transmission_error"] = xr.Variable(("time",), np.asarray(result.transmission_error, float), {
+            "units": "m", "long_name": "transmission error along the line of action: r_b,driver "
+            "theta_driver - r_b,driven theta_driven less its rigid kinematic value, positive where "
+            "the driver runs ahead (the teeth yield)"})
+    if result.pair_force is None:
+        return out
+    force = np.asarray(result.pair_force, float).reshape(n, -1)
+    mesh = force.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        share = np.where(mesh[:, None] > 0, force / mesh[:, None], np.nan)
+    dims = ("time", "pair")
+    out["pair_force"] = xr.Variable(dims, force, {
+        "units": "N", "long_name": "normal force of each tooth pair, compression positive"})
+    out["mesh_force"] = xr.Variable(("time",), mesh, {
+        "units": "N", "long_name": "total normal force of the mesh along the line of action"})
+    out["load_share"] = xr.Variable(dims, share, {
+        "units": "1", "long_name": "each tooth pair's share of the mesh force (NaN with no contact)"})
+    if result.pair_roll is not None:
+        out["pair_roll_deg"] = xr.Variable(dims, np.degrees(np.asarray(result.pair_roll, float)), {
+            "units": "degree", "long_name": "driver's roll angle of each tooth pair's contact "
+            "point on its extended path of contact (NaN away from it)"})
+    if result.back_force is not None:
+        back = np.asarray(result.back_force, float).reshape(n, -1)
+        out["back_pair_force"] = xr.Variable(("time", "back_pair"), back, {
+            "units": "N", "long_name": "normal force of each pair of back flanks (the driver's "
+            "tooth k on the driven gear's -k+1) along the back line of action, compression positive"})
+        out["back_mesh_force"] = xr.Variable(("time",), back.sum(axis=1), {
+            "units": "N", "long_name": "total normal force on the back flanks along the back line "
+            "of action (the driver's torque from the mesh is r_b (mesh_force - back_mesh_force))"})
+    return out
+
+
+def back_flank_figures(ds: xr.Dataset, info: dict[str, Any]) -> dict[str, Any]:
+    """``summary.json``'s ``back_flanks``: whether they were contacts, the normal backlash,
+    and where they were, their peak force, the steps with a back contact and the steps with no
+    drive contact."""
+    back: dict[str, Any] = {"contacts": bool(info["back_flanks"]),
+                            "backlash_normal_m": info.get("backlash_normal_m")}
+    if "back_mesh_force" in ds:
+        bf = ds["back_mesh_force"].values
+        back.update(peak_force_N=float(np.nanmax(bf, initial=0.0)),
+                    steps_in_contact=int((bf > 0).sum()),
+                    steps_without_drive_contact=int((ds["mesh_force"].values <= 0).sum()))
+    return back
+
+
+def steady_figures(time: NDArray[np.float64], force: NDArray[np.float64],
+                   steady: dict[str, Any], complete: bool) -> dict[str, Any]:
+    """The settled figures of a steady-state run (docs/lumped.md): the dynamic factor of
+    the most loaded tooth pair's 10-us-averaged force over the last cycles against the
+    largest pair force of a quasi-static cycle, the transmission error's RMS and
+    peak-to-peak there, and whether the run settled."""
+    lo, _ = steady["window_s"]
+    sel = time >= lo - 1e-15
+    static = float(steady["static_pair_force_max_N"])
+    peak = averaged_peak(time[sel], force[sel])
+    raw = float(np.nanmax(force[sel])) if sel.any() else None
+    ok = complete and peak is not None and static > 0
+    m = steady["last_cycles"]
+    return {
+        "cycles": steady["cycles"],
+        "cycles_done": steady["cycles_done"],
+        "max_cycles": steady.get("max_cycles"),
+        "settled": bool(steady["settled"]) and complete,
+        "settle_tolerance": steady["settle_tolerance"],
+        "peak_force_N": None if peak is None else peak[0],
+        "peak_force_raw_N": raw,
+        "static_force_N": static,
+        "dynamic_factor": peak[0] / static if ok else None,
+        "dynamic_factor_raw": raw / static if ok and raw is not None else None,
+        "dynamic_factor_note": (f"the most loaded tooth pair's 10-us-averaged force over the last "
+                                f"{m} mesh cycle(s) against its largest quasi-static value"
+                                + ("" if steady["settled"] else "; the run had not settled: "
+                                   "its cycle-to-cycle change was above the tolerance")
+                                if ok else "none: the run stopped early"),
+        "transmission_error_rms_m": steady["transmission_error_rms_m"],
+        "transmission_error_pp_m": steady["transmission_error_pp_m"],
+        "mesh_stiffness_mean_N_per_m": steady["mesh_stiffness_mean_N_per_m"],
+    }
+
+
+__all__ = ["back_flank_figures", "steady_figures"]

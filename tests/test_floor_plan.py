@@ -44,7 +44,7 @@ FLOORS = (
     ("sector",),
     ("solvers",),
     ("lumped",),
-    ("pairfile", "casefile"),
+    ("pairfile", "casefile", "torquefile"),
     ("results",),
     ("simulators",),
     ("cases",),

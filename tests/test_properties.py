@@ -127,6 +127,14 @@ BAD: dict[str, st.SearchStrategy[Any]] = {
                            st.booleans()),
     "bodies": st.one_of(st.text(max_size=8).filter(lambda s: s not in ("modal", "full")),
                         st.integers(), st.booleans()),
+    # the FE model (the example's) refuses any teeth; without cycles any start but the static
+    # one, any ramp (it needs a start from rest) and any history are refused, as a bad value
+    # or for want of cycles; a name is no file in an empty folder
+    "teeth": st.one_of(NOT_WHOLE, st.integers(-(2**63), INT64)),
+    "start": st.one_of(st.text(max_size=8).filter(lambda s: s != "static"), st.integers(), st.booleans()),
+    "ramp_cycles": st.one_of(NOT_A_NUMBER, NOT_FINITE, _floats(-1e308, 1e308)),
+    "torque_history": st.one_of(st.text(max_size=8), st.integers(), st.floats(), st.booleans()),
+    "torque_history_periodic": st.one_of(st.booleans(), st.integers(), st.text(max_size=5)),
 }
 
 

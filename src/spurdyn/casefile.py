@@ -28,10 +28,12 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
     GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS, TOP_KEYS, MeshedPair, _check_keys,
     _gear_to_dict, _read_toml, gear_from_table, load_pair, material_from_table, pair_from_dict,
 )
+from spurdyn.model.loading import check_history
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, MAX_GRADING
 from spurdyn.settings import (
-    BACKENDS, BODIES, CONTACTS, INTEGRATORS, METHODS, MODEL_NAMES, PAPER_DT, RETIRED_METHODS, RPM, STIFFNESSES, RunSettings,
+    BACKENDS, BODIES, CONTACTS, INTEGRATORS, METHODS, MODEL_NAMES, PAPER_DT, RETIRED_METHODS, RPM, STARTS, STIFFNESSES,
+    RunSettings, TorqueHistory,
 )
 from spurdyn.solvers.check import check_run, default_dt, round_down, stable_step
 from spurdyn.solvers.implicit.alpha import accuracy_step
@@ -42,6 +44,7 @@ RUN_KEYS = {
     "max_iter", "accel_levels", "method", "backend", "contact", "save_every", "frames_every",
     "keep_theta_term", "damping_ratio", "integrator", "rho_inf", "rayleigh_mass",
     "rayleigh_stiffness", "rayleigh_ratio", "rayleigh_hz", "cycles", "max_cycles", "stiffness", "bodies", "back_flanks",
+    "teeth", "start", "ramp_cycles", "torque_history", "torque_history_periodic",
 }
 
 
@@ -178,7 +181,7 @@ _RUN_KEY_OF = {"speed_a": "speed_a_rpm", "speed_b": "speed_b_rpm", "angle": "ang
 def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None, name: str,
                    overrides: Mapping[str, Any] | None = None,
                    labels: Mapping[str, str] | None = None, description: str = "",
-                   check_step: bool = True) -> Case:
+                   check_step: bool = True, base: Path | None = None) -> Case:
     """Build a :class:`Case` from a pair and its ``[run]`` table (TOML units).
 
     Parameters
@@ -199,6 +202,9 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     check_step
         Refuse a time step above the stable RK4 step of either tooth mesh (builds both
         tooth models, a fraction of a second) and refuse a bad mesh.
+    base
+        The folder a ``torque_history`` file of the table is relative to (the case file's;
+        one given on the command line is relative to the working folder).
 
     Raises
     ------
@@ -253,10 +259,15 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         stiffness=src.choice("stiffness", "tooth", STIFFNESSES),
         bodies=src.choice("bodies", "modal", BODIES),
         back_flanks=src.boolean("back_flanks", None),
+        teeth=src.integer("teeth", None, 1),
+        start=src.choice("start", "static", STARTS),
+        ramp_cycles=src.number("ramp_cycles", None),
+        torque_history=_torque_history(src, base),
         name=name,
     )
     try:
         run = RunSettings(**settings)
+        check_history(pair, run)
     except InputError as err:  # the upper bounds are RunSettings's own
         raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
     system = None
@@ -279,6 +290,29 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
 
         check_run(pair, run, system, field)
     return Case(name=name, pair=pair, run=run, description=description)
+
+
+def _torque_history(src: _Source, base: Path | None) -> TorqueHistory | None:
+    """The ``torque_history``: a CSV file's name (relative to ``base``, or to the working
+    folder where the command line gave it) or an inline table
+    (:mod:`spurdyn.torquefile`), repeated if ``torque_history_periodic``."""
+    from spurdyn.torquefile import history_from_table, read_history_csv
+
+    periodic = src.boolean("torque_history_periodic", False)
+    found, value, name = src.get("torque_history")
+    if not found:
+        if src.get("torque_history_periodic")[0]:
+            raise InputError(src.field("torque_history_periodic"), "repeats a torque history: "
+                             "give torque_history too (--torque-history FILE)")
+        return None
+    if isinstance(value, dict):
+        return history_from_table(value, name, bool(periodic))
+    if not isinstance(value, (str, Path)):
+        raise InputError(name, f"must be a CSV file's name or a table (got {value!r})"[:200])
+    path = Path(value)
+    if not path.is_absolute() and base is not None and "run.torque_history" not in src.overrides:
+        path = base / path
+    return read_history_csv(path, name, bool(periodic))
 
 
 def _rayleigh(src: _Source) -> dict[str, float]:
@@ -327,14 +361,15 @@ def _system(pair: GearPair, nx: int, ny: int, n_spline: int, grading: float,
 def case_from_dict(data: dict[str, Any], name: str = "case",
                    overrides: Mapping[str, Any] | None = None,
                    labels: Mapping[str, str] | None = None,
-                   check_step: bool = True) -> Case:
-    """Build a :class:`Case` from a parsed TOML document (or :func:`case_to_dict`)."""
+                   check_step: bool = True, base: Path | None = None) -> Case:
+    """Build a :class:`Case` from a parsed TOML document (or :func:`case_to_dict`); ``base``
+    the folder its files are relative to."""
     if not isinstance(data, dict):
         raise InputError("case", "must be a table")
     meshed_pair = pair_from_dict(data, name=name)
     model = _model_kind(data.get("model"), overrides or {}, labels or {})
     case = case_from_pair(meshed_pair, data.get("run"), name, overrides, labels,
-                          check_step=check_step)
+                          check_step=check_step, base=base)
     return case if model == "fe" else replace(case, model=model)
 
 
@@ -359,7 +394,7 @@ def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
     """Read a case TOML file: the pair tables and the ``[run]`` table."""
     path = Path(path)
     return case_from_dict(_read_toml(path), name=path.stem, overrides=overrides,
-                          labels=labels, check_step=check_step)
+                          labels=labels, check_step=check_step, base=path.parent)
 
 
 def case_to_dict(case: Case) -> dict[str, Any]:
@@ -394,6 +429,17 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         run_table["bodies"] = run.bodies
     if run.back_flanks is not None:
         run_table["back_flanks"] = run.back_flanks
+    if run.teeth is not None:
+        run_table["teeth"] = run.teeth
+    if run.start != "static":
+        run_table["start"] = run.start
+    if run.ramp_cycles is not None:
+        run_table["ramp_cycles"] = run.ramp_cycles
+    if run.torque_history is not None:   # inline: the stored case stands on its own
+        from spurdyn.torquefile import history_to_table
+
+        run_table["torque_history"] = history_to_table(run.torque_history)
+        run_table["torque_history_periodic"] = run.torque_history.periodic
     return {
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),

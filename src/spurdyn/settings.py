@@ -94,6 +94,74 @@ SETTLE_CYCLES_FACTOR = 4
 FE_CYCLES_REASON = ("needs a model that meshes for more than one engagement: the paper's "
                     "one-tooth FE model covers one (use --model sector or --model lumped)")
 
+#: How a steady-state run starts: ``"static"``, from the static equilibrium of the loaded
+#: pair at the first position of a mesh cycle (no start-up oscillation); ``"rest"``, the
+#: bodies undeformed at their nominal speeds and the torques ramped up from zero over
+#: ``ramp_cycles`` mesh cycles.
+STARTS = ("static", "rest")
+#: Mesh cycles of the torques' ramp of a run from rest when the run gives none.
+DEFAULT_RAMP_CYCLES = 1.0
+#: Most points of a torque history (a million: a measured signal at 1 MHz for a second).
+MAX_HISTORY_POINTS = 1_000_000
+
+
+@dataclass(frozen=True)
+class TorqueHistory:
+    """The torques of a run against time, read from a file or a table (N m, s).
+
+    Parameters
+    ----------
+    time
+        Sample times (s), strictly increasing; the run's time 0 is the first.
+    driver
+        The driver's torque at each time (N m, along its rotation: positive drives).
+    load
+        The driven gear's load torque at each time (N m, against its rotation: positive
+        resists); ``None``, the nominal load of the run's ``torque`` throughout.
+    periodic
+        Repeat the history with the period ``time[-1] - time[0]`` past its end; otherwise
+        a run longer than the history is refused.
+    source
+        Where it came from (a file's name), for the reports.
+
+    Between samples the torques are linear in time (:func:`spurdyn.model.loading.history_at`).
+    """
+
+    time: tuple[float, ...]
+    driver: tuple[float, ...]
+    load: tuple[float, ...] | None = None
+    periodic: bool = False
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        t = self.time
+        if len(t) < 2:
+            raise InputError("torque_history", f"needs at least two samples (got {len(t)})")
+        if len(t) > MAX_HISTORY_POINTS:
+            raise InputError("torque_history", f"holds {len(t):,} samples, more than "
+                             f"{MAX_HISTORY_POINTS:,}: resample it")
+        for name, col in (("time", t), ("driver", self.driver), ("load", self.load)):
+            if col is None:
+                continue
+            if len(col) != len(t):
+                raise InputError("torque_history", f"{name} has {len(col)} values for {len(t)} times")
+            bad = [v for v in col if not isinstance(v, float) or not math.isfinite(v)]
+            if bad:
+                raise InputError("torque_history", f"{name} must be finite numbers (got {bad[0]!r})")
+        steps = [b - a for a, b in zip(t[:-1], t[1:])]
+        if min(steps) <= 0.0:
+            i = steps.index(min(steps))
+            raise InputError("torque_history", f"times must increase: {t[i + 1]!r} s follows {t[i]!r} s")
+        if not isinstance(self.periodic, bool):
+            raise InputError("torque_history", f"periodic must be true or false (got {self.periodic!r})")
+
+    @property
+    def duration(self) -> float:
+        """The time the history covers (s): its last time less its first (its period when
+        ``periodic``)."""
+        return self.time[-1] - self.time[0]
+
+
 #: Why the FE solver's RK4 refuses damping (the one place that says it).
 FE_DAMPING_REASON = ("needs the implicit integrator in the FE model: the paper's RK4 is "
                      "undamped (use --integrator implicit, --model lumped, or no damping)")
@@ -166,6 +234,20 @@ class RunSettings:
     back_flanks
         Whether the sector model's back flanks are contacts too (backlash and rattle): ``None``
         where the pair has backlash (:func:`spurdyn.solvers.sector.run.back_flanks_on`).
+    start
+        How a steady-state run starts, one of :data:`STARTS`: from the static equilibrium
+        of the loaded pair, or from rest with the torques ramped up.
+    ramp_cycles
+        Mesh cycles over which a run from rest ramps its torques up linearly (``None``:
+        :data:`DEFAULT_RAMP_CYCLES`).
+    torque_history
+        The torques against time (:class:`TorqueHistory`) instead of constant ones; the run's
+        ``torque`` stays the nominal one the static start, the mesh damper and the dynamic
+        factor refer to. A run under a history lasts its ``cycles`` (no settled test).
+    teeth
+        The sector model's teeth per gear: ``None`` those the run meets and a neighbour on
+        each side (:func:`spurdyn.solvers.sector.system.teeth_for`); the gear's number of
+        teeth or more, the whole gear.
     start_state
         Where a steady-state run starts instead of the static compression: the
         transmission error ``delta`` (m) and its slope ``d delta / d phi_A`` (m/rad) at the
@@ -214,6 +296,10 @@ class RunSettings:
     stiffness: str = "tooth"
     bodies: str = "modal"
     back_flanks: bool | None = None
+    teeth: int | None = None
+    start: str = "static"
+    ramp_cycles: float | None = None
+    torque_history: TorqueHistory | None = None
     start_state: tuple[float, ...] | None = None
     save_every: int = 1
     frames_every: int = 100
@@ -277,6 +363,28 @@ class RunSettings:
                              f"(got {self.integrator!r})")
         if self.back_flanks is not None and not isinstance(self.back_flanks, bool):
             raise InputError("back_flanks", f"must be true or false (got {self.back_flanks!r})")
+        k = self.teeth
+        if k is not None and (not isinstance(k, int) or isinstance(k, bool) or k < 1):
+            raise InputError("teeth", f"must be a whole number >= 1 (got {k!r})")
+        if self.start not in STARTS:
+            raise InputError("start", f"must be one of {', '.join(STARTS)} (got {self.start!r})")
+        rc = self.ramp_cycles
+        if rc is not None:
+            if not isinstance(rc, (int, float)) or isinstance(rc, bool) or not math.isfinite(rc) or rc <= 0:
+                raise InputError("ramp_cycles", f"must be a positive number of mesh cycles (got {rc!r})")
+            if self.start != "rest":
+                raise InputError("ramp_cycles", "ramps the torques of a run from rest: give start = "
+                                 "\"rest\" too (--start rest), or leave it out")
+        for key, given in (("start", self.start != "static"), ("torque_history", self.torque_history is not None)):
+            if given and self.cycles is None:
+                raise InputError(key, "is for a run of mesh cycles (the sector and the lumped model): "
+                                 "give its cycles too (--cycles N)")
+        if self.torque_history is not None:
+            if not isinstance(self.torque_history, TorqueHistory):
+                raise InputError("torque_history", f"must be a TorqueHistory (got {self.torque_history!r})"[:200])
+            if self.max_cycles is not None and self.max_cycles != self.cycles:
+                raise InputError("max_cycles", "a run under a torque history lasts its cycles: the "
+                                 "settled test is for constant torques; leave max_cycles out")
         if self.bodies not in BODIES:
             raise InputError("bodies", f"must be one of {', '.join(BODIES)} (got {self.bodies!r})")
         if self.stiffness not in STIFFNESSES:
@@ -291,11 +399,12 @@ class RunSettings:
     @property
     def cycles_limit(self) -> int | None:
         """Most mesh cycles the run may go on to if it has not settled: ``max_cycles``, or
-        :data:`SETTLE_CYCLES_FACTOR` times ``cycles`` (``None`` without ``cycles``)."""
+        :data:`SETTLE_CYCLES_FACTOR` times ``cycles`` (``None`` without ``cycles``); under a
+        torque history, its ``cycles``."""
         if self.cycles is None:
             return None
-        if self.max_cycles is not None:
-            return self.max_cycles
+        if self.max_cycles is not None or self.torque_history is not None:
+            return self.max_cycles or self.cycles
         return min(SETTLE_CYCLES_FACTOR * self.cycles, MAX_CYCLES)
 
     @property

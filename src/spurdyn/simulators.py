@@ -90,18 +90,19 @@ def tooth_table(pair: GearPair, settings: RunSettings) -> Any:
 
 
 def sector_cycle(pair: GearPair, settings: RunSettings) -> Any:
-    """The sector model's mesh cycle of the run's pair, mesh and torque as the lumped
+    """The sector model's mesh cycle of the run's pair, mesh, torque and teeth as the lumped
     model's stiffness (:class:`spurdyn.lumped.cycle.SectorCycle`), cached per process."""
     from spurdyn.lumped.cycle import SectorCycle
     from spurdyn.sector.statics import mesh_cycle
 
-    key = ("sector", pair, settings.nx, settings.ny, settings.grading, settings.torque)
+    key = ("sector", pair, settings.nx, settings.ny, settings.grading, settings.torque, settings.teeth)
     try:
         cycle = _TABLES.get(key)
     except TypeError:  # an unhashable pair: no caching
         key, cycle = None, None
     if cycle is None:
-        mc = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, grading=settings.grading)
+        mc = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, teeth=settings.teeth,
+                        grading=settings.grading)
         cycle = SectorCycle.from_mesh_cycle(pair, mc)
         if key is not None:
             _TABLES[key] = cycle

@@ -18,7 +18,7 @@ from typing import Any, NoReturn, Sequence
 from spurdyn.casefile import MeshedPair
 from spurdyn.cli.inputs import meshed_case, png_target, resolve_pair
 from spurdyn.cli.options import (DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics,
-                                 refuse_sector_options)
+                                 refuse_lumped_options, refuse_sector_options)
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import PAPER_TORQUE
 from spurdyn.simulators import MODELS
@@ -152,7 +152,9 @@ def cmd_run(args: argparse.Namespace) -> int:
         if model == "fe":
             refuse_fe_dynamics(case.run, labels)
         elif model == "sector":
-            refuse_sector_options(case.run, labels)
+            refuse_sector_options(case.run, labels, case.pair)
+        else:
+            refuse_lumped_options(case.run, labels, case.pair)
     if not args.allow_large:
         from spurdyn.solvers.limits import check_size
 

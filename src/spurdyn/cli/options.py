@@ -6,7 +6,12 @@ from __future__ import annotations
 import argparse
 
 from spurdyn.errors import InputError
-from spurdyn.settings import BODIES, INTEGRATORS, STIFFNESSES, RunSettings
+from spurdyn.geometry.pair import GearPair
+from spurdyn.settings import BODIES, INTEGRATORS, STARTS, STIFFNESSES, RunSettings
+
+#: Why a model without several teeth refuses ``teeth`` (the one place that says it).
+TEETH_REASON = ("sets the sector model's teeth per gear (--model sector, or the lumped model's "
+                "--stiffness sector); {model} would not read it")
 
 #: Options of the time integrator and damping that ``run`` and ``sweep`` share:
 #: (dest, dotted case key, label).
@@ -21,6 +26,11 @@ DYNAMICS_OVERRIDES = (
     ("stiffness", "run.stiffness", "--stiffness"),
     ("bodies", "run.bodies", "--bodies"),
     ("back_flanks", "run.back_flanks", "--back-flanks"),
+    ("teeth", "run.teeth", "--teeth"),
+    ("start", "run.start", "--start"),
+    ("ramp_cycles", "run.ramp_cycles", "--ramp-cycles"),
+    ("torque_history", "run.torque_history", "--torque-history"),
+    ("torque_history_periodic", "run.torque_history_periodic", "--torque-history-periodic"),
 )
 
 
@@ -49,14 +59,16 @@ def refuse_fe_dynamics(run: RunSettings, labels: dict[str, str]) -> None:
         raise InputError(labels.get("run.stiffness", "run.stiffness"), FE_STIFFNESS_REASON)
     if run.cycles is not None:
         raise InputError(labels.get("run.cycles", "run.cycles"), FE_CYCLES_REASON)
+    if run.teeth is not None:
+        raise InputError(labels.get("run.teeth", "run.teeth"), TEETH_REASON.format(model="the paper's FE model"))
     if run.damped and run.integrator == "rk4":
         raise InputError(damping_label(run, labels), FE_DAMPING_REASON)
 
 
-def refuse_sector_options(run: RunSettings, labels: dict[str, str]) -> None:
+def refuse_sector_options(run: RunSettings, labels: dict[str, str], pair: GearPair | None = None) -> None:
     """Refuse, in one line, the options the sector model would not read: its step is its own
     (of accuracy), its integrator generalized-alpha and its contact the Hertzian strip
-    (docs/sector.md, section 6)."""
+    (docs/sector.md, section 6); and, given the ``pair``, fewer ``teeth`` than the run meets."""
     if "run.dt" in labels:
         raise InputError(labels["run.dt"], "the sector model sets its own step of accuracy "
                          "(docs/sector.md, 6.3); leave it out")
@@ -66,6 +78,31 @@ def refuse_sector_options(run: RunSettings, labels: dict[str, str]) -> None:
     if "run.contact" in labels and run.contact != "hertz":
         raise InputError(labels["run.contact"], "the sector model's contact is the Hertzian "
                          "strip; leave it out or give hertz")
+    if pair is not None and run.teeth is not None:
+        from spurdyn.sector.statics import driving_pair
+        from spurdyn.solvers.sector.rules import back_flanks_on, cycles_limit
+        from spurdyn.solvers.sector.system import teeth_for
+
+        dp = driving_pair(pair)
+        try:
+            teeth_for(dp, cycles_limit(run), back_flanks_on(dp, run), run.teeth)
+        except InputError as err:
+            raise InputError(labels.get("run.teeth", "run.teeth"), err.reason) from None
+
+
+def refuse_lumped_options(run: RunSettings, labels: dict[str, str], pair: GearPair) -> None:
+    """Refuse, in one line, ``teeth`` where the lumped model would not read it (its stiffness
+    the tooth's) or fewer than carry load together (its stiffness the sector's)."""
+    if run.teeth is None:
+        return
+    label = labels.get("run.teeth", "run.teeth")
+    if run.stiffness != "sector":
+        raise InputError(label, TEETH_REASON.format(model="the lumped model with the tooth's stiffness"))
+    from spurdyn.sector.statics import driving_pair, pairs_in_path
+
+    need = pairs_in_path(driving_pair(pair))
+    if run.teeth < need:
+        raise InputError(label, f"must be at least the {need} teeth that carry load together (got {run.teeth})")
 
 
 def damping_label(run: RunSettings, labels: dict[str, str]) -> str:
@@ -103,6 +140,20 @@ def add_dynamics_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--back-flanks", type=_on_off, metavar="on|off",
                    help="the sector model's back flanks as contacts too (backlash, rattle; "
                         "default: on where the pair has backlash; docs/sector.md)")
+    p.add_argument("--teeth", type=int, metavar="K",
+                   help="the sector model's teeth per gear (default: those the run meets and a "
+                        "neighbour on each side; the gear's number of teeth: the whole gear)")
+    p.add_argument("--start", metavar="|".join(STARTS),
+                   help="how a run of mesh cycles starts: static (the loaded pair's static "
+                        "equilibrium, the default) or rest (undeformed, the torques ramped up)")
+    p.add_argument("--ramp-cycles", type=float, metavar="N",
+                   help="mesh cycles of the torques' ramp of a run from rest (default 1)")
+    p.add_argument("--torque-history", metavar="FILE",
+                   help="the torques against time from a CSV file (columns time_s, driver_Nm "
+                        "and optionally load_Nm; docs/casefile.md)")
+    p.add_argument("--torque-history-periodic", type=_on_off, metavar="on|off",
+                   help="repeat the torque history past its end (default off: a run longer "
+                        "than the history is refused)")
     p.add_argument("--stiffness", metavar="|".join(STIFFNESSES),
                    help="the lumped model's mesh stiffness: tooth (the paper model's root-clamped "
                         "tooth pair, the default) or sector (the sector model's mesh cycle: teeth "
@@ -127,4 +178,4 @@ def parse_mesh(text: str | None) -> tuple[int, int] | None:
 
 
 __all__ = ["DYNAMICS_OVERRIDES", "add_dynamics_options", "damping_label", "parse_mesh",
-           "refuse_fe_dynamics", "refuse_sector_options"]
+           "refuse_fe_dynamics", "refuse_lumped_options", "refuse_sector_options"]

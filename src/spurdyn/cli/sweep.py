@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from spurdyn.cli.options import (DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics,
-                                 refuse_sector_options)
+                                 refuse_lumped_options, refuse_sector_options)
 from spurdyn.errors import InputError
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep.spec import CONTINUATIONS, MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
@@ -127,7 +127,9 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     if model == "fe":   # not ignored in silence
         refuse_fe_dynamics(case.run, labels)
     elif model == "sector":
-        refuse_sector_options(case.run, labels)
+        refuse_sector_options(case.run, labels, case.pair)
+    else:
+        refuse_lumped_options(case.run, labels, case.pair)
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:
             raise InputError("--continuation", f"must be one of {', '.join(CONTINUATIONS)} "

@@ -31,7 +31,7 @@ from scipy.integrate import solve_ivp
 from spurdyn.geometry.pair import GearPair
 from spurdyn.lumped.cycle import SectorCycle, TableCycle, pair_rolls
 from spurdyn.lumped.model import RTOL, MeshStiffnessTable, _contact_roll_a, equivalent_mass, torsional_natural_frequency
-from spurdyn.model.loading import static_force, torque_amplitudes
+from spurdyn.model.loading import check_history, hub_torques, static_force, torque_amplitudes
 from spurdyn.result import Result
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.steady import cycle_figures, settled_after, steady_record
@@ -77,7 +77,10 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
     ra, rb = ga.base_radius, gb.base_radius
     ja, jb = ga.disk_inertia, gb.disk_inertia
     s = 1.0 if pair.driver == "a" else -1.0
+    check_history(pair, settings)
     amp_a, amp_b = torque_amplitudes(pair, settings.torque)
+    # torques that vary (a history, a ramp from rest) are read at each time, others once
+    varying = settings.torque_history is not None or settings.start == "rest"
     m_e = equivalent_mass(pair)
     pitch = 2.0 * math.pi / ga.teeth
     w_a0 = float(settings.speed_a)
@@ -100,11 +103,12 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         c = zeta2_sqrt_me * math.sqrt(k)
         return sum(max(0.0, kj * delta + c * kj / k * ddelta) for kj in ks)
 
-    def rhs(_t: float, y: NDArray[np.float64]) -> list[float]:
+    def rhs(t: float, y: NDArray[np.float64]) -> list[float]:
         phi_a, w_a, delta, ddelta = y
         f = mesh_force(phi_a, delta, ddelta)
-        acc_a = (amp_a - s * ra * f) / ja
-        acc_b = (amp_b + s * rb * f) / jb
+        t_a, t_b = hub_torques(pair, settings, t) if varying else (amp_a, amp_b)
+        acc_a = (t_a - s * ra * f) / ja
+        acc_b = (t_b + s * rb * f) / jb
         return [w_a, acc_a, ddelta, s * (ra * acc_a - rb * acc_b)]
 
     static = static_force(pair, settings.torque)
@@ -123,6 +127,8 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
     atol = np.array([1e-13, 1e-10 * w_a0, RTOL * delta_ref, RTOL * delta_ref * 2 * math.pi * f_n])
     if settings.start_state is not None:    # another run's end: the same phase of a cycle
         delta0, v0 = settings.start_state[0], settings.start_state[1] * w_a0
+    elif settings.start == "rest":          # undeformed, the torques ramped up from zero
+        delta0 = 0.0
     y0 = np.array([0.0, w_a0, delta0, v0])
     step = min(period / 40.0, 0.25 / f_n)
     sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=RTOL, atol=atol, max_step=step, t_eval=t)
@@ -186,6 +192,8 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         "natural_frequency_hz_kmax": f_n,
         "equivalent_mass": m_e,
         "damping_ratio": damping_ratio,
+        "start": settings.start,
+        "torque_history": None if settings.torque_history is None else (settings.torque_history.source or "table"),
         "integrator": "DOP853",
         "rtol": RTOL,
         "nfev": nfev,
@@ -203,7 +211,7 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         time=t, angle=phi_a.copy(), contact_force=most, gap=-delta,
         roll=np.column_stack([roll_a, pair.roll_b_from_roll_a(roll_a)]),
         theta=np.column_stack([phi_a, phi_b]), omega=np.column_stack([w_a, w_b]),
-        torque=np.column_stack([np.full(n, amp_a), np.full(n, amp_b)]),
+        torque=hub_torques(pair, settings, t) if varying else np.column_stack([np.full(n, amp_a), np.full(n, amp_b)]),
         residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
         corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=nfev,

@@ -1,4 +1,5 @@
-"""The external torques on the two disks: the paper's Fig. 7 schedule.
+"""The external torques on the two disks: the paper's Fig. 7 schedule, and the hubs'
+torques of a run of mesh cycles (constant, a torque history, a ramp from rest: :func:`hub_torques`).
 
 The model carries one tooth per gear, but real pairs share the load between two tooth
 pairs over the double-contact zones. Lee & Jang account for this by ramping the
@@ -28,7 +29,9 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
+from spurdyn.settings import DEFAULT_RAMP_CYCLES, RPM, RunSettings, TorqueHistory
 
 
 def torque_schedule(phi: ArrayLike, theta_s: float, theta_2: float) -> NDArray[np.float64]:
@@ -132,3 +135,66 @@ def static_force(pair: GearPair, torque: float) -> float:
     driving gear, the one home of this figure."""
     driver = pair.gear_a if pair.driver == "a" else pair.gear_b
     return torque / driver.base_radius
+
+
+def history_at(history: TorqueHistory, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """The driver's and the load torque of a :class:`~spurdyn.settings.TorqueHistory` at the
+    run's times ``t`` (s; the history's first time is the run's 0): linear between samples,
+    repeated with its period past its end if it is periodic, else held at its last value
+    (a run the history does not cover is refused before it starts). ``None`` for a history
+    without a load column."""
+    time = np.asarray(history.time) - history.time[0]
+    t = np.asarray(t, dtype=float)
+    if history.periodic:
+        t = np.mod(t, history.duration)
+    driver = np.interp(t, time, np.asarray(history.driver))
+    load = None if history.load is None else np.interp(t, time, np.asarray(history.load))
+    return driver, load
+
+
+def hub_torques(pair: GearPair, settings: RunSettings, t: ArrayLike) -> NDArray[np.float64]:
+    """The signed torques ``(T_a, T_b)`` on the hubs of a run of mesh cycles at its times
+    ``t`` (s), along each gear's sense of rotation, shape ``t.shape + (2,)``: the constant
+    ones of :func:`torque_amplitudes`, or the run's torque history (its load column, or the
+    nominal load), times the ramp of a run from rest (linear from 0 at ``t = 0`` to 1 after
+    ``ramp_cycles`` mesh cycles at the driver's nominal speed)."""
+    t = np.asarray(t, dtype=float)
+    amp_a, amp_b = torque_amplitudes(pair, settings.torque)
+    out = np.empty(t.shape + (2,))
+    out[..., 0], out[..., 1] = amp_a, amp_b
+    history = settings.torque_history
+    if history is not None:
+        driver, load = history_at(history, t)
+        drv, drn = (0, 1) if pair.driver == "a" else (1, 0)
+        out[..., drv] = driver
+        if load is not None:
+            out[..., drn] = -load
+    if settings.start == "rest":
+        gear = pair.gear_a if pair.driver == "a" else pair.gear_b
+        speed = settings.speed_a if pair.driver == "a" else settings.speed_b
+        cycles = settings.ramp_cycles or DEFAULT_RAMP_CYCLES
+        t_ramp = cycles * 2.0 * math.pi / (gear.teeth * speed)
+        out *= np.clip(t / t_ramp, 0.0, 1.0)[..., None]
+    return out
+
+
+def check_history(pair: GearPair, settings: RunSettings) -> None:
+    """Refuse a torque history that is not periodic and ends before the run does (its
+    ``cycles`` mesh cycles at the driver's nominal speed).
+
+    Raises
+    ------
+    InputError
+        ``torque_history``, with the two durations and the ways out.
+    """
+    history = settings.torque_history
+    if history is None or history.periodic:
+        return
+    gear = pair.gear_a if pair.driver == "a" else pair.gear_b
+    speed = settings.speed_a if pair.driver == "a" else settings.speed_b
+    cycles = settings.cycles_limit or settings.cycles or 1
+    lasts = cycles * 2.0 * math.pi / (gear.teeth * speed)
+    if history.duration < lasts * (1.0 - 1e-9):
+        raise InputError("torque_history", f"covers {history.duration:.4g} s and the run lasts "
+                         f"{lasts:.4g} s ({cycles} mesh cycles at {speed / RPM:,.0f} rpm): give a "
+                         "longer history, fewer cycles, or periodic = true to repeat it")

@@ -379,6 +379,9 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     model = info.get("model")
     if model and model != "fe":  # say which model made it (the FE solver's is implied)
         summary["model"] = model
+    if "start" in info:         # a run of mesh cycles: how it started, what torques it carried
+        summary["start"] = info["start"]
+        summary["torque_history"] = info.get("torque_history")
     if "back_flanks" in info:   # the sector model: whether the back flanks were contacts
         summary["back_flanks"] = back_flank_figures(ds, info)
     if "rayleigh" in info:      # the bodies' damping the model ran with, and whose it was

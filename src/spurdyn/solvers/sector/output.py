@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from spurdyn.geometry.pair import GearPair
 from spurdyn.result import Result
-from spurdyn.settings import RunSettings
+from spurdyn.settings import DEFAULT_RAMP_CYCLES, RunSettings
 from spurdyn.solvers.sector.system import REACH, GearBlock
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
@@ -21,11 +21,12 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
             cycle: Any, teeth: NDArray[np.intp], n_kept: int, t: NDArray[np.float64],
             theta: NDArray[np.float64], omega: NDArray[np.float64], forces: NDArray[np.float64],
             gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
-            max_cycles: int, h: float, torques: tuple[float, float], c_table: NDArray[np.float64], status: str, reason: str,
+            max_cycles: int, h: float, torques: NDArray[np.float64], c_table: NDArray[np.float64], status: str, reason: str,
             wall: float, load: float,
             back: tuple[NDArray[np.intp], NDArray[np.float64]] | None = None) -> Result:
-    """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B; ``back`` the
-    back flanks' driver teeth and forces where they are contacts."""
+    """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B; ``torques`` the
+    hubs' at each step (driver first), ``back`` the back flanks' driver teeth and forces where
+    they are contacts."""
     ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
     sel = slice(0, n_kept)
     t, theta, omega, forces, gap = t[sel], theta[sel], omega[sel], forces[sel], gap[sel]
@@ -38,7 +39,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
     top = np.argmax(forces, axis=1)
     roll_a = rolls[np.arange(n), top]
     roll = np.column_stack([roll_a, np.asarray(dp.roll_b_from_roll_a(roll_a))])
-    torque = np.tile(np.array(torques, dtype=float), (n, 1))
+    torque = torques[sel]
     fig = cycle_figures(t, mesh, te, per_cycle, cycles, max_cycles)
     swap = pair.driver == "b"
 
@@ -73,6 +74,9 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         "pair_teeth": teeth.tolist(),
         "back_flanks": back is not None,
         "backlash_normal_m": dp.backlash_normal,
+        "start": settings.start,
+        "ramp_cycles": (settings.ramp_cycles or DEFAULT_RAMP_CYCLES) if settings.start == "rest" else None,
+        "torque_history": None if settings.torque_history is None else (settings.torque_history.source or "table"),
         "angle_end": float(theta[-1, 0]) if n else 0.0,
         "steady": steady_record(fig, per_cycle * h, float(cycle.force.max()), cycle.stiffness_mean),
     }

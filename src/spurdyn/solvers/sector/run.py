@@ -44,7 +44,7 @@ from threadpoolctl import threadpool_limits
 from spurdyn.contact.hertz import effective_modulus
 from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
-from spurdyn.model.loading import static_force, torque_amplitudes
+from spurdyn.model.loading import check_history, hub_torques, static_force
 from spurdyn.result import Result
 from spurdyn.sector.statics import (
     _law,
@@ -162,8 +162,12 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     per_cycle = steps_per_cycle(speed, ga.teeth, dt)
     h = pitch / speed / per_cycle
     n_steps = per_cycle * cycles
+    check_history(pair, settings)
+    # the cycles' worth of teeth the run carries: under a torque history the gears may run
+    # ahead of their nominal speed (a guard stops the run where they would leave them)
+    cover = most if settings.torque_history is None else most + max(2, -(-most // 2))
     back = back_flanks_on(dp, settings)
-    (first_a, count_a), (first_b, count_b) = teeth_for(dp, most, back)
+    (first_a, count_a), (first_b, count_b) = teeth_for(dp, cover, back, settings.teeth)
     mesh_keys = (settings.nx, settings.ny, settings.grading)
     blocks = tuple(_cached(("block", gear, sense, first, count, *mesh_keys),
                            lambda gear=gear, sense=sense, first=first, count=count:
@@ -171,19 +175,23 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                    for gear, sense, first, count in ((ga, 1.0, first_a, count_a), (gb, -1.0, first_b, count_b)))
     bodies = (blocks[0].body, blocks[1].body)
     load = static_force(pair, settings.torque)
-    t_drv, t_drn = torque_amplitudes(dp, settings.torque)
+
+    def torques_at(steps: NDArray[np.intp]) -> NDArray[np.float64]:
+        """The hubs' torques at the ends of ``steps`` (driver first, as ``dp``'s A and B)."""
+        tq = hub_torques(pair, settings, steps * h)
+        return tq[:, ::-1].copy() if pair.driver == "b" else tq
     estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young, gb.material.poisson)
     width = min(ga.face_width, gb.face_width)
     n_path = pairs_in_path(dp)
     # the driver's teeth that come near the path: 0 .. P at the start, one more a cycle (of
     # as many as the run may go on to; the result keeps those of the cycles it ran)
-    k_lo = -most - 1
+    k_lo = -cover - 1
     teeth = np.arange(k_lo, n_path + 1)
     # the contacts: the drive flanks of those teeth, and with the back flanks those of the
     # driver's teeth that come near the back path (each on the driven gear's tooth -k + 1)
     jn = dp.backlash_normal
     sigma = back_roll_sum(dp)
-    back_lo, back_hi = back_teeth(dp, most, REACH * pitch) if back else (0, -1)
+    back_lo, back_hi = back_teeth(dp, cover, REACH * pitch) if back else (0, -1)
     back_k = np.arange(back_lo, back_hi + 1)
     c_teeth = np.concatenate([teeth, back_k]).astype(np.intp)
     c_side = np.concatenate([np.zeros(teeth.size, np.intp), np.ones(back_k.size, np.intp)])
@@ -223,13 +231,20 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             from spurdyn.errors import InputError
 
             raise InputError("start_state", "a sector run starts from another's end only on whole "
-                             f"gears: give {WHOLE_FROM_CYCLES} cycles or more")
+                             f"gears: give {WHOLE_FROM_CYCLES} cycles or more, and no fewer teeth than "
+                             "the gears have")
         st = unpack_state(start, n)
         offset = st.offset
         q, v, acc, qdd = st.q.copy(), speed * st.dq, speed**2 * st.ddq, speed**2 * st.qdd
         force = np.zeros(n_c)
         at = dict(zip(zip(st.teeth.tolist(), st.sides.tolist()), st.forces))
         force[:] = [at.get((int(k) + offset, int(sd)), 0.0) for k, sd in zip(c_teeth, c_side)]
+    elif settings.start == "rest":
+        # the bodies undeformed at their nominal speeds, the torques ramped up from zero
+        offset = 0
+        q, qdd, acc, force = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n_c)
+        v = np.zeros(n)
+        v[0], v[na] = speed, speed * ra / rb
     else:
         offset = 0
         js, f0, e0, _, _ = _solve_position(law, dp.start_roll_a)
@@ -257,10 +272,17 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         z_theta.append(gears[g].solve(e))
     j_a, j_b = blocks[0].inertia, blocks[1].inertia
     c_table = mesh_damper_table(cycle, settings.damping_ratio, reduced_mass(j_a, j_b, ra, rb), pitch)
-    f_ext = np.zeros(n)
-    f_ext[0], f_ext[na] = t_drv, t_drn
     c_h = law.c_h
     reach = REACH * pitch
+    # the turns of the driver between which the run's contacts hold every tooth near its path
+    # (drive flank k near it for theta in [-reach - k p, roll_1 - roll_0 + reach - k p], a back
+    # flank for [Sigma - roll_0 - roll_1 - reach - k p, Sigma - 2 roll_0 + reach - k p])
+    span = dp.end_roll_a - dp.start_roll_a
+    theta_hi = -reach - (teeth[0] - 1) * pitch
+    theta_lo = span + reach - (teeth[-1] + 1) * pitch
+    if back:
+        theta_hi = min(theta_hi, sigma - dp.start_roll_a - dp.end_roll_a - reach - (back_lo - 1) * pitch)
+        theta_lo = max(theta_lo, sigma - 2.0 * dp.start_roll_a + reach - (back_hi + 1) * pitch)
 
     table = _cached(("gaps", pair, reach), lambda: gap_table(dp, reach))
     roll_0, roll_1 = dp.start_roll_a, dp.end_roll_a
@@ -326,8 +348,15 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         """``S^-1 D^T lam``: the responses to the hub torques of the rows' rigid parts."""
         return np.concatenate([float(coef @ lam) * z_theta[g] for g, (coef, _) in enumerate(rows.sides)])
 
+    def beyond(step: int) -> str:
+        """Why a run stopped where the driver left the turns its teeth cover."""
+        return (f"at step {step} the driver had turned {q[0] / pitch:.2f} pitches, beyond the "
+                f"{theta_lo / pitch:.2f} to {theta_hi / pitch:.2f} its teeth cover (its speed "
+                f"left {speed * 60 / (2 * math.pi):,.0f} rpm by too much)")
+
     # -- the time loop -------------------------------------------------------------------
     n_out = n_steps + 1
+    tq_out = torques_at(np.arange(n_out))
     th_out = np.full((n_out, 2), np.nan)
     om_out = np.full((n_out, 2), np.nan)
     f_out = np.full((n_out, n_c), np.nan)
@@ -335,6 +364,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     en_out = np.full((n_out, 8), np.nan) if energy else None
     c_res = np.zeros((0, 0))
     damper_torque = [0.0, 0.0]       # the mesh damper's torques on the hubs at the last step
+    # the torques' work (J), by the trapezoid rule between saved steps (exact for constant ones)
+    work = [float(tq_out[0] @ np.array([q[0], q[na]])), q[0], q[na]]
 
     def save(i: int, rows: _Rows | None) -> None:
         th_out[i] = q[0], q[na]
@@ -345,10 +376,13 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             gaps = gap_rows(rows, q) + rows.const + c_h * fo + c_res @ fo
             gap_out[i] = float(gaps.min())
         if en_out is not None:
+            if i > 0:
+                work[0] += 0.5 * float((tq_out[i - 1] + tq_out[i]) @ np.array([q[0] - work[1], q[na] - work[2]]))
+                work[1:] = q[0], q[na]
             res = 0.5 * float(fo @ c_res @ fo) if rows is not None else 0.0
             en_out[i] = (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)),
                          sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
-                         0.5 * c_h * float(force @ force), t_drv * q[0] + t_drn * q[na],
+                         0.5 * c_h * float(force @ force), work[0],
                          *(gears[g].momentum(v[parts[g]]) for g in range(2)),
                          # the pairs' generalised forces on the hubs: the rows' hub entries,
                          # and the mesh damper's torques (it acts on the hubs)
@@ -376,17 +410,20 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
 
                 step, failed = run_compiled(gears, blocks, (q, v, acc, qdd, force), c_teeth, c_side, offset, table,
                                             (roll_0, roll_1, reach, pitch, ra, rb, estar, width, c_h,
-                                             am, af, beta, gamma, h, bp, gp, sigma, jn),
-                                            f_ext, c_table, (th_out, om_out, f_out, gap_out), first, n_steps, every,
+                                             am, af, beta, gamma, h, bp, gp, sigma, jn, theta_lo, theta_hi),
+                                            tq_out, c_table, (th_out, om_out, f_out, gap_out), first, n_steps, every,
                                             progress, target * pitch, done)
-                if failed:
+                if failed == 1:
                     status, reason = "incomplete", f"the solution became NaN at step {step}"
+                elif failed == 2:
+                    status, reason = "incomplete", beyond(step)
             else:
                 for step in range(first + 1, n_steps + 1):
                     a_part = (af * qdd - am * acc) / (1.0 - am)
                     q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
                     v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
-                    r = f_ext.copy()
+                    r = np.zeros(n)
+                    r[0], r[na] = tq_out[step]
                     for g in range(2):
                         r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
                     x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
@@ -424,6 +461,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                     q = q_hat + bp * qdd_new
                     v = v_hat + gp * qdd_new
                     qdd = qdd_new
+                    if not theta_lo <= q[0] <= theta_hi:
+                        status, reason = "incomplete", beyond(step)
+                        break
                     if energy:
                         damper_torque[:] = [0.0, 0.0]
                         if rows is not None and c_pairs.any():
@@ -442,6 +482,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
             n_steps += per_cycle
             th_out, om_out, f_out, gap_out = (np.concatenate([x, np.full((per_cycle,) + x.shape[1:], np.nan)])
                                               for x in (th_out, om_out, f_out, gap_out))
+            tq_out = np.concatenate([tq_out, torques_at(np.arange(n_steps - per_cycle + 1, n_steps + 1))])
             if en_out is not None:
                 en_out = np.concatenate([en_out, np.full((per_cycle, 8), np.nan)])
     except KeyboardInterrupt:
@@ -457,7 +498,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     back_keep = back_k >= back_teeth(dp, target, REACH * pitch)[0] if back else np.zeros(0, bool)
     result = sector_result(pair, dp, settings, blocks, cycle, teeth[keep], n_kept, np.arange(th_out.shape[0]) * h,
                            th_out, om_out, f_out[:, :teeth.size][:, keep], gap_out, en_out, per_cycle, cycles, most, h,
-                           (t_drv, t_drn), c_table, status, reason, _time.perf_counter() - wall0, load,
+                           tq_out, c_table, status, reason, _time.perf_counter() - wall0, load,
                            back=(back_k[back_keep], f_out[:, teeth.size:][:, back_keep]) if back else None)
     if status == "complete" and blocks[0].whole and blocks[1].whole:
         # where the next speed of a continuation starts: this end, the teeth N on

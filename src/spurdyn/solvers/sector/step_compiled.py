@@ -155,20 +155,23 @@ def _lcp_ordered(w, v, guess, order):
 def run_steps(first_step, steps, q, v, acc, qdd, force,
               inv0, inv1, damp0, damp1, om0, om1, modes0, modes1, flex0, flex1,
               geo0, geo1, first0, first1, count0, count1,
-              teeth, sides, offset, t_rho, t_gap, t_slope, t_ra, t_rb, consts, xq, wq, f_ext, c_table,
+              teeth, sides, offset, t_rho, t_gap, t_slope, t_ra, t_rb, consts, xq, wq, hub, c_table,
               th_out, om_out, f_out, gap_out):
     """``steps`` steps from ``first_step`` (the state changed in place, the saved columns
     written at ``first_step + 1 ...``). ``consts``: ``roll_0, roll_1, reach, pitch, r_bA,
-    r_bB, E*, L, c_H, alpha_m, alpha_f, beta, gamma, h, beta', gamma', Sigma, j_n`` (the back
-    flanks' roll sum and the backlash, ``system.back_roll_sum``); ``c_table`` the mesh
-    damper's coefficient over a pitch (``damper.mesh_damper_table``, read as ``damper.damper_at``).
-    Contact ``i`` is the driver's tooth ``teeth[i]`` on its flank ``sides[i]``.
+    r_bB, E*, L, c_H, alpha_m, alpha_f, beta, gamma, h, beta', gamma', Sigma, j_n, theta_lo,
+    theta_hi`` (the back flanks' roll sum and the backlash, ``system.back_roll_sum``; the
+    driver's turns the contacts cover); ``hub`` the hubs' torques at the end of each step;
+    ``c_table`` the mesh damper's coefficient over a pitch (``damper.mesh_damper_table``, read
+    as ``damper.damper_at``). Contact ``i`` is the driver's tooth ``teeth[i]`` on its flank
+    ``sides[i]``.
 
-    Returns the last step done and 0, or the step whose solution was not finite and 1."""
+    Returns the last step done and 0, or the step whose solution was not finite and 1, or the
+    step at whose end the driver had left ``theta_lo .. theta_hi`` and 2."""
     roll_0, roll_1, reach, pitch = consts[0], consts[1], consts[2], consts[3]
     ra, rb, estar, width, c_h = consts[4], consts[5], consts[6], consts[7], consts[8]
     am, af, beta, gamma, h, bp, gp = consts[9], consts[10], consts[11], consts[12], consts[13], consts[14], consts[15]
-    sigma, jn = consts[16], consts[17]
+    sigma, jn, theta_lo, theta_hi = consts[16], consts[17], consts[18], consts[19]
     n_damp = c_table.size - 1
     na = inv0.shape[0]
     nb = inv1.shape[0]
@@ -191,7 +194,9 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
         a_part = (af * qdd - am * acc) / (1.0 - am)
         q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
         v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
-        r = f_ext.copy()
+        r = np.zeros(n)
+        r[0] = hub[step, 0]
+        r[na] = hub[step, 1]
         for j in range(m0):
             r[1 + j] -= damp0[j] * v_hat[1 + j] + om0[j] * q_hat[1 + j]
         for j in range(m1):
@@ -317,6 +322,8 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
         q[:] = q_hat + bp * qdd_new
         v[:] = v_hat + gp * qdd_new
         qdd[:] = qdd_new
+        if q[0] < theta_lo or q[0] > theta_hi:
+            return step, 2
         th_out[step, 0] = q[0]
         th_out[step, 1] = q[na]
         om_out[step, 0] = v[0]

@@ -11,14 +11,15 @@ from numpy.typing import NDArray
 
 
 def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...], teeth: NDArray[np.intp],
-                 sides: NDArray[np.intp], offset: int, table: Any, consts: tuple[float, ...], f_ext: NDArray[np.float64], c_table: NDArray[np.float64],
+                 sides: NDArray[np.intp], offset: int, table: Any, consts: tuple[float, ...], hub: NDArray[np.float64], c_table: NDArray[np.float64],
                  outs: tuple[NDArray[np.float64], ...], first: int, n_steps: int, every: int,
                  progress: Callable[[int, float, float], None] | None,
-                 total: float, done: list[int]) -> tuple[int, bool]:
+                 total: float, done: list[int]) -> tuple[int, int]:
     """Run the loop with :func:`spurdyn.solvers.sector.step_compiled.run_steps` (modal bodies
     of whole gears) from step ``first`` to ``n_steps``, ``every`` steps a call, contact ``i``
-    the driver's tooth ``teeth[i]`` on its flank ``sides[i]``; ``(last step, whether it
-    failed)``."""
+    the driver's tooth ``teeth[i]`` on its flank ``sides[i]``, ``hub`` the hubs' torques at
+    each step's end; ``(last step, 0)``, or the failed step and why (1: not finite, 2: the
+    driver left the turns the contacts cover)."""
     from spurdyn.contact.hertz import strip_quadrature
     from spurdyn.solvers.sector.step_compiled import run_steps
 
@@ -39,13 +40,13 @@ def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...]
         step, failed = run_steps(step, chunk, q, v, acc, qdd, force, i0, i1, d0, d1, o0, o1, mo0, mo1,
                                  fx0, fx1, g0, g1, fi0, fi1, c0, c1, teeth64, sides64, int(offset),
                                  table.rho, table.gap, table.slope, table.r_a, table.r_b,
-                                 constants, xq, wq, f_ext, c_table, *outs)
+                                 constants, xq, wq, hub, c_table, *outs)
         if failed:
-            return step, True
+            return step, int(failed)
         done[0] = step
         if progress is not None:
             progress(step, float(q[0]), total)
-    return step, False
+    return step, 0
 
 
 __all__ = ["run_compiled"]

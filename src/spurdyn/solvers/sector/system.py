@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 
 from spurdyn.contact.hertz import half_width, involute_curvature_radius
 from spurdyn.contact.strip_numpy import strip_weights
+from spurdyn.errors import InputError
 from spurdyn.fem.assembly import assemble_lumped_mass
 from spurdyn.geometry.corner import corner_contact
 from spurdyn.geometry.gear import Gear
@@ -202,15 +203,26 @@ def back_teeth(dp: GearPair, cycles: float, reach: float) -> tuple[int, int]:
     return lo - 1, hi + 1
 
 
-def teeth_for(pair: GearPair, cycles: float,
-              back: bool = False) -> tuple[tuple[int, int], tuple[int, int]]:
+def teeth_for(pair: GearPair, cycles: float, back: bool = False,
+              teeth: int | None = None) -> tuple[tuple[int, int], tuple[int, int]]:
     """``((first, count), (first, count))`` of the driver's and the driven gear's teeth that
     a run of ``cycles`` mesh cycles needs: every tooth that reaches the path of contact (the
     driver's ``0 .. P-1`` at the start, one more entering behind them each cycle; the driven
     gear's the negatives), with ``back`` every pair of back flanks near the back path
     (:func:`back_teeth`: the driver's ``k`` and the driven gear's ``-k + 1``), and a
     neighbour on each side; a gear's whole ring when that is as many teeth as it has, or the
-    run lasts :data:`WHOLE_FROM_CYCLES` cycles or more."""
+    run lasts :data:`WHOLE_FROM_CYCLES` cycles or more.
+
+    ``teeth`` (``RunSettings.teeth``, ``--teeth K``) asks for ``K`` teeth per gear instead:
+    the whole gear where ``K`` reaches its number of teeth, else those needed and the rest
+    as further neighbours, one more behind the mesh than ahead of it where they do not
+    split evenly.
+
+    Raises
+    ------
+    InputError
+        ``teeth``, fewer than a gear needs (and fewer than it has).
+    """
     n_path = pairs_in_path(pair)
     lo_a, hi_a = -int(math.ceil(cycles - 1e-9)) - 1, n_path
     lo_b, hi_b = -hi_a, -lo_a
@@ -219,9 +231,23 @@ def teeth_for(pair: GearPair, cycles: float,
         lo_a, hi_a = min(lo_a, k_lo - 1), max(hi_a, k_hi + 1)
         lo_b, hi_b = min(lo_b, -k_hi), max(hi_b, -k_lo + 2)
     out = []
-    for gear, lo, hi in ((pair.gear_a, lo_a, hi_a), (pair.gear_b, lo_b, hi_b)):
-        z = gear.teeth
-        whole = hi - lo + 1 >= z or cycles >= WHOLE_FROM_CYCLES
+    for g, (gear, lo, hi) in enumerate(((pair.gear_a, lo_a, hi_a), (pair.gear_b, lo_b, hi_b))):
+        z, need = gear.teeth, hi - lo + 1
+        if teeth is None:
+            whole = need >= z or cycles >= WHOLE_FROM_CYCLES
+        elif teeth >= z:
+            whole = True
+        elif teeth < need:
+            raise InputError("teeth", f"must be at least {need}: the teeth of gear "
+                             f"{'AB'[g] if pair.driver == 'a' else 'BA'[g]} that a run of "
+                             f"{cycles:g} mesh cycles meets, with a neighbour on each side "
+                             f"(or {z}, the whole gear; got {teeth})")
+        else:
+            # the driver's teeth enter from below (lower numbers), the driven gear's from above
+            extra = teeth - need
+            more, less = extra - extra // 2, extra // 2
+            lo, hi = (lo - more, hi + less) if g == 0 else (lo - less, hi + more)
+            whole = False
         out.append((-(z // 2), z) if whole else (lo, hi - lo + 1))
     return out[0], out[1]
 

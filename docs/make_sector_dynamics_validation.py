@@ -499,7 +499,7 @@ def render(f: dict) -> str:
             f"The paper's pair 0.1 mm beyond its tight centre distance (j_n = {ra['backlash_um']:.1f} µm) at "
             "1,000 rpm under 1 N m of drag, its driver's torque fluctuating by 4 N m at 200 Hz (a torque "
             "history from a CSV file, repeated), 5 % mesh damper, 9 cycles (docs/sector.md, 6.8). "
-            f"{ra['status']}, {ra['steps']:,} steps in {ra['wall_s']:.0f} s:",
+            f"{ra['status'].capitalize()}, {ra['steps']:,} steps in {ra['wall_s']:.0f} s:",
             "",
             "| | |",
             "| --- | --- |",

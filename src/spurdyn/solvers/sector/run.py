@@ -32,10 +32,9 @@ factors stay those of the run.
 
 from __future__ import annotations
 
-import itertools
 import math
 import time as _time
-from typing import Any, Callable, NamedTuple
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -58,6 +57,7 @@ from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.cache import _cached
 from spurdyn.solvers.sector.damper import damper_at, mesh_damper_table
+from spurdyn.solvers.sector.lcp import Rows, lcp
 from spurdyn.solvers.sector.output import sector_result
 from spurdyn.solvers.sector.rules import (
     BACKLASH_FLOOR,
@@ -85,35 +85,6 @@ from spurdyn.solvers.sector.system import (
     teeth_for,
 )
 from spurdyn.solvers.steady import settled_after
-
-
-class _Rows(NamedTuple):
-    """The pairs near the path at a step: their indices in the run's teeth, the constant
-    parts of their gaps, and per gear the rows' hub coefficients and elastic parts."""
-
-    on: NDArray[np.intp]
-    const: NDArray[np.float64]
-    sides: tuple[tuple[NDArray[np.float64], Any], ...]
-
-
-def _lcp(w: NDArray[np.float64], v: NDArray[np.float64],
-         guess: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
-    """``F >= 0`` with ``W F + v >= 0`` and ``F (W F + v) = 0`` for a small positive definite
-    ``W``: the active set ``guess`` (the step before's) tried first, then all of them, the
-    fewest contacts first. The solution is unique, so the order changes only the cost."""
-    n = v.size
-    tol = 1e-12 * max(float(np.abs(v).max()), 1e-300)
-    first = [tuple(np.flatnonzero(guess))] if guess is not None else []
-    for act in itertools.chain(first, *(itertools.combinations(range(n), m) for m in range(n + 1))):
-        f = np.zeros(n)
-        if act:
-            idx = list(act)
-            f[idx] = np.linalg.solve(w[np.ix_(idx, idx)], -v[idx])
-            if (f[idx] < 0.0).any():
-                continue
-        if (w @ f + v >= -tol).all():
-            return f
-    raise RuntimeError("the contact problem has no solution")     # pragma: no cover
 
 
 def simulate_sector(pair: GearPair, settings: RunSettings,
@@ -287,7 +258,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     table = _cached(("gaps", pair, reach), lambda: gap_table(dp, reach))
     roll_0, roll_1 = dp.start_roll_a, dp.end_roll_a
 
-    def rows_at(theta_a: float, f: NDArray[np.float64]) -> _Rows | None:
+    def rows_at(theta_a: float, f: NDArray[np.float64]) -> Rows | None:
         """The contacts near their paths at the driver's turn ``theta_a``: their indices in
         ``c_teeth``, the constant part of their gaps, and per gear the rows' coefficients on
         the hub and their elastic parts (:meth:`~spurdyn.solvers.sector.bodies.FullBody.rows`).
@@ -308,20 +279,20 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         sides = tuple((coef, gears[g].rows(kg, blocks[g].flank_loads(r, hw), sd))
                       for g, (kg, coef, r) in enumerate(((k, sgn * (slope - ra), r_a),
                                                           (-k + sd, sgn * rb, r_b))))
-        return _Rows(on, g0 - sgn * slope * theta_a + jn * sd, sides)
+        return Rows(on, g0 - sgn * slope * theta_a + jn * sd, sides)
 
-    def gap_rows(rows: _Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
+    def gap_rows(rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included)."""
         return sum(coef * x[parts[g]][0] + gears[g].elastic(elastic, x[parts[g]])
                    for g, (coef, elastic) in enumerate(rows.sides))
 
-    def rigid_rows(rows: _Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
+    def rigid_rows(rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``D x``: the rows' rigid part alone, their entries on the hubs (the mesh damper's
         rows: ``-D q_dot`` is the rate of the pairs' whole approach, the bodies' and the
         strips' compliance together, while they touch)."""
         return sum(coef * x[parts[g]][0] for g, (coef, _) in enumerate(rows.sides))
 
-    def compliance(rows: _Rows) -> tuple[Any, ...]:
+    def compliance(rows: Rows) -> tuple[Any, ...]:
         """``(G S^-1 G^T, G S^-1 D^T, D S^-1 D^T, C_res, S^-1 G^T)``: the pairs' coupling
         through each gear, by their whole rows ``G`` and their rigid parts ``D`` (the
         damper's rows: ``S^-1 D^T`` is the hub's response ``z`` times the rows' hub
@@ -344,7 +315,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         """``S^-1 G^T lam`` from the per-gear columns ``cols``."""
         return np.concatenate([c @ lam for c in cols])
 
-    def rigid_columns_times(rows: _Rows, lam: NDArray[np.float64]) -> NDArray[np.float64]:
+    def rigid_columns_times(rows: Rows, lam: NDArray[np.float64]) -> NDArray[np.float64]:
         """``S^-1 D^T lam``: the responses to the hub torques of the rows' rigid parts."""
         return np.concatenate([float(coef @ lam) * z_theta[g] for g, (coef, _) in enumerate(rows.sides)])
 
@@ -367,7 +338,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     # the torques' work (J), by the trapezoid rule between saved steps (exact for constant ones)
     work = [float(tq_out[0] @ np.array([q[0], q[na]])), q[0], q[na]]
 
-    def save(i: int, rows: _Rows | None) -> None:
+    def save(i: int, rows: Rows | None) -> None:
         th_out[i] = q[0], q[na]
         om_out[i] = v[0], v[na]
         f_out[i] = force
@@ -449,7 +420,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                             if c_pairs.any() else np.zeros((m, m))
                         w = bp * (w0 - w_gd @ k_w @ w_gd.T) + c_res + c_h * np.eye(m)
                         vv = rows.const + gap_rows(rows, q_hat) + bp * (g_x0 - w_gd @ k_w @ d_x0)
-                        lam = _lcp(0.5 * (w + w.T), vv, shares > 0.0)
+                        lam = lcp(0.5 * (w + w.T), vv, shares > 0.0)
                         qdd_new = x0 + columns_times(cols, lam) - rigid_columns_times(rows, k_w @ (d_x0 + w_gd.T @ lam))
                         force[on] = lam
                     else:

@@ -1,0 +1,43 @@
+"""The sector run's contacts at a step (:class:`Rows`) and their complementarity problem
+(:func:`lcp`; docs/sector.md, 6.3): the NumPy loop's, beside the compiled twin in
+:mod:`spurdyn.solvers.sector.step_compiled`."""
+
+from __future__ import annotations
+
+import itertools
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+class Rows(NamedTuple):
+    """The pairs near the path at a step: their indices in the run's teeth, the constant
+    parts of their gaps, and per gear the rows' hub coefficients and elastic parts."""
+
+    on: NDArray[np.intp]
+    const: NDArray[np.float64]
+    sides: tuple[tuple[NDArray[np.float64], Any], ...]
+
+
+def lcp(w: NDArray[np.float64], v: NDArray[np.float64],
+        guess: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
+    """``F >= 0`` with ``W F + v >= 0`` and ``F (W F + v) = 0`` for a small positive definite
+    ``W``: the active set ``guess`` (the step before's) tried first, then all of them, the
+    fewest contacts first. The solution is unique, so the order changes only the cost."""
+    n = v.size
+    tol = 1e-12 * max(float(np.abs(v).max()), 1e-300)
+    first = [tuple(np.flatnonzero(guess))] if guess is not None else []
+    for act in itertools.chain(first, *(itertools.combinations(range(n), m) for m in range(n + 1))):
+        f = np.zeros(n)
+        if act:
+            idx = list(act)
+            f[idx] = np.linalg.solve(w[np.ix_(idx, idx)], -v[idx])
+            if (f[idx] < 0.0).any():
+                continue
+        if (w @ f + v >= -tol).all():
+            return f
+    raise RuntimeError("the contact problem has no solution")     # pragma: no cover
+
+
+__all__ = ["Rows", "lcp"]

@@ -481,7 +481,12 @@ def render(f: dict) -> str:
         f"Resonance from the sector's own mean mesh stiffness: **{res['sector_rpm']:,.0f} rpm** "
         f"(f_n {res['sector_fn_hz'] / 1e3:.2f} kHz); from the paper model's root-clamped tooth "
         f"pair {res['tooth_rpm']:,.0f} rpm ({res['tooth_fn_hz'] / 1e3:.2f} kHz); ISO 6336-1's "
-        f"n_E1 {res['iso_rpm']:,.0f} rpm.",
+        f"n_E1 {res['iso_rpm']:,.0f} rpm. The paper model's figure is a steady mesh's: two disks on the mean "
+        "of both pairs' stiffness over a cycle, 2.76e8 N/m (docs/lumped.md). docs/validation.md, 3.4, finds "
+        "15,707 rpm instead: there the mesh frequency meets the ring of the paper's one engagement in its "
+        "single-contact zone (7.33 kHz measured, 3.0 % below the 7.56 kHz of two disks on that zone's "
+        "mean stiffness, 1.92e8 N/m); the steady mesh's stiffness is 1.44 times the zone's, and "
+        "sqrt(1.44) x 7.56 kHz = 9.07 kHz.",
         "",
         "| rpm | dynamic factor | ISO K_v | TE RMS (µm) | settled | cycles | wall (s) |",
         "| --- | --- | --- | --- | --- | --- | --- |",

@@ -26,8 +26,8 @@ CYCLE_POSITIONS = 21
 #: Bumped when a change of the model makes a run of the same settings differ (a sweep's
 #: settings hash carries it, so that its stored points are not taken for the new model's):
 #: 2, the mesh damper following the cycle's stiffness; 3, the back flanks contacts by default
-#: where the pair has backlash.
-SECTOR_REVISION = 3
+#: where the pair has backlash; 4, a continuation point's common rotation set to its speed.
+SECTOR_REVISION = 4
 #: The bodies' structural damping when the run gives no Rayleigh damping: stiffness
 #: proportional, this ratio at :data:`KEEP_FREQUENCY` (a tenth of it at 5 kHz, where the pair's
 #: torsional mode lies). Without any, the bodies' own modes (the teeth on their rims, which

@@ -210,6 +210,17 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         force = np.zeros(n_c)
         at = dict(zip(zip(st.teeth.tolist(), st.sides.tolist()), st.forces))
         force[:] = [at.get((int(k) + offset, int(sd)), 0.0) for k, sd in zip(c_teeth, c_side)]
+        # The pair's common rotation at this point's speed: its momentum about the mesh,
+        # p_A + (r_bA / r_bB) p_B, which balanced torques keep, set to that of the whole gears
+        # turning at it. Scaled from the end before, it would keep that end's vibration's
+        # share of the hubs' speeds, and a chain of points would carry it on and add to it
+        # until the gears ran off the teeth its runs cover (docs/sector.md, 6.5).
+        ratio = ra / rb
+        whole = blocks[0].inertia + ratio**2 * blocks[1].inertia
+        common = (speed * whole - gears[0].momentum(v[parts[0]]) - ratio * gears[1].momentum(v[parts[1]])) / whole
+        v[0] += common
+        v[na] += common * ratio
+        reset = common / speed
     elif settings.start == "rest":
         # the bodies undeformed at their nominal speeds, the torques ramped up from zero
         offset = 0
@@ -473,14 +484,18 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
                            back=(back_k[back_keep], f_out[:, teeth.size:][:, back_keep]) if back else None)
     if status == "complete" and blocks[0].whole and blocks[1].whole:
         # where the next speed of a continuation starts: this end, the teeth N on
+        # (the pitches the driver turned: the cycles run, give or take its transmission error)
+        turned = int(round(q[0] / pitch))
         q_end = q.copy()
-        q_end[0] -= target * pitch
-        q_end[na] -= target * 2.0 * math.pi / gb.teeth
+        q_end[0] -= turned * pitch
+        q_end[na] -= turned * 2.0 * math.pi / gb.teeth
         loaded = np.flatnonzero(force > 0.0)
         result.info["sector_end_state"] = pack_state(SectorState(
-            offset - target, q_end, v / speed, acc / speed**2, qdd / speed**2,
+            offset - turned, q_end, v / speed, acc / speed**2, qdd / speed**2,
             c_teeth[loaded] + offset, force[loaded], c_side[loaded]))
     result.info["tooth_offset"] = offset
+    # how far a continuation's start turned from its speed, and was set to it (a fraction)
+    result.info["common_rotation_reset"] = reset if start is not None else None
     result.info["rayleigh"] = list(rayleigh)
     # the bodies' damping was the model's default (BODY_DAMPING_RATIO), not the run's
     result.info["rayleigh_default"] = settings.rayleigh_mass is None and settings.rayleigh_stiffness is None

@@ -1,9 +1,9 @@
-"""A dynamic run of the sector model under constant torques (docs/sector.md, section 6).
+"""A dynamic run of the sector model (docs/sector.md, section 6; varying torques, 6.8).
 
 The run starts from the static equilibrium of the loaded pair at the first position of a
-mesh cycle (the quasi-static analysis of :mod:`spurdyn.sector.statics` on the same bodies)
-with the hubs at their nominal speeds, so a quasi-static run shows no start-up oscillation,
-and lasts ``cycles`` mesh cycles. It steps the equations of
+mesh cycle (the quasi-static analysis of :mod:`spurdyn.sector.statics` on the same bodies),
+or from rest, or from another run's end, the hubs at their nominal speeds, and lasts
+``cycles`` mesh cycles. It steps the equations of
 :mod:`spurdyn.solvers.sector.system` by generalized-alpha (docs/implicit.md, section 1):
 with the equations of motion linear and the contact rows held over a step, a step is one
 solve per gear with the factor of ``S = M + gamma' C + beta' K`` (constant: factorised once
@@ -19,15 +19,12 @@ where a pair's load enters its coordinates (:mod:`spurdyn.solvers.sector.bodies`
 only at the hub and the rows' coordinates. The strips' half-widths follow the forces of the
 step before.
 
-The mesh damper ``c = 2 zeta sqrt(k(phi) m_e)``, ``k(phi)`` the mesh stiffness of the
-quasi-static cycle at the driver's phase (so that the pair's torsional mode has the ratio
-``zeta`` in single and in double contact alike, as in the lumped model) and ``m_e`` the
-pair's reduced mass, acts along the line of action on the
-rate of the pairs' whole deflection (bodies and strips, the deflection ``k`` is the stiffness
-of), ``-D q_dot`` with ``D`` a row's rigid part (its hub entries), for the pairs that were in
-contact at the end of the step before, shared by their forces (docs/sector.md, 6.3). It adds
-``gamma' D^T C D`` to ``S``, taken by Woodbury's formula through the pairs' couplings, so the
-factors stay those of the run.
+The mesh damper ``c = 2 zeta sqrt(k(phi) m_e)`` (``k(phi)`` the quasi-static cycle's mesh
+stiffness at the driver's phase, ``m_e`` the pair's reduced mass) acts along the line of
+action on the rate of the pairs' whole deflection, ``-D q_dot`` with ``D`` the rows' hub
+entries, for the pairs in contact at the step before, shared by their forces; its
+``gamma' D^T C D`` is taken by Woodbury's formula, so the factors stay the run's
+(docs/sector.md, 6.3).
 """
 
 from __future__ import annotations
@@ -71,7 +68,12 @@ from spurdyn.solvers.sector.rules import (
     cycles_limit,
     steps_per_cycle,
 )
-from spurdyn.solvers.sector.state import SectorState, pack_state, unpack_state
+from spurdyn.solvers.sector.state import (
+    SectorState,
+    common_rotation,
+    pack_state,
+    unpack_state,
+)
 from spurdyn.solvers.sector.system import (
     REACH,
     WHOLE_FROM_CYCLES,
@@ -80,6 +82,7 @@ from spurdyn.solvers.sector.system import (
     _radii,
     back_roll_sum,
     back_teeth,
+    covered_turns,
     gap_table,
     gear_block,
     teeth_for,
@@ -210,16 +213,11 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         force = np.zeros(n_c)
         at = dict(zip(zip(st.teeth.tolist(), st.sides.tolist()), st.forces))
         force[:] = [at.get((int(k) + offset, int(sd)), 0.0) for k, sd in zip(c_teeth, c_side)]
-        # The pair's common rotation at this point's speed: its momentum about the mesh,
-        # p_A + (r_bA / r_bB) p_B, which balanced torques keep, set to that of the whole gears
-        # turning at it. Scaled from the end before, it would keep that end's vibration's
-        # share of the hubs' speeds, and a chain of points would carry it on and add to it
-        # until the gears ran off the teeth its runs cover (docs/sector.md, 6.5).
-        ratio = ra / rb
-        whole = blocks[0].inertia + ratio**2 * blocks[1].inertia
-        common = (speed * whole - gears[0].momentum(v[parts[0]]) - ratio * gears[1].momentum(v[parts[1]])) / whole
+        # the pair's common rotation at this point's speed (a chain's drift not carried on)
+        common = common_rotation(tuple(gears[g].momentum(v[parts[g]]) for g in range(2)),
+                                 (blocks[0].inertia, blocks[1].inertia), ra / rb, speed)
         v[0] += common
-        v[na] += common * ratio
+        v[na] += common * ra / rb
         reset = common / speed
     elif settings.start == "rest":
         # the bodies undeformed at their nominal speeds, the torques ramped up from zero
@@ -256,15 +254,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     c_table = mesh_damper_table(cycle, settings.damping_ratio, reduced_mass(j_a, j_b, ra, rb), pitch)
     c_h = law.c_h
     reach = REACH * pitch
-    # the turns of the driver between which the run's contacts hold every tooth near its path
-    # (drive flank k near it for theta in [-reach - k p, roll_1 - roll_0 + reach - k p], a back
-    # flank for [Sigma - roll_0 - roll_1 - reach - k p, Sigma - 2 roll_0 + reach - k p])
-    span = dp.end_roll_a - dp.start_roll_a
-    theta_hi = -reach - (teeth[0] - 1) * pitch
-    theta_lo = span + reach - (teeth[-1] + 1) * pitch
-    if back:
-        theta_hi = min(theta_hi, sigma - dp.start_roll_a - dp.end_roll_a - reach - (back_lo - 1) * pitch)
-        theta_lo = max(theta_lo, sigma - 2.0 * dp.start_roll_a + reach - (back_hi + 1) * pitch)
+    theta_lo, theta_hi = covered_turns(dp, (int(teeth[0]), int(teeth[-1])),
+                                       (back_lo, back_hi) if back else None, reach)
 
     table = _cached(("gaps", pair, reach), lambda: gap_table(dp, reach))
     roll_0, roll_1 = dp.start_roll_a, dp.end_roll_a

@@ -56,4 +56,18 @@ def unpack_state(flat: tuple[float, ...], n: int) -> SectorState:
                        rest[:m].astype(np.intp), rest[m:2 * m].copy(), rest[2 * m:].astype(np.intp))
 
 
-__all__ = ["SectorState", "pack_state", "unpack_state"]
+def common_rotation(momenta: tuple[float, float], inertias: tuple[float, float], ratio: float,
+                    speed: float) -> float:
+    """The speed (rad/s of the driver) to add to the driver's hub, and ``ratio`` times it to the
+    driven gear's, for the pair's common rotation to be ``speed``: its momentum about the mesh
+    ``p_A + ratio p_B`` (``ratio = r_bA / r_bB``; balanced torques keep it while the contact
+    lies on the line of action) that of the whole gears (``inertias``) turning at ``speed``.
+
+    A continuation's point starts so (docs/sector.md, 6.5): scaled from the end before, its
+    speeds would keep that run's drift of the common rotation (a tip corner's force has other
+    moment arms), and a chain of points would carry it on and add to it."""
+    whole = inertias[0] + ratio**2 * inertias[1]
+    return (speed * whole - momenta[0] - ratio * momenta[1]) / whole
+
+
+__all__ = ["SectorState", "common_rotation", "pack_state", "unpack_state"]

@@ -203,6 +203,25 @@ def back_teeth(dp: GearPair, cycles: float, reach: float) -> tuple[int, int]:
     return lo - 1, hi + 1
 
 
+def covered_turns(dp: GearPair, drive: tuple[int, int], back: tuple[int, int] | None,
+                  reach: float) -> tuple[float, float]:
+    """``(theta_lo, theta_hi)``: the driver's turns between which a run's contacts, the drive
+    flanks of its teeth ``drive[0] .. drive[1]`` and the back flanks of ``back[0] .. back[1]``,
+    hold every tooth near its path (docs/sector.md, 6.8). Drive flank ``k`` is near its path
+    for ``theta`` in ``[-reach - k p, rho_end - rho_start + reach - k p]``, a back flank for
+    ``[Sigma - rho_start - rho_end - reach - k p, Sigma - 2 rho_start + reach - k p]``: the
+    bounds are where the first tooth outside either set comes near."""
+    pitch = 2.0 * math.pi / dp.gear_a.teeth
+    r0, r1 = dp.start_roll_a, dp.end_roll_a
+    hi = -reach - (drive[0] - 1) * pitch
+    lo = r1 - r0 + reach - (drive[1] + 1) * pitch
+    if back is not None:
+        sigma = back_roll_sum(dp)
+        hi = min(hi, sigma - r0 - r1 - reach - (back[0] - 1) * pitch)
+        lo = max(lo, sigma - 2.0 * r0 + reach - (back[1] + 1) * pitch)
+    return lo, hi
+
+
 def teeth_for(pair: GearPair, cycles: float, back: bool = False,
               teeth: int | None = None) -> tuple[tuple[int, int], tuple[int, int]]:
     """``((first, count), (first, count))`` of the driver's and the driven gear's teeth that
@@ -409,6 +428,6 @@ def gap_table(dp: GearPair, reach: float) -> GapTable:
     return GapTable(rho=vals[:, 0], gap=vals[:, 1], slope=vals[:, 2], r_a=vals[:, 3], r_b=vals[:, 4])
 
 
-__all__ = ["GAP_TABLE_DENSITY", "GapTable", "GearBlock", "REACH", "SLOPE_STEP", "back_roll_sum", "back_teeth",
+__all__ = ["GAP_TABLE_DENSITY", "GapTable", "GearBlock", "REACH", "SLOPE_STEP", "back_roll_sum", "back_teeth", "covered_turns",
            "gap_table", "gear_block",
            "mirror_nodes", "rigid_gap", "rotation_field", "teeth_for"]

@@ -499,7 +499,7 @@ def render(f: dict) -> str:
         ra = f["rattle"]
         lines += [
             "",
-            f"## Backlash and rattle (examples/idle_rattle.toml, {mesh} teeth)",
+            f"## Backlash and rattle (examples/idle_rattle.toml, {mesh} tooth meshes)",
             "",
             f"The paper's pair 0.1 mm beyond its tight centre distance (j_n = {ra['backlash_um']:.1f} µm) at "
             "1,000 rpm under 1 N m of drag, its driver's torque fluctuating by 4 N m at 200 Hz (a torque "
@@ -528,7 +528,8 @@ def render(f: dict) -> str:
             f"{ra['kinetic_swing_rel']:.0f} times it): each impact is closed at the end of a step with the rows "
             "held, a plastic impact at the step's scale (docs/sector.md, 6.5 and 6.7).",
         ]
-    lines += ["", f"The page took {f['wall_s'] / 60:.1f} min.", ""]
+    lines += ["", f"The page's last whole run took {f['wall_s'] / 60:.1f} min (a part re-measured with "
+              "--only is not counted).", ""]
     return "\n".join(lines)
 
 

@@ -70,6 +70,9 @@ def test_the_hubs_torques_are_the_constant_ones_the_history_and_the_ramp(driver)
     t_ramp = 2.0 * 2 * math.pi / (28 * 4000 * RPM)
     np.testing.assert_allclose(hub_torques(pair, rest, [0.0, 0.5 * t_ramp, t_ramp, 2 * t_ramp]),
                                np.outer([0.0, 0.5, 1.0, 1.0], torque_amplitudes(pair, 22.25)))
+    # a continuation's point starts from a loaded end: no ramp again
+    np.testing.assert_array_equal(hub_torques(pair, rest.with_(start_state=(0.0, 0.0)), t),
+                                  np.tile(torque_amplitudes(pair, 22.25), (7, 1)))
 
 
 def test_a_csv_history_is_read_and_refused_by_key_file_and_line(tmp_path):
@@ -212,11 +215,12 @@ def test_a_run_from_rest_ramps_its_load_up_and_carries_it():
     np.testing.assert_allclose(mesh[per + 1:], run.info["static_force"], rtol=5e-3)
 
 
-def test_a_run_whose_gears_run_away_stops_and_says_so():
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_a_run_whose_gears_run_away_stops_and_says_so(backend):
     """A driver's torque far above the load speeds the gears beyond the teeth the run carries:
-    the run stops there, incomplete, and says why."""
+    the run stops there, incomplete, and says why (both loops)."""
     hist = TorqueHistory(time=(0.0, 1.0), driver=(5000.0, 5000.0))
-    s = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, **MESH, torque_history=hist)
+    s = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, **MESH, torque_history=hist, backend=backend)
     run = simulate_sector(PAIR, s)
     assert run.status == "incomplete" and "beyond the" in run.reason and "teeth cover" in run.reason
     assert np.isfinite(run.pair_force[-1]).any()
@@ -269,6 +273,7 @@ def test_spurdyn_run_reads_the_history_beside_the_case_and_refuses_in_one_line(t
             ([], CASE.replace("torque_history_periodic = true\n", ""), "run.torque_history"),  # too short
             (["--torque-history", "none.csv"], CASE, "--torque-history"),
             (["--teeth", "3"], CASE, "--teeth"),
+            (["--teeth", "9"], CASE, "--teeth"),      # enough for 3 cycles, not for the history's 5
             (["--start", "moving"], CASE, "--start"),
             (["--ramp-cycles", "2"], CASE, "--ramp-cycles")):
         case.write_text(text)
@@ -279,3 +284,24 @@ def test_spurdyn_run_reads_the_history_beside_the_case_and_refuses_in_one_line(t
     case.write_text(CASE)
     assert main(["run", str(case), "--out", "bad", "--model", "fe"]) == 2
     assert "cycles" in capsys.readouterr().err
+
+
+def test_spurdyn_sweep_refuses_what_its_points_could_not_run(tmp_path, capsys):
+    """A sweep of a case under a history that does not cover its slowest point, or a sector
+    continuation on fewer teeth than whole gears, is refused in one line before any point."""
+    from spurdyn.cli.main import main
+
+    (tmp_path / "idle.csv").write_text("time_s,driver_Nm\n" + "".join(
+        f"{t!r},{d!r}\n" for t, d in zip(IDLE.time, IDLE.driver)))
+    case = tmp_path / "idle.toml"
+    case.write_text(CASE.replace("torque_history_periodic = true\n", "").replace("cycles = 3", "cycles = 2"))
+    # 2 cycles last 4.3 ms at 1,000 rpm: the 5-ms history covers them, not at 800 rpm (5.4 ms)
+    assert main(["sweep", str(case), "--rpm", "800,1000", "--out", str(tmp_path / "bad")]) == 2
+    err = capsys.readouterr().err
+    assert "run.torque_history" in err and "800" in err and err.count("\n") == 1
+    case.write_text(CASE)
+    assert main(["sweep", str(case), "--rpm", "1000,1100", "--continuation", "up", "--teeth", "20",
+                 "--out", str(tmp_path / "bad")]) == 2
+    err = capsys.readouterr().err
+    assert "--continuation" in err and "--teeth" in err and err.count("\n") == 1
+    assert not (tmp_path / "bad").exists()

@@ -101,7 +101,9 @@ def sector_cycle(pair: GearPair, settings: RunSettings) -> Any:
     except TypeError:  # an unhashable pair: no caching
         key, cycle = None, None
     if cycle is None:
-        mc = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, teeth=settings.teeth,
+        # K at or above a gear's teeth is the whole gear (the cycle takes one K for both)
+        teeth = None if settings.teeth is None else min(settings.teeth, pair.gear_a.teeth, pair.gear_b.teeth)
+        mc = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, teeth=teeth,
                         grading=settings.grading)
         cycle = SectorCycle.from_mesh_cycle(pair, mc)
         if key is not None:

@@ -80,12 +80,12 @@ def refuse_sector_options(run: RunSettings, labels: dict[str, str], pair: GearPa
                          "strip; leave it out or give hertz")
     if pair is not None and run.teeth is not None:
         from spurdyn.sector.statics import driving_pair
-        from spurdyn.solvers.sector.rules import back_flanks_on, cycles_limit
+        from spurdyn.solvers.sector.rules import back_flanks_on, cover_cycles
         from spurdyn.solvers.sector.system import teeth_for
 
         dp = driving_pair(pair)
         try:
-            teeth_for(dp, cycles_limit(run), back_flanks_on(dp, run), run.teeth)
+            teeth_for(dp, cover_cycles(run), back_flanks_on(dp, run), run.teeth)
         except InputError as err:
             raise InputError(labels.get("run.teeth", "run.teeth"), err.reason) from None
 

@@ -142,9 +142,24 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
         if model == "sector" and case.run.cycles < WHOLE_FROM_CYCLES:
             raise InputError("--continuation", "carries the sector model's whole gears from one "
                              f"speed to the next: give --cycles {WHOLE_FROM_CYCLES} or more")
+        most = max(case.pair.gear_a.teeth, case.pair.gear_b.teeth)
+        if model == "sector" and case.run.teeth is not None and case.run.teeth < most:
+            raise InputError("--continuation", "carries the sector model's whole gears from one "
+                             f"speed to the next: leave out --teeth or give {most}")
         if args.jobs is not None or args.scheduler is not None:
             raise InputError("--continuation", "runs its speeds in turn in this process: "
                              "leave out --jobs and --scheduler")
+    if case.run.torque_history is not None:
+        # the slowest point lasts longest: its history must cover it too
+        from spurdyn.model.loading import check_history
+        from spurdyn.settings import RPM
+
+        slow = min(rpms) * RPM / case.run.speed_a      # the rpm are gear A's
+        try:
+            check_history(case.pair, case.run.with_(speed_a=case.run.speed_a * slow,
+                                                    speed_b=case.run.speed_b * slow))
+        except InputError as err:
+            raise InputError(labels.get("run.torque_history", "run.torque_history"), err.reason) from None
     out = Path(args.out) if args.out else Path("out") / f"sweep-{case.name}"
     check_out(out, args.force)
     plan = SweepPlan(case=case, model=model, rpms=rpms, torques=torques, out=out,

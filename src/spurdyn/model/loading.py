@@ -157,7 +157,8 @@ def hub_torques(pair: GearPair, settings: RunSettings, t: ArrayLike) -> NDArray[
     ``t`` (s), along each gear's sense of rotation, shape ``t.shape + (2,)``: the constant
     ones of :func:`torque_amplitudes`, or the run's torque history (its load column, or the
     nominal load), times the ramp of a run from rest (linear from 0 at ``t = 0`` to 1 after
-    ``ramp_cycles`` mesh cycles at the driver's nominal speed)."""
+    ``ramp_cycles`` mesh cycles at the driver's nominal speed; not where it starts from another
+    run's end, a continuation's ``start_state``)."""
     t = np.asarray(t, dtype=float)
     amp_a, amp_b = torque_amplitudes(pair, settings.torque)
     out = np.empty(t.shape + (2,))
@@ -169,7 +170,7 @@ def hub_torques(pair: GearPair, settings: RunSettings, t: ArrayLike) -> NDArray[
         out[..., drv] = driver
         if load is not None:
             out[..., drn] = -load
-    if settings.start == "rest":
+    if settings.start == "rest" and settings.start_state is None:     # not a continuation's
         gear = pair.gear_a if pair.driver == "a" else pair.gear_b
         speed = settings.speed_a if pair.driver == "a" else settings.speed_b
         cycles = settings.ramp_cycles or DEFAULT_RAMP_CYCLES

@@ -69,6 +69,14 @@ def cycles_limit(settings: RunSettings) -> int:
     return int(settings.cycles_limit or cycles)
 
 
+def cover_cycles(settings: RunSettings) -> int:
+    """The mesh cycles' worth of teeth a sector run carries contacts for: its
+    :func:`cycles_limit`, and under a torque history half as many more (at least 2), as the
+    gears may run ahead of their nominal speed (docs/sector.md, 6.8)."""
+    most = cycles_limit(settings)
+    return most if settings.torque_history is None else most + max(2, -(-most // 2))
+
+
 def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
     """Steps per mesh cycle ``2 pi / (z omega)``: a whole number, so that every cycle is
     sampled at the same phases, giving a step no longer than ``dt`` (by default the
@@ -81,5 +89,5 @@ def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
 
 
 __all__ = ["BACKLASH_FLOOR", "BODY_DAMPING_RATIO", "CYCLE_POSITIONS", "KEEP_FREQUENCY", "SECTOR_REVISION",
-           "STEPS_PER_KEPT_PERIOD", "STEPS_PER_MESH_PERIOD", "back_flanks_on", "body_rayleigh", "cycles_limit",
+           "STEPS_PER_KEPT_PERIOD", "STEPS_PER_MESH_PERIOD", "back_flanks_on", "body_rayleigh", "cover_cycles", "cycles_limit",
            "steps_per_cycle"]

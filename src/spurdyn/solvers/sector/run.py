@@ -65,6 +65,7 @@ from spurdyn.solvers.sector.rules import (
     STEPS_PER_MESH_PERIOD,
     back_flanks_on,
     body_rayleigh,
+    cover_cycles,
     cycles_limit,
     steps_per_cycle,
 )
@@ -137,9 +138,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     h = pitch / speed / per_cycle
     n_steps = per_cycle * cycles
     check_history(pair, settings)
-    # the cycles' worth of teeth the run carries: under a torque history the gears may run
-    # ahead of their nominal speed (a guard stops the run where they would leave them)
-    cover = most if settings.torque_history is None else most + max(2, -(-most // 2))
+    # the cycles' worth of teeth the run carries (a guard stops the run where they are left)
+    cover = cover_cycles(settings)
     back = back_flanks_on(dp, settings)
     (first_a, count_a), (first_b, count_b) = teeth_for(dp, cover, back, settings.teeth)
     mesh_keys = (settings.nx, settings.ny, settings.grading)

@@ -232,6 +232,7 @@ def teeth_for(pair: GearPair, cycles: float, back: bool = False,
     neighbour on each side; a gear's whole ring when that is as many teeth as it has, or the
     run lasts :data:`WHOLE_FROM_CYCLES` cycles or more.
 
+    ``pair`` has the driver as gear A (:func:`~spurdyn.sector.statics.driving_pair`).
     ``teeth`` (``RunSettings.teeth``, ``--teeth K``) asks for ``K`` teeth per gear instead:
     the whole gear where ``K`` reaches its number of teeth, else those needed and the rest
     as further neighbours, one more behind the mesh than ahead of it where they do not
@@ -257,8 +258,8 @@ def teeth_for(pair: GearPair, cycles: float, back: bool = False,
         elif teeth >= z:
             whole = True
         elif teeth < need:
-            raise InputError("teeth", f"must be at least {need}: the teeth of gear "
-                             f"{'AB'[g] if pair.driver == 'a' else 'BA'[g]} that a run of "
+            raise InputError("teeth", f"must be at least {need}: the teeth of the "
+                             f"{'driver' if g == 0 else 'driven gear'} that a run of "
                              f"{cycles:g} mesh cycles meets, with a neighbour on each side "
                              f"(or {z}, the whole gear; got {teeth})")
         else:

@@ -38,6 +38,7 @@ from spurdyn.settings import (
 from spurdyn.solvers.check import check_run, default_dt, round_down, stable_step
 from spurdyn.solvers.implicit.alpha import accuracy_step
 from spurdyn.solvers.implicit.damping import rayleigh_from_ratio
+from spurdyn.torquefile import history_from_table, history_to_table, read_history_csv
 
 RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",
@@ -296,8 +297,6 @@ def _torque_history(src: _Source, base: Path | None) -> TorqueHistory | None:
     """The ``torque_history``: a CSV file's name (relative to ``base``, or to the working
     folder where the command line gave it) or an inline table
     (:mod:`spurdyn.torquefile`), repeated if ``torque_history_periodic``."""
-    from spurdyn.torquefile import history_from_table, read_history_csv
-
     periodic = src.boolean("torque_history_periodic", False)
     found, value, name = src.get("torque_history")
     if not found:
@@ -397,6 +396,11 @@ def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
                           labels=labels, check_step=check_step, base=path.parent)
 
 
+#: ``[run]`` keys :func:`case_to_dict` writes only where they differ from these defaults.
+_WRITTEN_IF_GIVEN = (("cycles", None), ("max_cycles", None), ("stiffness", "tooth"), ("bodies", "modal"),
+                     ("back_flanks", None), ("teeth", None), ("start", "static"), ("ramp_cycles", None))
+
+
 def case_to_dict(case: Case) -> dict[str, Any]:
     """The case as a TOML-shaped dictionary (TOML units) that :func:`case_from_dict` reads.
 
@@ -419,25 +423,10 @@ def case_to_dict(case: Case) -> dict[str, Any]:
             run_table[key] = getattr(run, key)
     if run.integrator != "rk4":
         run_table.update(integrator=run.integrator, rho_inf=run.rho_inf)
-    if run.cycles is not None:
-        run_table["cycles"] = run.cycles
-    if run.max_cycles is not None:
-        run_table["max_cycles"] = run.max_cycles
-    if run.stiffness != "tooth":
-        run_table["stiffness"] = run.stiffness
-    if run.bodies != "modal":
-        run_table["bodies"] = run.bodies
-    if run.back_flanks is not None:
-        run_table["back_flanks"] = run.back_flanks
-    if run.teeth is not None:
-        run_table["teeth"] = run.teeth
-    if run.start != "static":
-        run_table["start"] = run.start
-    if run.ramp_cycles is not None:
-        run_table["ramp_cycles"] = run.ramp_cycles
+    # the keys written only where they differ from their default
+    run_table.update({key: getattr(run, key) for key, default in _WRITTEN_IF_GIVEN
+                      if getattr(run, key) != default})
     if run.torque_history is not None:   # inline: the stored case stands on its own
-        from spurdyn.torquefile import history_to_table
-
         run_table["torque_history"] = history_to_table(run.torque_history)
         run_table["torque_history_periodic"] = run.torque_history.periodic
     return {

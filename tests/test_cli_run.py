@@ -22,10 +22,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from spurdyn.cases import resolve_cases
 from spurdyn.cli import run as runner
 from spurdyn.cli.main import main
 from spurdyn.results.headline import AVERAGING_WINDOW_S, moving_average
-from spurdyn.settings import METHODS
+from spurdyn.settings import METHODS, RPM
 from test_results_io import PNG_MAGIC, fake_simulate
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -147,6 +148,20 @@ def test_run_options_override_the_case(fake, here, capsys):
             case["run"][key] == value, key
     assert case["mesh"] == {"nx": 3, "ny": 10, "grading": 1.0}
     assert ds.attrs["static_force_N"] == pytest.approx(10.0 / 0.0417692, rel=1e-4)
+
+
+@pytest.mark.parametrize(("spec", "extra", "speed_b"), [
+    ("paper-fig8", {}, 18000.0),                       # the preset's equal speeds
+    ("paper-fig10", {}, 18180.0),                      # B 1 % fast, as in the preset
+    ("paper-fig10", {"run.speed_b_rpm": 17000.0}, 17000.0),  # B's own speed wins
+    (str(EXAMPLES / "pinion_23_47.toml"), {}, 18000.0 * 23 / 47),  # B meshes by default
+])
+def test_speed_a_alone_keeps_the_cases_ratio_of_speeds(spec, extra, speed_b):
+    """``--speed-a`` alone scales the case's B as a sweep does (a steady run of a preset
+    at 18,000 rpm with B left at 4,000 would start the gears 14,000 rpm apart)."""
+    case = resolve_cases(spec, {"run.speed_a_rpm": 18000.0, **extra})[0]
+    assert case.run.speed_a == pytest.approx(18000.0 * RPM)
+    assert case.run.speed_b == pytest.approx(speed_b * RPM, rel=1e-12)
 
 
 @pytest.mark.parametrize("example", ["paper_fig8.toml", "pinion_gear.toml"])

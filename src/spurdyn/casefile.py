@@ -224,6 +224,8 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     hint = "give it in the [run] table or on the command line"
     speed_a = src.number("speed_a_rpm", None, required_hint=hint)
     speed_b = src.number("speed_b_rpm", speed_a * pair.gear_a.teeth / pair.gear_b.teeth)
+    scale_b = _speed_scale(table, overrides)
+    speed_b *= scale_b
     torque = src.number("torque", None, positive=False, required_hint=hint)
     dt = src.number("dt", None)
     angle_deg = src.number("angle_deg", None)
@@ -285,12 +287,27 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
                 for key in ("mesh.grading", "mesh.nx"):  # the mesh made the step too large
                     if key in overrides:
                         return labels.get(key, "mesh" if key == "mesh.nx" else key)
-            if name == "speed_b_rpm" and not src.get(name)[0]:
-                return src.field("speed_a_rpm")          # B's default speed comes from A's
+            if name == "speed_b_rpm" and (not src.get(name)[0] or scale_b != 1.0):
+                return src.field("speed_a_rpm")          # B's speed comes from A's
             return src.field(name)
 
         check_run(pair, run, system, field)
     return Case(name=name, pair=pair, run=run, description=description)
+
+
+def _speed_scale(table: Mapping[str, Any], overrides: Mapping[str, Any]) -> float:
+    """How much a speed of A given on the command line scales the case's own speed of B.
+
+    ``--speed-a`` alone keeps the case's ratio of speeds, as a sweep does at each of its
+    speeds (a preset's B at 4,000 rpm beside A at 18,000 would start a steady run with the
+    gears 14,000 rpm apart). 1 where B's speed is given, or follows A's by default.
+    """
+    if "run.speed_a_rpm" not in overrides or "run.speed_b_rpm" in overrides:
+        return 1.0
+    own_a, own_b = table.get("speed_a_rpm"), table.get("speed_b_rpm")
+    if own_b is None or isinstance(own_a, bool) or not isinstance(own_a, (int, float)) or own_a <= 0:
+        return 1.0
+    return float(overrides["run.speed_a_rpm"]) / float(own_a)
 
 
 def _torque_history(src: _Source, base: Path | None) -> TorqueHistory | None:

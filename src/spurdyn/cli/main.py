@@ -265,7 +265,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--allow-large", action="store_true",
                      help="run even beyond 2,000,000 steps or 1 GiB of results per case")
     run.add_argument("--dt", type=float, metavar="S", help="time step (s)")
-    run.add_argument("--speed-a", type=float, metavar="RPM", help="initial speed of gear A (rpm)")
+    run.add_argument("--speed-a", type=float, metavar="RPM", help="initial speed of gear A (rpm); B keeps the case's ratio unless --speed-b is given")
     run.add_argument("--speed-b", type=float, metavar="RPM", help="initial speed of gear B (rpm)")
     run.add_argument("--torque", type=float, metavar="NM", help="external torque on the driver (N m)")
     run.add_argument("--angle", type=float, metavar="DEG",

@@ -103,3 +103,43 @@ def test_sliding_terms_match_appendix_a_reference(loaded, mode):
                              c.normal[0], c.normal[1], va, vb, Ma, Mb)
     assert abs(got2 - got) > 10 * tol
 
+
+
+@pytest.mark.parametrize("mode", [cref.FLANK, cref.CORNER_A, cref.CORNER_B])
+def test_the_strips_search_and_sliding_terms_on_the_rigid_flanks_match_the_reference(loaded, mode):
+    """With ``rigid`` (the distributed contact, docs/solver.md section 11.2) ``search`` finds
+    the pair, mode and normal of the rigidly turned flanks and the deformed flanks' gap
+    there, as :func:`~spurdyn.contact.search_numpy.find_contact` with ``locate``; ``sliding``
+    takes the pair's rates from the rigid flanks and the terms from the deformed ones, as
+    ``sliding_acceleration`` with ``rates_from`` (tolerance as in the test above)."""
+    st, P, S = loaded, loaded.P, loaded.S
+    nd = P.fl_nodes.shape[1]
+    va, vb, Ma, Mb = (np.empty((nd, 2)) for _ in range(4))
+    guess = np.array([st.contact.alpha, st.contact.beta])
+    a, b, mode_s, nx, ny, s = search_c.search(P, S.theta, S.u, guess, va, vb, Ma, Mb, True)
+    gb = st.system.gears
+    pos = [gb[g].X + st.block(g, S.u).reshape(-1, 2) for g in range(2)]
+    vel = [st.block(g, S.v).reshape(-1, 2) for g in range(2)]
+    rots = [dyn_np.rot(gb[g].sense * S.theta[g]) for g in range(2)]
+    located = dyn_np.rigid_flanks(st.system, S.theta, S.omega)
+    c = cref.find_contact(gb[0].flank, gb[1].flank, *pos, *rots, tuple(guess), locate=tuple(located[:2]))
+    assert mode_s == c.mode == cref.FLANK
+    assert abs(a - c.alpha) < 1e-9 and abs(b - c.beta) < 1e-9
+    assert worst(np.array([nx, ny]), c.normal) < 1e-12 and abs(s - c.s) < 1e-15
+    # the deformed flanks' own pair lies elsewhere: the state's teeth are loaded
+    assert abs(a - st.contact.alpha) + abs(b - st.contact.beta) > 1e-6
+    c = dataclasses.replace(c, mode=mode)
+    got = search_c.sliding(P, S.theta, S.omega, S.u, S.v, a, b, mode, nx, ny, va, vb, Ma, Mb, True)
+    want, ad, bd = cref.sliding_acceleration(gb[0].flank, gb[1].flank, *pos, *rots, *vel,
+                                             *st.ref.velocity_mats(S.theta, S.omega), c,
+                                             rates_from=tuple(located))
+    hs = P.fpar[:, F.h].min()
+    psize = max(np.abs(va).max(), np.abs(vb).max())
+    vsize = np.abs(S.v).max()
+    tol = 6 * EPS * ((ad * ad + bd * bd) * psize / hs**2 + 2 * (abs(ad) + abs(bd)) * vsize / hs)
+    assert abs(got - want) <= tol
+    assert abs(want) > 1e6 * tol
+    # the deformed flanks' velocities a part in 1e9 larger change the terms beyond that
+    got2 = search_c.sliding(P, S.theta, S.omega, S.u, S.v * (1 + 1e-9), a, b, mode, nx, ny,
+                             va, vb, Ma, Mb, True)
+    assert abs(got2 - got) > 10 * tol

@@ -319,7 +319,9 @@ def find_pair(va, Ma, vb, Mb, fa, fb, ga, gb):
 
 @njit
 def data_positions(P, g, th, omega_or_zero, uget, out, kind):
-    """Positions (kind 0) or velocities (kind 1) of the data points of gear ``g``.
+    """Positions (kind 0) or velocities (kind 1) of the data points of gear ``g``; with
+    kind 2 (3) the positions (velocities) of the tooth turned rigidly with its disk, on
+    which a strip's pair is located (docs/solver.md, section 11.2; ``uget`` unread).
 
     ``uget`` is a full-length vector (``u`` or ``v``) of the tooth DOFs.
     """
@@ -327,6 +329,7 @@ def data_positions(P, g, th, omega_or_zero, uget, out, kind):
     c, s = math.cos(sg * th), math.sin(sg * th)
     nd = P.fl_nodes.shape[1]
     cx, cy = P.centre[g, 0], P.centre[g, 1]
+    rigid = kind >= 2
     for k in range(nd):
         px = 0.0
         py = 0.0
@@ -336,12 +339,20 @@ def data_positions(P, g, th, omega_or_zero, uget, out, kind):
             if kind == 0:
                 px += wj * (P.Y[2 * i] + uget[2 * i])
                 py += wj * (P.Y[2 * i + 1] + uget[2 * i + 1])
+            elif rigid:
+                px += wj * P.Y[2 * i]
+                py += wj * P.Y[2 * i + 1]
             else:
                 px += wj * uget[2 * i]
                 py += wj * uget[2 * i + 1]
         dx, dy = P.fl_delta[g, k, 0], P.fl_delta[g, k, 1]
+        if rigid:       # the involute point itself, turned with the disk
+            dx += px
+            dy += py
+            px = 0.0
+            py = 0.0
         rx, ry = c * dx - s * dy, s * dx + c * dy
-        if kind == 0:
+        if kind == 0 or kind == 2:
             out[k, 0] = cx + px + rx
             out[k, 1] = cy + py + ry
         else:
@@ -386,10 +397,14 @@ def weighted_point(P, g, nodes, w, off, n, dx, dy, th, uget, kind, om, al):
 
 
 @njit
-def search(P, theta, u, guess, va, vb, Ma, Mb):
-    """Contact pair on the current flanks: ``(alpha, beta, mode, n_x, n_y, s)``."""
-    data_positions(P, np.int64(0), theta[0], 0.0, u, va, np.int64(0))
-    data_positions(P, np.int64(1), theta[1], 0.0, u, vb, np.int64(0))
+def search(P, theta, u, guess, va, vb, Ma, Mb, rigid=False):
+    """Contact pair on the current flanks: ``(alpha, beta, mode, n_x, n_y, s)``; with
+    ``rigid`` the pair, its mode and normal are those of the rigidly turned flanks (the
+    strip's, docs/solver.md section 11.2; ``va`` ... ``Mb`` then hold their splines) and
+    ``s`` the deformed flanks' gap there."""
+    kind = np.int64(2) if rigid else np.int64(0)
+    data_positions(P, np.int64(0), theta[0], 0.0, u, va, kind)
+    data_positions(P, np.int64(1), theta[1], 0.0, u, vb, kind)
     spline_second(va, P.fpar[0, F.h], Ma)
     spline_second(vb, P.fpar[1, F.h], Mb)
     a, b, mode, nx, ny = find_pair(va, Ma, vb, Mb, P.fpar[0], P.fpar[1], guess[0], guess[1])
@@ -415,25 +430,48 @@ def contact_rows(P, a, b, cn, cw):
 
 
 @njit
-def sliding(P, theta, omega, u, v, a, b, mode, nx, ny, va, vb, Ma, Mb):
-    """Appendix A terms of the relative normal acceleration at the contact pair."""
-    na = va.shape[0]
-    wa = np.empty((na, 2))
-    wb = np.empty((na, 2))
-    Wa = np.empty((na, 2))
-    Wb = np.empty((na, 2))
-    data_positions(P, np.int64(0), theta[0], omega[0], v, wa, np.int64(1))
-    data_positions(P, np.int64(1), theta[1], omega[1], v, wb, np.int64(1))
-    spline_second(wa, P.fpar[0, F.h], Wa)
-    spline_second(wb, P.fpar[1, F.h], Wb)
+def _splined_at(P, g, th, om, uget, kind, t, out):
+    """Value and first two derivatives (``out``, 6) at ``t`` of gear ``g``'s flank spline
+    through the data points of ``kind`` (:func:`data_positions`)."""
+    nd = P.fl_nodes.shape[1]
+    vals = np.empty((nd, 2))
+    M = np.empty((nd, 2))
+    data_positions(P, g, th, om, uget, vals, kind)
+    spline_second(vals, P.fpar[g, F.h], M)
+    spline_eval(vals, M, P.fpar[g, F.t0], P.fpar[g, F.h], t, out)
+
+
+@njit
+def sliding(P, theta, omega, u, v, a, b, mode, nx, ny, va, vb, Ma, Mb, rigid=False):
+    """Appendix A terms of the relative normal acceleration at the contact pair. With
+    ``rigid`` (``va`` ... ``Mb`` the rigidly turned flanks' splines, as :func:`search` left
+    them) the pair's rates are the rigid flanks' and the terms the deformed ones'."""
     ea = np.empty(6)
     eb = np.empty(6)
     fa = np.empty(6)
     fb = np.empty(6)
     spline_eval(va, Ma, P.fpar[0, F.t0], P.fpar[0, F.h], a, ea)
     spline_eval(vb, Mb, P.fpar[1, F.t0], P.fpar[1, F.h], b, eb)
-    spline_eval(wa, Wa, P.fpar[0, F.t0], P.fpar[0, F.h], a, fa)
-    spline_eval(wb, Wb, P.fpar[1, F.t0], P.fpar[1, F.h], b, fb)
+    if rigid:
+        _splined_at(P, np.int64(0), theta[0], omega[0], v, np.int64(3), a, fa)
+        _splined_at(P, np.int64(1), theta[1], omega[1], v, np.int64(3), b, fb)
+        ad, bd = _pair_rates(ea, eb, fa, fb, mode)
+        _splined_at(P, np.int64(0), theta[0], 0.0, u, np.int64(0), a, ea)
+        _splined_at(P, np.int64(1), theta[1], 0.0, u, np.int64(0), b, eb)
+    _splined_at(P, np.int64(0), theta[0], omega[0], v, np.int64(1), a, fa)
+    _splined_at(P, np.int64(1), theta[1], omega[1], v, np.int64(1), b, fb)
+    if not rigid:
+        ad, bd = _pair_rates(ea, eb, fa, fb, mode)
+    cax, cay = ea[4], ea[5]
+    cbx, cby = eb[4], eb[5]
+    return (2.0 * ad * (nx * fa[2] + ny * fa[3]) + ad * ad * (nx * cax + ny * cay)
+            - 2.0 * bd * (nx * fb[2] + ny * fb[3]) - bd * bd * (nx * cbx + ny * cby))
+
+
+@njit
+def _pair_rates(ea, eb, fa, fb, mode):
+    """``(d alpha/dt, d beta/dt)`` from the position (``ea``, ``eb``) and velocity (``fa``,
+    ``fb``) splines' values at the pair (the twin of ``search_numpy._pair_rates``)."""
     tax, tay, cax, cay = ea[2], ea[3], ea[4], ea[5]
     tbx, tby, cbx, cby = eb[2], eb[3], eb[4], eb[5]
     ta2 = tax * tax + tay * tay
@@ -456,6 +494,4 @@ def sliding(P, theta, omega, u, v, a, b, mode, nx, ny, va, vb, Ma, Mb):
     else:
         ad = (tax * (fb[0] - fa[0]) + tay * (fb[1] - fa[1])) / ta2
         bd = 0.0
-    extra = (2.0 * ad * (nx * fa[2] + ny * fa[3]) + ad * ad * (nx * cax + ny * cay)
-             - 2.0 * bd * (nx * fb[2] + ny * fb[3]) - bd * bd * (nx * cbx + ny * cby))
-    return extra
+    return ad, bd

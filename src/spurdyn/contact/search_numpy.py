@@ -210,16 +210,21 @@ def _pair(pa: CubicSpline, pb: CubicSpline, fa: Flank, fb: Flank,
 
 def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.float64],
                  ra: NDArray[np.float64], rb: NDArray[np.float64], guess: tuple[float, float],
-                 load: float = 0.0, law: tuple[float, float] | None = None) -> ContactPair:
+                 load: float = 0.0, law: tuple[float, float] | None = None,
+                 locate: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None) -> ContactPair:
     """Contact pair of two flanks.
 
     ``xa``, ``xb`` are the current nodal positions ``(N, 2)``, ``ra``, ``rb`` the disks'
     rotation matrices ``R(sense theta)``, ``guess`` the last ``(alpha, beta)``. With a
     ``law`` ``(E*, face width)`` the rows and the gap are the averages over the Hertzian
     strip of the normal force ``load`` (N) at a flank-to-flank pair (a tip corner and a
-    zero load keep the point).
+    zero load keep the point). ``locate``: other nodal positions of the two teeth (the
+    rigidly turned ones, for the strip: docs/solver.md, section 11.2) on which the pair,
+    its mode and the normal are found; the gap is still that of ``xa``, ``xb`` there.
     """
     pa, pb = flank_spline(fa, xa, ra), flank_spline(fb, xb, rb)
+    if locate is not None:
+        pa, pb = flank_spline(fa, locate[0], ra), flank_spline(fb, locate[1], rb)
     a, b, mode = _pair(pa, pb, fa, fb, guess)
     if mode == CORNER_A:
         normal = -outward_normal(pb(b, 1))
@@ -254,16 +259,34 @@ def sliding_acceleration(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDAr
                          ra: NDArray[np.float64], rb: NDArray[np.float64],
                          va: NDArray[np.float64], vb: NDArray[np.float64],
                          ma: NDArray[np.float64], mb: NDArray[np.float64],
-                         c: ContactPair) -> tuple[float, float, float]:
+                         c: ContactPair,
+                         rates_from: tuple[NDArray[np.float64], ...] | None = None,
+                         ) -> tuple[float, float, float]:
     """The Appendix A terms of the relative normal acceleration, and ``d alpha/dt``, ``d beta/dt``.
 
     Returns ``(extra, alpha_dot, beta_dot)`` with ``extra`` to be added to
     ``n . (N_A a_A - N_B a_B)``: the Coriolis terms ``2 alpha' n . V_A,alpha`` and the
     curvature terms ``alpha'^2 n . P_A,alpha alpha`` (and minus the same for B).
+    ``rates_from``: positions and velocities ``(xa, xb, va, vb)`` of the flanks the pair is
+    located on (the rigidly turning ones, for the strip: docs/solver.md, section 11.2); the
+    pair's rates are theirs, the terms those of the deformed flanks.
     """
     pa, pb = flank_spline(fa, xa, ra), flank_spline(fb, xb, rb)
     sa, sb = flank_spline(fa, va, ma), flank_spline(fb, vb, mb)
     n = c.normal
+    ad, bd = _pair_rates(c, pa, pb, sa, sb) if rates_from is None else _pair_rates(
+        c, *(flank_spline(f, x, m) for f, x, m in zip((fa, fb, fa, fb), rates_from, (ra, rb, ma, mb))))
+    ca, cb = pa(c.alpha, 2), pb(c.beta, 2)
+    dwa, dwb = sa(c.alpha, 1), sb(c.beta, 1)
+    extra = 2.0 * ad * (n @ dwa) + ad * ad * (n @ ca) - 2.0 * bd * (n @ dwb) - bd * bd * (n @ cb)
+    return float(extra), float(ad), float(bd)
+
+
+def _pair_rates(c: ContactPair, pa: CubicSpline, pb: CubicSpline, sa: CubicSpline,
+                sb: CubicSpline) -> tuple[float, float]:
+    """``(d alpha/dt, d beta/dt)`` of the pair ``c`` on the flanks of positions ``pa``, ``pb``
+    and velocities ``sa``, ``sb`` (Appendix A: equal tangential velocities, normals that stay
+    aligned; a tip corner is a material point)."""
     ta, tb = pa(c.alpha, 1), pb(c.beta, 1)
     ca, cb = pa(c.alpha, 2), pb(c.beta, 2)
     wa, wb = sa(c.alpha), sb(c.beta)
@@ -278,5 +301,4 @@ def sliding_acceleration(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDAr
         ad, bd = 0.0, float(tb @ (wa - wb) / (tb @ tb))
     else:
         ad, bd = float(ta @ (wb - wa) / (ta @ ta)), 0.0
-    extra = 2.0 * ad * (n @ dwa) + ad * ad * (n @ ca) - 2.0 * bd * (n @ dwb) - bd * bd * (n @ cb)
-    return float(extra), float(ad), float(bd)
+    return float(ad), float(bd)

@@ -176,7 +176,7 @@ def contact(P, I, theta, u, guess, load, cn, cw, buf):
     with its rows written into ``cn``, ``cw`` (the strip of ``load`` for the distributed
     contact)."""
     ns = I.ns
-    a, b, mode, nx, ny, s = search(P, theta, u, guess, buf[0], buf[1], buf[2], buf[3])
+    a, b, mode, nx, ny, s = search(P, theta, u, guess, buf[0], buf[1], buf[2], buf[3], I.estar > 0.0)
     hw = 0.0
     if I.estar > 0.0 and mode == FLANK:
         hw = strip_half_width(P, a, b, load, I.estar, I.face)

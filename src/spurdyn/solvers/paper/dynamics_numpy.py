@@ -162,14 +162,30 @@ def strip_law(system: PairSystem) -> tuple[float, float]:
     return estar, min(ga.face_width, gb.face_width)
 
 
+def rigid_flanks(system: PairSystem, theta: NDArray[np.float64],
+                 omega: NDArray[np.float64] | None = None) -> list[NDArray[np.float64]]:
+    """Nodal positions ``(N, 2)`` of both teeth turned rigidly with their disks by ``theta``,
+    then (with ``omega``) their velocities: the flanks a strip's pair is located on
+    (docs/solver.md, section 11.2)."""
+    out, vel = [], []
+    for g, th in zip(system.gears, theta):
+        y = (g.X - g.centre) @ rot(g.sense * th).T
+        out.append(g.centre + y)
+        if omega is not None:
+            vel.append(g.sense * omega[len(vel)] * np.column_stack([-y[:, 1], y[:, 0]]))
+    return out + vel
+
+
 def contact_at(system: PairSystem, theta: NDArray[np.float64], u: NDArray[np.float64],
                guess: tuple[float, float], load: float = 0.0,
                law: tuple[float, float] | None = None) -> ContactPair:
     """The contact pair on the flanks at ``(theta, u)``, searched from ``guess``; with a
-    ``law`` (:func:`strip_law`) averaged over the strip of the force ``load``."""
+    ``law`` (:func:`strip_law`) located on the rigidly turned flanks and averaged over the
+    strip of the force ``load`` (docs/solver.md, section 11.2)."""
     s = system
     ua, ub = blocks(s, u)
     xa = s.gears[0].X + ua.reshape(-1, 2)
     xb = s.gears[1].X + ub.reshape(-1, 2)
     ra, rb = (rot(g.sense * th) for g, th in zip(s.gears, theta))
-    return find_contact(*paper_flanks(s), xa, xb, ra, rb, guess, load, law)
+    locate = tuple(rigid_flanks(s, theta)) if law is not None else None
+    return find_contact(*paper_flanks(s), xa, xb, ra, rb, guess, load, law, locate)

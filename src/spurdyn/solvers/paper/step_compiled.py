@@ -133,7 +133,7 @@ def step(P, S, cfg):
             e[2 * k + 1] = -(u_try[2 * i + 1] - (s * yx + c * yy - yy))
         # The search also refits the flank splines (va, vb, Ma, Mb) that the later stages'
         # sliding terms read.
-        a_c, b_c, mode, nxc, nyc, sc = search(P, th_try, u_try, guess, va, vb, Ma, Mb)
+        a_c, b_c, mode, nxc, nyc, sc = search(P, th_try, u_try, guess, va, vb, Ma, Mb, hertz)
         if hertz:
             hw_t = strip_half_width(P, a_c, b_c, load, cfg.estar, cfg.face) if mode == FLANK else 0.0
             if hw_t > 0.0:
@@ -257,7 +257,7 @@ def step(P, S, cfg):
     a_free = np.empty(n)
     accelerations(th1, u1, zero2, zero_u, P, w, kw, el, qq, al_free, a_free)
     gram(P, th1, cn1, cw1, n1, C)
-    extra = sliding(P, th1, om1, u1, v1, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb)
+    extra = sliding(P, th1, om1, u1, v1, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hertz)
     fth = np.empty(2)
     fu = np.empty(n)
     a_try = np.empty(n)

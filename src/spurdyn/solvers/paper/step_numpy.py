@@ -32,8 +32,8 @@ from spurdyn.settings import RunSettings
 from spurdyn.solvers.layout import FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_VEL, OK
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_numpy import (
-    accelerations, blocks, constraint_force, contact_at, inverse_mass, jacobian, rigid_velocities,
-    paper_flanks, root_acceleration_errors, root_phi, root_phi_theta, strip_law, torques,
+    accelerations, blocks, constraint_force, contact_at, inverse_mass, jacobian, paper_flanks,
+    rigid_flanks, rigid_velocities, root_acceleration_errors, root_phi, root_phi_theta, strip_law, torques,
 )
 from spurdyn.solvers.paper.iteration_numpy import accelerated_update, band_value
 
@@ -255,7 +255,8 @@ class PaperMethod:
         extra, _, _ = sliding_acceleration(
             *paper_flanks(sys_),
             sys_.gears[0].X + ua.reshape(-1, 2), sys_.gears[1].X + ub.reshape(-1, 2), ra, rb,
-            va.reshape(-1, 2), vb.reshape(-1, 2), ma, mb, c1)
+            va.reshape(-1, 2), vb.reshape(-1, 2), ma, mb, c1,
+            None if self.law is None else tuple(rigid_flanks(sys_, th1, om2)))
         zero = np.zeros(sys_.n_x)
         alpha0, a0 = self.accelerations(th1, u1, *constraint_force(sys_, th1, c1, zero))
         for m in range(cap + 1):

@@ -67,6 +67,15 @@ def test_edge_rows_and_surface_points_match_the_flank(loaded):
     print("data/material points (positions m, velocities m/s; points: m, m/s, m/s^2):", big)
 
 
+def _sliding_tolerance(P, S, va, vb, ad, bd):
+    """Round-off of the sliding terms: that of the splines' derivatives, ``~6 EPS |P| / h^2``
+    and ``6 EPS |V| / h`` (``h`` the data spacing), times the rates."""
+    hs = P.fpar[:, F.h].min()
+    psize = max(np.abs(va).max(), np.abs(vb).max())
+    vsize = np.abs(S.v).max()
+    return 6 * EPS * ((ad * ad + bd * bd) * psize / hs**2 + 2 * (abs(ad) + abs(bd)) * vsize / hs)
+
+
 @pytest.mark.parametrize("mode", [cref.FLANK, cref.CORNER_A, cref.CORNER_B])
 def test_sliding_terms_match_appendix_a_reference(loaded, mode):
     """``search_c.sliding`` against :func:`spurdyn.contact.search_numpy.sliding_acceleration` at
@@ -91,10 +100,7 @@ def test_sliding_terms_match_appendix_a_reference(loaded, mode):
     rots = [dyn_np.rot(gb[g].sense * S.theta[g]) for g in range(2)]
     want, ad, bd = cref.sliding_acceleration(gb[0].flank, gb[1].flank, *pos, *rots, *vel,
                                              *st.ref.velocity_mats(S.theta, S.omega), c)
-    hs = P.fpar[:, F.h].min()
-    psize = max(np.abs(va).max(), np.abs(vb).max())
-    vsize = np.abs(S.v).max()
-    tol = 6 * EPS * ((ad * ad + bd * bd) * psize / hs**2 + 2 * (abs(ad) + abs(bd)) * vsize / hs)
+    tol = _sliding_tolerance(P, S, va, vb, ad, bd)
     assert abs(got - want) <= tol
     assert abs(want) > 1e6 * tol
     print(f"sliding mode {mode}: {abs(got - want):.1e} m/s^2 (tol {tol:.1e}, extra {want:.3e})")
@@ -133,10 +139,7 @@ def test_the_strips_search_and_sliding_terms_on_the_rigid_flanks_match_the_refer
     want, ad, bd = cref.sliding_acceleration(gb[0].flank, gb[1].flank, *pos, *rots, *vel,
                                              *st.ref.velocity_mats(S.theta, S.omega), c,
                                              rates_from=tuple(located))
-    hs = P.fpar[:, F.h].min()
-    psize = max(np.abs(va).max(), np.abs(vb).max())
-    vsize = np.abs(S.v).max()
-    tol = 6 * EPS * ((ad * ad + bd * bd) * psize / hs**2 + 2 * (abs(ad) + abs(bd)) * vsize / hs)
+    tol = _sliding_tolerance(P, S, va, vb, ad, bd)
     assert abs(got - want) <= tol
     assert abs(want) > 1e6 * tol
     # the deformed flanks' velocities a part in 1e9 larger change the terms beyond that

@@ -1,4 +1,5 @@
-"""Contact between the deformed flanks: the search for the contact pair and its kinematics.
+"""Contact between the deformed flanks: the search for the contact pair and its kinematics
+(for the Hertzian strip the pair of the rigidly turned flanks, docs/solver.md 11.2).
 
 Twins in mirrored files: :mod:`spurdyn.contact.search_numpy` (SciPy splines, the plain
 version) and :mod:`spurdyn.contact.search_compiled` (Numba), with their shared constants,

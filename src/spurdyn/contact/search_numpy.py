@@ -5,7 +5,8 @@ through the current positions of its data points, parameterised by the flank
 coordinate ``t`` (see :class:`~spurdyn.model.flank.Flank`). The contact pair is the
 pair of points with the minimum normal distance: tangents parallel and the connecting
 vector normal to both (docs/contact.md). Where that pair would lie beyond a tooth's tip,
-the tip corner is projected onto the other flank instead ("corner contact").
+the tip corner is projected onto the other flank instead ("corner contact"). The Hertzian
+strip locates its pair on the rigidly turned flanks instead (``locate``; docs/solver.md 11.2).
 
 The penetration (paper eq. 3) is measured between the *finite-element* material points
 under the contact pair: ``s = n . (x_A - x_B)``, ``n`` the unit normal pointing from A
@@ -222,9 +223,8 @@ def find_contact(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDArray[np.f
     rigidly turned ones, for the strip: docs/solver.md, section 11.2) on which the pair,
     its mode and the normal are found; the gap is still that of ``xa``, ``xb`` there.
     """
-    pa, pb = flank_spline(fa, xa, ra), flank_spline(fb, xb, rb)
-    if locate is not None:
-        pa, pb = flank_spline(fa, locate[0], ra), flank_spline(fb, locate[1], rb)
+    xa_at, xb_at = (xa, xb) if locate is None else locate
+    pa, pb = flank_spline(fa, xa_at, ra), flank_spline(fb, xb_at, rb)
     a, b, mode = _pair(pa, pb, fa, fb, guess)
     if mode == CORNER_A:
         normal = -outward_normal(pb(b, 1))

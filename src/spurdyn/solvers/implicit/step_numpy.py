@@ -302,7 +302,8 @@ class ImplicitMethod:
                 # The point contact measures its gap on splines through the flank's data
                 # points but acts through the edge's shape functions, so the gap moves by
                 # phi times what the row predicts; phi is learnt from the iterates (a
-                # secant on the one contact row; the strip's row is its gap's gradient).
+                # secant on the one contact row; the strip's row is its gap's gradient in u, its
+                # pair sitting on the rigid flanks: docs/solver.md 11.2).
                 if was and predicted is not None and abs(predicted) > 1e-18:
                     phi = min(max((gap - gap_before) / predicted, 0.1), 10.0)
                 g_con = g_act.copy()

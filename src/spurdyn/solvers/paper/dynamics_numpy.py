@@ -168,11 +168,11 @@ def rigid_flanks(system: PairSystem, theta: NDArray[np.float64],
     then (with ``omega``) their velocities: the flanks a strip's pair is located on
     (docs/solver.md, section 11.2)."""
     out, vel = [], []
-    for g, th in zip(system.gears, theta):
+    for i, (g, th) in enumerate(zip(system.gears, theta)):
         y = (g.X - g.centre) @ rot(g.sense * th).T
         out.append(g.centre + y)
         if omega is not None:
-            vel.append(g.sense * omega[len(vel)] * np.column_stack([-y[:, 1], y[:, 0]]))
+            vel.append(g.sense * omega[i] * np.column_stack([-y[:, 1], y[:, 0]]))
     return out + vel
 
 

@@ -13,14 +13,14 @@ from scipy.integrate import quad
 
 from spurdyn.contact import hertz
 from spurdyn.contact import strip_compiled as strip_c
-from spurdyn.contact.search_numpy import FLANK
+from spurdyn.contact.search_numpy import FLANK, sliding_acceleration
 from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.errors import InputError
 from spurdyn.fem.element import edge_weights
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.model.system import build_system
 from spurdyn.settings import RPM, RunSettings
-from spurdyn.solvers.paper.dynamics_numpy import contact_at, jacobian, strip_law
+from spurdyn.solvers.paper.dynamics_numpy import blocks, contact_at, jacobian, rigid_flanks, rot, strip_law
 from spurdyn.solvers.paper.step_numpy import PaperMethod, initial_state
 from spurdyn.solvers.paper.stepper_compiled import CompiledStepper, pack
 
@@ -214,16 +214,13 @@ def _turning_bent(system, theta, omega, alpha, bend):
     each disk's frame) and turning rigidly with their disks."""
     n = system.n_u
     u, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
-    for g, gb in enumerate(system.gears):
-        sl = slice(g * (n // 2), (g + 1) * (n // 2))
+    jz = np.array([[0.0, -1.0], [1.0, 0.0]])
+    for g, (gb, ub, vb, ab, wb) in enumerate(zip(system.gears, *(blocks(system, z) for z in (u, v, a, bend)))):
         y = gb.Y.reshape(-1, 2)
-        r = np.array([[math.cos(gb.sense * theta[g]), -math.sin(gb.sense * theta[g])],
-                      [math.sin(gb.sense * theta[g]), math.cos(gb.sense * theta[g])]])
-        ry = (y + bend[sl].reshape(-1, 2)) @ r.T
-        jz = np.array([[0.0, -1.0], [1.0, 0.0]])
-        u[sl] = (ry - y).ravel()
-        v[sl] = (gb.sense * omega[g] * ry @ jz.T).ravel()
-        a[sl] = (gb.sense * alpha[g] * ry @ jz.T - omega[g] ** 2 * ry).ravel()
+        ry = (y + wb.reshape(-1, 2)) @ rot(gb.sense * theta[g]).T
+        ub[:] = (ry - y).ravel()
+        vb[:] = (gb.sense * omega[g] * ry @ jz.T).ravel()
+        ab[:] = (gb.sense * alpha[g] * ry @ jz.T - omega[g] ** 2 * ry).ravel()
     return u, v, a
 
 
@@ -253,12 +250,9 @@ def test_the_strip_sits_on_the_rigid_flanks_and_its_sliding_terms_follow_its_gap
     dt = 2e-7
     fd = (strip_at(dt).s - 2 * c0.s + strip_at(-dt).s) / dt**2
     u, v, a = _turning_bent(s, th0, om, al, bend)
-    ua, ub = (u[: s.n_u // 2], u[s.n_u // 2:])
-    va, vb = (v[: s.n_u // 2], v[s.n_u // 2:])
-    ra, rb = (np.array([[math.cos(g.sense * t), -math.sin(g.sense * t)],
-                        [math.sin(g.sense * t), math.cos(g.sense * t)]]) for g, t in zip(s.gears, th0))
-    from spurdyn.contact.search_numpy import sliding_acceleration
-    from spurdyn.solvers.paper.dynamics_numpy import rigid_flanks
+    ua, ub = blocks(s, u)
+    va, vb = blocks(s, v)
+    ra, rb = (rot(g.sense * t) for g, t in zip(s.gears, th0))
     args = (s.gears[0].flank, s.gears[1].flank, s.gears[0].X + ua.reshape(-1, 2),
             s.gears[1].X + ub.reshape(-1, 2), ra, rb, va.reshape(-1, 2), vb.reshape(-1, 2),
             *ref.velocity_mats(th0, om), c0)

@@ -20,6 +20,12 @@ GOLDEN_TOL = 1e-10
 EDGE = 1e-9
 #: Newton's polish of the golden-section point is kept if it moved less than this.
 POLISH = 1e-4
+#: Half-step (flank coordinate, element units) of the central difference that gives the
+#: slope of a contact row's point along its flank (``roll_entries``): 1e-3 of an element
+#: (0.1-0.5 um). The points are ~5 cm from the disk's centre, so each carries ~1e-17 m of
+#: round-off, 1e-14 of a unit of slope at this step (1e-5 left the two backends' rows
+#: 3e-4 apart); the involute's curvature over the step is ~1e-9 of the slope.
+ROLL_STEP = 1e-3
 
 #: The columns of a flank's parameter row (:func:`flank_row`),
 #: what the compiled search reads of a flank besides its node lists. ``ny`` is the

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
-from spurdyn.contact.constants import CORNER_A, CORNER_B, EDGE, FLANK, GOLDEN, GOLDEN_TOL, POLISH
+from spurdyn.contact.constants import CORNER_A, CORNER_B, EDGE, FLANK, GOLDEN, GOLDEN_TOL, POLISH, ROLL_STEP
 from spurdyn.contact.hertz import half_width, involute_curvature_radius
 from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.model.flank import Flank
@@ -80,6 +80,12 @@ class ContactPair:
     half_width
         Half-width (m) of the Hertzian strip the rows average over (0: point contact;
         :mod:`spurdyn.contact.strip_numpy`).
+    roll, theta_row
+        For a pair located on the rigidly turned flanks (the strip's; None and zero for the
+        point contact, the paper's): the rate of its gap per unit turn of each disk
+        ``(theta_A, theta_B)`` as the pair rolls with them, and the contact row's entries on
+        the disks, that roll plus the turn of the offsets ``R delta_bar``
+        (:func:`roll_entries`, docs/solver.md section 11.3).
     """
 
     alpha: float
@@ -94,6 +100,8 @@ class ContactPair:
     delta_a: NDArray[np.float64]
     delta_b: NDArray[np.float64]
     half_width: float = 0.0
+    roll: tuple[float, float] | None = None
+    theta_row: tuple[float, float] = (0.0, 0.0)
 
 
 def _newton_pair(pa: CubicSpline, pb: CubicSpline, a: float, b: float) -> tuple[float, float, bool]:
@@ -280,6 +288,53 @@ def sliding_acceleration(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDAr
     dwa, dwb = sa(c.alpha, 1), sb(c.beta, 1)
     extra = 2.0 * ad * (n @ dwa) + ad * ad * (n @ ca) - 2.0 * bd * (n @ dwb) - bd * bd * (n @ cb)
     return float(extra), float(ad), float(bd)
+
+
+def row_point(flank: Flank, t: float, half_width: float, x: NDArray[np.float64],
+              r: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The point ``N_bar x + R delta_bar`` the contact rows of a pair at flank coordinate
+    ``t`` read (the strip of ``half_width`` around it; 0: the material point), at nodal
+    positions ``x`` and disk rotation ``r``."""
+    nodes, w, d = strip_rows(flank, t, half_width)
+    return w @ x[nodes] + r @ d
+
+
+def roll_entries(fa: Flank, fb: Flank, c: ContactPair, xa: NDArray[np.float64],
+                 xb: NDArray[np.float64], ra: NDArray[np.float64], rb: NDArray[np.float64],
+                 rigid: tuple[NDArray[np.float64], ...]
+                 ) -> tuple[tuple[float, float], tuple[float, float]]:
+    """``(roll, theta_row)`` of a pair located on the rigidly turned flanks: the contact
+    row's entries on ``(theta_A, theta_B)`` (docs/solver.md, section 11.3).
+
+    The pair ``(alpha, beta)`` rolls with the disks' turns, and the gap its rows hold
+    changes with it by ``n . P_A' d alpha - n . P_B' d beta`` (``roll``), ``P'`` the slope
+    along the flank of the point the rows read (:func:`row_point`, by a central difference
+    of ``ROLL_STEP``); the row's entries add the turn of the offsets,
+    ``n . (s_A R_A Jz delta_A - s_B R_B Jz delta_B)``. ``rigid``: the rigid flanks' nodal
+    positions ``(xa, xb)``, then their nodal velocities for a unit turn of each disk and
+    the matrices ``s R Jz`` those turns apply to the offsets, ``(va, vb, ma, mb)``; the
+    pair's rates per unit turn come from :func:`_pair_rates` on them.
+    """
+    pa, pb = flank_spline(fa, rigid[0], ra), flank_spline(fb, rigid[1], rb)
+    zero = np.zeros((2, 2))
+    still_a = flank_spline(fa, np.zeros_like(rigid[2]), zero)
+    still_b = flank_spline(fb, np.zeros_like(rigid[3]), zero)
+    turn_a = flank_spline(fa, rigid[2], rigid[4])
+    turn_b = flank_spline(fb, rigid[3], rigid[5])
+    da_a, db_a = _pair_rates(c, pa, pb, turn_a, still_b)
+    da_b, db_b = _pair_rates(c, pa, pb, still_a, turn_b)
+    slopes = []
+    for f, t, x, r, moves in ((fa, c.alpha, xa, ra, da_a != 0.0 or da_b != 0.0),
+                              (fb, c.beta, xb, rb, db_a != 0.0 or db_b != 0.0)):
+        if not moves:               # a tip corner: the point does not roll
+            slopes.append(0.0)
+            continue
+        lo, hi = max(t - ROLL_STEP, f.t0), min(t + ROLL_STEP, f.t1)
+        d = row_point(f, hi, c.half_width, x, r) - row_point(f, lo, c.half_width, x, r)
+        slopes.append(float(c.normal @ d) / (hi - lo))
+    roll = (slopes[0] * da_a - slopes[1] * db_a, slopes[0] * da_b - slopes[1] * db_b)
+    turn = (float(c.normal @ (rigid[4] @ c.delta_a)), -float(c.normal @ (rigid[5] @ c.delta_b)))
+    return roll, (roll[0] + turn[0], roll[1] + turn[1])
 
 
 def _pair_rates(c: ContactPair, pa: CubicSpline, pb: CubicSpline, sa: CubicSpline,

@@ -10,9 +10,13 @@ from __future__ import annotations
 
 import math
 
-from spurdyn.contact.constants import F
+import numpy as np
+
+from spurdyn.contact.constants import F, ROLL_STEP
 from spurdyn.contact.hertz import STRIP_POINTS, strip_quadrature
-from spurdyn.contact.search_compiled import edge_shape, exact_at, weighted_point
+from spurdyn.contact.search_compiled import (
+    _pair_rates, _splined_at, delta_at, edge_shape, exact_at, material_point, spline_eval, weighted_point,
+)
 from spurdyn.jit import njit
 
 #: The strip quadrature (points in units of ``b``, weights summing to 1), read as constants.
@@ -92,3 +96,66 @@ def virtual_point(P, g, cn, cw, off, ns, dx, dy, th, uget, kind, om, al):
     """Position (kind 0), velocity (1) or acceleration (2) of the strip-averaged point
     ``c + N_bar (Y + u) + R delta_bar`` of gear ``g`` (rows in ``cn[off:off + ns]``)."""
     return weighted_point(P, g, cn, cw, off, ns, dx, dy, th, uget, kind, om, al)
+
+
+@njit
+def row_point(P, g, t, hw, th, u, cn, cw):
+    """Position of the point the contact rows of gear ``g`` read at flank coordinate ``t``:
+    the strip of half-width ``hw`` (written into the scratch rows ``cn``, ``cw``, one
+    flank's outline long) or, with ``hw = 0``, the material point (twin of
+    :func:`spurdyn.contact.search_numpy.row_point`)."""
+    if hw > 0.0:
+        dx, dy, _ = strip_rows(P, g, t, hw, cn, cw, np.int64(0), cn.size)
+        return virtual_point(P, g, cn, cw, np.int64(0), cn.size, dx, dy, th, u, np.int64(0), 0.0, 0.0)
+    return material_point(P, g, t, th, u, np.int64(0), 0.0, 0.0)
+
+
+@njit
+def roll_entries(P, theta, u, a, b, mode, nx, ny, va, vb, Ma, Mb, hw, da, db):
+    """``(roll_A, roll_B, row_A, row_B)`` of a pair located on the rigidly turned flanks
+    (``va`` ... ``Mb`` their splines, as :func:`~spurdyn.contact.search_compiled.search`
+    left them), its rows the strip of ``hw`` (0: the material points) with offsets ``da``,
+    ``db``: the twin of :func:`spurdyn.contact.search_numpy.roll_entries`."""
+    ea = np.empty(6)
+    eb = np.empty(6)
+    fa = np.zeros(6)
+    fb = np.zeros(6)
+    spline_eval(va, Ma, P.fpar[0, F.t0], P.fpar[0, F.h], a, ea)
+    spline_eval(vb, Mb, P.fpar[1, F.t0], P.fpar[1, F.h], b, eb)
+    _splined_at(P, np.int64(0), theta[0], 1.0, u, np.int64(3), a, fa)
+    da_a, db_a = _pair_rates(ea, eb, fa, fb, mode)
+    fa[:] = 0.0
+    _splined_at(P, np.int64(1), theta[1], 1.0, u, np.int64(3), b, fb)
+    da_b, db_b = _pair_rates(ea, eb, fa, fb, mode)
+    nside = P.side.shape[1]
+    cn = np.empty(nside, dtype=np.int64)
+    cw = np.empty(nside)
+    slope = np.zeros(2)
+    for g in range(2):
+        t = a if g == 0 else b
+        moves = (da_a != 0.0 or da_b != 0.0) if g == 0 else (db_a != 0.0 or db_b != 0.0)
+        if not moves:               # a tip corner: the point does not roll
+            continue
+        lo = max(t - ROLL_STEP, P.fpar[g, F.t0])
+        hi = min(t + ROLL_STEP, P.fpar[g, F.t1])
+        xh, yh = row_point(P, np.int64(g), hi, hw, theta[g], u, cn, cw)
+        xl, yl = row_point(P, np.int64(g), lo, hw, theta[g], u, cn, cw)
+        slope[g] = (nx * (xh - xl) + ny * (yh - yl)) / (hi - lo)
+    roll_a = slope[0] * da_a - slope[1] * db_a
+    roll_b = slope[0] * da_b - slope[1] * db_b
+    # the turn of the offsets R delta: n . (s R Jz delta) per gear, B's with minus
+    turn = np.empty(2)
+    for g in range(2):
+        dx, dy = (da[0], da[1]) if g == 0 else (db[0], db[1])
+        sg = P.sense[g]
+        c, s = math.cos(sg * theta[g]), math.sin(sg * theta[g])
+        rx, ry = c * dx - s * dy, s * dx + c * dy
+        turn[g] = sg * (-nx * ry + ny * rx) * (1.0 if g == 0 else -1.0)
+    return roll_a, roll_b, roll_a + turn[0], roll_b + turn[1]
+
+
+@njit
+def point_offsets(P, a, b, d):
+    """The material points' involute offsets ``delta`` at ``(a, b)`` into ``d`` (4,)."""
+    d[0], d[1] = delta_at(P.fpar[0], P.sideY[0], a)
+    d[2], d[3] = delta_at(P.fpar[1], P.sideY[1], b)

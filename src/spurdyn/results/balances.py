@@ -12,8 +12,10 @@ changes by the work of the centre torques and of the contact force:
 
     E(t) - E(0) = int_0^t (sum_g tau_g omega_g + P_contact) dt,
 
-``P_contact = sum_j f_j . v_j`` over the contact nodes (zero while the contact points
-move together along the normal: frictionless, no penetration rate). The elastic torque
+``P_contact = sum_j f_j . v_j`` over the contact nodes, plus the torques the strip's
+contact row puts on the disks times their speeds (its pair rolls with them,
+docs/solver.md section 11.3), zero while the contact points move together along the
+normal: frictionless, no penetration rate. The elastic torque
 on the disks (``keep_theta_term``) is part of ``dE/dt`` of the strain energy, so with it
 kept the balance is exact up to the time discretisation; an impact that the velocity
 stage stops within one step takes out the kinetic energy of the relative normal motion
@@ -82,7 +84,7 @@ class Snapshot:
 def state_snapshot(system: PairSystem, tau0: float, t: float, theta: NDArray[np.float64],
                    omega: NDArray[np.float64], u: NDArray[np.float64], v: NDArray[np.float64],
                    p: float, contact_nodes: NDArray[np.int64], contact_weights: NDArray[np.float64],
-                   normal: NDArray[np.float64]) -> Snapshot:
+                   normal: NDArray[np.float64], theta_row: NDArray[np.float64] | None = None) -> Snapshot:
     """The balance quantities of a state given by its arrays.
 
     Parameters
@@ -100,6 +102,10 @@ def state_snapshot(system: PairSystem, tau0: float, t: float, theta: NDArray[np.
         The contact nodes (A's three, then B's three, indices into the stacked nodes),
         their shape-function weights and the contact normal: the force on A's nodes is
         ``+w_j n p``, on B's ``-w_j n p``.
+    theta_row
+        The contact row's entries on the disks (the strip's pair rolling with them,
+        docs/solver.md section 11.3; None: zero): the contact force puts ``theta_row p``
+        on each disk along its own sense, and its moment and power count.
     """
     o = system.offsets
     n_a = o[1] // 2
@@ -128,6 +134,10 @@ def state_snapshot(system: PairSystem, tau0: float, t: float, theta: NDArray[np.
         contact_moment[g] += y[0] * f[1] - y[1] * f[0]
         contact_power += float(f @ vv_all[node])
     senses = np.array([gb.sense for gb in system.gears])
+    if theta_row is not None:
+        disk = np.asarray(theta_row, dtype=float) * p
+        contact_moment += senses * disk
+        contact_power += float(disk @ np.asarray(omega, dtype=float))
     return Snapshot(t=float(t), theta=np.array(theta, dtype=float), momentum=momentum, kinetic=kinetic, strain=strain,
                     torque_moment=tau * senses, contact_moment=contact_moment,
                     torque_power=float(tau @ np.asarray(omega, dtype=float)),
@@ -138,7 +148,7 @@ def snapshot(stepper: Any) -> Snapshot:
     """The balance quantities of a :class:`~spurdyn.solvers.paper.stepper_compiled.CompiledStepper` now."""
     S = stepper.S
     return state_snapshot(stepper.system, stepper.settings.torque, float(S.t[0]), S.theta, S.omega,
-                          S.u, S.v, float(S.x[-1]), S.cn, S.cw, S.normal)
+                          S.u, S.v, float(S.x[-1]), S.cn, S.cw, S.normal, S.gth)
 
 
 @dataclass(frozen=True)

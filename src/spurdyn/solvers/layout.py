@@ -57,12 +57,13 @@ Packed = namedtuple("Packed", [
 
 #: The state a compiled step updates in place: time, rotations, speeds, nodal
 #: displacements and velocities, the forces ``x = [lambda; p]`` and the accelerations
-#: they give, the contact rows (nodes ``cn``, weights ``cw``, ``normal``), the contact
+#: they give, the contact rows (nodes ``cn``, weights ``cw``, ``normal``, the disk entries
+#: ``gth``: zero for the point contact, docs/solver.md section 11.3), the contact
 #: pair (``cpar``, columns :data:`CP`), ``C = G M^-1 G^T``, and the last step's stage
 #: residuals and iterations.
 CompiledState = namedtuple("CompiledState", [
-    "t", "theta", "omega", "u", "v", "x", "alpha_n", "a_n", "cn", "cw", "normal", "cpar", "C",
-    "res", "its",
+    "t", "theta", "omega", "u", "v", "x", "alpha_n", "a_n", "cn", "cw", "normal", "gth", "cpar",
+    "C", "res", "its",
 ])
 #: Columns of ``cpar``: flank coordinates on A and B, contact mode, penetration, the
 #: contact force the last displacement stage held (N) and the half-width of the strip the

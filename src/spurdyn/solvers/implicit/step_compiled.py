@@ -19,7 +19,7 @@ import numpy as np
 
 from spurdyn.contact.constants import FLANK
 from spurdyn.contact.search_compiled import contact_rows, search
-from spurdyn.contact.strip_compiled import strip_half_width, strip_rows, virtual_point
+from spurdyn.contact.strip_compiled import point_offsets, roll_entries, strip_half_width, strip_rows, virtual_point
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import CP, FAIL_NAN, FAIL_NEWTON, FAIL_STRIP, OK
 from spurdyn.solvers.paper.constants import MAX_RELOCATE, RELOCATE
@@ -117,15 +117,16 @@ def root_columns(P, I, theta, touching, z):
 
 
 @njit
-def g_times(P, theta, cn, cw, normal, row, vec):
-    """Row ``row`` of ``G`` times ``vec`` (stacked like ``q``): a root row or the contact row."""
+def g_times(P, theta, cn, cw, normal, gth, row, vec):
+    """Row ``row`` of ``G`` times ``vec`` (stacked like ``q``): a root row or the contact row
+    (its disk entries ``gth``)."""
     nr = P.rnode.size
     if row < 2 * nr:
         k, d = row // 2, row % 2
         px, py = root_phi_theta(P, theta, k)
         return -(px if d == 0 else py) * vec[P.rgear[k]] - vec[2 + 2 * P.rnode[k] + d]
     half = cn.size // 2
-    acc = 0.0
+    acc = gth[0] * vec[0] + gth[1] * vec[1]
     for j in range(cn.size):
         sign = 1.0 if j < half else -1.0
         i = cn[j]
@@ -171,11 +172,12 @@ def forces(P, I, theta, omega, u, v, touching, out, w, kw, el, q, wd, cwd):
 
 
 @njit
-def contact(P, I, theta, u, guess, load, cn, cw, buf):
+def contact(P, I, theta, u, guess, load, cn, cw, gth, buf):
     """The contact pair at ``(theta, u)``: ``(alpha, beta, mode, nx, ny, s, half_width, ok)``
-    with its rows written into ``cn``, ``cw`` (the strip of ``load`` for the distributed
-    contact)."""
+    with its rows written into ``cn``, ``cw``, ``gth`` (the strip of ``load`` for the
+    distributed contact, with its row's disk entries: docs/solver.md section 11.3)."""
     ns = I.ns
+    gth[0], gth[1] = 0.0, 0.0
     a, b, mode, nx, ny, s = search(P, theta, u, guess, buf[0], buf[1], buf[2], buf[3], I.estar > 0.0)
     hw = 0.0
     if I.estar > 0.0 and mode == FLANK:
@@ -190,8 +192,14 @@ def contact(P, I, theta, u, guess, load, cn, cw, buf):
         xb, yb = virtual_point(P, np.int64(1), cn, cw, ns, ns, dbx, dby, theta[1], u,
                                np.int64(0), 0.0, 0.0)
         s = nx * (xa - xb) + ny * (ya - yb)
+        d = np.array([dax, day, dbx, dby])
     else:
         contact_rows(P, a, b, cn, cw)
+        d = np.empty(4)
+        point_offsets(P, a, b, d)
+    if I.estar > 0.0:
+        _, _, gth[0], gth[1] = roll_entries(P, theta, u, a, b, mode, nx, ny, buf[0], buf[1], buf[2],
+                                            buf[3], hw, d[0:2], d[2:4])
     return a, b, mode, nx, ny, s, hw, True
 
 
@@ -230,6 +238,8 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     cn_c, cw_c = cn.copy(), cw.copy()          # the rows of this iterate's pair
     cn_f, cw_f = cn.copy(), cw.copy()          # where the force acts
     nrm_f = normal.copy()
+    g_c = np.zeros(2)                          # the contact row's disk entries, this iterate's
+    g_f = np.zeros(2)                          # and the force's
     a_f, b_f = 0.0, 0.0
     w, kw, el, wd, cwd = (np.empty(n_u), np.empty(n_u), np.empty(n_u), np.empty(n_u),
                           np.empty(n_u))
@@ -254,7 +264,7 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     while True:
         th = q[:2]
         uu = q[2:]
-        a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, th, uu, guess, load, cn_c, cw_c, buf)
+        a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, th, uu, guess, load, cn_c, cw_c, g_c, buf)
         if not ok:
             its[0] = it
             return FAIL_STRIP
@@ -266,12 +276,14 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
             cn_f[:] = cn_c
             cw_f[:] = cw_c
             nrm_f[0], nrm_f[1] = nxc, nyc
+            g_f[:] = g_c
         gap = sc + I.c_h * xs[nx_ - 1]
         was_touching = xs[nx_ - 1] < 0.0
         if it == 0 or was_touching != z_touch:
             root_columns(P, I, th, was_touching, z)
             z_touch = was_touching
-        # the contact column: S^-1 G_c^T (no disk entries)
+        # the contact column: S^-1 G_c^T (its disk entries g_f through the disks' block)
+        inv = theta_block(P, I, was_touching)
         col[:] = 0.0
         half = cn_f.size // 2
         for j in range(cn_f.size):
@@ -279,14 +291,15 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
             i = cn_f[j]
             col[2 + 2 * i] += sign * cw_f[j] * nrm_f[0]
             col[3 + 2 * i] += sign * cw_f[j] * nrm_f[1]
-        zc[0], zc[1] = 0.0, 0.0
+        zc[0] = inv[0, 0] * g_f[0] + inv[0, 1] * g_f[1]
+        zc[1] = inv[1, 0] * g_f[0] + inv[1, 1] * g_f[1]
         solve_u(P, I, th, col[2:], zc[2:], loc, work)
         for rr in range(n_q):
             z[rr, nx_ - 1] = zc[rr]
-        kappa = 1.0 / (g_times(P, th, cn_f, cw_f, nrm_f, nx_ - 1, zc) + I.c_h)
+        kappa = 1.0 / (g_times(P, th, cn_f, cw_f, nrm_f, g_f, nx_ - 1, zc) + I.c_h)
         touching = xs[nx_ - 1] - kappa * gap < 0.0
         forces(P, I, th, qd[:2], uu, qd[2:], touching, f, w, kw, el, qel, wd, cwd)
-        constraint_force(P, th, cn_f, cw_f, nrm_f, xs, gtx_th, gtx_u)
+        constraint_force(P, th, cn_f, cw_f, nrm_f, g_f, xs, gtx_th, gtx_u)
         r[0] = I.mq[0] * qdd1[0] - f[0] - gtx_th[0]
         r[1] = I.mq[1] * qdd1[1] - f[1] - gtx_th[1]
         for i in range(n_u):
@@ -302,12 +315,13 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
         e[nx_ - 1] = -gap
         rows = nx_ if touching else nr2
         if not touching:                          # the force goes to zero
+            r[0] += g_f[0] * xs[nx_ - 1]
+            r[1] += g_f[1] * xs[nx_ - 1]
             for j in range(cn_f.size):
                 sign = 1.0 if j < half else -1.0
                 i = cn_f[j]
                 r[2 + 2 * i] += sign * cw_f[j] * nrm_f[0] * xs[nx_ - 1]
                 r[3 + 2 * i] += sign * cw_f[j] * nrm_f[1] * xs[nx_ - 1]
-        inv = theta_block(P, I, was_touching)
         s_r[0] = inv[0, 0] * r[0] + inv[0, 1] * r[1]
         s_r[1] = inv[1, 0] * r[0] + inv[1, 1] * r[1]
         solve_u(P, I, th, r[2:], s_r[2:], loc, work)
@@ -338,8 +352,8 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
         for a in range(rows):
             scale = phi if (touching and a == nx_ - 1) else 1.0
             for b in range(rows):
-                cmat[a, b] = scale * g_times(P, th, cn_f, cw_f, nrm_f, a, z[:, b])
-            rhs[a] = e[a] + scale * g_times(P, th, cn_f, cw_f, nrm_f, a, s_r)
+                cmat[a, b] = scale * g_times(P, th, cn_f, cw_f, nrm_f, g_f, a, z[:, b])
+            rhs[a] = e[a] + scale * g_times(P, th, cn_f, cw_f, nrm_f, g_f, a, s_r)
         if touching:
             cmat[rows - 1, rows - 1] += I.c_h
         if not (np.isfinite(cmat).all() and np.isfinite(rhs).all()):
@@ -353,7 +367,7 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
         for b in range(rows):
             xs[b] += dx[b]
         if touching:
-            predicted = g_times(P, th, cn_f, cw_f, nrm_f, nx_ - 1, dq) + I.c_h * dx[rows - 1]
+            predicted = g_times(P, th, cn_f, cw_f, nrm_f, g_f, nx_ - 1, dq) + I.c_h * dx[rows - 1]
         else:
             xs[nx_ - 1] = 0.0
             predicted = math.nan
@@ -375,7 +389,7 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
         # the next step's strip is the one of the force now; the gap kept is the one the
         # constraint holds, the strip's mean deformed gap s_bar - c_H |p|
         a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, theta, u, guess, abs(x[nx_ - 1]),
-                                                       cn_c, cw_c, buf)
+                                                       cn_c, cw_c, g_c, buf)
         if not ok:
             return FAIL_STRIP
         sc += I.c_h * x[nx_ - 1]

@@ -129,10 +129,12 @@ def root_phi_theta(P, theta, k):
 
 
 @njit
-def constraint_force(P, theta, cn, cw, normal, x, f_th, f_u):
+def constraint_force(P, theta, cn, cw, normal, gth, x, f_th, f_u):
     """``G^T x``: root forces ``-lambda`` on the root nodes and their torques on the disks,
     and the contact force ``p n`` through the weights ``cw`` of nodes ``cn`` (A's half, then
-    B's: 3 each for the point contact, the strip's slots for the distributed one)."""
+    B's: 3 each for the point contact, the strip's slots for the distributed one) with its
+    torques ``gth p`` on the disks (the contact row's disk entries: zero for the point
+    contact, the strip's pair's roll, docs/solver.md section 11.3)."""
     f_th[0] = 0.0
     f_th[1] = 0.0
     f_u[:] = 0.0
@@ -144,6 +146,8 @@ def constraint_force(P, theta, cn, cw, normal, x, f_th, f_u):
         px, py = root_phi_theta(P, theta, k)
         f_th[P.rgear[k]] -= px * lx + py * ly
     p = x[x.size - 1]
+    f_th[0] += gth[0] * p
+    f_th[1] += gth[1] * p
     half = cn.size // 2
     for j in range(cn.size):
         sign = 1.0 if j < half else -1.0
@@ -153,7 +157,7 @@ def constraint_force(P, theta, cn, cw, normal, x, f_th, f_u):
 
 
 @njit
-def gram(P, theta, cn, cw, normal, C):
+def gram(P, theta, cn, cw, normal, gth, C):
     """``G M^-1 G^T`` (dense, ``n_x`` square) for the constraint directions at ``theta``."""
     nr = P.rnode.size
     C[:, :] = 0.0
@@ -170,14 +174,15 @@ def gram(P, theta, cn, cw, normal, C):
         i = P.rnode[k]
         C[2 * k, 2 * k] += 1.0 / P.mass[2 * i]
         C[2 * k + 1, 2 * k + 1] += 1.0 / P.mass[2 * i + 1]
-    gram_contact(P, cn, cw, normal, C)
+    gram_contact(P, theta, cn, cw, normal, gth, C)
 
 
 @njit
-def gram_contact(P, cn, cw, normal, C):
+def gram_contact(P, theta, cn, cw, normal, gth, C):
     """Refresh the contact row and column of ``G M^-1 G^T`` for new contact rows (and its
     coupling with a root node that carries the contact: never on an ordinary flank, kept
-    for completeness)."""
+    for completeness), its disk entries ``gth`` coupling it with every root row of the
+    gear through the disk's inertia."""
     nr = P.rnode.size
     nx = 2 * nr + 1
     for k in range(nx):
@@ -193,7 +198,15 @@ def gram_contact(P, cn, cw, normal, C):
                     v = -sign * cw[j] * normal[a] / P.mass[2 * i + a]
                     C[2 * k + a, nx - 1] += v
                     C[nx - 1, 2 * k + a] += v
-    cpp = 0.0
+    for k in range(nr):
+        gk = P.rgear[k]
+        if gth[gk] != 0.0:
+            px, py = root_phi_theta(P, theta, k)
+            C[2 * k, nx - 1] -= px * gth[gk] / P.J[gk]
+            C[nx - 1, 2 * k] -= px * gth[gk] / P.J[gk]
+            C[2 * k + 1, nx - 1] -= py * gth[gk] / P.J[gk]
+            C[nx - 1, 2 * k + 1] -= py * gth[gk] / P.J[gk]
+    cpp = gth[0] * gth[0] / P.J[0] + gth[1] * gth[1] / P.J[1]
     for j in range(cn.size):
         for j2 in range(cn.size):
             if cn[j] == cn[j2] and ((j < half) == (j2 < half)):

@@ -8,11 +8,13 @@ forces are ``G^T x`` with ``x = [lambda_A, lambda_B, p]``.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.contact.hertz import effective_modulus
-from spurdyn.contact.search_numpy import ContactPair, find_contact
+from spurdyn.contact.search_numpy import ContactPair, find_contact, roll_entries
 from spurdyn.geometry.involute import rot
 from spurdyn.model.loading import gear_torques
 from spurdyn.model.flank import Flank
@@ -81,7 +83,8 @@ def root_phi(gb: GearBody, theta: float, u: NDArray[np.float64]) -> NDArray[np.f
 
 def constraint_force(system: PairSystem, theta: NDArray[np.float64], contact: ContactPair,
                      x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Generalised constraint force ``G^T x = -Phi_q^T lambda + s_q^T p`` ``(f_theta, f_u)``."""
+    """Generalised constraint force ``G^T x = -Phi_q^T lambda + s_q^T p`` ``(f_theta, f_u)``;
+    the contact's part on the disks is ``contact.theta_row`` (the strip's)."""
     f_theta = np.zeros(2)
     f_u = np.zeros(system.n_u)
     fu = blocks(system, f_u)
@@ -94,6 +97,7 @@ def constraint_force(system: PairSystem, theta: NDArray[np.float64], contact: Co
         fb[gb.root_nodes] -= lam
         f_theta[g] = -float(np.sum(root_phi_theta(gb, theta[g]) * lam))
     p = x[-1]
+    f_theta += np.asarray(contact.theta_row) * p
     fa, fb = fu[0].reshape(-1, 2), fu[1].reshape(-1, 2)
     np.add.at(fa, contact.nodes_a, np.outer(contact.weights_a, contact.normal) * p)
     np.add.at(fb, contact.nodes_b, -np.outer(contact.weights_b, contact.normal) * p)
@@ -101,7 +105,8 @@ def constraint_force(system: PairSystem, theta: NDArray[np.float64], contact: Co
 
 
 def jacobian(system: PairSystem, theta: NDArray[np.float64], contact: ContactPair) -> NDArray[np.float64]:
-    """Dense ``G = [-Phi_q; s_q]`` over ``q = [theta_A, theta_B, u]``."""
+    """Dense ``G = [-Phi_q; s_q]`` over ``q = [theta_A, theta_B, u]`` (the contact row's
+    disk entries: ``contact.theta_row``, the strip's)."""
     g_mat = np.zeros((system.n_x, 2 + system.n_u))
     k = 0
     for g, gb in enumerate(system.gears):
@@ -117,6 +122,7 @@ def jacobian(system: PairSystem, theta: NDArray[np.float64], contact: ContactPai
         off = 2 + system.offsets[g]
         for node, wk in zip(nodes, w):
             g_mat[-1, off + 2 * node:off + 2 * node + 2] += sign * wk * contact.normal
+    g_mat[-1, :2] = contact.theta_row
     return g_mat
 
 
@@ -180,12 +186,19 @@ def contact_at(system: PairSystem, theta: NDArray[np.float64], u: NDArray[np.flo
                guess: tuple[float, float], load: float = 0.0,
                law: tuple[float, float] | None = None) -> ContactPair:
     """The contact pair on the flanks at ``(theta, u)``, searched from ``guess``; with a
-    ``law`` (:func:`strip_law`) located on the rigidly turned flanks and averaged over the
-    strip of the force ``load`` (docs/solver.md, section 11.2)."""
+    ``law`` (:func:`strip_law`) located on the rigidly turned flanks, averaged over the
+    strip of the force ``load``, and with its row's entries for the pair's roll with the
+    disks (docs/solver.md, sections 11.2-11.3)."""
     s = system
     ua, ub = blocks(s, u)
     xa = s.gears[0].X + ua.reshape(-1, 2)
     xb = s.gears[1].X + ub.reshape(-1, 2)
     ra, rb = (rot(g.sense * th) for g, th in zip(s.gears, theta))
-    locate = tuple(rigid_flanks(s, theta)) if law is not None else None
-    return find_contact(*paper_flanks(s), xa, xb, ra, rb, guess, load, law, locate)
+    if law is None:
+        return find_contact(*paper_flanks(s), xa, xb, ra, rb, guess, load)
+    rigid = rigid_flanks(s, theta, np.ones(2))
+    c = find_contact(*paper_flanks(s), xa, xb, ra, rb, guess, load, law, tuple(rigid[:2]))
+    jz = np.array([[0.0, -1.0], [1.0, 0.0]])
+    turns = [g.sense * r @ jz for g, r in zip(s.gears, (ra, rb))]
+    roll, row = roll_entries(*paper_flanks(s), c, xa, xb, ra, rb, (*rigid, *turns))
+    return replace(c, roll=roll, theta_row=row)

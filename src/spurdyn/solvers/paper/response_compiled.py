@@ -93,10 +93,10 @@ def _response_full(P, th3, w3, kw3, th4, w4, kw4, sl3, sl4, zth, zu, nz_nodes, n
 
 
 @njit
-def _z_of(P, theta, cn, cw, normal, dx, zth, zu, nz_nodes, mark):
-    """``Z = M^-1 G^T dx`` with ``G`` at ``theta`` and the contact rows ``cn, cw, normal``;
-    returns the number of nodes (listed in ``nz_nodes``) where ``zu`` is nonzero."""
-    constraint_force(P, theta, cn, cw, normal, dx, zth, zu)
+def _z_of(P, theta, cn, cw, normal, gth, dx, zth, zu, nz_nodes, mark):
+    """``Z = M^-1 G^T dx`` with ``G`` at ``theta`` and the contact rows ``cn, cw, normal,
+    gth``; returns the number of nodes (listed in ``nz_nodes``) where ``zu`` is nonzero."""
+    constraint_force(P, theta, cn, cw, normal, gth, dx, zth, zu)
     for g in range(2):
         zth[g] /= P.J[g]
     nnz = 0
@@ -134,7 +134,7 @@ def predict(P, S, h):
     # -- free RK4 with the forces of the last step, directions at q_n ----------------
     fth0 = np.empty(2)
     fu0 = np.empty(n)
-    constraint_force(P, th, S.cn, S.cw, S.normal, x0, fth0, fu0)
+    constraint_force(P, th, S.cn, S.cw, S.normal, S.gth, x0, fth0, fu0)
     w = np.empty(n)
     kw = np.empty(n)
     el = np.empty(n)
@@ -182,8 +182,8 @@ def predict(P, S, h):
 
 
 @njit
-def superpose(P, S, h, pred, x, cn, cw, normal, want_v):
-    """The end state of RK4 with the forces ``G^T x`` (contact row at ``cn, cw, normal``):
+def superpose(P, S, h, pred, x, cn, cw, normal, gth, want_v):
+    """The end state of RK4 with the forces ``G^T x`` (contact row at ``cn, cw, normal, gth``):
     ``pred`` (made with the last step's forces) plus the linear response to the change."""
     n = S.u.size
     nn = n // 2
@@ -199,8 +199,8 @@ def superpose(P, S, h, pred, x, cn, cw, normal, want_v):
     t4th = np.empty(2)
     t3u = np.empty(n)
     t4u = np.empty(n)
-    nnz = _z_of(P, S.theta, cn, cw, normal, x, zth, zu, nz_nodes, mark)
-    nnz0 = _z_of(P, S.theta, S.cn, S.cw, S.normal, S.x, zth0, zu0, nz_nodes[nnz:], mark)
+    nnz = _z_of(P, S.theta, cn, cw, normal, gth, x, zth, zu, nz_nodes, mark)
+    nnz0 = _z_of(P, S.theta, S.cn, S.cw, S.normal, S.gth, S.x, zth0, zu0, nz_nodes[nnz:], mark)
     for g in range(2):
         zth[g] -= zth0[g]
     zu -= zu0
@@ -231,7 +231,7 @@ def superpose(P, S, h, pred, x, cn, cw, normal, want_v):
 
 
 @njit
-def _z_col(P, theta, cn, cw, normal, j, zth, zu, nz_nodes):
+def _z_col(P, theta, cn, cw, normal, gth, j, zth, zu, nz_nodes):
     """``Z = M^-1 G^T e_j``, written only where it is nonzero; returns the node count."""
     m = 2 * P.rnode.size + 1
     zth[0] = 0.0
@@ -245,6 +245,8 @@ def _z_col(P, theta, cn, cw, normal, j, zth, zu, nz_nodes):
         zu[2 * i + a] = -1.0 / P.mass[2 * i + a]
         nz_nodes[0] = i
         return 1
+    zth[0] = gth[0] / P.J[0]
+    zth[1] = gth[1] / P.J[1]
     nnz = 0
     half = cn.size // 2
     for jj in range(cn.size):
@@ -263,7 +265,7 @@ def _z_col(P, theta, cn, cw, normal, j, zth, zu, nz_nodes):
 
 
 @njit
-def response_columns(P, h, pred, theta, cn, cw, normal, j0, j1, Wq, Wv, scratch, mark, touched,
+def response_columns(P, h, pred, theta, cn, cw, normal, gth, j0, j1, Wq, Wv, scratch, mark, touched,
              nz_nodes, zu, acc3, acc4):
     """Columns ``j0:j1`` of the responses of the relevant rows (positions ``Wq``, velocities
     ``Wv``) to ``x = e_j``, the constraint directions at ``theta`` and the contact rows given.
@@ -278,7 +280,7 @@ def response_columns(P, h, pred, theta, cn, cw, normal, j0, j1, Wq, Wv, scratch,
     for j in range(j0, j1):
         Wq[:, j] = 0.0
         Wv[:, j] = 0.0
-        nnz = _z_col(P, theta, cn, cw, normal, j, zth, zu, nz_nodes)
+        nnz = _z_col(P, theta, cn, cw, normal, gth, j, zth, zu, nz_nodes)
         for g in range(2):
             t3th[g] = zth[g] * pred.sl3[g]
             t4th[g] = zth[g] * pred.sl4[g]

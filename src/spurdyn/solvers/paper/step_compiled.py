@@ -16,7 +16,7 @@ import numpy as np
 
 from spurdyn.contact.constants import FLANK
 from spurdyn.contact.search_compiled import contact_rows, material_point, search, sliding
-from spurdyn.contact.strip_compiled import strip_half_width, strip_rows, virtual_point
+from spurdyn.contact.strip_compiled import point_offsets, roll_entries, strip_half_width, strip_rows, virtual_point
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import (
     CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_STRIP, FAIL_VEL, OK, HistoryRow,
@@ -71,8 +71,8 @@ def step(P, S, cfg):
     acc3 = np.zeros(n)
     acc4 = np.zeros(n)
     h2 = 0.5 * h * h
-    response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, np.int64(0), m, Wq, Wv, scratch, mark, touched,
-             nz_nodes, zu, acc3, acc4)
+    response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, S.gth, np.int64(0), m, Wq, Wv, scratch, mark,
+             touched, nz_nodes, zu, acc3, acc4)
 
     # relevant rows of the free state
     qs_rel = np.empty(R)
@@ -92,6 +92,7 @@ def step(P, S, cfg):
     cn_f = S.cn.copy()
     cw_f = S.cw.copy()
     n_f = S.normal.copy()
+    g_f = S.gth.copy()
     loc_f = np.array([S.cpar[CP.alpha], S.cpar[CP.beta]])
     C = S.C
     Cp = np.empty((m, m))
@@ -112,6 +113,8 @@ def step(P, S, cfg):
     cw_t = S.cw.copy()
     d_t = np.zeros(4)           # and its delta_bar on A, B
     hw_t = 0.0
+    roll_t = np.zeros(2)        # its pair's roll with the disks, and its row's disk entries
+    g_t = np.zeros(2)
 
     # -- stage 1: displacements ---------------------------------------------------------
     x = x0.copy()
@@ -150,6 +153,10 @@ def step(P, S, cfg):
                 sc = nxc * (xa - xb) + nyc * (ya - yb)
             else:
                 contact_rows(P, a_c, b_c, cn_t, cw_t)
+                point_offsets(P, a_c, b_c, d_t)
+            # the strip's pair rolls with the disks: its row's theta entries (section 11.3)
+            roll_t[0], roll_t[1], g_t[0], g_t[1] = roll_entries(
+                P, th_try, u_try, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hw_t, d_t[0:2], d_t[2:4])
         guess[0], guess[1] = a_c, b_c
         touching = x[m - 1] < 0.0 or sc > 0.0
         # the strip's mean curvature separation c_H |p| is an overlap the force allows
@@ -183,16 +190,17 @@ def step(P, S, cfg):
             else:
                 contact_rows(P, a_c, b_c, cn_f, cw_f)
             n_f[0], n_f[1] = nxc, nyc
-            response_columns(P, h, pred, S.theta, cn_f, cw_f, n_f, m - 1, m, Wq, Wv, scratch, mark,
+            g_f[:] = g_t
+            response_columns(P, h, pred, S.theta, cn_f, cw_f, n_f, g_f, m - 1, m, Wq, Wv, scratch, mark,
                      touched, nz_nodes, zu, acc3, acc4)
-            gram_contact(P, cn_f, cw_f, n_f, C)
+            gram_contact(P, S.theta, cn_f, cw_f, n_f, g_f, C)
         it += 1
     S.res[0] = res
     S.its[0] = it
     p_bar = x[m - 1]
 
     # full positions at t + dt by superposition
-    th1, u1, _, _ = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, np.bool_(False))
+    th1, u1, _, _ = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, g_f, np.bool_(False))
     cn1 = np.empty(2 * ns, dtype=np.int64)
     cw1 = np.empty(2 * ns)
     if hertz:
@@ -202,6 +210,7 @@ def step(P, S, cfg):
         contact_rows(P, a_c, b_c, cn1, cw1)
     strip1 = hertz and hw_t > 0.0
     n1 = np.array([nxc, nyc])
+    g1 = g_t.copy()
 
     # -- stage 2: velocities (positions from stage 1, same force directions) ---------------
     it = 0
@@ -230,7 +239,8 @@ def step(P, S, cfg):
             pbx, pby = material_point(P, np.int64(1), b_c, th1[1], v_try, np.int64(1), om_try[1], 0.0)
         # the overlap c_H |p| grows with the force: its rate over this step, from the forces
         # this and the last displacement stage held, is the velocity to reach
-        sh = nxc * (pax - pbx) + nyc * (pay - pby) + c_h * (p_bar - S.cpar[CP.p_held]) / h
+        sh = (nxc * (pax - pbx) + nyc * (pay - pby) + roll_t[0] * om_try[0] + roll_t[1] * om_try[1]
+              + c_h * (p_bar - S.cpar[CP.p_held]) / h)
         e[m - 1] = sh if (p_bar < 0.0 and (sh > 0.0 or x[m - 1] < 0.0)) else 0.0
         res = max_abs(e)
         if not math.isfinite(res):
@@ -249,14 +259,14 @@ def step(P, S, cfg):
     S.res[1] = res
     S.its[1] = it
 
-    _, _, om1, v1 = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, np.bool_(True))
+    _, _, om1, v1 = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, g_f, np.bool_(True))
 
     # -- stage 3: accelerations at t + dt -----------------------------------------------
     zero2 = np.zeros(2)
     al_free = np.empty(2)
     a_free = np.empty(n)
     accelerations(th1, u1, zero2, zero_u, P, w, kw, el, qq, al_free, a_free)
-    gram(P, th1, cn1, cw1, n1, C)
+    gram(P, th1, cn1, cw1, n1, g1, C)
     extra = sliding(P, th1, om1, u1, v1, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hertz)
     fth = np.empty(2)
     fu = np.empty(n)
@@ -264,7 +274,7 @@ def step(P, S, cfg):
     al_try = np.empty(2)
     it = 0
     while True:
-        constraint_force(P, th1, cn1, cw1, n1, x, fth, fu)
+        constraint_force(P, th1, cn1, cw1, n1, g1, x, fth, fu)
         for g in range(2):
             al_try[g] = al_free[g] + fth[g] / P.J[g]
         for k in range(P.rnode.size):
@@ -289,7 +299,7 @@ def step(P, S, cfg):
         else:
             pax, pay = material_point(P, np.int64(0), a_c, th1[0], a_try, np.int64(2), om1[0], al_try[0])
             pbx, pby = material_point(P, np.int64(1), b_c, th1[1], a_try, np.int64(2), om1[1], al_try[1])
-        st = nxc * (pax - pbx) + nyc * (pay - pby) + extra
+        st = nxc * (pax - pbx) + nyc * (pay - pby) + extra + roll_t[0] * al_try[0] + roll_t[1] * al_try[1]
         e[m - 1] = st if (p_bar < 0.0 and (st > 0.0 or x[m - 1] < 0.0)) else 0.0
         res = max_abs(e)
         if not math.isfinite(res):
@@ -326,8 +336,8 @@ def step(P, S, cfg):
                 return FAIL_STRIP
         else:
             contact_rows(P, a_c, b_c, cn1, cw1)
-        gram_contact(P, cn1, cw1, n1, C)
-    constraint_force(P, th1, cn1, cw1, n1, x, fth, fu)
+        gram_contact(P, th1, cn1, cw1, n1, g1, C)
+    constraint_force(P, th1, cn1, cw1, n1, g1, x, fth, fu)
     for g in range(2):
         S.alpha_n[g] = al_free[g] + fth[g] / P.J[g]
     for i in range(n):
@@ -340,6 +350,7 @@ def step(P, S, cfg):
     S.cn[:] = cn1
     S.cw[:] = cw1
     S.normal[:] = n1
+    S.gth[:] = g1
     # the gap the constraint holds: for the strip, its mean deformed gap s_bar - c_H |p|
     S.cpar[CP.alpha], S.cpar[CP.beta], S.cpar[CP.mode], S.cpar[CP.s] = a_c, b_c, mode, sc + c_h * p_bar
     if hertz:

@@ -164,6 +164,12 @@ class PaperMethod:
             out.append(g.sense * alpha[i] * r @ jz - omega[i] ** 2 * r)
         return tuple(out)
 
+    @staticmethod
+    def roll_rate(c: ContactPair, rates: NDArray[np.float64]) -> float:
+        """What the strip's pair rolling with the disks adds to its gap's rate for the
+        disks' turning ``rates`` (velocities or accelerations; 0 for the point contact)."""
+        return 0.0 if c.roll is None else float(np.dot(c.roll, rates))
+
     # -- the step ----------------------------------------------------------------------
     def step(self, st: State, index: int = 0) -> tuple[State, StepReport]:
         """Advance one time step by the paper's three stages."""
@@ -229,7 +235,9 @@ class PaperMethod:
             _, om2, _, v2 = self.rk4(st, f_theta, f_u)
             # The overlap c_H |p| grows with the force: its rate over this step, from the
             # forces this and the last displacement stage held, is the velocity to reach.
-            sh = self.normal_of(c1, v2, self.velocity_mats(th1, om2)) + c_h * (p_bar - st.p_held) / h
+            # (the strip's pair rolls with the disks: its row's theta entries, section 11.3)
+            sh = (self.normal_of(c1, v2, self.velocity_mats(th1, om2)) + self.roll_rate(c1, om2)
+                  + c_h * (p_bar - st.p_held) / h)
             pih = sh if (p_bar < 0.0 and (sh > 0.0 or x[-1] < 0.0)) else 0.0
             e = np.append(self.root_velocity_errors(th1, om2, v2), pih)
             residual[1] = np.abs(e).max()
@@ -262,7 +270,8 @@ class PaperMethod:
         for m in range(cap + 1):
             dq = self.minv * (g1.T @ x)
             alpha, a = alpha0 + dq[:2], a0 + dq[2:]
-            st_ = self.normal_of(c1, a, self.acceleration_mats(th1, om2, alpha)) + extra
+            st_ = (self.normal_of(c1, a, self.acceleration_mats(th1, om2, alpha)) + extra
+                   + self.roll_rate(c1, alpha))
             pit = st_ if (p_bar < 0.0 and (st_ > 0.0 or x[-1] < 0.0)) else 0.0
             e = np.append(self.root_acceleration_errors(th1, om2, alpha, a), pit)
             residual[2] = np.abs(e).max()

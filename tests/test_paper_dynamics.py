@@ -2,6 +2,8 @@
 (tolerances and the realistic state: tests/twin_helpers.py)."""
 
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -10,7 +12,7 @@ from spurdyn.model.loading import gear_angles, gear_torques
 from spurdyn.solvers.paper import dynamics_numpy as dyn_np
 
 from twin_helpers import (  # noqa: F401
-    EPS, JZ, Loaded, elastic_np, tangent_np, q_bound, tangent_q_bound, node_size, cross_size, worst, rigid_plus_noise, _synthetic_contact, _gram_ref,
+    EPS, JZ, Loaded, elastic_np, tangent_np, q_bound, tangent_q_bound, node_size, cross_size, worst, rigid_plus_noise, _synthetic_contact, _gram_ref, ROLLING,
 )
 
 
@@ -245,21 +247,27 @@ def test_constraint_force_matches_reference(loaded):
     cn, cw = st.rows(c)
     rng = np.random.default_rng(6)
     pt = np.abs(np.array([dyn_c.root_phi_theta(P, S.theta, k) for k in range(P.rnode.size)]))
-    for x in (S.x, np.abs(S.x).max() * rng.standard_normal(S.x.size)):
+    # the state's contact, and the same with a strip's disk entries (docs/solver.md 11.3)
+    for c, x in ((c, S.x), (c, np.abs(S.x).max() * rng.standard_normal(S.x.size)),
+                 (replace(c, theta_row=ROLLING), S.x)):
         fth, fu = np.empty(2), np.empty(S.u.size)
-        dyn_c.constraint_force(P, S.theta, cn, cw, c.normal, x, fth, fu)
+        dyn_c.constraint_force(P, S.theta, cn, cw, c.normal, st.gth(c), x, fth, fu)
         rth, ru = dyn_np.constraint_force(st.system, S.theta, c, x)
         lam = np.abs(x[:-1]).reshape(-1, 2)
-        tol_th = 4 * EPS * np.array([np.sum((pt * lam)[P.rgear == g]) for g in range(2)])
+        tol_th = 4 * EPS * (np.array([np.sum((pt * lam)[P.rgear == g]) for g in range(2)])
+                            + np.abs(st.gth(c) * x[-1]))
         tol_u = 4 * EPS * np.abs(x).max()
         assert worst(fu, ru) <= tol_u
         assert np.all(np.abs(fth - rth) <= tol_th)
         print(f"constraint_force: u {worst(fu, ru):.1e} N (tol {tol_u:.1e}), theta {worst(fth, rth):.1e} N m "
               f"(tol {tol_th.max():.1e}, |f_theta| {np.abs(rth).max():.1e})")
     # the contact force on the neighbouring material point is a different force
-    fu2 = np.empty(S.u.size)
-    dyn_c.constraint_force(P, S.theta, cn, np.roll(cw, 1), c.normal, S.x, np.empty(2), fu2)
+    fu2, fth2 = np.empty(S.u.size), np.empty(2)
+    dyn_c.constraint_force(P, S.theta, cn, np.roll(cw, 1), c.normal, st.gth(c), S.x, fth2, fu2)
     assert worst(fu2, fu) > 100 * tol_u
+    # and the disk entries put torques on the disks
+    dyn_c.constraint_force(P, S.theta, cn, cw, c.normal, np.zeros(2), S.x, fth2, fu2)
+    assert np.all(np.abs(fth2 - fth) > 100 * tol_th)
 
 
 def test_gram_is_G_Minv_GT(loaded):
@@ -270,13 +278,14 @@ def test_gram_is_G_Minv_GT(loaded):
     st, P, S = loaded, loaded.P, loaded.S
     m = S.x.size
     cases = [(S.theta, st.contact), (np.array([0.3, -1.2]), st.contact),
+             (S.theta, _synthetic_contact(st, 2.4, 3.1, 0.3, ROLLING)),
              (S.theta, _synthetic_contact(st, 0.4, 0.7, 0.3))]
     side0 = st.system.gears[0].flank.side_nodes[0]
     assert side0 in st.system.gears[0].root_nodes          # the root end node is a root node
     for theta, c in cases:
         cn, cw = st.rows(c)
         C = np.empty((m, m))
-        dyn_c.gram(P, theta, cn, cw, c.normal, C)
+        dyn_c.gram(P, theta, cn, cw, c.normal, st.gth(c), C)
         want, size = _gram_ref(st, theta, c)
         assert np.all(np.abs(C - want) <= 4 * EPS * size)
         print(f"gram: {worst(C, want):.1e} (max entry {np.abs(want).max():.1e}, "
@@ -284,7 +293,7 @@ def test_gram_is_G_Minv_GT(loaded):
     assert np.abs(C[-1, :-1]).max() > 0                    # the last case couples
     # a rotation 1e-9 rad off moves the disk part of the root blocks beyond the tolerance
     C2 = np.empty((m, m))
-    dyn_c.gram(P, S.theta + 1e-9, *st.rows(st.contact), st.contact.normal, C2)
+    dyn_c.gram(P, S.theta + 1e-9, *st.rows(st.contact), st.contact.normal, st.gth(st.contact), C2)
     want, size = _gram_ref(st, S.theta, st.contact)
     assert np.max(np.abs(C2 - want) - 4 * EPS * size) > 0
 
@@ -297,16 +306,18 @@ def test_gram_contact_refreshes_the_contact_row(loaded):
     m = S.x.size
     c0 = st.contact
     C = np.empty((m, m))
-    dyn_c.gram(P, S.theta, *st.rows(c0), c0.normal, C)
+    dyn_c.gram(P, S.theta, *st.rows(c0), c0.normal, st.gth(c0), C)
     root = C[:-1, :-1].copy()
     for c in (_synthetic_contact(st, c0.alpha + 1.3, c0.beta - 0.7, 0.9),
+              _synthetic_contact(st, c0.alpha + 0.6, c0.beta - 0.2, 0.9, ROLLING),
               _synthetic_contact(st, 0.4, 0.7, 0.3), c0):
-        dyn_c.gram_contact(P, *st.rows(c), c.normal, C)
+        dyn_c.gram_contact(P, S.theta, *st.rows(c), c.normal, st.gth(c), C)
         want, size = _gram_ref(st, S.theta, c)
         assert np.array_equal(C[:-1, :-1], root)
         assert np.all(np.abs(C - want) <= 4 * EPS * size)
         print(f"gram_contact: {worst(C, want):.1e} (contact entry {want[-1, -1]:.3e})")
     # the weights matter (a refresh that kept the old row would fail here)
-    dyn_c.gram_contact(P, *st.rows(_synthetic_contact(st, c0.alpha + 0.25, c0.beta, 0.0)), c0.normal, C)
+    dyn_c.gram_contact(P, S.theta, *st.rows(_synthetic_contact(st, c0.alpha + 0.25, c0.beta, 0.0)), c0.normal,
+                       np.zeros(2), C)
     assert abs(C[-1, -1] - want[-1, -1]) > 100 * 4 * EPS * size[-1, -1]
 

@@ -32,7 +32,7 @@ def test_accelerated_update_matches_appendix_b_reference(loaded, n):
     h = st.case.dt
     eps_root = st.fast.cfg[6]
     C = np.empty((m, m))
-    dyn_c.gram(st.P, S.theta, *st.rows(st.contact), st.contact.normal, C)
+    dyn_c.gram(st.P, S.theta, *st.rows(st.contact), st.contact.normal, st.gth(st.contact), C)
     rng = np.random.default_rng(10 + n)
     # contact row scaled: still G M^-1 G^T of a (lighter-looking) contact, p's eigenvalue smallest
     Cs = C.copy()

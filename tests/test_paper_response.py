@@ -2,6 +2,8 @@
 (tolerances and the realistic state: tests/twin_helpers.py)."""
 
 
+from dataclasses import replace
+
 import numpy as np
 
 from spurdyn.solvers.paper import dynamics_compiled as dyn_c
@@ -9,7 +11,7 @@ from spurdyn.solvers.paper import response_compiled as resp_c
 from spurdyn.solvers.paper import dynamics_numpy as dyn_np
 
 from twin_helpers import (  # noqa: F401
-    EPS, JZ, Loaded, elastic_np, tangent_np, q_bound, node_size, cross_size, worst, rigid_plus_noise, _synthetic_contact, _gram_ref,
+    EPS, JZ, Loaded, elastic_np, tangent_np, q_bound, node_size, cross_size, worst, rigid_plus_noise, _synthetic_contact, _gram_ref, ROLLING,
 )
 
 
@@ -63,13 +65,15 @@ def test_z_and_response_columns_match_the_rk4_response_formula(loaded):
     st, P, S = loaded, loaded.P, loaded.S
     m, n, nn = S.x.size, S.u.size, S.u.size // 2
     h = st.case.dt
-    c = st.contact
+    # the contact row with a strip's disk entries (docs/solver.md 11.3): their torques go
+    # through Z and the response columns too
+    c = replace(st.contact, theta_row=ROLLING)
     cn, cw = st.rows(c)
     gmat = dyn_np.jacobian(st.system, S.theta, c)
     minv = dyn_np.inverse_mass(st.system)
     # Z for the state's x
     zth, zu, nz, mark = np.empty(2), np.zeros(n), np.empty(nn, np.int64), np.zeros(nn, np.int64)
-    nnz = resp_c._z_of(P, S.theta, cn, cw, c.normal, S.x, zth, zu, nz, mark)
+    nnz = resp_c._z_of(P, S.theta, cn, cw, c.normal, st.gth(c), S.x, zth, zu, nz, mark)
     want = minv * (gmat.T @ S.x)
     size = minv * (np.abs(gmat.T) @ np.abs(S.x))
     assert np.all(np.abs(np.concatenate([zth, zu]) - want) <= 4 * EPS * size)
@@ -83,7 +87,7 @@ def test_z_and_response_columns_match_the_rk4_response_formula(loaded):
     Wq, Wv = np.zeros((R, m)), np.zeros((R, m))
     scratch, touched, acc3, acc4 = np.zeros(n), np.empty(nn, np.int64), np.zeros(n), np.zeros(n)
     zu = np.zeros(n)
-    resp_c.response_columns(P, h, pred, S.theta, cn, cw, c.normal, 0, m, Wq, Wv, scratch, mark, touched,
+    resp_c.response_columns(P, h, pred, S.theta, cn, cw, c.normal, st.gth(c), 0, m, Wq, Wv, scratch, mark, touched,
                        nz, zu, acc3, acc4)
     assert not (scratch.any() or mark.any() or zu.any() or acc3.any() or acc4.any())
     rows = np.concatenate([[0, 1], 2 + np.ravel(np.column_stack([2 * rel, 2 * rel + 1]))])
@@ -92,7 +96,7 @@ def test_z_and_response_columns_match_the_rk4_response_formula(loaded):
     for j in range(m):
         z = minv * gmat[j]                       # M^-1 G^T e_j
         zcol_th, zcol_u, nzc = np.empty(2), np.zeros(n), np.empty(nn, np.int64)
-        k = resp_c._z_col(P, S.theta, cn, cw, c.normal, j, zcol_th, zcol_u, nzc)
+        k = resp_c._z_col(P, S.theta, cn, cw, c.normal, st.gth(c), j, zcol_th, zcol_u, nzc)
         assert np.all(np.abs(np.concatenate([zcol_th, zcol_u]) - z) <= 4 * EPS * np.abs(z))
         assert set(nzc[:k]) == set(np.flatnonzero(z[2:]) // 2)
         t3th, t3u = tangent_np(st, q3th, w3, kw3, np.zeros(2), z[2:])

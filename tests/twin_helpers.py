@@ -63,6 +63,11 @@ class Loaded:
         cn = np.concatenate([c.nodes_a, c.nodes_b + self.na]).astype(np.int64)
         return cn, np.concatenate([c.weights_a, c.weights_b])
 
+    @staticmethod
+    def gth(c):
+        """The contact row's disk entries of a reference contact pair."""
+        return np.array(c.theta_row, dtype=float)
+
     def block(self, g, vec):
         o = self.system.offsets
         return vec[o[g]:o[g + 1]]
@@ -147,16 +152,21 @@ def rigid_plus_noise(st, theta, size, seed):
     return u + size * rng.standard_normal(u.size)
 
 
-def _synthetic_contact(st, alpha, beta, angle):
-    """A contact pair at ``(alpha, beta)`` with a unit normal at ``angle`` (the Gram matrix
-    needs only the rows and the normal)."""
+def _synthetic_contact(st, alpha, beta, angle, theta_row=(0.0, 0.0)):
+    """A contact pair at ``(alpha, beta)`` with a unit normal at ``angle`` and the disk
+    entries ``theta_row`` of a strip's rolling pair (docs/solver.md 11.3; the Gram matrix
+    needs only the rows, the normal and those)."""
     fa, fb = st.system.gears[0].flank, st.system.gears[1].flank
     na, wa, _ = fa.locate(alpha)
     nb, wb, _ = fb.locate(beta)
     return cref.ContactPair(alpha=alpha, beta=beta, mode=cref.FLANK,
                             normal=np.array([math.cos(angle), math.sin(angle)]), s=0.0,
                             nodes_a=na, weights_a=wa, nodes_b=nb, weights_b=wb,
-                            delta_a=np.zeros(2), delta_b=np.zeros(2))
+                            delta_a=np.zeros(2), delta_b=np.zeros(2), theta_row=tuple(theta_row))
+
+
+#: Disk entries of a contact row of the size a strip's rolling pair has (m/rad).
+ROLLING = (2.0e-7, -1.5e-7)
 
 
 def _gram_ref(st, theta, c):

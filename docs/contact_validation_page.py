@@ -28,7 +28,9 @@ def render(store: dict[str, Any]) -> str:
     st = store.get("stiffness")
     if st:
         g = st.get("grading", 6.0)
+        rg = st.get("row_grading")
         rows = st["rows"]
+        with_rows = rg is not None and all("hertz_rows" in r for r in rows)
         out += ["## Pitch-point pair stiffness against the mesh", "",
                 f"The paper's pair under τ0/r_b = {st['force_N']:.1f} N, teeth clamped at the "
                 "root, work-conjugate compliances (`spurdyn.solvers.paper.statics`). "
@@ -37,11 +39,18 @@ def render(store: dict[str, Any]) -> str:
                 "width of the outline column there (the element under the strip), b the strip's "
                 f"half-width. \"graded\" is the same mesh with `mesh.grading = {g:g}` (outline "
                 f"columns about {g:g} times thinner than the middle ones, "
-                "`spurdyn.mesh.tooth.thickness_spacing`); Δt its stable RK4 step.",
+                "`spurdyn.mesh.tooth.thickness_spacing`); Δt its stable RK4 step."
+                + (f" \"rows\" is the graded mesh with its rows graded along the tooth too, "
+                   f"`mesh.row_grading = {rg:g}` (fillet rows about {rg:g} times as tall as the "
+                   "flank's, `spurdyn.mesh.tooth.row_radii`, docs/geometry.md 6.3): h rows its "
+                   "edge along the flank at the pitch point, Δt rows its stable step."
+                   if with_rows else ""),
                 "", "| mesh | h (µm) | b (µm) | t (µm) | point (N/m) | hertz (N/m) | change | "
-                "strip only (N/m) | t graded (µm) | hertz graded (N/m) | change | Δt even / graded (ns) |",
-                "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
-        prev = prev_g = None
+                "strip only (N/m) | t graded (µm) | hertz graded (N/m) | change | Δt even / graded (ns) |"
+                + (" h rows (µm) | hertz rows (N/m) | change | Δt rows (ns) |" if with_rows else ""),
+                "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+                + (" --- | --- | --- | --- |" if with_rows else "")]
+        prev = prev_g = prev_r = None
         for r in rows:
             change = "" if prev is None else f"{(r['hertz'] / prev - 1) * 100:+.2f} %"
             hg = r.get("hertz_graded")
@@ -49,8 +58,15 @@ def render(store: dict[str, Any]) -> str:
             graded = (f"{r['t_um_graded']:.0f} | {hg:.4e} | {change_g} | "
                       f"{r['stable_dt'] * 1e9:.2f} / {r['stable_dt_graded'] * 1e9:.2f}") \
                 if hg is not None else " | | | "
-            out.append(f"| {r['mesh']} | {r['h_um']:.0f} | {r['b_um']:.1f} | {r.get('t_um', float('nan')):.0f} | "
-                       f"{r['point']:.4e} | {r['hertz']:.4e} | {change} | {r['strip_only']:.4e} | {graded} |")
+            line = (f"| {r['mesh']} | {r['h_um']:.0f} | {r['b_um']:.1f} | {r.get('t_um', float('nan')):.0f} | "
+                    f"{r['point']:.4e} | {r['hertz']:.4e} | {change} | {r['strip_only']:.4e} | {graded} |")
+            if with_rows:
+                hr = r["hertz_rows"]
+                change_r = "" if prev_r is None else f"{(hr / prev_r - 1) * 100:+.2f} %"
+                line += (f" {r['h_um_rows']:.0f} | {hr:.4e} | {change_r} | "
+                         f"{r['stable_dt_rows'] * 1e9:.2f} |")
+                prev_r = hr
+            out.append(line)
             prev, prev_g = r["hertz"], hg
         fr = st.get("frequency_4x14_Hz")
         if fr:
@@ -74,13 +90,22 @@ def render(store: dict[str, Any]) -> str:
                     f"and {b['t_um_graded'] / b['b_um']:.1f} b: they differ by "
                     f"{pct(a['hertz_graded'], b['hertz_graded']):.2f} % and lie "
                     f"{pct(a['hertz_graded'], f['hertz_graded']):.1f} and "
-                    f"{pct(b['hertz_graded'], f['hertz_graded']):.1f} % above it. The issue's 1 % "
-                    "between 12 × 40 and 16 × 56 is not reached: grading across the tooth "
-                    "thins the columns under the strip but leaves the edges along the flank as "
-                    "long as they are (h > b on both), and a structured mesh of ny rows cannot "
-                    "shorten them where the contact passes without shortening them everywhere. "
-                    "16 × 56 graded lies within 1 % of the finest meshes of both kinds; the "
-                    "grading costs a smaller stable step (last column)."]
+                    f"{pct(b['hertz_graded'], f['hertz_graded']):.1f} % above it: grading across "
+                    "the tooth thins the columns under the strip but leaves the edges along the "
+                    "flank as long as they are (h > b on both). 16 × 56 graded lies within 1 % of "
+                    "the finest meshes of both kinds; the grading costs a smaller stable step."]
+            if with_rows:
+                out += ["", f"Graded along the tooth as well (`mesh.row_grading = {rg:g}`), the "
+                        f"fillet keeps {a['fillet_rows']} of 40 and {b['fillet_rows']} of 56 rows "
+                        f"and the edges along the flank shorten to h = {a['h_um_rows'] / a['b_um']:.1f} b "
+                        f"and {b['h_um_rows'] / b['b_um']:.1f} b with the same ny: 12 × 40 and 16 × 56 "
+                        f"then differ by {pct(a['hertz_rows'], b['hertz_rows']):.2f} % (measured at the "
+                        f"pitch point; the issue asks for 1 %) and lie "
+                        f"{pct(a['hertz_rows'], f['hertz_rows']):.1f} and "
+                        f"{pct(b['hertz_rows'], f['hertz_rows']):.1f} % above the finest mesh graded "
+                        f"both ways, at nearly the stable step of the columns' grading alone "
+                        f"({a['stable_dt_graded'] * 1e9:.2f} and {a['stable_dt_rows'] * 1e9:.2f} ns "
+                        "on 12 × 40): the thin outline columns, not the rows, set the step."]
         series = st.get("grading_series")
         if series:
             out += ["", "How far grading alone goes (the same two meshes, thinner outline columns; "
@@ -96,6 +121,31 @@ def render(store: dict[str, Any]) -> str:
                     "once the columns under the strip are thinner than it, what is left is the "
                     "length of the element edges along the flank, which grading across the tooth "
                     "does not change."]
+        rseries = st.get("row_grading_series")
+        if rseries:
+            n = st.get("row_positions", 8)
+            out += ["", f"Rows graded along the tooth, columns graded {g:g} (the same two meshes; "
+                    "\"row mean\": the stiffness averaged over "
+                    f"{n} contact positions spread evenly over the one flank row centred on the "
+                    "pitch point, which takes out where the strip sits in its element; fillet "
+                    "rows of 12 × 40 / 16 × 56):", "",
+                    "| row grading | fillet rows | 12 × 40 (N/m) | 16 × 56 (N/m) | difference | "
+                    "row mean 12 × 40 (N/m) | row mean 16 × 56 (N/m) | difference |",
+                    "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+            for r in rseries:
+                out.append(f"| {r['row_grading']:g} | {r['fillet_rows 12 x 40']} / "
+                           f"{r['fillet_rows 16 x 56']} | {r['12 x 40']:.4e} | {r['16 x 56']:.4e} | "
+                           f"{(r['12 x 40'] / r['16 x 56'] - 1) * 100:.2f} % | "
+                           f"{r['12 x 40 row mean']:.4e} | {r['16 x 56 row mean']:.4e} | "
+                           f"{(r['12 x 40 row mean'] / r['16 x 56 row mean'] - 1) * 100:.2f} % |")
+            d = {r["row_grading"]: (r["12 x 40 row mean"] / r["16 x 56 row mean"] - 1) * 100
+                 for r in rseries}
+            graded = [v for k, v in d.items() if k != 1.0]
+            if 1.0 in d and graded:
+                out += ["", "At the pitch point alone the difference swings with where the pitch "
+                        "point falls in its row; over a row it is "
+                        f"{min(graded):.2f} to {max(graded):.2f} % with the rows graded "
+                        f"({min(k for k in d if k != 1.0):g} and up) and {d[1.0]:.2f} % with even rows."]
         out.append("")
     hz = store.get("hertz")
     if hz:

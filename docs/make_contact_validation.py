@@ -2,9 +2,9 @@
 
     .venv/bin/python docs/make_contact_validation.py [--only PART ...]
 
-Parts: ``stiffness`` (pitch-point pair stiffness against the mesh), ``presets`` (every
-preset with both contacts), ``meshes`` (Fig. 8, 9, 10 on finer meshes at their stable
-steps), ``design`` (pairs at design loads against the lumped model with the same
+Parts: ``stiffness`` (pitch-point pair stiffness against the mesh, even and graded across
+and along the tooth), ``presets`` (every preset with both contacts), ``meshes`` (Fig. 8, 9,
+10 on finer meshes at their stable steps), ``design`` (pairs at design loads against the lumped model with the same
 stiffness), ``energy`` (the energy balance of Fig. 8 under load), ``hertz`` (a
 quasi-static run's strip at the pitch point against Hertz). Each part's figures are kept
 in ``docs/contact_validation.json``; the page ``docs/contact_validation.md`` is rendered
@@ -42,6 +42,14 @@ RUN_MESHES = ((6, 20), (8, 28), (12, 40))
 GRADING = 6.0
 #: The gradings of the series that shows how far grading alone brings 12 x 40 to 16 x 56.
 GRADING_SERIES = (1.0, 3.0, 6.0, 12.0, 20.0, 35.0, 50.0)
+#: The row grading of the stiffness study's rows-graded columns (with ``GRADING`` across;
+#: ``mesh.row_grading``, docs/geometry.md 6.3), and the series of it on 12 x 40 and 16 x 56.
+ROW_GRADING = 4.0
+ROW_GRADING_SERIES = (1.0, 2.0, 3.0, 4.0, 6.0, 1000.0)
+#: Contact positions spread evenly over the one flank row centred on the pitch point, over
+#: which the row mean of the stiffness is taken (it takes out where the strip sits in its
+#: element).
+ROW_POSITIONS = 8
 #: Fraction of each mesh's stable step the finer-mesh runs take (as validation.md 2.1).
 STEP_FRACTION = 0.9
 
@@ -81,28 +89,53 @@ def _surface_column_um(system: Any) -> float:
     return float(np.hypot(*(mesh.nodes[elem[1]] - mesh.nodes[elem[0]])) * 1e6)
 
 
+def _flank_edge_um(system: Any) -> float:
+    """Arc (µm) of one element edge along A's flank at the pitch point (the flank rows' law)."""
+    f, pair = system.gears[0].flank, system.pair
+    r_p = pair.gear_a.base_radius / math.cos(pair.gear_a.pressure_angle)
+    return (f.r_tip - f.r0) / f.ny * r_p / f.base_radius * 1e6
+
+
+def _row_mean(system: Any, force: float) -> float:
+    """The strip's pitch-point stiffness averaged over :data:`ROW_POSITIONS` contact positions
+    spread evenly over the one flank row (of A) centred on the pitch point."""
+    f, gear = system.gears[0].flank, system.pair.gear_a
+    slope = (f.r_tip - f.r0) / f.ny
+    t_p = (gear.base_radius / math.cos(gear.pressure_angle) - f.r0) / slope
+    k = []
+    for i in range(ROW_POSITIONS):
+        r = f.r0 + slope * (t_p - 0.5 + (i + 0.5) / ROW_POSITIONS)
+        roll = math.sqrt(r * r - gear.base_radius ** 2) / gear.base_radius
+        k.append(static_stiffness(system, roll, force, "hertz").stiffness)
+    return float(np.mean(k))
+
+
 def part_stiffness() -> dict[str, Any]:
     pair = paper_pair()
     force = PAPER_TORQUE / pair.gear_a.base_radius
     rows = []
     for nx, ny in STIFFNESS_MESHES:
         row: dict[str, Any] = {"mesh": f"{nx} x {ny}"}
-        for tag, grading in (("", 1.0), ("_graded", GRADING)):
-            s = system_for(pair, nx, ny, 61, grading)
+        for tag, grading, row_grading in (("", 1.0, 1.0), ("_graded", GRADING, 1.0),
+                                          ("_rows", GRADING, ROW_GRADING)):
+            s = system_for(pair, nx, ny, 61, grading, row_grading)
             hz = static_stiffness(s, pair.pitch_roll_a, force, "hertz")
+            if tag == "_rows":   # rows graded along the tooth as well as columns across
+                row.update(hertz_rows=hz.stiffness, h_um_rows=_flank_edge_um(s),
+                           stable_dt_rows=stable_step(s),
+                           fillet_rows=s.gears[0].mesh.fillet_rows)
+                continue
             row["hertz" + tag] = hz.stiffness
             row["strip_only" + tag] = 1.0 / (hz.compliance_a + hz.compliance_b)
             row["t_um" + tag] = _surface_column_um(s)
             row["stable_dt" + tag] = stable_step(s)
             if not tag:
                 row["point"] = static_stiffness(s, pair.pitch_roll_a, force, "point").stiffness
-                f = s.gears[0].flank
-                r_p = pair.gear_a.base_radius / math.cos(pair.gear_a.pressure_angle)
-                row["h_um"] = (f.r_tip - f.r0) / f.ny * r_p / f.base_radius * 1e6  # one edge's arc
+                row["h_um"] = _flank_edge_um(s)  # one edge's arc
                 row["b_um"] = hz.half_width * 1e6
         rows.append(row)
-        print(f"  stiffness {row['mesh']}: hertz {row['hertz']:.4e}, graded {row['hertz_graded']:.4e}",
-              flush=True)
+        print(f"  stiffness {row['mesh']}: hertz {row['hertz']:.4e}, graded {row['hertz_graded']:.4e}, "
+              f"rows graded {row['hertz_rows']:.4e}", flush=True)
     # how far grading alone goes: 12 x 40 against 16 x 56 as the outline columns thin
     series = []
     for grading in GRADING_SERIES:
@@ -110,10 +143,25 @@ def part_stiffness() -> dict[str, Any]:
                               "hertz").stiffness for nx, ny in ((12, 40), (16, 56))]
         series.append({"grading": grading, "12 x 40": k[0], "16 x 56": k[1],
                        "stable_dt_12x40": stable_step(system_for(pair, 12, 40, 61, grading))})
+    # rows graded along the tooth (columns graded GRADING): 12 x 40 against 16 x 56 at the
+    # pitch point and averaged over one element row about it
+    row_series = []
+    for row_grading in ROW_GRADING_SERIES:
+        entry: dict[str, Any] = {"row_grading": row_grading}
+        for nx, ny in ((12, 40), (16, 56)):
+            s = system_for(pair, nx, ny, 61, GRADING, row_grading)
+            entry[f"{nx} x {ny}"] = static_stiffness(s, pair.pitch_roll_a, force, "hertz").stiffness
+            entry[f"{nx} x {ny} row mean"] = _row_mean(s, force)
+            entry[f"fillet_rows {nx} x {ny}"] = s.gears[0].mesh.fillet_rows
+        row_series.append(entry)
+        print(f"  row grading {row_grading:g}: {entry['12 x 40']:.4e} / {entry['16 x 56']:.4e}",
+              flush=True)
     from spurdyn.lumped.model import torsional_natural_frequency
     freq = {c: float(torsional_natural_frequency(pair, rows[0][c])) for c in ("point", "hertz")}
     return {"force_N": force, "c_h": strip_compliance(*strip_law(system_for(pair, 4, 14, 61))),
-            "grading": GRADING, "rows": rows, "grading_series": series, "frequency_4x14_Hz": freq}
+            "grading": GRADING, "row_grading": ROW_GRADING, "row_positions": ROW_POSITIONS,
+            "rows": rows, "grading_series": series, "row_grading_series": row_series,
+            "frequency_4x14_Hz": freq}
 
 
 def part_presets() -> dict[str, Any]:

@@ -126,6 +126,14 @@ CASES = [
                  id="grading>50"),
     pytest.param(edit("ny = 14", 'ny = 14\ngrading = "fine"'), "mesh.grading", "must be a number",
                  id="grading-text"),
+    pytest.param(edit("ny = 14", "ny = 14\nrow_grading = 0.5"), "mesh.row_grading",
+                 "from 1 (even rows) to 1000", id="row_grading<1"),
+    pytest.param(edit("ny = 14", 'ny = 14\nrow_grading = "x"'), "mesh.row_grading",
+                 "must be a number", id="row_grading-text"),
+    pytest.param(edit("ny = 14", "ny = 14\nrow_grading = true"), "mesh.row_grading",
+                 "must be a number", id="row_grading-bool"),
+    pytest.param(edit("ny = 14", "ny = 14\nrow_grading = 1e9"), "mesh.row_grading",
+                 "from 1 (even rows) to 1000", id="row_grading>1000"),
     # -- tip radius not above root radius ----------------------------------------------
     pytest.param(edit("tip_radius = 0.047625", "tip_radius = 0.0400"),
                  "gear_a.tip_radius", "must be above", id="tip<root"),
@@ -296,4 +304,17 @@ def test_a_bad_grading_option_is_named(tmp_path, capsys, monkeypatch, argv):
     out, err = capsys.readouterr()
     assert code == 2 and out == "" and err.count("\n") == 1, err
     assert err.startswith("spurdyn: error: --grading: must be a number from 1 (even) to 50"), err
+    assert not any(tmp_path.iterdir())          # nothing half-written
+
+
+@pytest.mark.parametrize("argv", [["info", "paper", "--row-grading", "0.9"],
+                                  ["mesh", "paper", "--png", "x.png", "--row-grading", "2000"],
+                                  ["run", "paper-fig8", "--row-grading", "0.5"]])
+def test_a_bad_row_grading_option_is_named(tmp_path, capsys, monkeypatch, argv):
+    monkeypatch.chdir(tmp_path)
+    code = main(argv)
+    out, err = capsys.readouterr()
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith("spurdyn: error: --row-grading: must be a number from 1 (even rows) "
+                          "to 1000"), err
     assert not any(tmp_path.iterdir())          # nothing half-written

@@ -210,6 +210,9 @@ BAD_FLAGS: dict[str, st.SearchStrategy[str]] = {
                             lambda t: f"{t[0]}x{t[1]}")),
     "--jobs": _text(st.one_of(st.integers(-(2**40), 0), st.text(min_size=1, max_size=4).filter(
         lambda s: not s.strip().lstrip("+-").isdigit()))),
+    "--row-grading": st.one_of(st.sampled_from(["0.5", "x", "true", "1e9"]),
+                               _text(st.one_of(NOT_FINITE, _floats(-1e308, 1.0 - 1e-9),
+                                               _floats(1000.0 + 1e-6, 1e308)))),
 }
 
 
@@ -264,6 +267,7 @@ BAD_SWEEP_FLAGS: dict[str, st.SearchStrategy[str]] = {
     "--torque": _text(st.one_of(NOT_FINITE, _floats(-1e308, -1e-300), _floats(1e5, 1e308))),
     "--dt": _text(st.one_of(NOT_FINITE, NOT_POSITIVE, _floats(1e-6, 1e308))),
     "--jobs": _text(st.integers(-(2**40), 0)),
+    "--row-grading": st.sampled_from(["0.5", "x", "true", "1e9", "nan"]),
     "--scheduler": st.text(max_size=12).filter(lambda s: not s.startswith(("tcp://", "tls://"))),
 }
 

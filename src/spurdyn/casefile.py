@@ -30,7 +30,7 @@ from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-expo
 )
 from spurdyn.model.loading import check_history
 from spurdyn.model.system import PairSystem, system_for
-from spurdyn.mesh.tooth import DEFAULT_GRADING, MAX_GRADING
+from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_ROW_GRADING, MAX_GRADING, MAX_ROW_GRADING
 from spurdyn.settings import (
     BACKENDS, BODIES, CONTACTS, INTEGRATORS, METHODS, MODEL_NAMES, PAPER_DT, RETIRED_METHODS, RPM, STARTS, STIFFNESSES,
     RunSettings, TorqueHistory,
@@ -81,7 +81,7 @@ class Case:
     def meshed_pair(self) -> MeshedPair:
         """The pair and its mesh, as ``spurdyn info`` takes them."""
         return MeshedPair(pair=self.pair, nx=self.run.nx, ny=self.run.ny, name=self.name,
-                          grading=self.run.grading)
+                          grading=self.run.grading, row_grading=self.run.row_grading)
 
     @property
     def angle(self) -> float:
@@ -229,20 +229,24 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     torque = src.number("torque", None, positive=False, required_hint=hint)
     dt = src.number("dt", None)
     angle_deg = src.number("angle_deg", None)
-    mesh = _Source({"nx": meshed_pair.nx, "ny": meshed_pair.ny, "grading": meshed_pair.grading},
-                   "mesh", overrides, labels)
+    mesh = _Source({"nx": meshed_pair.nx, "ny": meshed_pair.ny, "grading": meshed_pair.grading,
+                    "row_grading": meshed_pair.row_grading}, "mesh", overrides, labels)
     nx = mesh.integer("nx", meshed_pair.nx, 1)
     ny = mesh.integer("ny", meshed_pair.ny, 1)
     grading = mesh.number("grading", meshed_pair.grading)
     if not DEFAULT_GRADING <= grading <= MAX_GRADING:
         raise InputError(mesh.field("grading"), f"must be a number from 1 (even) to "
                          f"{MAX_GRADING:g} (got {grading:g})")
+    row_grading = mesh.number("row_grading", meshed_pair.row_grading)
+    if not DEFAULT_ROW_GRADING <= row_grading <= MAX_ROW_GRADING:
+        raise InputError(mesh.field("row_grading"), f"must be a number from 1 (even rows) to "
+                         f"{MAX_ROW_GRADING:g} (got {row_grading:g})")
     settings = dict(
         # without a dt, the paper's until the system is built (the values are checked first)
         speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque,
         dt=PAPER_DT if dt is None else dt,
         angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
-        grading=grading,
+        grading=grading, row_grading=row_grading,
         n_spline=src.integer("n_spline", _RUN_DEFAULTS["n_spline"], 8),
         tol_disp=src.number("tol_disp", _RUN_DEFAULTS["tol_disp"]),
         max_iter=src.integer("max_iter", _RUN_DEFAULTS["max_iter"], 1),
@@ -275,7 +279,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
     system = None
     if check_step or dt is None:
-        system = _system(pair, nx, ny, run.n_spline, grading, overrides, labels)
+        system = _system(pair, nx, ny, run.n_spline, grading, overrides, labels, row_grading)
     if dt is None and run.integrator == "implicit":   # a step of accuracy, not stability
         run = run.with_(dt=round_down(accuracy_step(run.speed_a, pair.gear_a.teeth), 2))
     elif dt is None:  # a stated fraction of the stable step of this mesh
@@ -284,7 +288,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     if system is not None:
         def field(name: str) -> str:
             if name == "dt" and "run.dt" not in overrides:
-                for key in ("mesh.grading", "mesh.nx"):  # the mesh made the step too large
+                for key in ("mesh.grading", "mesh.row_grading", "mesh.nx"):  # the mesh made the step too large
                     if key in overrides:
                         return labels.get(key, "mesh" if key == "mesh.nx" else key)
             if name == "speed_b_rpm" and (not src.get(name)[0] or scale_b != 1.0):
@@ -363,10 +367,10 @@ def _rayleigh(src: _Source) -> dict[str, float]:
 
 def _system(pair: GearPair, nx: int, ny: int, n_spline: int, grading: float,
             overrides: Mapping[str, Any],
-            labels: Mapping[str, str]) -> PairSystem:
+            labels: Mapping[str, str], row_grading: float = DEFAULT_ROW_GRADING) -> PairSystem:
     """The system the run will use (kept for it: built once); refuses a bad mesh."""
     try:
-        return system_for(pair, nx, ny, n_spline, grading)
+        return system_for(pair, nx, ny, n_spline, grading, row_grading)
     except InputError as err:
         if "mesh.nx" in overrides and err.field.startswith("mesh."):
             label = labels.get("mesh.nx", "mesh")
@@ -413,6 +417,9 @@ def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
                           labels=labels, check_step=check_step, base=path.parent)
 
 
+#: ``[mesh]`` keys :func:`case_to_dict` writes only where they differ from these defaults (so
+#: that the stored cases, and the sweep's hashes of them, of meshes without them stay as they were).
+_MESH_WRITTEN_IF_GIVEN = (("row_grading", DEFAULT_ROW_GRADING),)
 #: ``[run]`` keys :func:`case_to_dict` writes only where they differ from these defaults.
 _WRITTEN_IF_GIVEN = (("cycles", None), ("max_cycles", None), ("stiffness", "tooth"), ("bodies", "modal"),
                      ("back_flanks", None), ("teeth", None), ("start", "static"), ("ramp_cycles", None))
@@ -450,6 +457,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         "gear_a": _gear_to_dict(case.pair.gear_a),
         "gear_b": _gear_to_dict(case.pair.gear_b),
         "pair": {"centre_distance": case.pair.centre_distance, "driver": case.pair.driver},
-        "mesh": {"nx": run.nx, "ny": run.ny, "grading": run.grading},
+        "mesh": {"nx": run.nx, "ny": run.ny, "grading": run.grading}
+        | {key: getattr(run, key) for key, default in _MESH_WRITTEN_IF_GIVEN
+           if getattr(run, key) != default},
         "run": run_table,
     } | ({} if case.model == "fe" else {"model": {"kind": case.model}})

@@ -21,7 +21,7 @@ from spurdyn.geometry.blank import Blank
 from spurdyn.geometry.gear import MAX_MODULE, MAX_TEETH, Gear
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.rack import ISO_53, BasicRack, default_rack
-from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY
+from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, DEFAULT_ROW_GRADING
 
 GEAR_KEYS = {
     "teeth", "module", "pitch_radius", "tip_radius", "root_radius", "addendum", "dedendum",
@@ -35,7 +35,7 @@ BLANK_KEYS = {"bore_radius", "hub_radius", "rim_radius", "web_width"}
 RELIEF_KEYS = ("tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape")
 MATERIAL_KEYS = {"young", "poisson", "density", "sigma_flim", "sigma_hlim"}
 PAIR_KEYS = {"centre_distance", "driver"}
-MESH_KEYS = {"nx", "ny", "grading"}
+MESH_KEYS = {"nx", "ny", "grading", "row_grading"}
 TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run", "model"}
 
 @dataclass(frozen=True)
@@ -47,6 +47,7 @@ class MeshedPair:
     ny: int = DEFAULT_NY
     name: str = "pair"
     grading: float = DEFAULT_GRADING
+    row_grading: float = DEFAULT_ROW_GRADING
 
 
 def _check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
@@ -307,7 +308,9 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     nx = _integer(mesh_table, "nx", "mesh", DEFAULT_NX)
     ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
     grading = _number(mesh_table, "grading", "mesh", DEFAULT_GRADING)
-    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading)
+    row_grading = _number(mesh_table, "row_grading", "mesh", DEFAULT_ROW_GRADING)
+    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading,
+                      row_grading=row_grading)
 
 
 def load_pair(path: str | Path) -> MeshedPair:

@@ -10,7 +10,8 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from spurdyn.errors import InputError
-from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, MAX_GRADING
+from spurdyn.mesh.tooth import (DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, DEFAULT_ROW_GRADING,
+                               MAX_GRADING, MAX_ROW_GRADING)
 
 #: The paper's time step (s).
 PAPER_DT = 3e-8
@@ -50,6 +51,11 @@ SECTOR_STIFFNESS_REASON = ("'sector' is a mesh cycle under constant torques: it 
 #: Why the FE model refuses the sector stiffness.
 FE_STIFFNESS_REASON = ("is the lumped model's: the FE model's stiffness is its own teeth's "
                        "(use --model lumped)")
+#: Why the sector model (and the lumped model on its stiffness) refuses rows graded along
+#: the tooth.
+SECTOR_ROW_GRADING_REASON = ("the sector model meshes its teeth with rows even in radius: leave "
+                             "it out (or 1); the FE model and the lumped model on the tooth's "
+                             "stiffness take it")
 #: The generalized-alpha scheme's spectral radius at infinite frequency when the run gives
 #: none: modes far above the step's resolution lose 20 % of their amplitude a step, the
 #: pair's torsional mode a negligible part (docs/implicit.md, "The default").
@@ -189,6 +195,11 @@ class RunSettings:
     grading
         How much thinner the outline columns of each tooth mesh are than its middle ones
         (1: even; :func:`spurdyn.mesh.tooth.thickness_spacing`).
+    row_grading
+        How much taller the fillet rows of each tooth mesh are than its flank rows (1: rows
+        even in radius from the fillet cut to the tip; :func:`spurdyn.mesh.tooth.row_radii`).
+        The FE model and the lumped model on the tooth's stiffness; the sector model refuses
+        it (:data:`SECTOR_ROW_GRADING_REASON`).
     n_spline
         Data points of each flank spline.
     tol_disp
@@ -279,6 +290,7 @@ class RunSettings:
     nx: int = DEFAULT_NX
     ny: int = DEFAULT_NY
     grading: float = DEFAULT_GRADING
+    row_grading: float = DEFAULT_ROW_GRADING
     n_spline: int = 61
     tol_disp: float = PAPER_TOL
     max_iter: int = 500
@@ -326,6 +338,11 @@ class RunSettings:
                 or not DEFAULT_GRADING <= g <= MAX_GRADING):
             raise InputError("grading", f"must be a number from 1 (even) to {MAX_GRADING:g} "
                              f"(got {g!r})")
+        g = self.row_grading
+        if (not isinstance(g, (int, float)) or isinstance(g, bool) or not math.isfinite(g)
+                or not DEFAULT_ROW_GRADING <= g <= MAX_ROW_GRADING):
+            raise InputError("row_grading", f"must be a number from 1 (even rows) to "
+                             f"{MAX_ROW_GRADING:g} (got {g!r})")
         z = self.damping_ratio
         if (not isinstance(z, (int, float)) or isinstance(z, bool) or not math.isfinite(z)
                 or not 0.0 <= z < 1.0):

@@ -72,18 +72,21 @@ def simulate_lumped(pair: GearPair, settings: RunSettings,
 
 def tooth_table(pair: GearPair, settings: RunSettings) -> Any:
     """The paper model's single-pair stiffness table of the run's contact model (the strip's
-    depends on the load), cached per process."""
+    depends on the load), on the run's tooth meshes (rows graded by ``row_grading``; the
+    point contact's table on even columns, as it always was), cached per process."""
     from spurdyn.lumped import mesh_stiffness_table
 
     hertz = settings.contact == "hertz" and settings.torque > 0
-    key = (pair, settings.nx, settings.ny, settings.torque if hertz else None)
+    key = (pair, settings.nx, settings.ny, settings.torque if hertz else None,
+           settings.grading if hertz else None, settings.row_grading)
     try:
         table = _TABLES.get(key)
     except TypeError:  # an unhashable pair: no caching
         key, table = None, None
     if table is None:
         table = (_hertz_table(pair, settings) if hertz
-                 else mesh_stiffness_table(pair, settings.nx, settings.ny))
+                 else mesh_stiffness_table(pair, settings.nx, settings.ny,
+                                           row_grading=settings.row_grading))
         if key is not None:
             _TABLES[key] = table
     return table
@@ -92,8 +95,13 @@ def tooth_table(pair: GearPair, settings: RunSettings) -> Any:
 def sector_cycle(pair: GearPair, settings: RunSettings) -> Any:
     """The sector model's mesh cycle of the run's pair, mesh, torque and teeth as the lumped
     model's stiffness (:class:`spurdyn.lumped.cycle.SectorCycle`), cached per process."""
+    from spurdyn.errors import InputError
     from spurdyn.lumped.cycle import SectorCycle
     from spurdyn.sector.statics import mesh_cycle
+    from spurdyn.settings import SECTOR_ROW_GRADING_REASON
+
+    if settings.row_grading != 1.0:
+        raise InputError("mesh.row_grading", SECTOR_ROW_GRADING_REASON)
 
     key = ("sector", pair, settings.nx, settings.ny, settings.grading, settings.torque, settings.teeth)
     try:
@@ -121,7 +129,8 @@ def _hertz_table(pair: GearPair, settings: RunSettings) -> Any:
     from spurdyn.model.system import system_for
     from spurdyn.solvers.paper.statics import static_stiffness
 
-    system = system_for(pair, settings.nx, settings.ny, settings.n_spline, settings.grading)
+    system = system_for(pair, settings.nx, settings.ny, settings.n_spline, settings.grading,
+                        settings.row_grading)
     spair = system.pair                      # the pair as the solver runs it (A driving)
     roll = np.linspace(spair.start_roll_a, spair.end_roll_a, DEFAULT_TABLE_POINTS)
     force = static_force(pair, settings.torque)

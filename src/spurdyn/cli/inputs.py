@@ -25,22 +25,27 @@ def resolve_pair(name: str) -> MeshedPair:
 
 
 def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None,
-               grading: float | None = None) -> MeshedPair:
+               grading: float | None = None, row_grading: float | None = None) -> MeshedPair:
     nx, ny = (case.nx, case.ny) if mesh is None else mesh
     grading = case.grading if grading is None else grading
-    return MeshedPair(pair=case.pair, nx=nx, ny=ny, name=case.name, grading=grading)
+    row_grading = case.row_grading if row_grading is None else row_grading
+    return MeshedPair(pair=case.pair, nx=nx, ny=ny, name=case.name, grading=grading,
+                      row_grading=row_grading)
 
 
 def meshed_case(args: argparse.Namespace) -> MeshedPair:
     """The pair of ``info`` and ``mesh`` with the options' mesh, a bad mesh refused before
-    any work (naming ``--grading`` when the option gave the grading)."""
+    any work (naming ``--grading`` or ``--row-grading`` when the option gave it)."""
     from spurdyn.mesh.tooth import tooth_mesh
 
-    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading)
+    row_grading = getattr(args, "row_grading", None)   # not an option of every command
+    case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading, row_grading)
     try:
-        tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading)
+        tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading,
+                   row_grading=case.row_grading)
     except InputError as err:
-        raise InputError("--grading" if err.field == "mesh.grading" and args.grading is not None
+        given = {"mesh.grading": args.grading, "mesh.row_grading": row_grading}
+        raise InputError(f"--{err.field[5:].replace('_', '-')}" if given.get(err.field) is not None
                          else err.field, err.reason) from None
     return case
 

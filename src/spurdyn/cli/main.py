@@ -97,6 +97,7 @@ RUN_OVERRIDES = (
     ("backend", "run.backend", "--backend"),
     ("contact", "run.contact", "--contact"),
     ("grading", "mesh.grading", "--grading"),
+    ("row_grading", "mesh.row_grading", "--row-grading"),
 )
 
 
@@ -273,6 +274,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
     add_dynamics_options(run)
     run.add_argument("--grading", type=float, metavar="G", help="how much thinner the outline columns of each tooth mesh are than the middle ones (default 1: even; e.g. 6 to resolve a contact strip)")
+    run.add_argument("--row-grading", type=float, metavar="G", help="how much taller the fillet rows of each tooth mesh are than its flank rows (default 1: rows even in radius; e.g. 4 to resolve a contact strip along the flank; FE and lumped models)")
     run.add_argument("--save-every", type=int, metavar="K", help="keep every K-th step")
     run.add_argument("--frames-every", type=int, metavar="M",
                      help="keep the tooth displacements every M-th step (0: none)")
@@ -304,6 +306,7 @@ def build_parser() -> argparse.ArgumentParser:
     info.add_argument("--json", action="store_true", help="print one JSON object")
     info.add_argument("--mesh", metavar="NXxNY", help="elements across x along the tooth")
     info.add_argument("--grading", type=float, metavar="G", help="how much thinner the outline columns of each tooth mesh are than the middle ones (default 1: even; e.g. 6 to resolve a contact strip)")
+    info.add_argument("--row-grading", type=float, metavar="G", help="how much taller the fillet rows of each tooth mesh are than its flank rows (default 1: rows even in radius; e.g. 4 to resolve a contact strip along the flank; FE and lumped models)")
     info.add_argument("--contact", metavar="|".join(CONTACTS),
                       help="the contact model whose stiffness to report (default: point for the "
                            "paper's pair, hertz for a file)")
@@ -316,6 +319,7 @@ def build_parser() -> argparse.ArgumentParser:
     mesh.add_argument("--png", required=True, metavar="FILE", help="picture to write")
     mesh.add_argument("--mesh", metavar="NXxNY", help="elements across x along the tooth")
     mesh.add_argument("--grading", type=float, metavar="G", help="how much thinner the outline columns of each tooth mesh are than the middle ones (default 1: even; e.g. 6 to resolve a contact strip)")
+    mesh.add_argument("--row-grading", type=float, metavar="G", help="how much taller the fillet rows of each tooth mesh are than its flank rows (default 1: rows even in radius; e.g. 4 to resolve a contact strip along the flank; FE and lumped models)")
     mesh.set_defaults(func=cmd_mesh)
 
     _add_run_parser(sub)

@@ -78,6 +78,10 @@ def refuse_sector_options(run: RunSettings, labels: dict[str, str], pair: GearPa
     if "run.contact" in labels and run.contact != "hertz":
         raise InputError(labels["run.contact"], "the sector model's contact is the Hertzian "
                          "strip; leave it out or give hertz")
+    if run.row_grading != 1.0:
+        from spurdyn.settings import SECTOR_ROW_GRADING_REASON
+
+        raise InputError(labels.get("mesh.row_grading", "mesh.row_grading"), SECTOR_ROW_GRADING_REASON)
     if pair is not None and run.teeth is not None:
         from spurdyn.sector.statics import driving_pair
         from spurdyn.solvers.sector.rules import back_flanks_on, cover_cycles
@@ -92,7 +96,13 @@ def refuse_sector_options(run: RunSettings, labels: dict[str, str], pair: GearPa
 
 def refuse_lumped_options(run: RunSettings, labels: dict[str, str], pair: GearPair) -> None:
     """Refuse, in one line, ``teeth`` where the lumped model would not read it (its stiffness
-    the tooth's) or fewer than carry load together (its stiffness the sector's)."""
+    the tooth's) or fewer than carry load together (its stiffness the sector's); rows graded
+    along the tooth with the sector's stiffness."""
+    if run.stiffness == "sector" and run.row_grading != 1.0:
+        from spurdyn.settings import SECTOR_ROW_GRADING_REASON
+
+        raise InputError(labels.get("mesh.row_grading", "mesh.row_grading"),
+                         "with the sector stiffness (stiffness = \"sector\"), " + SECTOR_ROW_GRADING_REASON)
     if run.teeth is None:
         return
     label = labels.get("run.teeth", "run.teeth")

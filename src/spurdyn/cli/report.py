@@ -21,16 +21,18 @@ def pair_info(case: MeshedPair, contact: str = "point", force: float | None = No
     the normal ``force`` (N) it spreads (required for ``"hertz"``).
     """
     pair = case.pair
-    teeth = {"a": build_tooth(pair.gear_a, case.nx, case.ny, case.grading),
-             "b": build_tooth(pair.gear_b, case.nx, case.ny, case.grading)}
+    teeth = {"a": build_tooth(pair.gear_a, case.nx, case.ny, case.grading, case.row_grading),
+             "b": build_tooth(pair.gear_b, case.nx, case.ny, case.grading, case.row_grading)}
     steps = {k: t.stable_step() for k, t in teeth.items()}
     # the stable step a run checks against and takes its default from (the run's system)
-    stable = stable_step(system_for(pair, case.nx, case.ny, RunSettings.n_spline, case.grading))
+    stable = stable_step(system_for(pair, case.nx, case.ny, RunSettings.n_spline, case.grading,
+                                    case.row_grading))
     rolls = [pair.start_roll_a, *pair.single_contact_roll_a, pair.end_roll_a, pair.pitch_roll_a]
     if contact == "hertz":
         if force is None:
             raise ValueError("the Hertzian strip's stiffness needs the normal force")
-        system = system_for(pair, case.nx, case.ny, RunSettings.n_spline, case.grading)
+        system = system_for(pair, case.nx, case.ny, RunSettings.n_spline, case.grading,
+                            case.row_grading)
         statics = [static_stiffness(system, r, force, "hertz") for r in rolls]
         stiff = [s.stiffness for s in statics]
         strip = {"contact_force_N": force, "strip_half_width_pitch_m": statics[4].half_width,
@@ -82,6 +84,8 @@ def pair_info(case: MeshedPair, contact: str = "point", force: float | None = No
             "end_of_contact": math.degrees(pair.end_roll_a),
         },
         "mesh": {"nx": case.nx, "ny": case.ny, "grading": case.grading,
+                 "row_grading": case.row_grading,
+                 "fillet_rows": per(lambda k: teeth[k].mesh.fillet_rows),
                  "nodes": per(lambda k: teeth[k].mesh.n_nodes),
                  "elements": per(lambda k: teeth[k].mesh.n_elements)},
         # A gear's degrees of freedom: its disk's rotation and two per tooth node.
@@ -151,8 +155,12 @@ def format_info(info: dict[str, Any]) -> str:
         f"-{r['single_contact_end']:.2f}, pitch {r['pitch_point']:.2f}, end {r['end_of_contact']:.2f} deg",
         "",
         f"tooth model ({info['mesh']['nx']} x {info['mesh']['ny']} Q8 elements per tooth"
-        + (f", graded {info['mesh']['grading']:g}:1 toward the outlines)"
-           if info['mesh']['grading'] != 1 else ")"),
+        + (f", graded {info['mesh']['grading']:g}:1 toward the outlines"
+           if info['mesh']['grading'] != 1 else "")
+        + (f", fillet rows {info['mesh']['row_grading']:g} times as tall as flank rows "
+           f"({info['mesh']['fillet_rows'][a]} / {info['mesh']['fillet_rows'][b]} of "
+           f"{info['mesh']['ny']} in the fillets)"
+           if info['mesh'].get('row_grading', 1) != 1 else "") + ")",
         f"  nodes {info['mesh']['nodes'][a]} / {info['mesh']['nodes'][b]}, DOFs per gear "
         f"(disk + tooth) {info['n_dof'][a]} / {info['n_dof'][b]}",
         f"  tooth mass {info['tooth_mass_kg'][a] * 1e3:.4f} / {info['tooth_mass_kg'][b] * 1e3:.4f} g",

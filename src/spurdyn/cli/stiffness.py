@@ -79,6 +79,10 @@ def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
                          f"(got {args.positions})")
     torques = _torques(args)
     case = meshed_case(args)
+    if case.row_grading != 1.0:   # a case file's [mesh] row_grading
+        from spurdyn.settings import SECTOR_ROW_GRADING_REASON
+
+        raise InputError("mesh.row_grading", SECTOR_ROW_GRADING_REASON)
     pair = case.pair
     if args.teeth is not None and not pairs_in_path(driving_pair(pair)) <= args.teeth:
         raise InputError("--teeth", f"must be at least the {pairs_in_path(pair)} teeth that carry "

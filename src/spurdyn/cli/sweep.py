@@ -28,7 +28,8 @@ EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
 
 #: ``spurdyn sweep`` options that override the case: (dest, dotted case key, label).
 SWEEP_OVERRIDES = (("dt", "run.dt", "--dt"), ("angle", "run.angle_deg", "--angle"),
-                   ("grading", "mesh.grading", "--grading")) + DYNAMICS_OVERRIDES
+                   ("grading", "mesh.grading", "--grading"),
+                   ("row_grading", "mesh.row_grading", "--row-grading")) + DYNAMICS_OVERRIDES
 
 
 def local_backend(jobs: int) -> Any:
@@ -293,6 +294,9 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--grading", type=float, metavar="G",
                    help="how much thinner the outline columns of each tooth mesh are than the "
                         "middle ones (default 1: even)")
+    p.add_argument("--row-grading", type=float, metavar="G",
+                   help="how much taller the fillet rows of each tooth mesh are than its flank "
+                        "rows (default 1: even; FE and lumped models)")
     p.add_argument("--angle", type=float, metavar="DEG",
                    help="rotation of A per run (deg; default the whole angle of action)")
     p.add_argument("--jobs", type=int, metavar="N",

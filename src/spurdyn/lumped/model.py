@@ -34,7 +34,7 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline, PchipInterpolator, PPoly
 
 from spurdyn.geometry.pair import GearPair
-from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY, DEFAULT_ROW_GRADING
 from spurdyn.model.loading import gear_angles, gear_torques, static_force, torque_amplitudes, torque_fraction
 from spurdyn.model.stiffness import pair_stiffness
 from spurdyn.model.tooth import build_tooth
@@ -146,6 +146,7 @@ def mesh_stiffness_table(
     ny: int = DEFAULT_NY,
     n: int = DEFAULT_TABLE_POINTS,
     interpolation: str = "pchip",
+    row_grading: float = DEFAULT_ROW_GRADING,
 ) -> MeshStiffnessTable:
     """Tabulate the FE static single-pair stiffness over the path of contact.
 
@@ -160,6 +161,8 @@ def mesh_stiffness_table(
         path of contact.
     interpolation
         See :class:`MeshStiffnessTable`.
+    row_grading
+        The tooth meshes' row grading (:func:`spurdyn.mesh.tooth.row_radii`; 1: even rows).
 
     Returns
     -------
@@ -168,8 +171,9 @@ def mesh_stiffness_table(
     """
     if n < 2:
         raise ValueError(f"n must be at least 2 (got {n})")
-    tooth_a = build_tooth(pair.gear_a, nx, ny)
-    tooth_b = tooth_a if pair.gear_b == pair.gear_a else build_tooth(pair.gear_b, nx, ny)
+    tooth_a = build_tooth(pair.gear_a, nx, ny, row_grading=row_grading)
+    tooth_b = (tooth_a if pair.gear_b == pair.gear_a
+               else build_tooth(pair.gear_b, nx, ny, row_grading=row_grading))
     roll = np.linspace(pair.start_roll_a, pair.end_roll_a, n)
     k = pair_stiffness(pair, tooth_a, tooth_b, roll).stiffness
     return MeshStiffnessTable(roll, k, interpolation)
@@ -258,7 +262,8 @@ def simulate_lumped(
         raise ValueError(f"damping_ratio must be >= 0 (got {damping_ratio!r})")
     wall0 = _time.perf_counter()
     if table is None:
-        table = mesh_stiffness_table(pair, settings.nx, settings.ny, n_table, interpolation)
+        table = mesh_stiffness_table(pair, settings.nx, settings.ny, n_table, interpolation,
+                                     row_grading=settings.row_grading)
 
     ga, gb = pair.gear_a, pair.gear_b
     ra, rb = ga.base_radius, gb.base_radius

@@ -15,6 +15,19 @@ along the tooth are spaced evenly in radius on the outline (on a tip-relieved fl
 the radius of the unmodified involute point the relieved one is taken from). Columns
 across the tooth are even, or graded toward both outlines (:func:`thickness_spacing`),
 so that the elements under a contact strip or along a fillet are thin.
+
+Rows can be graded too (``mesh.row_grading`` G, :func:`row_radii`): with G above 1 the
+outline is split at the form radius into two stretches, the fillet (cut point to form
+radius, length ``L_f`` in radius) and the active flank (form radius to the tip, ``L_a``),
+each with rows even in radius; the fillet gets ``n_f = round(ny L_f / (L_f + G L_a))`` of
+the ``ny`` rows (at least 1, at most ``ny - 1``) and the flank the rest, so a fillet row is
+about G times as tall as a flank row. Why: the Hertzian strip (``contact = "hertz"``) is
+resolved once the elements under it are about as small as its half-width, along the flank
+as well as across it; column grading thins them across, and only shorter rows where the
+contact runs shorten them along, without adding rows. G = 1 (the default) is the even mesh
+above, bit for bit. The flank coordinate stays linear in radius over the flank's rows, which
+is all the contact search reads: :func:`spurdyn.model.flank.make_flank` continues that law
+down to a virtual ``r0``. docs/geometry.md, section 6.3, has the rule and its measurements.
 """
 
 from __future__ import annotations
@@ -35,6 +48,10 @@ DEFAULT_NX, DEFAULT_NY = 4, 14
 DEFAULT_GRADING = 1.0
 #: Largest grading: the surface elements ``MAX_GRADING`` times thinner than the middle ones.
 MAX_GRADING = 50.0
+#: Default row grading: rows even in radius from the cut to the tip (the paper's mesh).
+DEFAULT_ROW_GRADING = 1.0
+#: Largest row grading (the fillet gets at least one row whatever it is).
+MAX_ROW_GRADING = 1000.0
 
 
 @dataclass(frozen=True)
@@ -59,6 +76,10 @@ class ToothMesh:
     grading
         Ratio of the middle columns' width to the outline columns' (1: even), see
         :func:`thickness_spacing`.
+    row_grading, fillet_rows
+        Ratio of a fillet row's height (in radius) to a flank row's, and the rows below
+        the form radius (0: rows even in radius over the whole outline), see
+        :func:`row_radii`.
     """
 
     nodes: NDArray[np.float64]
@@ -70,6 +91,8 @@ class ToothMesh:
     nx: int
     ny: int
     grading: float = DEFAULT_GRADING
+    row_grading: float = DEFAULT_ROW_GRADING
+    fillet_rows: int = 0
 
     @property
     def n_nodes(self) -> int:
@@ -129,6 +152,30 @@ def thickness_spacing(nx: int, grading: float = DEFAULT_GRADING) -> NDArray[np.f
     return s
 
 
+def row_radii(r_cut: float, r_form: float, r_end: float, ny: int,
+              row_grading: float = DEFAULT_ROW_GRADING) -> tuple[NDArray[np.float64], int]:
+    """Radii of the ``2 ny + 1`` outline grid points, root to tip, and the fillet's rows.
+
+    For ``row_grading`` 1 the rows are even in radius from ``r_cut`` to ``r_end`` (the
+    paper's mesh, bit for bit) and the fillet row count returned is 0. Otherwise the fillet
+    ``[r_cut, r_form]`` gets ``n_f = round(ny L_f / (L_f + G L_a))`` rows (at least 1, at
+    most ``ny - 1``), ``L_f = r_form - r_cut``, ``L_a = r_end - r_form``, ``G`` the row
+    grading, and the flank ``[r_form, r_end]`` the other ``ny - n_f``; each stretch's rows
+    are even in radius (so a fillet row is about ``G`` times as tall as a flank row), and
+    each mid-side point sits at the mean radius of its corners.
+    """
+    if row_grading == DEFAULT_ROW_GRADING or ny < 2 or not r_cut < r_form < r_end:
+        return r_cut + np.linspace(0.0, 1.0, 2 * ny + 1) * (r_end - r_cut), 0
+    l_f, l_a = r_form - r_cut, r_end - r_form
+    n_f = int(min(max(round(ny * l_f / (l_f + row_grading * l_a)), 1), ny - 1))
+    corners = np.concatenate([np.linspace(r_cut, r_form, n_f + 1)[:-1],
+                              np.linspace(r_form, r_end, ny - n_f + 1)])
+    r = np.empty(2 * ny + 1)
+    r[::2] = corners
+    r[1::2] = 0.5 * (corners[:-1] + corners[1:])
+    return r, n_f
+
+
 def _polar(r: NDArray[np.float64], chi: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.stack([r * np.sin(chi), r * np.cos(chi)], axis=-1)
 
@@ -139,9 +186,11 @@ def tooth_mesh(
     ny: int = DEFAULT_NY,
     cut_angle: float = DEFAULT_FILLET_CUT_ANGLE,
     grading: float = DEFAULT_GRADING,
+    row_grading: float = DEFAULT_ROW_GRADING,
 ) -> ToothMesh:
     """Mesh one tooth of ``gear`` with ``nx`` x ``ny`` Q8 elements, graded across the tooth
-    by ``grading`` (:func:`thickness_spacing`).
+    by ``grading`` (:func:`thickness_spacing`) and along it by ``row_grading``
+    (:func:`row_radii`).
 
     Raises
     ------
@@ -156,6 +205,10 @@ def tooth_mesh(
             or not DEFAULT_GRADING <= grading <= MAX_GRADING):
         raise InputError("mesh.grading", f"must be a number from 1 (even) to {MAX_GRADING:g} "
                          f"(got {grading!r})")
+    if (isinstance(row_grading, bool) or not isinstance(row_grading, (int, float, np.floating))
+            or not DEFAULT_ROW_GRADING <= row_grading <= MAX_ROW_GRADING):
+        raise InputError("mesh.row_grading", f"must be a number from 1 (even rows) to "
+                         f"{MAX_ROW_GRADING:g} (got {row_grading!r})")
     if not 0.0 < cut_angle < gear.fillet_end_angle:
         raise InputError("mesh.fillet_cut_angle", "must lie between 0 and 90 deg - pressure angle")
 
@@ -164,8 +217,11 @@ def tooth_mesh(
     # up to the one whose relieved point lies on the tip circle (flank_end_radius).
     cut = gear.fillet_points(np.asarray(cut_angle))
     r_cut = float(np.hypot(*cut))
-    t = np.linspace(0.0, 1.0, 2 * ny + 1)
-    radii = r_cut + t * (gear.flank_end_radius - r_cut)
+    radii, fillet_rows = row_radii(r_cut, float(gear.form_radius), float(gear.flank_end_radius),
+                                   ny, float(row_grading))
+    t = (radii - r_cut) / (gear.flank_end_radius - r_cut)   # the rows' blend parameter
+    if not fillet_rows:
+        t = np.linspace(0.0, 1.0, 2 * ny + 1)               # the even grid, bit for bit
     right = np.array([cut] + [gear.right_side_point(r) for r in radii[1:]])
     left = right * np.array([-1.0, 1.0])
 
@@ -213,4 +269,6 @@ def tooth_mesh(
         nx=int(nx),
         ny=int(ny),
         grading=float(grading),
+        row_grading=float(row_grading),
+        fillet_rows=fillet_rows,
     )

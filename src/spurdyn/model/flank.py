@@ -50,7 +50,10 @@ class Flank:
     t0, t1
         Flank coordinates of the first and last data point (``t1 = ny``, the tip).
     r0, r_tip
-        Radius of the outline at ``t = 0`` and involute radius at ``t = ny``.
+        Radius of the outline at ``t = 0`` and involute radius at ``t = ny``. With rows
+        graded along the tooth (``mesh.fillet_rows > 0``) ``r0`` is the flank rows' linear
+        law continued to ``t = 0`` (below the fillet's rows; the law holds from the form
+        radius, ``t = fillet_rows``, up).
     base_radius, psi_base
         Base radius and polar half-angle of the tooth at the base circle.
     ref_angle
@@ -128,6 +131,12 @@ def make_flank(mesh: ToothMesh, gear: Gear, nodes_world: NDArray[np.float64],
     side_y = nodes_world[side] - centre
     r0 = float(np.hypot(*side_y[0]))
     r_tip = float(gear.flank_end_radius)
+    if mesh.fillet_rows:
+        # rows even in radius on the fillet and on the flank apart (mesh.tooth.row_radii):
+        # the flank's linear law r(t), continued down to t = 0, gives r0
+        n_f = mesh.fillet_rows
+        r_form = float(np.hypot(*side_y[2 * n_f]))
+        r0 = r_tip - ny * (r_tip - r_form) / (ny - n_f)
     t0 = ny * (float(gear.form_radius) - r0) / (r_tip - r0)
     ts = np.linspace(max(t0, 0.0), float(ny), n_data)
     nodes = np.empty((n_data, 3), dtype=np.intp)

@@ -31,7 +31,7 @@ from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
-from spurdyn.mesh.tooth import DEFAULT_GRADING, ToothMesh, tooth_mesh
+from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_ROW_GRADING, ToothMesh, tooth_mesh
 from spurdyn.model.flank import Flank, make_flank
 from spurdyn.settings import RunSettings
 
@@ -252,12 +252,15 @@ def build_system(pair: GearPair, settings: RunSettings) -> PairSystem:
     if pair.driver != "a":
         raise InputError("pair.driver", "only gear A driving is supported by the solver yet; "
                          "swap gear_a and gear_b")
-    return system_for(pair, settings.nx, settings.ny, settings.n_spline, settings.grading)
+    return system_for(pair, settings.nx, settings.ny, settings.n_spline, settings.grading,
+                      settings.row_grading)
 
 
 def system_for(pair: GearPair, nx: int, ny: int, n_spline: int,
-               grading: float = DEFAULT_GRADING) -> PairSystem:
-    """Mesh both teeth, place them just touching at the start of contact, assemble K and M.
+               grading: float = DEFAULT_GRADING, row_grading: float = DEFAULT_ROW_GRADING) -> PairSystem:
+    """Mesh both teeth (columns graded by ``grading``, rows by ``row_grading``:
+    :func:`spurdyn.mesh.tooth.tooth_mesh`), place them just touching at the start of
+    contact, assemble K and M.
 
     The system of the pair the solver runs (:func:`solver_pair`). The last two systems built
     are kept, so the run check of a case file and the run itself share one assembly and one
@@ -267,17 +270,18 @@ def system_for(pair: GearPair, nx: int, ny: int, n_spline: int,
     try:
         hash(pair)
     except TypeError:   # an unhashable pair cannot be a key
-        return _build_system(pair, nx, ny, n_spline, grading)
-    return _kept_system(pair, nx, ny, n_spline, grading)
+        return _build_system(pair, nx, ny, n_spline, grading, row_grading)
+    return _kept_system(pair, nx, ny, n_spline, grading, row_grading)
 
 
 @lru_cache(maxsize=2)
-def _kept_system(pair: GearPair, nx: int, ny: int, n_spline: int, grading: float) -> PairSystem:
-    return _build_system(pair, nx, ny, n_spline, grading)
+def _kept_system(pair: GearPair, nx: int, ny: int, n_spline: int, grading: float,
+                 row_grading: float = DEFAULT_ROW_GRADING) -> PairSystem:
+    return _build_system(pair, nx, ny, n_spline, grading, row_grading)
 
 
 def _build_system(pair: GearPair, nx: int, ny: int, n_spline: int,
-                  grading: float = DEFAULT_GRADING) -> PairSystem:
+                  grading: float = DEFAULT_GRADING, row_grading: float = DEFAULT_ROW_GRADING) -> PairSystem:
     """:func:`system_for` without keeping it.
 
     The surfaces of :class:`Flank` are the exact involutes, which touch at the start of
@@ -286,8 +290,8 @@ def _build_system(pair: GearPair, nx: int, ny: int, n_spline: int,
     """
     pair = solver_pair(pair)
     theta_a, theta_b = mesh_angles(pair, pair.start_roll_a)
-    mesh_a = tooth_mesh(pair.gear_a, nx, ny, grading=grading)
-    mesh_b = tooth_mesh(pair.gear_b, nx, ny, grading=grading)
+    mesh_a = tooth_mesh(pair.gear_a, nx, ny, grading=grading, row_grading=row_grading)
+    mesh_b = tooth_mesh(pair.gear_b, nx, ny, grading=grading, row_grading=row_grading)
     ca, cb = np.array([0.0, 0.0]), np.array([0.0, pair.centre_distance])
     xa = to_world_a(mesh_a.nodes, theta_a)
     xb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)

@@ -13,7 +13,8 @@ from spurdyn.fem.element import edge_weights
 from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
 from spurdyn.fem.stable_step import StableStep, stable_time_step
 from spurdyn.geometry.gear import Gear
-from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, ToothMesh, tooth_mesh
+from spurdyn.mesh.tooth import (DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, DEFAULT_ROW_GRADING,
+                                ToothMesh, tooth_mesh)
 
 
 @dataclass(frozen=True)
@@ -79,10 +80,11 @@ class ToothModel:
 
 
 def build_tooth(gear: Gear, nx: int = DEFAULT_NX, ny: int = DEFAULT_NY,
-                grading: float = DEFAULT_GRADING) -> ToothModel:
+                grading: float = DEFAULT_GRADING,
+                row_grading: float = DEFAULT_ROW_GRADING) -> ToothModel:
     """Mesh one tooth of ``gear`` (graded across by ``grading``) and assemble its stiffness
     and lumped mass."""
-    mesh = tooth_mesh(gear, nx, ny, grading=grading)
+    mesh = tooth_mesh(gear, nx, ny, grading=grading, row_grading=row_grading)
     k = assemble_stiffness(mesh.nodes, mesh.elements, gear.material, gear.face_width)
     m = assemble_lumped_mass(mesh.nodes, mesh.elements, gear.material, gear.face_width)
     return ToothModel(gear=gear, mesh=mesh, stiffness=k.tocsr(), mass=m)

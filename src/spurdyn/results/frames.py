@@ -117,8 +117,10 @@ def tooth_frames(ds: xr.Dataset) -> ToothFrames:
                          "holds no tooth frames (run with frames_every > 0)")
     case = case_from_run(ds)
     pair = case.pair
-    mesh_a = tooth_mesh(pair.gear_a, case.run.nx, case.run.ny, grading=case.run.grading)
-    mesh_b = tooth_mesh(pair.gear_b, case.run.nx, case.run.ny, grading=case.run.grading)
+    mesh_a = tooth_mesh(pair.gear_a, case.run.nx, case.run.ny, grading=case.run.grading,
+                        row_grading=case.run.row_grading)
+    mesh_b = tooth_mesh(pair.gear_b, case.run.nx, case.run.ny, grading=case.run.grading,
+                        row_grading=case.run.row_grading)
     theta_a0, theta_b0 = mesh_angles(pair, pair.start_roll_a)
     x0 = (to_world_a(mesh_a.nodes, theta_a0),
           to_world_b(mesh_b.nodes, theta_b0, pair.centre_distance))

@@ -28,8 +28,10 @@ def draw_mesh_position(case: MeshedPair, png: Path, roll_a: float | None = None)
     pair = case.pair
     roll = pair.pitch_roll_a if roll_a is None else roll_a
     theta_a, theta_b = mesh_angles(pair, roll)
-    mesh_a = tooth_mesh(pair.gear_a, case.nx, case.ny, grading=case.grading)
-    mesh_b = tooth_mesh(pair.gear_b, case.nx, case.ny, grading=case.grading)
+    mesh_a = tooth_mesh(pair.gear_a, case.nx, case.ny, grading=case.grading,
+                        row_grading=case.row_grading)
+    mesh_b = tooth_mesh(pair.gear_b, case.nx, case.ny, grading=case.grading,
+                        row_grading=case.row_grading)
     wa = to_world_a(mesh_a.nodes, theta_a)
     wb = to_world_b(mesh_b.nodes, theta_b, pair.centre_distance)
 

@@ -83,7 +83,8 @@ def run_settings(pair: GearPair, speed_a: float, torque: float, *,
     if dt is None:
         system = system_for(pair, kwargs.get("nx", DEFAULT_NX), kwargs.get("ny", DEFAULT_NY),
                             kwargs.get("n_spline", RunSettings.n_spline),
-                            kwargs.get("grading", RunSettings.grading))
+                            kwargs.get("grading", RunSettings.grading),
+                            kwargs.get("row_grading", RunSettings.row_grading))
         dt = default_dt(stable_step(system))
     return RunSettings(speed_a=speed_a, speed_b=speed_b, torque=torque, dt=dt, **kwargs)
 
@@ -117,8 +118,9 @@ def check_run(pair: GearPair, settings: RunSettings, system: PairSystem,
         raise InputError(field("dt"), f"dt {s.dt:g} s is above the stable RK4 step {limit:.4g} s "
                          f"of the {s.nx}x{s.ny} tooth mesh"
                          + (f" graded {s.grading:g}" if s.grading != 1.0 else "")
+                         + (f" with rows graded {s.row_grading:g}" if s.row_grading != 1.0 else "")
                          + f"; use a dt of at most {round_down(limit, 3):g} s or a coarser mesh"
-                         + (" or less grading" if s.grading != 1.0 else ""))
+                         + (" or less grading" if s.grading != 1.0 or s.row_grading != 1.0 else ""))
     theta_s = pair.theta_s
     angle = theta_s if s.angle is None else s.angle
     if angle > theta_s * (1.0 + ANGLE_MARGIN):

@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 from threadpoolctl import threadpool_limits
 
 from spurdyn.contact.hertz import effective_modulus
+from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.loading import check_history, hub_torques, static_force
@@ -49,7 +50,7 @@ from spurdyn.sector.statics import (
     mesh_cycle,
     pairs_in_path,
 )
-from spurdyn.settings import RunSettings
+from spurdyn.settings import SECTOR_ROW_GRADING_REASON, RunSettings
 from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.cache import _cached
@@ -127,6 +128,8 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         ``r_bA theta_A - r_bB theta_B`` (the driver's), ``info["steady"]`` the settled test.
     """
     wall0 = _time.perf_counter()
+    if settings.row_grading != 1.0:   # its bodies' rows are even (docs/sector.md)
+        raise InputError("mesh.row_grading", SECTOR_ROW_GRADING_REASON)
     dp = driving_pair(pair)
     ga, gb = dp.gear_a, dp.gear_b
     ra, rb = ga.base_radius, gb.base_radius
@@ -202,8 +205,6 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     if start is not None:
         # another run's end (a sweep's continuation): its state per angle at this speed
         if not (blocks[0].whole and blocks[1].whole):
-            from spurdyn.errors import InputError
-
             raise InputError("start_state", "a sector run starts from another's end only on whole "
                              f"gears: give {WHOLE_FROM_CYCLES} cycles or more, and no fewer teeth than "
                              "the gears have")

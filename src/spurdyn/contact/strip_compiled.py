@@ -15,7 +15,7 @@ import numpy as np
 from spurdyn.contact.constants import F, ROLL_STEP
 from spurdyn.contact.hertz import STRIP_POINTS, strip_quadrature
 from spurdyn.contact.search_compiled import (
-    _pair_rates, _splined_at, delta_at, edge_shape, exact_at, material_point, spline_eval, weighted_point,
+    _pair_rates, delta_at, edge_shape, exact_at, material_point, spline_eval, weighted_point,
 )
 from spurdyn.jit import njit
 
@@ -111,6 +111,17 @@ def row_point(P, g, t, hw, th, u, cn, cw):
 
 
 @njit
+def _turned(P, g, e, out):
+    """The value and two derivatives (``out``, 6) of the velocity spline of gear ``g``'s
+    rigid flank for a unit turn of its disk, from its position spline's (``e``)."""
+    sg = P.sense[g]
+    out[0] = -sg * (e[1] - P.centre[g, 1])
+    out[1] = sg * (e[0] - P.centre[g, 0])
+    out[2], out[3] = -sg * e[3], sg * e[2]
+    out[4], out[5] = -sg * e[5], sg * e[4]
+
+
+@njit
 def roll_entries(P, theta, u, a, b, mode, nx, ny, va, vb, Ma, Mb, hw, da, db):
     """``(roll_A, roll_B, row_A, row_B)`` of a pair located on the rigidly turned flanks
     (``va`` ... ``Mb`` their splines, as :func:`~spurdyn.contact.search_compiled.search`
@@ -122,10 +133,12 @@ def roll_entries(P, theta, u, a, b, mode, nx, ny, va, vb, Ma, Mb, hw, da, db):
     fb = np.zeros(6)
     spline_eval(va, Ma, P.fpar[0, F.t0], P.fpar[0, F.h], a, ea)
     spline_eval(vb, Mb, P.fpar[1, F.t0], P.fpar[1, F.h], b, eb)
-    _splined_at(P, np.int64(0), theta[0], 1.0, u, np.int64(3), a, fa)
+    # A unit turn moves the rigid flank's data points by s Jz (x - c), so its velocity
+    # spline is s Jz (position spline - c): no spline to fit.
+    _turned(P, np.int64(0), ea, fa)
     da_a, db_a = _pair_rates(ea, eb, fa, fb, mode)
     fa[:] = 0.0
-    _splined_at(P, np.int64(1), theta[1], 1.0, u, np.int64(3), b, fb)
+    _turned(P, np.int64(1), eb, fb)
     da_b, db_b = _pair_rates(ea, eb, fa, fb, mode)
     nside = P.side.shape[1]
     cn = np.empty(nside, dtype=np.int64)

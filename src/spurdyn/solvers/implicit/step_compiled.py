@@ -172,12 +172,11 @@ def forces(P, I, theta, omega, u, v, touching, out, w, kw, el, q, wd, cwd):
 
 
 @njit
-def contact(P, I, theta, u, guess, load, cn, cw, gth, buf):
+def contact(P, I, theta, u, guess, load, cn, cw, d, buf):
     """The contact pair at ``(theta, u)``: ``(alpha, beta, mode, nx, ny, s, half_width, ok)``
-    with its rows written into ``cn``, ``cw``, ``gth`` (the strip of ``load`` for the
-    distributed contact, with its row's disk entries: docs/solver.md section 11.3)."""
+    with its rows written into ``cn``, ``cw`` and their offsets ``delta`` into ``d`` (the
+    strip of ``load`` for the distributed contact)."""
     ns = I.ns
-    gth[0], gth[1] = 0.0, 0.0
     a, b, mode, nx, ny, s = search(P, theta, u, guess, buf[0], buf[1], buf[2], buf[3], I.estar > 0.0)
     hw = 0.0
     if I.estar > 0.0 and mode == FLANK:
@@ -192,14 +191,10 @@ def contact(P, I, theta, u, guess, load, cn, cw, gth, buf):
         xb, yb = virtual_point(P, np.int64(1), cn, cw, ns, ns, dbx, dby, theta[1], u,
                                np.int64(0), 0.0, 0.0)
         s = nx * (xa - xb) + ny * (ya - yb)
-        d = np.array([dax, day, dbx, dby])
+        d[0], d[1], d[2], d[3] = dax, day, dbx, dby
     else:
         contact_rows(P, a, b, cn, cw)
-        d = np.empty(4)
         point_offsets(P, a, b, d)
-    if I.estar > 0.0:
-        _, _, gth[0], gth[1] = roll_entries(P, theta, u, a, b, mode, nx, ny, buf[0], buf[1], buf[2],
-                                            buf[3], hw, d[0:2], d[2:4])
     return a, b, mode, nx, ny, s, hw, True
 
 
@@ -238,8 +233,8 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     cn_c, cw_c = cn.copy(), cw.copy()          # the rows of this iterate's pair
     cn_f, cw_f = cn.copy(), cw.copy()          # where the force acts
     nrm_f = normal.copy()
-    g_c = np.zeros(2)                          # the contact row's disk entries, this iterate's
-    g_f = np.zeros(2)                          # and the force's
+    d_c = np.zeros(4)                          # this iterate's offsets delta on A, B
+    g_f = np.zeros(2)                          # the force's row's disk entries (11.3)
     a_f, b_f = 0.0, 0.0
     w, kw, el, wd, cwd = (np.empty(n_u), np.empty(n_u), np.empty(n_u), np.empty(n_u),
                           np.empty(n_u))
@@ -264,7 +259,7 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     while True:
         th = q[:2]
         uu = q[2:]
-        a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, th, uu, guess, load, cn_c, cw_c, g_c, buf)
+        a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, th, uu, guess, load, cn_c, cw_c, d_c, buf)
         if not ok:
             its[0] = it
             return FAIL_STRIP
@@ -276,7 +271,11 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
             cn_f[:] = cn_c
             cw_f[:] = cw_c
             nrm_f[0], nrm_f[1] = nxc, nyc
-            g_f[:] = g_c
+            if I.estar > 0.0:
+                # the strip's pair rolls with the disks: its row's theta entries (solver.md
+                # 11.3), from the rigid flanks' splines the search just left in buf
+                _, _, g_f[0], g_f[1] = roll_entries(P, th, uu, a_c, b_c, mode, nxc, nyc, buf[0], buf[1],
+                                                    buf[2], buf[3], hw, d_c[0:2], d_c[2:4])
         gap = sc + I.c_h * xs[nx_ - 1]
         was_touching = xs[nx_ - 1] < 0.0
         if it == 0 or was_touching != z_touch:
@@ -389,7 +388,7 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
         # the next step's strip is the one of the force now; the gap kept is the one the
         # constraint holds, the strip's mean deformed gap s_bar - c_H |p|
         a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, theta, u, guess, abs(x[nx_ - 1]),
-                                                       cn_c, cw_c, g_c, buf)
+                                                       cn_c, cw_c, d_c, buf)
         if not ok:
             return FAIL_STRIP
         sc += I.c_h * x[nx_ - 1]

@@ -154,9 +154,6 @@ def step(P, S, cfg):
             else:
                 contact_rows(P, a_c, b_c, cn_t, cw_t)
                 point_offsets(P, a_c, b_c, d_t)
-            # the strip's pair rolls with the disks: its row's theta entries (section 11.3)
-            roll_t[0], roll_t[1], g_t[0], g_t[1] = roll_entries(
-                P, th_try, u_try, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hw_t, d_t[0:2], d_t[2:4])
         guess[0], guess[1] = a_c, b_c
         touching = x[m - 1] < 0.0 or sc > 0.0
         # the strip's mean curvature separation c_H |p| is an overlap the force allows
@@ -187,10 +184,12 @@ def step(P, S, cfg):
             if hertz:
                 cn_f[:] = cn_t
                 cw_f[:] = cw_t
+                # the strip's pair rolls with the disks: its row's theta entries (11.3)
+                roll_t[0], roll_t[1], g_f[0], g_f[1] = roll_entries(
+                    P, th_try, u_try, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hw_t, d_t[0:2], d_t[2:4])
             else:
                 contact_rows(P, a_c, b_c, cn_f, cw_f)
             n_f[0], n_f[1] = nxc, nyc
-            g_f[:] = g_t
             response_columns(P, h, pred, S.theta, cn_f, cw_f, n_f, g_f, m - 1, m, Wq, Wv, scratch, mark,
                      touched, nz_nodes, zu, acc3, acc4)
             gram_contact(P, S.theta, cn_f, cw_f, n_f, g_f, C)
@@ -198,6 +197,10 @@ def step(P, S, cfg):
     S.res[0] = res
     S.its[0] = it
     p_bar = x[m - 1]
+    if hertz:
+        # the last iterate's pair's roll (its splines are the last search's)
+        roll_t[0], roll_t[1], g_t[0], g_t[1] = roll_entries(
+            P, th_try, u_try, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hw_t, d_t[0:2], d_t[2:4])
 
     # full positions at t + dt by superposition
     th1, u1, _, _ = superpose(P, S, h, pred, x, cn_f, cw_f, n_f, g_f, np.bool_(False))

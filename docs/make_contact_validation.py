@@ -227,12 +227,20 @@ def part_energy() -> dict[str, Any]:
         system = build_system(case.pair, run)
         rec = track(make_stepper(system, run), angle=case.pair.theta_s)
         err = rec.energy_error
+        # the same pair spinning free (no torque): validation.md 3.2 takes its drift off,
+        # the work of the root constraints' directions held over a step (the paper's method)
+        free_run = run.with_(torque=0.0)
+        free = track(make_stepper(build_system(case.pair, free_run), free_run), angle=case.pair.theta_s)
+        n = min(err.size, free.energy_error.size)
+        less = err[:n] - free.energy_error[:n]
         # the contact work is that of G^T p: on the nodes and, for the strip, on the disks
         # (its pair's roll, docs/solver.md 11.3); the strip's curvature compliance stores
         # c_H p^2 / 2 of it
         out[key] = {"energy_error_end_J": float(err[-1]), "energy_error_max_J": float(np.abs(err).max()),
                     "strain_max_J": float(rec.strain.max()), "dt_s": float(dt),
                     "contact_work_end_J": float(rec.contact_work[-1]),
+                    "less_free_max_J": float(np.abs(less).max()), "less_free_end_J": float(less[-1]),
+                    "free_end_J": float(free.energy_error[n - 1]),
                     "momentum_error_max": float(np.abs(rec.momentum_error).max()),
                     "status": int(rec.status)}
         print(key, out[key], flush=True)

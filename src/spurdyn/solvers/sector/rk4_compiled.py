@@ -207,14 +207,10 @@ def run_rk4_compiled(model: Any, q: NDArray[np.float64], v: NDArray[np.float64],
 
         raise InputError("backend", "the compiled RK4 reference steps whole gears only (3 cycles or more): "
                          "use backend='numpy'")
-    per_gear = []
-    for body, blk in zip(model.gears, model.blocks):
-        fl = blk.body.flank
-        geo = np.array([fl.r0, fl.r_tip, float(fl.ny), fl.base_radius, blk.gear.half_angle_base])
-        per_gear.append((np.ascontiguousarray(body._inv), np.ascontiguousarray(body._damp),
-                         np.ascontiguousarray(body.reduced.omega2), np.ascontiguousarray(body._modes),
-                         np.ascontiguousarray(body._flex), geo, blk.first, blk.count))
-    (i0, d0, o0, mo0, fx0, g0, fi0, c0), (i1, d1, o1, mo1, fx1, g1, fi1, c1) = per_gear
+    from spurdyn.solvers.sector.stepper_compiled import gear_arrays
+
+    (i0, d0, o0, mo0, fx0, g0, fi0, c0), (i1, d1, o1, mo1, fx1, g1, fi1, c1) = gear_arrays(
+        model.gears, model.blocks)
     xq, wq = strip_quadrature()
     tq_half = np.ascontiguousarray(model.torques(np.arange(2 * n_steps + 1) * (0.5 * h)))
     consts = np.array([model.roll_0, model.roll_1, model.reach, model.pitch, model.ra, model.rb,

@@ -10,6 +10,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 
+def gear_arrays(gears: Any, blocks: Any) -> list[tuple[Any, ...]]:
+    """Per gear, what the compiled loops read of its modal body and block: ``S^-1`` (or
+    ``M^-1``), the modes' damping and ``Omega^2``, the modes in each tooth's frame, the
+    static blocks, the flank's geometry, and the body's first tooth and tooth count."""
+    out = []
+    for body, blk in zip(gears, blocks):
+        fl = blk.body.flank
+        geo = np.array([fl.r0, fl.r_tip, float(fl.ny), fl.base_radius, blk.gear.half_angle_base])
+        out.append((np.ascontiguousarray(body._inv), np.ascontiguousarray(body._damp),
+                    np.ascontiguousarray(body.reduced.omega2), np.ascontiguousarray(body._modes),
+                    np.ascontiguousarray(body._flex), geo, blk.first, blk.count))
+    return out
+
+
 def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...], teeth: NDArray[np.intp],
                  sides: NDArray[np.intp], offset: int, table: Any, consts: tuple[float, ...], hub: NDArray[np.float64], c_table: NDArray[np.float64],
                  outs: tuple[NDArray[np.float64], ...], first: int, n_steps: int, every: int,
@@ -23,14 +37,7 @@ def run_compiled(gears: Any, blocks: Any, state: tuple[NDArray[np.float64], ...]
     from spurdyn.contact.hertz import strip_quadrature
     from spurdyn.solvers.sector.step_compiled import run_steps
 
-    per_gear = []
-    for body, blk in zip(gears, blocks):
-        fl = blk.body.flank
-        geo = np.array([fl.r0, fl.r_tip, float(fl.ny), fl.base_radius, blk.gear.half_angle_base])
-        per_gear.append((np.ascontiguousarray(body._inv), np.ascontiguousarray(body._damp),
-                         np.ascontiguousarray(body.reduced.omega2), np.ascontiguousarray(body._modes),
-                         np.ascontiguousarray(body._flex), geo, blk.first, blk.count))
-    (i0, d0, o0, mo0, fx0, g0, fi0, c0), (i1, d1, o1, mo1, fx1, g1, fi1, c1) = per_gear
+    (i0, d0, o0, mo0, fx0, g0, fi0, c0), (i1, d1, o1, mo1, fx1, g1, fi1, c1) = gear_arrays(gears, blocks)
     xq, wq = strip_quadrature()
     q, v, acc, qdd, force = state
     teeth64, sides64, constants = np.asarray(teeth, np.int64), np.asarray(sides, np.int64), np.array(consts, dtype=float)

@@ -83,6 +83,30 @@ def test_balances_close_through_a_loaded_contact():
     assert e[-1] > 0 and e[len(e) // 2] == pytest.approx(e[-1] / 2, rel=0.05)
 
 
+def test_the_strips_balance_closes_over_fig8():
+    """Issue 14's energy check, as validation.md 3.2 takes it: Fig. 8 with the Hertzian strip,
+    whose row carries its pair's roll with the disks and whose velocity stage carries the
+    gap's move when the strip is re-spread (docs/solver.md 11.3, 11.4): the energy, less the
+    drift of the pair spinning free, within 0.5 % of the largest strain energy over the whole
+    engagement (0.31 % measured; 0.61 % without the re-spreading's move, 12.2 % without the
+    roll; the point contact 3.0 %)."""
+    from spurdyn.cases import resolve_cases
+
+    case = resolve_cases("paper-fig8")[0]
+    recs = []
+    for torque in (case.run.torque, 0.0):
+        run = case.run.with_(contact="hertz", torque=torque, frames_every=0)
+        recs.append(track(CompiledStepper(build_system(case.pair, run), run), angle=case.pair.theta_s))
+    loaded, free = recs
+    assert loaded.status == 0 and free.status == 0 and loaded.contact_force.max() > 500.0
+    n = min(loaded.energy_error.size, free.energy_error.size)
+    less = loaded.energy_error[:n] - free.energy_error[:n]
+    print("largest error less the free drift:", np.abs(less).max() / loaded.strain.max())
+    assert np.abs(less).max() < 0.005 * loaded.strain.max()
+    impulse = np.abs(loaded.angular_impulse).max(axis=0)
+    assert np.all(np.abs(loaded.momentum_error).max(axis=0) < 0.01 * impulse)
+
+
 def test_track_needs_one_limit_and_stops_at_the_angle():
     f = _stepper(20000, 20000, PAPER_TORQUE)
     with pytest.raises(ValueError):

@@ -66,9 +66,11 @@ CompiledState = namedtuple("CompiledState", [
     "C", "res", "its",
 ])
 #: Columns of ``cpar``: flank coordinates on A and B, contact mode, penetration, the
-#: contact force the last displacement stage held (N) and the half-width of the strip the
-#: contact rows average over (m; 0 for a point).
-CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s", "p_held", "half_width"))(0, 1, 2, 3, 4, 5)
+#: contact force the last displacement stage held (N), the half-width of the strip the
+#: contact rows average over (m; 0 for a point) and how much re-spreading the strip at the
+#: end of the last step moved the gap its rows hold (m; docs/solver.md section 11.4).
+CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s", "p_held", "half_width", "jump"))(
+    0, 1, 2, 3, 4, 5, 6)
 
 #: RK4 over a step with the last step's forces: the end state (``qs_*`` positions,
 #: ``vs_*`` velocities) and what the linear response to a change of the forces needs (the

@@ -147,7 +147,7 @@ class CompiledImplicitStepper(_Implicit):
         self.arrays = dict(
             theta=st.theta.copy(), omega=st.omega.copy(), u=st.u.copy(), v=st.v.copy(),
             x=st.x.copy(), qdd=st.qdd.copy(), acc=st.acc.copy(),
-            cpar=np.array([c.alpha, c.beta, float(c.mode), c.s, 0.0, c.half_width]),
+            cpar=np.array([c.alpha, c.beta, float(c.mode), c.s, 0.0, c.half_width, 0.0]),
             cn=cn, cw=cw, normal=c.normal.copy())
         self.time = st.t
         self._res = np.zeros(1)

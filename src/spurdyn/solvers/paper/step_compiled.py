@@ -242,8 +242,10 @@ def step(P, S, cfg):
             pbx, pby = material_point(P, np.int64(1), b_c, th1[1], v_try, np.int64(1), om_try[1], 0.0)
         # the overlap c_H |p| grows with the force: its rate over this step, from the forces
         # this and the last displacement stage held, is the velocity to reach
+        # and the strip re-spread at the last step's end moved the gap its rows hold by
+        # cpar's jump: the secant of the gap over this step carries it too (section 11.4)
         sh = (nxc * (pax - pbx) + nyc * (pay - pby) + roll_t[0] * om_try[0] + roll_t[1] * om_try[1]
-              + c_h * (p_bar - S.cpar[CP.p_held]) / h)
+              + c_h * (p_bar - S.cpar[CP.p_held]) / h + S.cpar[CP.jump] / h)
         e[m - 1] = sh if (p_bar < 0.0 and (sh > 0.0 or x[m - 1] < 0.0)) else 0.0
         res = max_abs(e)
         if not math.isfinite(res):
@@ -329,14 +331,28 @@ def step(P, S, cfg):
     if not math.isfinite(total):
         return FAIL_NAN
     hw1 = 0.0
+    jump = 0.0
     if hertz:
         # the next step spreads its force over the strip of the force now
         hw1 = strip_half_width(P, a_c, b_c, x[m - 1], cfg.estar, cfg.face) if mode == FLANK else 0.0
         if hw1 > 0.0:
-            _, _, fa_ok = strip_rows(P, np.int64(0), a_c, hw1, cn1, cw1, np.int64(0), ns)
-            _, _, fb_ok = strip_rows(P, np.int64(1), b_c, hw1, cn1, cw1, ns, ns)
+            if strip1:
+                # the gap the old rows hold, for the move re-spreading makes (section 11.4)
+                xa, ya = virtual_point(P, np.int64(0), cn1, cw1, np.int64(0), ns, d_t[0], d_t[1],
+                                       th1[0], u1, np.int64(0), 0.0, 0.0)
+                xb, yb = virtual_point(P, np.int64(1), cn1, cw1, ns, ns, d_t[2], d_t[3],
+                                       th1[1], u1, np.int64(0), 0.0, 0.0)
+                jump = -(n1[0] * (xa - xb) + n1[1] * (ya - yb))
+            dax, day, fa_ok = strip_rows(P, np.int64(0), a_c, hw1, cn1, cw1, np.int64(0), ns)
+            dbx, dby, fb_ok = strip_rows(P, np.int64(1), b_c, hw1, cn1, cw1, ns, ns)
             if not (fa_ok and fb_ok):
                 return FAIL_STRIP
+            if strip1:
+                xa, ya = virtual_point(P, np.int64(0), cn1, cw1, np.int64(0), ns, dax, day,
+                                       th1[0], u1, np.int64(0), 0.0, 0.0)
+                xb, yb = virtual_point(P, np.int64(1), cn1, cw1, ns, ns, dbx, dby,
+                                       th1[1], u1, np.int64(0), 0.0, 0.0)
+                jump += n1[0] * (xa - xb) + n1[1] * (ya - yb)
         else:
             contact_rows(P, a_c, b_c, cn1, cw1)
         gram_contact(P, th1, cn1, cw1, n1, g1, C)
@@ -359,6 +375,7 @@ def step(P, S, cfg):
     if hertz:
         S.cpar[CP.p_held] = p_bar
         S.cpar[CP.half_width] = hw1
+        S.cpar[CP.jump] = jump
     S.t[0] += h
     return OK
 

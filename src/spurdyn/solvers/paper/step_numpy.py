@@ -50,6 +50,7 @@ class State:
     x: NDArray[np.float64]       # (n_x,)  [lambda_A, lambda_B, p] at t
     contact: ContactPair         # the contact pair at t
     p_held: float = 0.0          # the contact force the last displacement stage held (N)
+    jump: float = 0.0            # the gap's move when the last step re-spread its strip (m)
 
     def copy(self) -> "State":
         return replace(self, theta=self.theta.copy(), omega=self.omega.copy(), u=self.u.copy(),
@@ -164,6 +165,17 @@ class PaperMethod:
             out.append(g.sense * alpha[i] * r @ jz - omega[i] ** 2 * r)
         return tuple(out)
 
+    def respread_jump(self, old: ContactPair, new: ContactPair, theta: NDArray[np.float64],
+                      u: NDArray[np.float64]) -> float:
+        """How much re-spreading a strip (``old`` rows to ``new``, the same pair) moves the
+        gap its rows hold at ``(theta, u)`` (0 unless both are strips)."""
+        if self.law is None or old.half_width <= 0.0 or new.half_width <= 0.0:
+            return 0.0
+        x = np.concatenate([(g.X + ub.reshape(-1, 2)).ravel()
+                            for g, ub in zip(self.system.gears, blocks(self.system, u))])
+        mats = tuple(rot(g.sense * th) for g, th in zip(self.system.gears, theta))
+        return self.normal_of(new, x, mats) - self.normal_of(old, x, mats)
+
     @staticmethod
     def roll_rate(c: ContactPair, rates: NDArray[np.float64]) -> float:
         """What the strip's pair rolling with the disks adds to its gap's rate for the
@@ -236,8 +248,10 @@ class PaperMethod:
             # The overlap c_H |p| grows with the force: its rate over this step, from the
             # forces this and the last displacement stage held, is the velocity to reach.
             # (the strip's pair rolls with the disks: its row's theta entries, section 11.3)
+            # and the strip re-spread at the last step's end moved the gap its rows hold by
+            # st.jump: the secant of the gap over this step carries it too (section 11.4)
             sh = (self.normal_of(c1, v2, self.velocity_mats(th1, om2)) + self.roll_rate(c1, om2)
-                  + c_h * (p_bar - st.p_held) / h)
+                  + c_h * (p_bar - st.p_held) / h + st.jump / h)
             pih = sh if (p_bar < 0.0 and (sh > 0.0 or x[-1] < 0.0)) else 0.0
             e = np.append(self.root_velocity_errors(th1, om2, v2), pih)
             residual[1] = np.abs(e).max()
@@ -288,9 +302,10 @@ class PaperMethod:
         iters[2] = m
         # The next step spreads its force over the strip of the force now (same pair); the gap
         # kept is the one the constraint holds, for a strip its mean deformed gap s_bar - c_H |p|.
-        new = State(t=st.t + h, theta=th1, omega=om2, u=u1, v=v2, x=x,
-                    contact=self.restrip(replace(c1, s=c1.s + self.c_h * p_bar), abs(float(x[-1]))),
-                    p_held=float(p_bar) if self.law is not None else 0.0)
+        spread = self.restrip(replace(c1, s=c1.s + self.c_h * p_bar), abs(float(x[-1])))
+        new = State(t=st.t + h, theta=th1, omega=om2, u=u1, v=v2, x=x, contact=spread,
+                    p_held=float(p_bar) if self.law is not None else 0.0,
+                    jump=self.respread_jump(c1, spread, th1, u1))
         return new, StepReport(residual=residual, iterations=iters, p_bar=float(p_bar), s=c1.s)
 
 

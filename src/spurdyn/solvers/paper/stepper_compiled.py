@@ -127,7 +127,7 @@ def compiled_start(system: PairSystem, settings: RunSettings, st: State) -> Comp
         t=np.zeros(1), theta=st.theta.copy(), omega=st.omega.copy(), u=st.u.copy(),
         v=st.v.copy(), x=st.x.copy(), alpha_n=alpha0, a_n=a0, cn=cn, cw=cw,
         normal=c.normal.copy(), gth=np.array(c.theta_row, dtype=float),
-        cpar=np.array([c.alpha, c.beta, float(c.mode), c.s, st.p_held, c.half_width]),
+        cpar=np.array([c.alpha, c.beta, float(c.mode), c.s, st.p_held, c.half_width, st.jump]),
         C=(gmat * inverse_mass(system)) @ gmat.T, res=np.zeros(3), its=np.zeros(3, dtype=np.int64),
     )
 

@@ -32,7 +32,7 @@ RK4_STEP = 1e-7
 PER_CYCLE = 2000
 
 
-@pytest.mark.parametrize("change", [dict(bodies="full"), dict(back_flanks=True)])
+@pytest.mark.parametrize("change", [dict(bodies="full"), dict(back_flanks=True), dict(row_grading=4.0)])
 def test_the_reference_refuses_what_it_does_not_step(change):
     s = run_settings(PAIR, SPEED, 22.25, dt=1e-6, cycles=1, **MESH, **change)
     with pytest.raises(InputError):

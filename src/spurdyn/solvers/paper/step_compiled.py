@@ -185,7 +185,7 @@ def step(P, S, cfg):
                 cn_f[:] = cn_t
                 cw_f[:] = cw_t
                 # the strip's pair rolls with the disks: its row's theta entries (11.3)
-                roll_t[0], roll_t[1], g_f[0], g_f[1] = roll_entries(
+                _, _, g_f[0], g_f[1] = roll_entries(
                     P, th_try, u_try, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hw_t, d_t[0:2], d_t[2:4])
             else:
                 contact_rows(P, a_c, b_c, cn_f, cw_f)

@@ -245,11 +245,11 @@ class PaperMethod:
         for m in range(cap + 1):
             f_theta, f_u = constraint_force(sys_, st.theta, c_force, x)
             _, om2, _, v2 = self.rk4(st, f_theta, f_u)
-            # The overlap c_H |p| grows with the force: its rate over this step, from the
-            # forces this and the last displacement stage held, is the velocity to reach.
-            # (the strip's pair rolls with the disks: its row's theta entries, section 11.3)
-            # and the strip re-spread at the last step's end moved the gap its rows hold by
-            # st.jump: the secant of the gap over this step carries it too (section 11.4)
+            # The velocity to reach is the secant of the gap the rows hold over this step:
+            # the strip's pair rolls with the disks (its row's theta entries, section 11.3),
+            # the overlap c_H |p| grows with the force (from the forces this and the last
+            # displacement stage held), and re-spreading the strip at the last step's end
+            # moved the gap by st.jump (section 11.4).
             sh = (self.normal_of(c1, v2, self.velocity_mats(th1, om2)) + self.roll_rate(c1, om2)
                   + c_h * (p_bar - st.p_held) / h + st.jump / h)
             pih = sh if (p_bar < 0.0 and (sh > 0.0 or x[-1] < 0.0)) else 0.0

@@ -63,7 +63,7 @@ from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.loading import hub_torques, static_force
 from spurdyn.result import Result
 from spurdyn.sector.statics import _law, _solve_position, driving_pair, mesh_cycle, pairs_in_path
-from spurdyn.settings import RunSettings
+from spurdyn.settings import SECTOR_ROW_GRADING_REASON, RunSettings
 from spurdyn.solvers.sector.bodies import ModalBody
 from spurdyn.solvers.sector.cache import _cached
 from spurdyn.solvers.sector.damper import damper_at, mesh_damper_table
@@ -104,6 +104,8 @@ def _refuse(pair: GearPair, settings: RunSettings, modes: bool | float | None) -
                          "back_flanks=False, or a pair without backlash")
     if settings.torque_history is not None:
         raise InputError("torque_history", "the sector model's RK4 reference runs under constant torques only")
+    if settings.row_grading != 1.0:
+        raise InputError("mesh.row_grading", SECTOR_ROW_GRADING_REASON)
     if settings.start_state is not None:
         raise InputError("start_state", "the sector model's RK4 reference starts from the static "
                          "equilibrium or from rest, not from another run's end")

@@ -56,6 +56,13 @@ FE_STIFFNESS_REASON = ("is the lumped model's: the FE model's stiffness is its o
 SECTOR_ROW_GRADING_REASON = ("the sector model meshes its teeth with rows even in radius: leave "
                              "it out (or 1); the FE model and the lumped model on the tooth's "
                              "stiffness take it")
+
+
+def refuse_sector_row_grading(row_grading: float, key: str = "mesh.row_grading", why: str = "") -> None:
+    """Refuse, in one line naming ``key``, rows graded along the tooth where the sector
+    model's bodies are meshed (their rows are even in radius: docs/sector.md)."""
+    if row_grading != 1.0:
+        raise InputError(key, why + SECTOR_ROW_GRADING_REASON)
 #: The generalized-alpha scheme's spectral radius at infinite frequency when the run gives
 #: none: modes far above the step's resolution lose 20 % of their amplitude a step, the
 #: pair's torsional mode a negligible part (docs/implicit.md, "The default").

@@ -95,13 +95,11 @@ def tooth_table(pair: GearPair, settings: RunSettings) -> Any:
 def sector_cycle(pair: GearPair, settings: RunSettings) -> Any:
     """The sector model's mesh cycle of the run's pair, mesh, torque and teeth as the lumped
     model's stiffness (:class:`spurdyn.lumped.cycle.SectorCycle`), cached per process."""
-    from spurdyn.errors import InputError
     from spurdyn.lumped.cycle import SectorCycle
     from spurdyn.sector.statics import mesh_cycle
-    from spurdyn.settings import SECTOR_ROW_GRADING_REASON
+    from spurdyn.settings import refuse_sector_row_grading
 
-    if settings.row_grading != 1.0:
-        raise InputError("mesh.row_grading", SECTOR_ROW_GRADING_REASON)
+    refuse_sector_row_grading(settings.row_grading)
 
     key = ("sector", pair, settings.nx, settings.ny, settings.grading, settings.torque, settings.teeth)
     try:

@@ -7,7 +7,7 @@ import argparse
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
-from spurdyn.settings import BODIES, INTEGRATORS, STARTS, STIFFNESSES, RunSettings
+from spurdyn.settings import BODIES, INTEGRATORS, STARTS, STIFFNESSES, RunSettings, refuse_sector_row_grading
 
 #: Why a model without several teeth refuses ``teeth`` (the one place that says it).
 TEETH_REASON = ("sets the sector model's teeth per gear (--model sector, or the lumped model's "
@@ -78,10 +78,7 @@ def refuse_sector_options(run: RunSettings, labels: dict[str, str], pair: GearPa
     if "run.contact" in labels and run.contact != "hertz":
         raise InputError(labels["run.contact"], "the sector model's contact is the Hertzian "
                          "strip; leave it out or give hertz")
-    if run.row_grading != 1.0:
-        from spurdyn.settings import SECTOR_ROW_GRADING_REASON
-
-        raise InputError(labels.get("mesh.row_grading", "mesh.row_grading"), SECTOR_ROW_GRADING_REASON)
+    refuse_sector_row_grading(run.row_grading, labels.get("mesh.row_grading", "mesh.row_grading"))
     if pair is not None and run.teeth is not None:
         from spurdyn.sector.statics import driving_pair
         from spurdyn.solvers.sector.rules import back_flanks_on, cover_cycles
@@ -98,11 +95,9 @@ def refuse_lumped_options(run: RunSettings, labels: dict[str, str], pair: GearPa
     """Refuse, in one line, ``teeth`` where the lumped model would not read it (its stiffness
     the tooth's) or fewer than carry load together (its stiffness the sector's); rows graded
     along the tooth with the sector's stiffness."""
-    if run.stiffness == "sector" and run.row_grading != 1.0:
-        from spurdyn.settings import SECTOR_ROW_GRADING_REASON
-
-        raise InputError(labels.get("mesh.row_grading", "mesh.row_grading"),
-                         "with the sector stiffness (stiffness = \"sector\"), " + SECTOR_ROW_GRADING_REASON)
+    if run.stiffness == "sector":
+        refuse_sector_row_grading(run.row_grading, labels.get("mesh.row_grading", "mesh.row_grading"),
+                                  "with the sector stiffness (stiffness = \"sector\"), ")
     if run.teeth is None:
         return
     label = labels.get("run.teeth", "run.teeth")

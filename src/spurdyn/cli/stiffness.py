@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from spurdyn.errors import InputError
+from spurdyn.settings import refuse_sector_row_grading
 
 #: Most positions of a mesh cycle.
 MAX_POSITIONS = 2001
@@ -79,10 +80,7 @@ def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
                          f"(got {args.positions})")
     torques = _torques(args)
     case = meshed_case(args)
-    if case.row_grading != 1.0:   # a case file's [mesh] row_grading
-        from spurdyn.settings import SECTOR_ROW_GRADING_REASON
-
-        raise InputError("mesh.row_grading", SECTOR_ROW_GRADING_REASON)
+    refuse_sector_row_grading(case.row_grading)   # a case file's [mesh] row_grading
     pair = case.pair
     if args.teeth is not None and not pairs_in_path(driving_pair(pair)) <= args.teeth:
         raise InputError("--teeth", f"must be at least the {pairs_in_path(pair)} teeth that carry "

@@ -99,6 +99,17 @@ def virtual_point(P, g, cn, cw, off, ns, dx, dy, th, uget, kind, om, al):
 
 
 @njit
+def strip_gap(P, cn, cw, ns, dax, day, dbx, dby, theta, u, nx, ny):
+    """The gap ``n . (x_bar_A - x_bar_B)`` the strip rows ``cn``, ``cw`` (A's half, then B's,
+    ``ns`` slots each) with offsets ``delta_bar`` hold at ``(theta, u)``."""
+    xa, ya = virtual_point(P, np.int64(0), cn, cw, np.int64(0), ns, dax, day, theta[0], u,
+                           np.int64(0), 0.0, 0.0)
+    xb, yb = virtual_point(P, np.int64(1), cn, cw, ns, ns, dbx, dby, theta[1], u,
+                           np.int64(0), 0.0, 0.0)
+    return nx * (xa - xb) + ny * (ya - yb)
+
+
+@njit
 def row_point(P, g, t, hw, th, u, cn, cw):
     """Position of the point the contact rows of gear ``g`` read at flank coordinate ``t``:
     the strip of half-width ``hw`` (written into the scratch rows ``cn``, ``cw``, one

@@ -19,7 +19,7 @@ import numpy as np
 
 from spurdyn.contact.constants import FLANK
 from spurdyn.contact.search_compiled import contact_rows, search
-from spurdyn.contact.strip_compiled import point_offsets, roll_entries, strip_half_width, strip_rows, virtual_point
+from spurdyn.contact.strip_compiled import point_offsets, roll_entries, strip_gap, strip_half_width, strip_rows
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import CP, FAIL_NAN, FAIL_NEWTON, FAIL_STRIP, OK
 from spurdyn.solvers.paper.constants import MAX_RELOCATE, RELOCATE
@@ -186,11 +186,7 @@ def contact(P, I, theta, u, guess, load, cn, cw, d, buf):
         dbx, dby, ok_b = strip_rows(P, np.int64(1), b, hw, cn, cw, ns, ns)
         if not (ok_a and ok_b):
             return a, b, mode, nx, ny, s, hw, False
-        xa, ya = virtual_point(P, np.int64(0), cn, cw, np.int64(0), ns, dax, day, theta[0], u,
-                               np.int64(0), 0.0, 0.0)
-        xb, yb = virtual_point(P, np.int64(1), cn, cw, ns, ns, dbx, dby, theta[1], u,
-                               np.int64(0), 0.0, 0.0)
-        s = nx * (xa - xb) + ny * (ya - yb)
+        s = strip_gap(P, cn, cw, ns, dax, day, dbx, dby, theta, u, nx, ny)
         d[0], d[1], d[2], d[3] = dax, day, dbx, dby
     else:
         contact_rows(P, a, b, cn, cw)

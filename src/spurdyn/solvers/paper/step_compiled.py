@@ -16,7 +16,9 @@ import numpy as np
 
 from spurdyn.contact.constants import FLANK
 from spurdyn.contact.search_compiled import contact_rows, material_point, search, sliding
-from spurdyn.contact.strip_compiled import point_offsets, roll_entries, strip_half_width, strip_rows, virtual_point
+from spurdyn.contact.strip_compiled import (
+    point_offsets, roll_entries, strip_gap, strip_half_width, strip_rows, virtual_point,
+)
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import (
     CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_STRIP, FAIL_VEL, OK, HistoryRow,
@@ -146,11 +148,7 @@ def step(P, S, cfg):
                 if not (fa_ok and fb_ok):
                     S.its[0] = it
                     return FAIL_STRIP
-                xa, ya = virtual_point(P, np.int64(0), cn_t, cw_t, np.int64(0), ns, d_t[0], d_t[1],
-                                       th_try[0], u_try, np.int64(0), 0.0, 0.0)
-                xb, yb = virtual_point(P, np.int64(1), cn_t, cw_t, ns, ns, d_t[2], d_t[3],
-                                       th_try[1], u_try, np.int64(0), 0.0, 0.0)
-                sc = nxc * (xa - xb) + nyc * (ya - yb)
+                sc = strip_gap(P, cn_t, cw_t, ns, d_t[0], d_t[1], d_t[2], d_t[3], th_try, u_try, nxc, nyc)
             else:
                 contact_rows(P, a_c, b_c, cn_t, cw_t)
                 point_offsets(P, a_c, b_c, d_t)
@@ -338,21 +336,13 @@ def step(P, S, cfg):
         if hw1 > 0.0:
             if strip1:
                 # the gap the old rows hold, for the move re-spreading makes (section 11.4)
-                xa, ya = virtual_point(P, np.int64(0), cn1, cw1, np.int64(0), ns, d_t[0], d_t[1],
-                                       th1[0], u1, np.int64(0), 0.0, 0.0)
-                xb, yb = virtual_point(P, np.int64(1), cn1, cw1, ns, ns, d_t[2], d_t[3],
-                                       th1[1], u1, np.int64(0), 0.0, 0.0)
-                jump = -(n1[0] * (xa - xb) + n1[1] * (ya - yb))
+                jump = -strip_gap(P, cn1, cw1, ns, d_t[0], d_t[1], d_t[2], d_t[3], th1, u1, n1[0], n1[1])
             dax, day, fa_ok = strip_rows(P, np.int64(0), a_c, hw1, cn1, cw1, np.int64(0), ns)
             dbx, dby, fb_ok = strip_rows(P, np.int64(1), b_c, hw1, cn1, cw1, ns, ns)
             if not (fa_ok and fb_ok):
                 return FAIL_STRIP
             if strip1:
-                xa, ya = virtual_point(P, np.int64(0), cn1, cw1, np.int64(0), ns, dax, day,
-                                       th1[0], u1, np.int64(0), 0.0, 0.0)
-                xb, yb = virtual_point(P, np.int64(1), cn1, cw1, ns, ns, dbx, dby,
-                                       th1[1], u1, np.int64(0), 0.0, 0.0)
-                jump += n1[0] * (xa - xb) + n1[1] * (ya - yb)
+                jump += strip_gap(P, cn1, cw1, ns, dax, day, dbx, dby, th1, u1, n1[0], n1[1])
         else:
             contact_rows(P, a_c, b_c, cn1, cw1)
         gram_contact(P, th1, cn1, cw1, n1, g1, C)

@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 import time as _time
-from typing import Any, Callable
+from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -63,7 +63,7 @@ from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.loading import hub_torques, static_force
 from spurdyn.result import Result
 from spurdyn.sector.statics import _law, _solve_position, driving_pair, mesh_cycle, pairs_in_path
-from spurdyn.settings import SECTOR_ROW_GRADING_REASON, RunSettings
+from spurdyn.settings import RunSettings, refuse_sector_row_grading
 from spurdyn.solvers.sector.bodies import ModalBody
 from spurdyn.solvers.sector.cache import _cached
 from spurdyn.solvers.sector.damper import damper_at, mesh_damper_table
@@ -104,8 +104,7 @@ def _refuse(pair: GearPair, settings: RunSettings, modes: bool | float | None) -
                          "back_flanks=False, or a pair without backlash")
     if settings.torque_history is not None:
         raise InputError("torque_history", "the sector model's RK4 reference runs under constant torques only")
-    if settings.row_grading != 1.0:
-        raise InputError("mesh.row_grading", SECTOR_ROW_GRADING_REASON)
+    refuse_sector_row_grading(settings.row_grading)
     if settings.start_state is not None:
         raise InputError("start_state", "the sector model's RK4 reference starts from the static "
                          "equilibrium or from rest, not from another run's end")
@@ -366,7 +365,7 @@ def highest_frequency(pair: GearPair, settings: RunSettings, dt: float = PAPER_S
     eigenvalues (bodies' Rayleigh damping, the mesh damper at the start's phase)."""
     model = Model(pair, settings)
     q, v, force = model.start()
-    n, na = model.n, model.na
+    n = model.n
     mass, stiff, damp = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
     for g in range(2):
         body, s = model.gears[g], model.parts[g]

@@ -50,7 +50,7 @@ from spurdyn.sector.statics import (
     mesh_cycle,
     pairs_in_path,
 )
-from spurdyn.settings import SECTOR_ROW_GRADING_REASON, RunSettings
+from spurdyn.settings import RunSettings, refuse_sector_row_grading
 from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.sector.bodies import FullBody
 from spurdyn.solvers.sector.cache import _cached
@@ -128,8 +128,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         ``r_bA theta_A - r_bB theta_B`` (the driver's), ``info["steady"]`` the settled test.
     """
     wall0 = _time.perf_counter()
-    if settings.row_grading != 1.0:   # its bodies' rows are even (docs/sector.md)
-        raise InputError("mesh.row_grading", SECTOR_ROW_GRADING_REASON)
+    refuse_sector_row_grading(settings.row_grading)
     dp = driving_pair(pair)
     ga, gb = dp.gear_a, dp.gear_b
     ra, rb = ga.base_radius, gb.base_radius

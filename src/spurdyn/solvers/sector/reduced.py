@@ -35,8 +35,6 @@ from scipy.sparse.linalg import eigsh
 
 from spurdyn.solvers.sector.system import GearBlock
 
-#: Modes kept: every mode of the held body below this multiple of the step's kept frequency.
-MODE_FACTOR = 3.0
 #: Static shapes added to the basis per tooth: the response to a unit normal load at this
 #: many radii along its flank, so that the teeth's deflection under a contact is mostly in
 #: the coordinates; what they miss is left to the residual flexibility.
@@ -164,4 +162,4 @@ def _generalized_eigh(k: NDArray[np.float64], m: NDArray[np.float64]) -> tuple[N
     return w2, v
 
 
-__all__ = ["MODE_FACTOR", "ReducedGear", "reduce_gear"]
+__all__ = ["ReducedGear", "reduce_gear"]

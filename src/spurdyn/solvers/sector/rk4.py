@@ -69,7 +69,7 @@ from spurdyn.solvers.sector.cache import _cached
 from spurdyn.solvers.sector.damper import damper_at, mesh_damper_table
 from spurdyn.solvers.sector.lcp import Rows, lcp
 from spurdyn.solvers.sector.output import sector_result
-from spurdyn.solvers.sector.reduced import MODE_FACTOR, reduce_gear
+from spurdyn.solvers.sector.reduced import reduce_gear
 from spurdyn.solvers.sector.rules import (
     CYCLE_POSITIONS,
     KEEP_FREQUENCY,
@@ -141,7 +141,7 @@ class Model:
         n_path = pairs_in_path(dp)
         self.teeth = np.arange(-cover - 1, n_path + 1).astype(np.intp)
         self.rayleigh = rayleigh = body_rayleigh(settings)
-        top = MODE_FACTOR * KEEP_FREQUENCY if modes in (None, True) else float(modes)
+        top = KEEP_FREQUENCY if modes in (None, True) else float(modes)
         # gamma' = beta' = 0: the body's S is M, its solve M^-1 and its columns M^-1 E^T
         self.gears = tuple(
             ModalBody(_cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top),

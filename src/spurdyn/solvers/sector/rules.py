@@ -9,14 +9,17 @@ import math
 
 from spurdyn.geometry.pair import GearPair
 from spurdyn.settings import RunSettings
+from spurdyn.solvers.implicit.alpha import KEEP_FREQUENCY, STEPS_PER_KEPT_PERIOD
 from spurdyn.solvers.sector.system import WHOLE_FROM_CYCLES
 
-#: The highest frequency (Hz) the sector model's default step resolves with
-#: :data:`STEPS_PER_KEPT_PERIOD` steps a period: the pair's torsional mode (~5-6 kHz on the
-#: sector's stiffness for the paper's pair) and the mesh frequency's first harmonics lie
-#: well below; the modes of the teeth on their rim above it are damped out by the scheme.
-KEEP_FREQUENCY = 50e3
-STEPS_PER_KEPT_PERIOD = 10
+#: The sector model keeps what the paper model's implicit step keeps (docs/implicit.md,
+#: section 4): the modal bodies every mode below :data:`KEEP_FREQUENCY` (150 kHz: the teeth's
+#: first modes on their rims, near 95 kHz, whose phase times the impacts after a separation),
+#: and the default step resolves it with :data:`STEPS_PER_KEPT_PERIOD` steps a period. The
+#: pair's torsional mode (~5-6 kHz) and the mesh frequency's first harmonics lie well below;
+#: what the residual flexibility carries above it acts without inertia. Until revision 5 the
+#: step resolved only 50 kHz (2 us): near the resonance the impacts after the mesh separated
+#: came up to 2.6 us late against RK4 (docs/sector_rk4_validation.md).
 #: Fewest steps per mesh cycle: the contact point crosses each element along the flank in
 #: several steps.
 STEPS_PER_MESH_PERIOD = 200
@@ -26,22 +29,25 @@ CYCLE_POSITIONS = 21
 #: Bumped when a change of the model makes a run of the same settings differ (a sweep's
 #: settings hash carries it, so that its stored points are not taken for the new model's):
 #: 2, the mesh damper following the cycle's stiffness; 3, the back flanks contacts by default
-#: where the pair has backlash; 4, a continuation point's common rotation set to its speed.
-SECTOR_REVISION = 4
+#: where the pair has backlash; 4, a continuation point's common rotation set to its speed;
+#: 5, the default step resolving :data:`KEEP_FREQUENCY` (150 kHz, was 50 kHz).
+SECTOR_REVISION = 5
 #: The bodies' structural damping when the run gives no Rayleigh damping: stiffness
-#: proportional, this ratio at :data:`KEEP_FREQUENCY` (a tenth of it at 5 kHz, where the pair's
+#: proportional, this ratio at :data:`BODY_DAMPING_FREQUENCY` (a tenth of it at 5 kHz, where the pair's
 #: torsional mode lies). Without any, the bodies' own modes (the teeth on their rims, which
 #: the mesh damper does not reach) ring for ever and a run never settles (docs/sector.md,
 #: 6.5). An ASSUMPTION of typical magnitude, not a measured property of a gear; give
 #: ``rayleigh_mass``/``rayleigh_stiffness`` (0 for none) to set another.
 BODY_DAMPING_RATIO = 0.02
+#: The frequency (Hz) at which the bodies' default damping has :data:`BODY_DAMPING_RATIO`.
+BODY_DAMPING_FREQUENCY = 50e3
 
 
 def body_rayleigh(settings: RunSettings) -> tuple[float, float]:
     """Rayleigh's ``(a, b)`` of the sector model's bodies: the run's, or if it gives none,
-    :data:`BODY_DAMPING_RATIO` at :data:`KEEP_FREQUENCY` on the stiffness alone."""
+    :data:`BODY_DAMPING_RATIO` at :data:`BODY_DAMPING_FREQUENCY` on the stiffness alone."""
     if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
-        return 0.0, 2.0 * BODY_DAMPING_RATIO / (2.0 * math.pi * KEEP_FREQUENCY)
+        return 0.0, 2.0 * BODY_DAMPING_RATIO / (2.0 * math.pi * BODY_DAMPING_FREQUENCY)
     return settings.rayleigh
 
 
@@ -88,6 +94,6 @@ def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
     return max(int(math.ceil(period / dt - 1e-9)), 1)
 
 
-__all__ = ["BACKLASH_FLOOR", "BODY_DAMPING_RATIO", "CYCLE_POSITIONS", "KEEP_FREQUENCY", "SECTOR_REVISION",
+__all__ = ["BACKLASH_FLOOR", "BODY_DAMPING_FREQUENCY", "BODY_DAMPING_RATIO", "CYCLE_POSITIONS", "KEEP_FREQUENCY", "SECTOR_REVISION",
            "STEPS_PER_KEPT_PERIOD", "STEPS_PER_MESH_PERIOD", "back_flanks_on", "body_rayleigh", "cover_cycles", "cycles_limit",
            "steps_per_cycle"]

@@ -59,6 +59,7 @@ from spurdyn.solvers.sector.lcp import Rows, lcp
 from spurdyn.solvers.sector.output import sector_result
 from spurdyn.solvers.sector.rules import (
     BACKLASH_FLOOR,
+    BODY_DAMPING_FREQUENCY,
     BODY_DAMPING_RATIO,
     CYCLE_POSITIONS,
     KEEP_FREQUENCY,
@@ -116,8 +117,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         them in ``info["momentum"]``.
     modes
         Reduce each body to its modes (:mod:`spurdyn.solvers.sector.reduced`): ``True``
-        keeps those below :data:`~spurdyn.solvers.sector.reduced.MODE_FACTOR` times
-        :data:`KEEP_FREQUENCY`, a number those below it (Hz); ``False`` steps the whole
+        keeps those below :data:`KEEP_FREQUENCY`, a number those below it (Hz); ``False`` steps the whole
         finite-element bodies; ``None`` as ``settings.bodies`` says.
 
     Returns
@@ -182,9 +182,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         modes = settings.bodies == "modal"
     if modes:
         from spurdyn.solvers.sector.bodies import ModalBody
-        from spurdyn.solvers.sector.reduced import MODE_FACTOR, reduce_gear
+        from spurdyn.solvers.sector.reduced import reduce_gear
 
-        top = MODE_FACTOR * KEEP_FREQUENCY if modes is True else float(modes)
+        top = KEEP_FREQUENCY if modes is True else float(modes)
         gears: tuple[Any, Any] = tuple(
             ModalBody(_cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top),
                               lambda blk=blk: reduce_gear(blk, top)), gp, bp, rayleigh, 2 if back else 1)
@@ -496,5 +496,5 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     return result
 
 
-__all__ = ["BACKLASH_FLOOR", "BODY_DAMPING_RATIO", "SECTOR_REVISION", "back_flanks_on", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
+__all__ = ["BACKLASH_FLOOR", "BODY_DAMPING_FREQUENCY", "BODY_DAMPING_RATIO", "SECTOR_REVISION", "back_flanks_on", "KEEP_FREQUENCY", "STEPS_PER_MESH_PERIOD", "body_rayleigh",
            "cycles_limit", "simulate_sector", "steps_per_cycle"]

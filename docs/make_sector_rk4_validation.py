@@ -181,7 +181,7 @@ def summary(rows: list[dict]) -> list[str]:
     lone = [(r["rpm"], x) for r in rows for x in r["pair_changes"]["lone"]]
     passed = [r["rpm"] for r in rows if verdict(r) == "all four"]
     return [
-        f"- **Steps:** the implicit default step is "
+        "- **Steps:** the implicit default step is "
         + (f"{ratio:.0f} to " if round(ratio) != round(max(r['steps'][0] / r['steps'][1] for r in rows)) else "")
         + f"{max(r['steps'][0] / r['steps'][1] for r in rows):.0f} times RK4's (at least 20 asked).",
         f"- **Averaged forces:** the 10-µs-averaged mesh and contact forces differ by at most {rms * 100:.2f} % "

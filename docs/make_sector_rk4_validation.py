@@ -263,7 +263,7 @@ def main() -> None:
         "The `paper-fig8` case (4 × 14 teeth, 22.25 N m) with `--model sector`, modal bodies of whole "
         f"gears, mesh damper ζ = {ZETA}, the bodies' default damping (2 % at 50 kHz), from the static "
         f"start. Implicit: {CYCLES} cycles at its default step (a tenth of the period of 150 kHz, the highest "
-        "mode the modal bodies keep, and at most 1/200 of a mesh cycle: docs/sector.md 6.5), going on "
+        "mode the modal bodies keep, and at most 1/200 of a mesh cycle: docs/sector.md 6.3), going on "
         "until settled as runs do. RK4: "
         "the same number of cycles at the largest step at or below 3e-8 s that divides the implicit "
         "step, so the implicit samples are RK4 samples and nothing is interpolated. Over the last "

@@ -24,6 +24,7 @@ from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.sector.statics import driving_pair, mesh_cycle
 from spurdyn.settings import RPM, SETTLE_CYCLES_FACTOR
 from spurdyn.solvers.check import run_settings
+from spurdyn.solvers.sector.rules import BODY_DAMPING_FREQUENCY, BODY_DAMPING_RATIO
 from spurdyn.solvers.sector.run import simulate_sector
 
 HERE = Path(__file__).resolve().parent
@@ -335,6 +336,7 @@ def render(f: dict) -> str:
     mesh = f"{f['mesh_fine']['nx']} x {f['mesh_fine']['ny']}"
     # the energy runs whose balance the growing contact mode broke (over a tenth of the strain energy)
     grow = [r for r in e if r["energy_error_max_J"] > 0.1 * r["strain_max_J"]] or [dict(dt_s=math.nan, last_peak_hz=math.nan)]
+    damped = [r for r in e if r["rho_inf"] < 1.0]
     lines = [
         "# The sector model in motion: measured",
         "",
@@ -374,8 +376,14 @@ def render(f: dict) -> str:
         "before: the rows move a step late with the force, which feeds that mode a little each step. "
         "With the default `rho_inf = 0.8` the scheme's dissipation there (ω h ≈ "
         f"{min(2 * math.pi * r['last_peak_hz'] * r['dt_s'] for r in grow):.1f}-"
-        f"{max(2 * math.pi * r['last_peak_hz'] * r['dt_s'] for r in grow):.1f}) outweighs it "
-        "and the balance holds at every step; the bodies' default damping (0.18 at 450 kHz) adds to "
+        f"{max(2 * math.pi * r['last_peak_hz'] * r['dt_s'] for r in grow):.1f}) outweighs it: "
+        "the balance holds to "
+        + ", ".join(f"{r['energy_error_max_J'] / r['strain_max_J'] * 100:.1f} %" for r in damped)
+        + " at " + ", ".join(f"{r['dt_s'] * 1e6:.2f} µs" for r in damped)
+        + "; the bodies' default damping (stiffness-proportional, "
+        f"{BODY_DAMPING_RATIO:g} at {BODY_DAMPING_FREQUENCY / 1e3:.0f} kHz, so "
+        f"{BODY_DAMPING_RATIO * min(r['last_peak_hz'] for r in grow) / BODY_DAMPING_FREQUENCY:.2f} at "
+        f"{min(r['last_peak_hz'] for r in grow) / 1e3:.0f} kHz) adds to "
         "it. What is left at 1-2 µs is the strips sliding over the deformed flank (Appendix A's "
         "terms) and the same late half-widths.",
         "",

@@ -9,9 +9,10 @@ import math
 from dataclasses import dataclass
 
 #: The highest frequency (Hz) the default step resolves: the pair's torsional mode
-#: (~7.5 kHz for the paper's pair) and the contact ripple (~120 kHz) lie below it; the
-#: tooth's own modes above it (the first near 200 kHz, the highest ~13 MHz) are damped
-#: out by the scheme's dissipation.
+#: (~7.5 kHz for the paper's pair), the contact ripple (~120 kHz) and the free tooth's first
+#: mode (95 kHz on the paper's 4 x 14 mesh) lie below it; the tooth's higher modes (217 kHz
+#: and up, the highest ~13 MHz) are damped out by the scheme's dissipation. The sector model
+#: takes it too, as its step's and its modal bodies' cutoff (docs/sector.md, 6.3).
 KEEP_FREQUENCY = 150e3
 #: Steps per period of :data:`KEEP_FREQUENCY`.
 STEPS_PER_KEPT_PERIOD = 10

@@ -12,14 +12,15 @@ from spurdyn.settings import RunSettings
 from spurdyn.solvers.implicit.alpha import KEEP_FREQUENCY, STEPS_PER_KEPT_PERIOD
 from spurdyn.solvers.sector.system import WHOLE_FROM_CYCLES
 
-#: The sector model keeps what the paper model's implicit step keeps (docs/implicit.md,
-#: section 4): the modal bodies every mode below :data:`KEEP_FREQUENCY` (150 kHz: the teeth's
-#: first modes on their rims, near 95 kHz, whose phase times the impacts after a separation),
-#: and the default step resolves it with :data:`STEPS_PER_KEPT_PERIOD` steps a period. The
-#: pair's torsional mode (~5-6 kHz) and the mesh frequency's first harmonics lie well below;
-#: what the residual flexibility carries above it acts without inertia. Until revision 5 the
-#: step resolved only 50 kHz (2 us): near the resonance the impacts after the mesh separated
-#: came up to 2.6 us late against RK4 (docs/sector_rk4_validation.md).
+# The sector model keeps what the paper model's implicit step keeps (docs/implicit.md,
+# section 4): the modal bodies every mode below KEEP_FREQUENCY (150 kHz: the teeth's
+# first modes on their rims, near 95 kHz, whose phase times the impacts after a separation),
+# and the default step resolves it with STEPS_PER_KEPT_PERIOD steps a period. The
+# pair's torsional mode (~5-6 kHz) and the mesh frequency's first harmonics lie well below;
+# what the residual flexibility carries above it acts without inertia. Until revision 5 the
+# step resolved only 50 kHz (2 us): near the resonance the impacts after the mesh separated
+# came up to 2.6 us late against RK4 (docs/sector_rk4_validation.md).
+
 #: Fewest steps per mesh cycle: the contact point crosses each element along the flank in
 #: several steps.
 STEPS_PER_MESH_PERIOD = 200

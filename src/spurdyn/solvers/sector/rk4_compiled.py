@@ -22,6 +22,7 @@ from spurdyn.solvers.sector.step_compiled import (
     _half_width,
     _lcp_ordered,
     _masks_by_size,
+    _modal_free,
     _table_at,
 )
 
@@ -39,21 +40,11 @@ def _stage(tq0, tq1, q, v, held, guess_f, inv0, inv1, damp0, damp1, om0, om1, mo
     ra, rb, estar, width, c_h = consts[4], consts[5], consts[6], consts[7], consts[8]
     na = inv0.shape[0]
     nb = inv1.shape[0]
-    n = na + nb
     m0 = om0.size
     m1 = om1.size
     nf = modes0.shape[2]
     nt = teeth.size
-    r = np.zeros(n)
-    r[0] = tq0
-    r[na] = tq1
-    for j in range(m0):
-        r[1 + j] -= damp0[j] * v[1 + j] + om0[j] * q[1 + j]
-    for j in range(m1):
-        r[na + 1 + j] -= damp1[j] * v[na + 1 + j] + om1[j] * q[na + 1 + j]
-    acc = np.empty(n)
-    acc[:na] = inv0 @ r[:na]
-    acc[na:] = inv1 @ r[na:]
+    acc = _modal_free(tq0, tq1, q, v, inv0, inv1, damp0, damp1, om0, om1)
     theta = q[0]
     force[:] = 0.0
     on = np.empty(nt, np.int64)

@@ -87,6 +87,26 @@ ORDERS = 6
 
 
 @njit
+def _modal_free(tq0, tq1, q, v, inv0, inv1, damp0, damp1, om0, om1):
+    """The bodies' accelerations without the contacts' forces: the hubs' torques ``tq0``,
+    ``tq1`` less each mode's damping and stiffness at ``(q, v)``, through ``M^-1`` (or the
+    implicit loop's ``S^-1``) as ``inv0``, ``inv1`` (the implicit loop and the RK4 reference)."""
+    na = inv0.shape[0]
+    n = na + inv1.shape[0]
+    r = np.zeros(n)
+    r[0] = tq0
+    r[na] = tq1
+    for j in range(om0.size):
+        r[1 + j] -= damp0[j] * v[1 + j] + om0[j] * q[1 + j]
+    for j in range(om1.size):
+        r[na + 1 + j] -= damp1[j] * v[na + 1 + j] + om1[j] * q[na + 1 + j]
+    out = np.empty(n)
+    out[:na] = inv0 @ r[:na]
+    out[na:] = inv1 @ r[na:]
+    return out
+
+
+@njit
 def _masks_by_size(n):
     """All ``2^n`` masks, the fewest members first (ties in increasing order)."""
     out = np.empty(1 << n, np.int64)
@@ -194,16 +214,7 @@ def run_steps(first_step, steps, q, v, acc, qdd, force,
         a_part = (af * qdd - am * acc) / (1.0 - am)
         q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
         v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
-        r = np.zeros(n)
-        r[0] = hub[step, 0]
-        r[na] = hub[step, 1]
-        for j in range(m0):
-            r[1 + j] -= damp0[j] * v_hat[1 + j] + om0[j] * q_hat[1 + j]
-        for j in range(m1):
-            r[na + 1 + j] -= damp1[j] * v_hat[na + 1 + j] + om1[j] * q_hat[na + 1 + j]
-        x0 = np.empty(n)
-        x0[:na] = inv0 @ r[:na]
-        x0[na:] = inv1 @ r[na:]
+        x0 = _modal_free(hub[step, 0], hub[step, 1], q_hat, v_hat, inv0, inv1, damp0, damp1, om0, om1)
         theta = q_hat[0]
         # the contacts near their paths (a back flank's roll runs backwards: system.back_roll_sum)
         on = np.empty(nt, np.int64)

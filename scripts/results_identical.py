@@ -1,7 +1,9 @@
 """Prove that a change leaves every result bit-identical.
 
-Runs every preset, every example case file and the first 300 steps of Fig. 8 on the
-NumPy backend through the ``spurdyn`` command, then either records the ``result.nc``
+Runs every preset, every example case file, the first 300 steps of Fig. 8 on the
+NumPy backend and the sector model (modal bodies in both backends, whole bodies) through
+the ``spurdyn`` command, and the sector model's RK4 reference in both backends through the
+Python API, then either records the ``result.nc``
 files in a folder or compares them with a folder recorded earlier: every data variable
 and coordinate must be equal to the last bit (NaNs in the same places). Attributes are
 not compared (they hold times and versions).
@@ -46,7 +48,38 @@ def runs() -> dict[str, list[str]]:
     table["example-paper_pair"] += ["--speed-a", "4000", "--torque", "22.25"]
     table["numpy-fig8-300"] = ["paper-fig8", "--backend", "numpy",
                                "--angle", repr(NUMPY_ANGLE_DEG)]
+    # the sector model: modal bodies (compiled and NumPy), whole bodies, and the back flanks
+    # and torque history of the example files above
+    sector = ["paper-fig8", "--model", "sector", "--damping", "0.05"]
+    table["sector-fig8-3"] = [*sector, "--cycles", "3"]
+    table["sector-fig8-numpy"] = [*sector, "--cycles", "1", "--max-cycles", "1",
+                                  "--backend", "numpy", "--mesh", "2x8"]
+    table["sector-fig8-full"] = [*sector, "--cycles", "1", "--max-cycles", "1",
+                                 "--bodies", "full", "--mesh", "2x8"]
     return table
+
+
+#: Runs through the Python API (no command reaches them): name -> backend of the sector
+#: model's RK4 reference, 400 steps of the paper's pair on 2 x 8 teeth at 20,000 rpm.
+API_RUNS = {"sector-rk4-numba": "numba", "sector-rk4-numpy": "numpy"}
+
+
+def run_api(name: str, out: Path) -> None:
+    """Run ``API_RUNS[name]`` and write every array of its Result to ``out/result.nc``."""
+    from spurdyn.geometry.presets import paper_pair
+    from spurdyn.settings import RPM
+    from spurdyn.solvers.check import run_settings
+    from spurdyn.solvers.sector.rk4 import simulate_sector_rk4
+
+    pair = paper_pair()
+    s = run_settings(pair, 20000 * RPM, 22.25, dt=1e-6, cycles=3, damping_ratio=0.05,
+                     backend=API_RUNS[name], nx=2, ny=8)
+    result = simulate_sector_rk4(pair, s, dt=1e-7, steps=400)
+    arrays = {key: np.asarray(value) for key, value in vars(result).items()
+              if isinstance(value, np.ndarray)}
+    out.mkdir(parents=True, exist_ok=True)
+    xr.Dataset({key: (tuple(f"{key}_{i}" for i in range(a.ndim)), a)
+                for key, a in arrays.items()}).to_netcdf(out / "result.nc")
 
 
 def run_all(folder: Path, only: list[str]) -> dict[str, int]:
@@ -61,6 +94,13 @@ def run_all(folder: Path, only: list[str]) -> dict[str, int]:
         cmd = [spurdyn, "run", *args, "--out", str(out), "--force", "--quiet",
                "--frames-every", "50"]
         code = subprocess.run(cmd).returncode
+        print(f"{name}: exit {code}", flush=True)
+        if code:
+            failed[name] = code
+    for name in API_RUNS:
+        if only and name not in only:
+            continue
+        code = subprocess.run([sys.executable, __file__, "api", name, str(folder / name)]).returncode
         print(f"{name}: exit {code}", flush=True)
         if code:
             failed[name] = code
@@ -102,6 +142,9 @@ def compare(before: Path, after: Path, only: list[str]) -> list[str]:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    if sys.argv[1:2] == ["api"]:
+        run_api(sys.argv[2], Path(sys.argv[3]))
+        return 0
     parser.add_argument("action", choices=("record", "compare"))
     parser.add_argument("folder", type=Path)
     parser.add_argument("--only", action="append", default=[])

@@ -131,9 +131,12 @@ def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
     # body's count of modes grows as omega^2 (Weyl), so as the eigenvalue
     count = 3 * block.count + 24
     target = (2.0 * math.pi * max_frequency) ** 2
+    # a fixed start vector: ARPACK's own is drawn from a generator that lives as long as the
+    # process, so the modes (to round-off) would hang on what ran before in it
+    v0 = np.random.default_rng(0).uniform(-1.0, 1.0, k.shape[0])
     while True:
         count = min(count, k.shape[0] - 2)
-        w2, vec = eigsh(k, k=count, M=mass, sigma=0.0, which="LM", OPinv=op, tol=1e-10)
+        w2, vec = eigsh(k, k=count, M=mass, sigma=0.0, which="LM", OPinv=op, tol=1e-10, v0=v0)
         if w2.max() >= target or count >= k.shape[0] - 2:
             break
         count = max(int(1.2 * count * target / w2.max()), count + 8)

@@ -22,7 +22,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from spurdyn.cases import resolve_cases
+from spurdyn.case import resolve_cases
 from spurdyn.contact.hertz import half_width, peak_pressure, strip_compliance
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.model.system import build_system, system_for
@@ -165,7 +165,7 @@ def part_stiffness() -> dict[str, Any]:
 
 
 def part_presets() -> dict[str, Any]:
-    from spurdyn.cases import PRESETS
+    from spurdyn.case import PRESETS
     return {name: {c: _run(name, contact=c) for c in ("point", "hertz")} for name in PRESETS}
 
 

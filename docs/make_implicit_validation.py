@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.results.headline import averaged_peak, moving_average
 from spurdyn.simulators import MODELS
 from spurdyn.solvers.check import round_down

@@ -309,7 +309,7 @@ def main() -> None:
     print("relief", fig["relief"], flush=True)
     fig["settling"] = settling(fine)
     print("settling", fig["settling"], flush=True)
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
     from spurdyn.sweep.resonance import resonance_estimate
 
     case = resolve_cases("paper-fig8", {"run.cycles": 2, "run.torque": TORQUE, "mesh.nx": fine["nx"],

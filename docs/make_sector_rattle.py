@@ -28,7 +28,7 @@ def rattle(mesh: dict) -> dict:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from spurdyn.casefile import load_case
+    from spurdyn.case import load_case
 
     case = load_case(HERE.parent / "examples" / "idle_rattle.toml",
                      {"mesh.nx": mesh["nx"], "mesh.ny": mesh["ny"]}, {})

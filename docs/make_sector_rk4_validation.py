@@ -30,7 +30,7 @@ sys.path.insert(0, str(HERE))
 
 from make_implicit_validation import match_impacts, touches  # noqa: E402
 
-from spurdyn.cases import preset_case  # noqa: E402
+from spurdyn.case import preset_case  # noqa: E402
 from spurdyn.results.headline import averaged_peak, moving_average  # noqa: E402
 from spurdyn.results.pairs import steady_figures  # noqa: E402
 from spurdyn.settings import RPM  # noqa: E402

@@ -19,7 +19,7 @@ import math
 import time
 from pathlib import Path
 
-from spurdyn.casefile import load_pair
+from spurdyn.case import load_pair
 from spurdyn.geometry.blank import Blank
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, nasa_like_relief, paper_pair

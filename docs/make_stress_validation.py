@@ -23,7 +23,7 @@ from spurdyn.iso6336.rating import iso_pair, rate
 from spurdyn.model.root import peaks, root_surface
 from spurdyn.model.stiffness import ToothCompliance
 from spurdyn.model.tooth import build_tooth
-from spurdyn.pairfile import load_pair
+from spurdyn.case import load_pair
 
 HERE = Path(__file__).parent
 PAGE = HERE / "stress_validation.md"
@@ -96,7 +96,7 @@ def measure_dynamic() -> list[dict]:
     """Peak root stress of each gear over a run, beside the peak contact force."""
     import tempfile
 
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
     from spurdyn.results.io import load_run, write_run
     from spurdyn.simulators import MODELS
 

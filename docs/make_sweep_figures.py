@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.sweep.backends import default_jobs, local_backend
 from spurdyn.sweep.resonance import ResonanceEstimate, resonance_estimate
 from spurdyn.sweep.runner import run_sweep

@@ -25,6 +25,7 @@ from typing import Any, Mapping
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.case.pair_tables import MeshedPair, pair_from_dict
+# the pair tables' helpers under the names this module's body gave them when they were private
 from spurdyn.case.pair_tables import check_keys as _check_keys
 from spurdyn.case.pair_tables import gear_to_dict as _gear_to_dict
 from spurdyn.case.pair_tables import read_toml as _read_toml

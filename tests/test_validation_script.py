@@ -190,6 +190,34 @@ def test_relief_gap_is_the_relief_at_the_ends_and_zero_in_between(relief):
     assert np.all(gap[2:5] == 0.0)
 
 
+@pytest.fixture(scope="module")
+def common() -> ModuleType:
+    """What the page generators share, ``validation.common``."""
+    if str(DOCS) not in sys.path:
+        sys.path.insert(0, str(DOCS))
+    return importlib.import_module("validation.common")
+
+
+def test_touches_and_their_matching_between_two_runs(common):
+    t = np.arange(10.0)
+    f = np.array([1.0, 0, 0, 5, 7, 0, 0, 2, 0, 0])      # the start's contact is not a touch
+    assert common.touches(t, f) == [(3.0, 1.0, 7.0), (7.0, 0.0, 2.0)]
+    ref = [(3.0, 1.0, 7.0), (7.0, 0.0, 2.0)]
+    shifts, extra = common.match_impacts(ref, [(3.5, 1.0, 6.0), (5.0, 0.1, 1.0), (7.25, 0.0, 2.0)])
+    assert shifts == [0.5, 0.25] and extra == [(5.0, 0.1, 1.0)]
+    shifts, extra = common.match_impacts(ref, [(3.0, 1.0, 7.0)])
+    assert shifts[0] == 0.0 and math.isnan(shifts[1]) and extra == []
+
+
+def test_figures_kept_and_read_back_and_a_run_timed(common, tmp_path):
+    store = tmp_path / "page.json"
+    assert common.load_figures(store) == {}
+    common.save_figures(store, {"a": np.float64(1.5), "b": [1, 2]})
+    assert common.load_figures(store) == {"a": 1.5, "b": [1, 2]}
+    out, wall = common.timed(sum, [1, 2, 3])
+    assert out == 6 and wall >= 0.0
+
+
 def _runner(*args: str) -> subprocess.CompletedProcess[str]:
     """``python docs/validation ARGS``, the one runner of the pages."""
     return subprocess.run([sys.executable, str(DOCS / "validation"), *args],

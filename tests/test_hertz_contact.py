@@ -448,8 +448,7 @@ def test_a_graded_mesh_brings_the_strip_stiffness_nearer_its_fine_mesh_limit():
 
 
 def test_the_grading_of_a_case_is_kept_in_its_stored_case():
-    from spurdyn.case import case_from_dict, case_to_dict
-    from spurdyn.case import resolve_cases
+    from spurdyn.case import case_from_dict, case_to_dict, resolve_cases
 
     with pytest.raises(InputError, match=r"mesh.grading: dt 3e-08 s is above .* 4x14 tooth "
                        r"mesh graded 4; .* or less grading"):

@@ -190,8 +190,7 @@ def test_a_case_asks_for_the_implicit_integrator_its_step_and_its_damping(tmp_pa
     trip; the run folder says which integrator made it."""
     import json
 
-    from spurdyn.case import case_from_dict, case_to_dict
-    from spurdyn.case import resolve_cases
+    from spurdyn.case import case_from_dict, case_to_dict, resolve_cases
     from spurdyn.cli.main import main
 
     case = resolve_cases("paper-fig8", {"run.integrator": "implicit", "run.rayleigh_ratio": 0.02,

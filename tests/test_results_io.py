@@ -14,8 +14,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from spurdyn.case import preset_case, resolve_cases
-from spurdyn.case import case_from_dict, case_to_dict, load_case
+from spurdyn.case import case_from_dict, case_to_dict, load_case, preset_case, resolve_cases
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b

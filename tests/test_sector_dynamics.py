@@ -268,8 +268,7 @@ def test_the_bodies_damping_is_the_models_default_unless_given_and_zero_is_none(
     """A run that gives no Rayleigh damping runs the sector bodies with
     ``BODY_DAMPING_RATIO`` at ``BODY_DAMPING_FREQUENCY``; one that gives 0 runs them undamped, and
     a case file keeps the difference through its round trip (0 is written, nothing is not)."""
-    from spurdyn.case import case_from_dict, case_to_dict
-    from spurdyn.case import preset_case
+    from spurdyn.case import case_from_dict, case_to_dict, preset_case
     from spurdyn.solvers.sector.run import BODY_DAMPING_FREQUENCY, BODY_DAMPING_RATIO, body_rayleigh
 
     s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1)

@@ -19,7 +19,7 @@ CASES = ("paper-fig8", "paper-fig9", "paper-fig10", "paper-fig11")
 
 CHILD = r"""
 import json, sys
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.solvers.check import round_down
 from spurdyn.solvers.implicit.alpha import accuracy_step
 from spurdyn.solvers.loop import simulate

@@ -32,7 +32,7 @@ SPURDYN = str(Path(sys.executable).parent / "spurdyn")
 IN_PROCESS = r"""
 import json, time
 t0 = time.perf_counter()
-from spurdyn.cases import resolve_cases
+from spurdyn.case import resolve_cases
 t1 = time.perf_counter()
 case = resolve_cases("paper-fig8")[0]            # parse, build the system, run check
 t2 = time.perf_counter()

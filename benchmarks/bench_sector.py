@@ -67,7 +67,7 @@ def back_flank_steps() -> None:
 
 
 def paper_steps() -> None:
-    from spurdyn.cases import preset_case
+    from spurdyn.case import preset_case
     from spurdyn.solvers.loop import simulate
 
     case = preset_case("paper-fig8")

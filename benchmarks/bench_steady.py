@@ -40,7 +40,7 @@ def main() -> None:
     parser.add_argument("--reps", type=int, default=3)
     parser.add_argument("--jobs", type=int, default=None)
     args = parser.parse_args()
-    from spurdyn.cases import preset_case
+    from spurdyn.case import preset_case
     from spurdyn.sector.statics import mesh_cycle
 
     case = preset_case("paper-fig8")

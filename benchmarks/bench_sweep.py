@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.sweep.backends import default_jobs, local_backend
 from spurdyn.sweep.runner import SweepReport, run_sweep
 from spurdyn.sweep.spec import SweepPlan, parse_speeds

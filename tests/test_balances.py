@@ -90,7 +90,7 @@ def test_the_strips_balance_closes_over_fig8():
     drift of the pair spinning free, within 0.5 % of the largest strain energy over the whole
     engagement (0.31 % measured; 0.61 % without the re-spreading's move, 12.2 % without the
     roll; the point contact 3.0 %)."""
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
 
     case = resolve_cases("paper-fig8")[0]
     recs = []

@@ -9,12 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from spurdyn.casefile import RUN_KEYS, case_from_dict, load_case
 from spurdyn.cli.main import main
 from spurdyn.cli.report import pair_info
 from spurdyn.errors import InputError
-from spurdyn.pairfile import (BLANK_KEYS, GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS,
-                              RACK_KEYS, TOP_KEYS, pair_from_dict)
+from spurdyn.case import (BLANK_KEYS, GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS,
+                          RACK_KEYS, RUN_KEYS, TOP_KEYS, case_from_dict, load_case,
+                          pair_from_dict)
 from spurdyn.solvers.check import DT_FRACTION, run_settings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -150,7 +150,7 @@ def test_a_shifted_backlashed_pair_runs(tmp_path):
 
 
 def test_a_stored_case_rebuilds_the_same_shifted_pair():
-    from spurdyn.casefile import case_to_dict
+    from spurdyn.case import case_to_dict
 
     data = _designer_pair()
     data["gear_b"]["basic_rack"] = {"dedendum": 1.3, "fillet_radius": 0.2}

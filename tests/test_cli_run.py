@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from spurdyn.cases import resolve_cases
+from spurdyn.case import resolve_cases
 from spurdyn.cli import run as runner
 from spurdyn.cli.main import main
 from spurdyn.results.headline import AVERAGING_WINDOW_S, moving_average
@@ -214,7 +214,7 @@ def test_cases_lists_presets(capsys):
 
 
 def test_bdrive_preset_drives_with_b():
-    from spurdyn.cases import preset_case
+    from spurdyn.case import preset_case
 
     assert preset_case("paper-fig10-bdrive").pair.driver == "b"
     assert preset_case("paper-fig10").pair.driver == "a"
@@ -509,7 +509,7 @@ def test_real_solver_interrupted(real_solver, here, capsys, monkeypatch):
 
 def test_model_lumped_writes_a_run_folder(here, capsys):
     """``--model lumped`` runs the two-disk, one-spring model through the same run layer."""
-    from spurdyn.cases import preset_case
+    from spurdyn.case import preset_case
     from spurdyn.lumped import simulate_lumped
     from spurdyn.results.io import load_run
 

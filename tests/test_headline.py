@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from matplotlib.figure import Figure
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.cli.run import report_line
 from spurdyn.result import Result
 from spurdyn.results.headline import (AVERAGING_WINDOW_S, averaged_peak, headline,

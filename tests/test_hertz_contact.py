@@ -373,7 +373,7 @@ def test_info_reports_the_stiffness_of_the_contact_asked_for(capsys):
 
 
 def test_case_files_default_to_the_strip_and_presets_to_the_point(tmp_path):
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
 
     examples = Path(__file__).resolve().parents[1] / "examples"
     assert resolve_cases("paper-fig8")[0].run.contact == "point"
@@ -410,7 +410,7 @@ def test_the_lumped_strip_table_does_not_depend_on_which_equal_pair_built_the_sy
     from spurdyn.model.system import _kept_system, system_for
     from spurdyn.simulators import _hertz_table
 
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
 
     examples = Path(__file__).resolve().parents[1] / "examples"
     pinion = resolve_cases(str(examples / "pinion_gear.toml"))[0]   # 20 / 40 teeth
@@ -448,8 +448,7 @@ def test_a_graded_mesh_brings_the_strip_stiffness_nearer_its_fine_mesh_limit():
 
 
 def test_the_grading_of_a_case_is_kept_in_its_stored_case():
-    from spurdyn.casefile import case_from_dict, case_to_dict
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import case_from_dict, case_to_dict, resolve_cases
 
     with pytest.raises(InputError, match=r"mesh.grading: dt 3e-08 s is above .* 4x14 tooth "
                        r"mesh graded 4; .* or less grading"):

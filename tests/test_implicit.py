@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.geometry import paper_pair
 from spurdyn.model.system import build_system
 from spurdyn.results.headline import averaged_peak, moving_average
@@ -190,8 +190,7 @@ def test_a_case_asks_for_the_implicit_integrator_its_step_and_its_damping(tmp_pa
     trip; the run folder says which integrator made it."""
     import json
 
-    from spurdyn.casefile import case_from_dict, case_to_dict
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import case_from_dict, case_to_dict, resolve_cases
     from spurdyn.cli.main import main
 
     case = resolve_cases("paper-fig8", {"run.integrator": "implicit", "run.rayleigh_ratio": 0.02,

@@ -243,8 +243,7 @@ def test_the_damping_ratio_of_a_case_reaches_the_lumped_model_and_the_fe_rk4_ref
         tmp_path, capsys, monkeypatch):
     """run.damping_ratio / --damping: the lumped model's mesh damper; never ignored (the FE
     model's RK4 is undamped and says so; its implicit integrator takes it)."""
-    from spurdyn.casefile import case_from_dict, case_to_dict
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import case_from_dict, case_to_dict, resolve_cases
     from spurdyn.cli.main import main
     from spurdyn.errors import InputError
     from spurdyn.settings import RunSettings

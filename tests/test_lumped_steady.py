@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from spurdyn.cases import preset_case, resolve_cases
+from spurdyn.case import preset_case, resolve_cases
 from spurdyn.lumped import mesh_stiffness_table
 from spurdyn.lumped.steady import pair_rolls, simulate_steady
 from spurdyn.settings import RPM
@@ -101,7 +101,7 @@ def test_the_settled_test_needs_the_run_to_settle():
 
 
 def test_cycles_from_the_case_and_the_command_line(tmp_path, monkeypatch, capsys):
-    from spurdyn.casefile import case_from_dict, case_to_dict
+    from spurdyn.case import case_from_dict, case_to_dict
     from spurdyn.cli.main import main
 
     case = resolve_cases("paper-fig8", {"run.cycles": 12})[0]

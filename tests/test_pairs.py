@@ -27,7 +27,7 @@ import pytest
 import xarray as xr
 from scipy.integrate import solve_ivp
 
-from spurdyn.casefile import load_case
+from spurdyn.case import load_case
 from spurdyn.solvers.loop import simulate
 from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
 from spurdyn.solvers.check import stable_step

@@ -19,7 +19,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from spurdyn.casefile import RUN_KEYS
+from spurdyn.case import RUN_KEYS
 from spurdyn.cli import run as runner
 from spurdyn.cli.main import main
 from test_results_io import fake_simulate

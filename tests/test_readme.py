@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from spurdyn.cases import resolve_cases
+from spurdyn.case import resolve_cases
 from spurdyn.cli.main import build_parser, resolve_pair, run_overrides
 
 ROOT = Path(__file__).resolve().parents[1]

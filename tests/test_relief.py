@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from spurdyn.casefile import _gear_to_dict, gear_from_table, load_pair
+from spurdyn.case import gear_from_table, gear_to_dict, load_pair
 from spurdyn.cli.main import main
 from spurdyn.errors import InputError
 from spurdyn.fem.assembly import jacobian_determinants
@@ -320,13 +320,13 @@ def test_relief_keys_accepted_and_written_back(tmp_path, capsys):
     # Gear B copies A, relief included.
     assert load_pair(path).pair.gear_b == g
     # The TOML form written back reads as the same gear.
-    table = _gear_to_dict(g)
+    table = gear_to_dict(g)
     assert set(table) >= {"tip_relief", "tip_relief_start_roll_deg", "tip_relief_shape"}
     again = gear_from_table(table, "gear_a")
     assert again.tip_relief == g.tip_relief and again.tip_relief_shape == g.tip_relief_shape
     assert again.tip_relief_start_roll == pytest.approx(g.tip_relief_start_roll, rel=1e-14)
     # An unmodified gear writes no relief keys (stored case files stay as they were).
-    assert not any(k.startswith("tip_relief") for k in _gear_to_dict(paper_gear()))
+    assert not any(k.startswith("tip_relief") for k in gear_to_dict(paper_gear()))
 
 
 def test_start_roll_and_start_radius_give_the_same_gear(tmp_path):

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.results import beside as beside_module
 from spurdyn.results.beside import beside
 from spurdyn.results.io import write_run

@@ -14,8 +14,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from spurdyn.cases import preset_case, resolve_cases
-from spurdyn.casefile import case_from_dict, case_to_dict, load_case
+from spurdyn.case import case_from_dict, case_to_dict, load_case, preset_case, resolve_cases
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
@@ -296,7 +295,7 @@ def test_animation_gif(tmp_path, run_dir):
 @pytest.fixture(scope="module")
 def loaded_run(tmp_path_factory):
     """Fig. 8 through its first 9 degrees (the load is on), with a frame every 100 steps."""
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
     from spurdyn.simulators import MODELS
 
     case = resolve_cases("paper-fig8", {"run.angle_deg": 9.0})[0]

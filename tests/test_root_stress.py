@@ -69,7 +69,7 @@ def test_peaks_skip_missing_rows():
 
 
 def _case_with_allowables(flim=430e6, hlim=1500e6):
-    from spurdyn.casefile import case_from_dict
+    from spurdyn.case import case_from_dict
 
     gear = {"teeth": 25, "module": 0.003, "pressure_angle_deg": 20.0, "face_width": 0.03,
             "material": {"young": 210e9, "poisson": 0.3, "density": 7800.0}}
@@ -104,7 +104,7 @@ def test_safety_factors_from_the_model_peaks_and_from_iso():
 
 
 def test_allowables_are_kept_in_the_stored_case_and_a_value_in_mpa_is_refused():
-    from spurdyn.casefile import case_from_dict, case_to_dict
+    from spurdyn.case import case_from_dict, case_to_dict
     from spurdyn.errors import InputError
 
     case = _case_with_allowables()

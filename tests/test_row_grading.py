@@ -58,7 +58,7 @@ import dataclasses  # noqa: E402
 import json  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from spurdyn.casefile import case_from_dict, case_to_dict, load_case  # noqa: E402
+from spurdyn.case import case_from_dict, case_to_dict, load_case  # noqa: E402
 from spurdyn.cli.main import main  # noqa: E402
 from spurdyn.settings import RunSettings  # noqa: E402
 

@@ -268,8 +268,7 @@ def test_the_bodies_damping_is_the_models_default_unless_given_and_zero_is_none(
     """A run that gives no Rayleigh damping runs the sector bodies with
     ``BODY_DAMPING_RATIO`` at ``BODY_DAMPING_FREQUENCY``; one that gives 0 runs them undamped, and
     a case file keeps the difference through its round trip (0 is written, nothing is not)."""
-    from spurdyn.casefile import case_from_dict, case_to_dict
-    from spurdyn.cases import preset_case
+    from spurdyn.case import case_from_dict, case_to_dict, preset_case
     from spurdyn.solvers.sector.run import BODY_DAMPING_FREQUENCY, BODY_DAMPING_RATIO, body_rayleigh
 
     s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1)
@@ -293,7 +292,7 @@ def test_the_bodies_damping_is_the_models_default_unless_given_and_zero_is_none(
 def test_a_case_file_asks_for_its_model_and_the_flag_overrides_it(tmp_path):
     """``[model] kind`` picks the model of a case file (``--model`` wins), survives the round
     trip through the stored case, and a bad kind or key is refused in one line naming it."""
-    from spurdyn.casefile import case_from_dict, case_to_dict, load_case
+    from spurdyn.case import case_from_dict, case_to_dict, load_case
     from spurdyn.cli.main import main, model_of
     from spurdyn.errors import InputError
     from spurdyn.settings import MODEL_NAMES
@@ -492,7 +491,7 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
     whole = simulate_sector(PAIR, s3.with_(cycles=6, max_cycles=6))
     assert again.info["tooth_offset"] == -3
     # the end state is a continuation's, kept in memory: not in result.nc
-    from spurdyn.casefile import Case
+    from spurdyn.case import Case
     from spurdyn.results.io import result_to_dataset
 
     ds = result_to_dataset(first, Case(name="c", pair=PAIR, run=s3, model="sector"))

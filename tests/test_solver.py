@@ -264,7 +264,7 @@ def test_the_hard_impact_of_fig11_with_b_driving_runs_through_at_the_papers_dt()
     conforming, wavy flanks) and the displacement stage stopped at step 779; the
     bracketed search it now falls back on keeps the run going (docs/solver.md).
     """
-    from spurdyn.cases import preset_case
+    from spurdyn.case import preset_case
 
     c = preset_case("paper-fig11-bdrive")
     r = simulate(c.pair, c.run.with_(frames_every=0, save_every=10))

@@ -360,7 +360,7 @@ def test_worker_dying_loses_only_its_point(tmp_path):
     import dask
     import distributed  # noqa: F401 - its defaults must be loaded before config.set
 
-    from spurdyn.cases import preset_case
+    from spurdyn.case import preset_case
     from spurdyn.sweep.backends import local_backend
     from spurdyn.sweep.runner import run_sweep
     from spurdyn.sweep.spec import SweepPlan
@@ -426,7 +426,7 @@ def test_external_scheduler_on_loopback(tmp_path, capsys, loopback_cluster):
 
     # The only worker dies (no nanny restarts it): the finished point is kept, the others
     # are marked not run once the cluster has had no worker for the grace period.
-    from spurdyn.cases import preset_case
+    from spurdyn.case import preset_case
     from spurdyn.sweep.backends import scheduler_backend
     from spurdyn.sweep.runner import run_sweep
     from spurdyn.sweep.spec import SweepPlan

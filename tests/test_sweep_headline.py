@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 from matplotlib.figure import Figure
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.sweep.backends import SerialBackend
 from spurdyn.sweep.plot import draw_dynamic_factor
 from spurdyn.sweep.point import FIGURES, PointOutcome, run_point

@@ -26,7 +26,7 @@ from spurdyn.settings import RPM, TorqueHistory
 from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.sector.run import simulate_sector
 from spurdyn.solvers.sector.system import teeth_for
-from spurdyn.torquefile import history_from_table, history_to_table, read_history_csv
+from spurdyn.case import history_from_table, history_to_table, read_history_csv
 
 PAIR = paper_pair()
 MESH = dict(nx=2, ny=8)

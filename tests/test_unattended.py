@@ -319,7 +319,7 @@ def test_rate_counts_from_the_first_report(monkeypatch):
 
 def test_compiling_is_announced(tmp_path, capsys, monkeypatch):
     import spurdyn.solvers.warmup as warmup
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
     from spurdyn.simulators import MODELS
 
     plan = runner.plan_runs(resolve_cases("paper-fig9", {}, {}), str(tmp_path / "o"), False)[0]

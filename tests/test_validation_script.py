@@ -1,8 +1,10 @@
-"""The report package docs/validation_report: its pure helpers on synthetic data, its run
-list and the relief gap (no solver runs)."""
+"""The validation pages' generators, docs/validation: the report's pure helpers on synthetic
+data, its run list and the relief gap (no solver runs); every generator imports and its
+runner takes its options."""
 
 import importlib
 import math
+import subprocess
 import sys
 from pathlib import Path
 from types import ModuleType
@@ -14,27 +16,27 @@ DOCS = Path(__file__).resolve().parents[1] / "docs"
 
 
 def _report_module(name: str) -> ModuleType:
-    """``validation_report.<name>``, with ``docs/`` (where the package lives) on the path."""
+    """``validation.report.<name>``, with ``docs/`` (where the package lives) on the path."""
     if str(DOCS) not in sys.path:
         sys.path.insert(0, str(DOCS))
-    return importlib.import_module(f"validation_report.{name}")
+    return importlib.import_module(f"validation.report.{name}")
 
 
 @pytest.fixture(scope="module")
 def mv() -> ModuleType:
-    """The pure helpers, ``validation_report.helpers``."""
+    """The pure helpers, ``validation.report.helpers``."""
     return _report_module("helpers")
 
 
 @pytest.fixture(scope="module")
 def runs() -> ModuleType:
-    """The run list and its cache keys, ``validation_report.runs``."""
+    """The run list and its cache keys, ``validation.report.runs``."""
     return _report_module("runs")
 
 
 @pytest.fixture(scope="module")
 def relief() -> ModuleType:
-    """Section 5, ``validation_report.relief``."""
+    """Section 5, ``validation.report.relief``."""
     return _report_module("relief")
 
 
@@ -188,12 +190,61 @@ def test_relief_gap_is_the_relief_at_the_ends_and_zero_in_between(relief):
     assert np.all(gap[2:5] == 0.0)
 
 
-def test_the_entry_point_script_still_takes_its_options():
-    # docs/make_validation.py is a thin wrapper around the package: it must find it
-    import subprocess
+@pytest.fixture(scope="module")
+def common() -> ModuleType:
+    """What the page generators share, ``validation.common``."""
+    if str(DOCS) not in sys.path:
+        sys.path.insert(0, str(DOCS))
+    return importlib.import_module("validation.common")
 
-    out = subprocess.run([sys.executable, str(DOCS / "make_validation.py"), "--help"],
-                         capture_output=True, text=True, timeout=120)
+
+def test_touches_and_their_matching_between_two_runs(common):
+    t = np.arange(10.0)
+    f = np.array([1.0, 0, 0, 5, 7, 0, 0, 2, 0, 0])      # the start's contact is not a touch
+    assert common.touches(t, f) == [(3.0, 1.0, 7.0), (7.0, 0.0, 2.0)]
+    ref = [(3.0, 1.0, 7.0), (7.0, 0.0, 2.0)]
+    shifts, extra = common.match_impacts(ref, [(3.5, 1.0, 6.0), (5.0, 0.1, 1.0), (7.25, 0.0, 2.0)])
+    assert shifts == [0.5, 0.25] and extra == [(5.0, 0.1, 1.0)]
+    shifts, extra = common.match_impacts(ref, [(3.0, 1.0, 7.0)])
+    assert shifts[0] == 0.0 and math.isnan(shifts[1]) and extra == []
+
+
+def test_figures_kept_and_read_back_and_a_run_timed(common, tmp_path):
+    store = tmp_path / "page.json"
+    assert common.load_figures(store) == {}
+    common.save_figures(store, {"a": np.float64(1.5), "b": [1, 2]})
+    assert common.load_figures(store) == {"a": 1.5, "b": [1, 2]}
+    out, wall = common.timed(sum, [1, 2, 3])
+    assert out == 6 and wall >= 0.0
+
+
+def _runner(*args: str) -> subprocess.CompletedProcess[str]:
+    """``python docs/validation ARGS``, the one runner of the pages."""
+    return subprocess.run([sys.executable, str(DOCS / "validation"), *args],
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_the_runner_lists_the_pages_and_refuses_an_unknown_one():
+    out = _runner()
+    assert out.returncode == 0, out.stderr
+    for page in ("validation", "contact_validation", "sector_rk4_validation", "validation_sweep"):
+        assert page in out.stdout
+    assert _runner("no_such_page").returncode == 2
+
+
+def test_the_report_still_takes_its_options():
+    out = _runner("validation", "--help")
     assert out.returncode == 0, out.stderr
     for option in ("--rerun", "--runs-only", "--sweep"):
         assert option in out.stdout
+
+
+@pytest.mark.parametrize("page", ["contact_validation", "implicit_validation", "sector_validation",
+                                  "sector_dynamics_validation", "sector_rk4_validation",
+                                  "stress_validation", "validation_sweep", "stiffness"])
+def test_every_generator_imports_and_shows_its_options(page):
+    """Each page's generator imports (its spurdyn names among them) and answers ``--help``
+    without running anything."""
+    out = _runner(page, "--help")
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith(f"usage: docs/validation {page}")

@@ -7,9 +7,9 @@ stable step) → ``geometry`` (involute teeth, fillets, relief, pairs) → ``iso
 builds once: bodies, flanks, loading, stiffness) → ``contact`` (flank search, Hertzian
 strips, NumPy and compiled) → ``sector`` (the sector model's body and quasi-static mesh
 cycle) → ``solvers`` (the stepper contract, the paper's method and the implicit
-integrator, the time loop) → ``lumped`` → ``pairfile``/``casefile`` → ``results`` (files,
-plots) → ``simulators`` → ``cases`` → ``sweep`` → ``cli``. Compiled code comes in through
-one gate, :mod:`spurdyn.jit`.
+integrator, the time loop) → ``lumped`` → ``case`` (presets, case files, pair and
+torque tables) → ``results`` (files, plots) → ``simulators`` → ``sweep`` → ``cli``.
+Compiled code comes in through one gate, :mod:`spurdyn.jit`.
 """
 
 from typing import Any

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from spurdyn.casefile import MeshedPair, load_pair
+from spurdyn.case.pair_tables import MeshedPair, load_pair
 from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
@@ -14,7 +14,7 @@ from spurdyn.geometry.presets import paper_pair
 
 def resolve_pair(name: str) -> MeshedPair:
     """A pair by name (``paper`` or a preset such as ``paper-fig8``) or from a TOML file."""
-    from spurdyn.cases import is_preset
+    from spurdyn.case.presets import is_preset
 
     if name == "paper" or is_preset(name):
         return MeshedPair(pair=paper_pair(), name="paper")

@@ -15,7 +15,7 @@ import tomllib
 from pathlib import Path
 from typing import Any, NoReturn, Sequence
 
-from spurdyn.casefile import MeshedPair
+from spurdyn.case.pair_tables import MeshedPair
 from spurdyn.cli.inputs import meshed_case, png_target, resolve_pair
 from spurdyn.cli.options import (DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics,
                                  refuse_lumped_options, refuse_sector_options)
@@ -42,7 +42,7 @@ def _info_contact(args: argparse.Namespace, case: MeshedPair) -> tuple[str, floa
     The paper's pair defaults to its point contact, a file to the distributed contact
     under the file's ``[run]`` torque (or ``--torque``); a file without a torque to the
     point contact, unless ``--contact hertz`` asks for the strip (then a torque is needed)."""
-    from spurdyn.cases import is_preset
+    from spurdyn.case.presets import is_preset
     from spurdyn.model.loading import static_force
 
     paper = args.case == "paper" or is_preset(args.case)
@@ -130,7 +130,7 @@ def model_of(cases: Any, flag: str | None) -> str:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case.presets import resolve_cases
     from spurdyn.cli import run as runner
 
     if args.jobs < 1:
@@ -168,7 +168,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_cases(args: argparse.Namespace) -> int:
-    from spurdyn.cases import preset_lines
+    from spurdyn.case.presets import preset_lines
 
     print("\n".join(preset_lines()))
     return 0

@@ -7,7 +7,7 @@ from typing import Any
 
 from spurdyn.model.stiffness import iso_6336_stiffness, pair_stiffness
 from spurdyn.model.tooth import build_tooth
-from spurdyn.pairfile import MeshedPair
+from spurdyn.case.pair_tables import MeshedPair
 from spurdyn.model.system import system_for
 from spurdyn.settings import PAPER_DT, RunSettings
 from spurdyn.solvers.check import DT_FRACTION, default_dt, stable_step

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
 
-from spurdyn.casefile import Case
+from spurdyn.case.file import Case
 from spurdyn.errors import InputError
 from spurdyn.signals import Interrupts, install_in_worker
 from spurdyn.simulators import MODELS, Simulate

@@ -43,7 +43,7 @@ def add_stiffness_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def _torques(args: argparse.Namespace) -> list[float]:
-    from spurdyn.cases import is_preset
+    from spurdyn.case.presets import is_preset
     from spurdyn.geometry.presets import PAPER_TORQUE
 
     if args.torque is not None:

@@ -71,7 +71,7 @@ def resolve_sweep_case(spec: str, overrides: dict[str, Any], labels: dict[str, s
     A file without ``run.speed_a_rpm`` takes the sweep's first speed there (the sweep
     replaces it at each point anyway; ``run.speed_b_rpm`` defaults to the meshing speed).
     """
-    from spurdyn.cases import GROUPS, resolve_cases
+    from spurdyn.case.presets import GROUPS, resolve_cases
 
     if spec in GROUPS:
         raise InputError("CASE", f"{spec!r} is a group of cases; a sweep runs one case "

@@ -6,3 +6,25 @@ version) and :mod:`spurdyn.contact.search_compiled` (Numba), with their shared c
 contact modes and flank parameter columns in :mod:`spurdyn.contact.constants`. The flank
 itself (a data description) is :class:`spurdyn.model.flank.Flank`.
 """
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+#: Public names and the module each comes from, imported when first asked for
+#: (the compiled search loads Numba's code only when used).
+_EXPORTS = {
+    "FLANK_COLUMNS": "constants", "flank_row": "constants", "effective_modulus": "hertz",
+    "half_width": "hertz", "peak_pressure": "hertz", "strip_compliance": "hertz",
+    "ContactPair": "search_numpy", "find_contact": "search_numpy",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    """Serve a public name from its module, importing the module when first asked."""
+    if name in _EXPORTS:
+        return getattr(import_module(f"spurdyn.contact.{_EXPORTS[name]}"), name)
+    raise AttributeError(f"module 'spurdyn.contact' has no attribute {name!r}")

@@ -107,7 +107,7 @@ def write_run_folder(result: Result, case: Any, target: Path, *, force: bool = T
     Parameters
     ----------
     result, case
-        The run and its :class:`~spurdyn.casefile.Case`.
+        The run and its :class:`~spurdyn.case.file.Case`.
     target
         The folder; its parent must exist.
     force

@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from spurdyn.casefile import Case, case_from_dict
+from spurdyn.case.file import Case, case_from_dict
 from spurdyn.errors import InputError
 
 

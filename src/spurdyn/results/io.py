@@ -29,7 +29,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from spurdyn.casefile import Case, case_to_dict
+from spurdyn.case.file import Case, case_to_dict
 from spurdyn.errors import InputError
 from spurdyn.result import STAGES, Result
 from spurdyn.results.beside import beside

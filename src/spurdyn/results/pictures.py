@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
-from spurdyn.casefile import MeshedPair  # noqa: E402
+from spurdyn.case.pair_tables import MeshedPair  # noqa: E402
 from spurdyn.geometry.placement import line_of_action_point, mesh_angles, to_world_a, to_world_b  # noqa: E402
 from spurdyn.mesh.tooth import ToothMesh, tooth_mesh  # noqa: E402
 

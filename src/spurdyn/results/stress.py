@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from spurdyn.casefile import Case
+from spurdyn.case.file import Case
 from spurdyn.model.root import peaks, root_surface
 from spurdyn.results.frames import tooth_frames
 

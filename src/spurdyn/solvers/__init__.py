@@ -14,3 +14,26 @@
   steppers by integrator and backend.
 - :mod:`~spurdyn.solvers.warmup`: whether the compiled solver still has to be compiled.
 """
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+#: Public names and the module each comes from, imported when first asked for
+#: (the package's modules import one another, so an eager facade would make circles).
+_EXPORTS = {
+    "Failure": "base", "Stepper": "base", "RunPlan": "check", "check_run": "check",
+    "default_dt": "check", "run_settings": "check", "stable_step": "check", "HISTORY": "layout",
+    "NCOL": "layout", "HistoryRow": "layout", "STEPPERS": "loop", "make_stepper": "loop",
+    "simulate": "loop", "needs_compiling": "warmup",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    """Serve a public name from its module, importing the module when first asked."""
+    if name in _EXPORTS:
+        return getattr(import_module(f"spurdyn.solvers.{_EXPORTS[name]}"), name)
+    raise AttributeError(f"module 'spurdyn.solvers' has no attribute {name!r}")

@@ -3,7 +3,7 @@
 ``spurdyn sweep`` (:mod:`spurdyn.cli.sweep`) and, from Python::
 
     from pathlib import Path
-    from spurdyn.cases import preset_case
+    from spurdyn.case import preset_case
     from spurdyn.sweep import SerialBackend, SweepPlan, local_backend, parse_speeds, run_sweep
 
     plan = SweepPlan(case=preset_case("paper-fig8"), model="lumped",

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from spurdyn.casefile import Case
+from spurdyn.case.file import Case
 from spurdyn.result import Result
 from spurdyn.results.headline import AVERAGING_WINDOW_S
 from spurdyn.sweep.spec import PointKey

@@ -16,7 +16,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from spurdyn.casefile import Case
+from spurdyn.case.file import Case
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,7 @@ from typing import Any, Iterator, TextIO
 
 import xarray as xr
 
-from spurdyn.casefile import Case
+from spurdyn.case.file import Case
 from spurdyn.result import Result
 from spurdyn.signals import Interrupts
 from spurdyn.sweep import point as _point

@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from spurdyn.casefile import Case, case_to_dict
+from spurdyn.case.file import Case, case_to_dict
 from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as _MODELS
 from spurdyn.settings import RPM

@@ -9,3 +9,25 @@ contact's active set) and :mod:`~spurdyn.solvers.implicit.step_compiled` its Num
 and :mod:`~spurdyn.solvers.implicit.stepper` the :class:`~spurdyn.solvers.base.Stepper` s
 (``backend="numpy"`` and ``"numba"``) the time loop drives.
 """
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+#: Public names and the module each comes from, imported when first asked for
+#: (the compiled twin loads Numba's code only when used).
+_EXPORTS = {
+    "GeneralizedAlpha": "alpha", "accuracy_step": "alpha", "mesh_damper_coefficient": "damping",
+    "rayleigh_from_ratio": "damping", "ImplicitMethod": "step_numpy",
+    "CompiledImplicitStepper": "stepper", "ImplicitStepper": "stepper",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    """Serve a public name from its module, importing the module when first asked."""
+    if name in _EXPORTS:
+        return getattr(import_module(f"spurdyn.solvers.implicit.{_EXPORTS[name]}"), name)
+    raise AttributeError(f"module 'spurdyn.solvers.implicit' has no attribute {name!r}")

@@ -15,3 +15,25 @@ NumPy                  compiled                 what
 
 ``constants`` holds what both read (the force's relocation limits).
 """
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+#: Public names and the module each comes from, imported when first asked for
+#: (the compiled twins load Numba's code only when used).
+_EXPORTS = {
+    "PaperMethod": "step_numpy", "initial_state": "step_numpy", "NumpyStepper": "stepper_numpy",
+    "CompiledStepper": "stepper_compiled", "StaticStiffness": "statics",
+    "static_stiffness": "statics",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    """Serve a public name from its module, importing the module when first asked."""
+    if name in _EXPORTS:
+        return getattr(import_module(f"spurdyn.solvers.paper.{_EXPORTS[name]}"), name)
+    raise AttributeError(f"module 'spurdyn.solvers.paper' has no attribute {name!r}")

@@ -3,19 +3,16 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
+
+# ``docs/`` and its figures, as every page generator has them (re-exported for the report)
+from validation.common import DOCS, FIGURES, ROOT, RUNNER  # noqa: F401
 
 from .spurdyn_api import AVERAGING_WINDOW_S
 
-#: ``docs/``: the report, its figures and its cache live beside this package.
-DOCS = Path(__file__).resolve().parent.parent
-ROOT = DOCS.parent
 DATA = DOCS / "validation_data"
-FIGURES = DOCS / "figures"
 REPORT = DOCS / "validation.md"
-#: Section 7 as ``docs/make_sweep_figures.py`` writes it, and that script.
+#: Section 7 as :mod:`validation.sweep` writes it (``python docs/validation validation_sweep``).
 SWEEP_FRAGMENT = DOCS / "validation_sweep.md"
-SWEEP_SCRIPT = DOCS / "make_sweep_figures.py"
 
 #: Width of the moving window that the runs are compared on (s): the one of spurdyn's
 #: dynamic factor.

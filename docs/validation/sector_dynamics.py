@@ -1,6 +1,6 @@
 """Write docs/sector_dynamics_validation.md: the sector model's dynamic run measured.
 
-    .venv/bin/python docs/make_sector_dynamics_validation.py [--quick] [--only PART]
+    .venv/bin/python docs/validation sector_dynamics_validation [--quick] [--only PART]
 
 Every figure on the page is computed here (about 10 minutes on two cores; ``--quick``: the
 coarse 2 x 8 teeth throughout, a few minutes; ``--only rattle`` re-measures one part and keeps
@@ -11,13 +11,11 @@ docs/sector.md, section 6.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import time
-from pathlib import Path
+from typing import Sequence
 
 import numpy as np
-from make_sector_rattle import UNDAMPED, rattle, rattle_lines  # beside this script
 
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.iso6336.dynamics import reduced_mass
@@ -26,9 +24,11 @@ from spurdyn.settings import RPM, SETTLE_CYCLES_FACTOR
 from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.sector.rules import BODY_DAMPING_FREQUENCY, BODY_DAMPING_RATIO
 from spurdyn.solvers.sector.run import simulate_sector
+from validation.common import DOCS, load_figures, save_figures, timed, write_page
+from validation.sector_rattle import UNDAMPED, rattle, rattle_lines
 
-HERE = Path(__file__).resolve().parent
-PAGE = HERE / "sector_dynamics_validation.md"
+PAGE = DOCS / "sector_dynamics_validation.md"
+STORE = DOCS / "sector_dynamics_validation.json"
 PAIR = paper_pair()
 TORQUE = 60.0           # N m on the paper's pair: W = 1,436 N, 84 N/mm... x 2.7 (its line load)
 
@@ -151,12 +151,11 @@ def step_study(mesh: dict, rpm: float) -> dict:
         s = run_settings(PAIR, rpm * RPM, TORQUE, dt=1e-6, cycles=4, max_cycles=4, damping_ratio=0.05, **mesh)
         period = 2 * math.pi / PAIR.gear_a.teeth / s.speed_a
         per = steps_per_cycle(s.speed_a, PAIR.gear_a.teeth)
-        t0 = time.perf_counter()
-        run = simulate_sector(PAIR, s, dt=period / (per * factor))
+        run, wall = timed(simulate_sector, PAIR, s, dt=period / (per * factor))
         runs[label] = (factor, run)
         out[label] = {"dt_s": run.info["dt_s"], "dynamic_factor": settled_dynamic_factor(run),
                       "te_rms_um": run.info["steady"]["transmission_error_rms_m"] * 1e6,
-                      "wall_s": time.perf_counter() - t0, "steps": run.steps, "n_dof": run.info["n_dof"]}
+                      "wall_s": wall, "steps": run.steps, "n_dof": run.info["n_dof"]}
     _, ref = runs["tenth"]
     ref_mesh = moving_average(ref.time, np.nansum(ref.pair_force, axis=1))
     ref_onsets = _onsets(ref)
@@ -184,9 +183,8 @@ def bodies(mesh: dict) -> dict:
     out = {}
     runs = {}
     for kind in ("full", "modal"):
-        t0 = time.perf_counter()
-        runs[kind] = simulate_sector(PAIR, s.with_(bodies=kind))
-        out[kind] = {"wall_s": time.perf_counter() - t0, "coordinates": runs[kind].info["coordinates"],
+        runs[kind], wall = timed(simulate_sector, PAIR, s.with_(bodies=kind))
+        out[kind] = {"wall_s": wall, "coordinates": runs[kind].info["coordinates"],
                      "modes": runs[kind].info["modes"], "dynamic_factor": settled_dynamic_factor(runs[kind])}
     full, modal = runs["full"], runs["modal"]
     w = full.info["static_force"]
@@ -263,13 +261,12 @@ def sweep(mesh: dict, rpms: list[float], cycles: int) -> list[dict]:
     for rpm in rpms:
         s = run_settings(PAIR, rpm * RPM, TORQUE, dt=1e-6, cycles=cycles, damping_ratio=0.05,
                          rayleigh_mass=a, rayleigh_stiffness=b, **mesh)
-        t0 = time.perf_counter()
-        run = simulate_sector(PAIR, s)
+        run, wall = timed(simulate_sector, PAIR, s)
         rows.append({"rpm": rpm, "dynamic_factor": settled_dynamic_factor(run),
                      "settled": run.info["steady"]["settled"],
                      "cycles_done": run.info["steady"]["cycles_done"],
                      "te_rms_um": run.info["steady"]["transmission_error_rms_m"] * 1e6,
-                     "wall_s": time.perf_counter() - t0, "steps": run.steps})
+                     "wall_s": wall, "steps": run.steps})
         print(f"  {rpm:,.0f} rpm: {rows[-1]}", flush=True)
     return rows
 
@@ -278,28 +275,26 @@ def sweep(mesh: dict, rpms: list[float], cycles: int) -> list[dict]:
 PARTS = {"rattle": rattle, "energy": energy, "ring": lambda mesh: [ring(mesh, 0.0), ring(mesh, 0.05)]}
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: measure (all, or one part), then write the page and its figures."""
+    ap = argparse.ArgumentParser(prog="docs/validation sector_dynamics_validation",
+                                 description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="2 x 8 teeth throughout")
     ap.add_argument("--only", choices=sorted(PARTS), help="re-measure this part only")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     fine = dict(nx=2, ny=8) if args.quick else dict(nx=4, ny=14)
     if args.only:
-        fig = json.loads((HERE / "sector_dynamics_validation.json").read_text())
+        fig = load_figures(STORE)
         fig[args.only] = PARTS[args.only](fig["mesh_fine"])
         print(args.only, fig[args.only], flush=True)
-        (HERE / "sector_dynamics_validation.json").write_text(json.dumps(fig, indent=1, default=float) + "\n")
-        PAGE.write_text(render(fig), encoding="utf-8")
-        print(f"wrote {PAGE}")
-        return
+        save_figures(STORE, fig)
+        write_page(PAGE, render(fig), echo=False)
+        return 0
     t0 = time.perf_counter()
     fig: dict = {"mesh_fine": fine}
-    fig["balance"] = load_balance(fine)
-    print("balance", fig["balance"], flush=True)
-    fig["energy"] = energy(fine)
-    print("energy", fig["energy"], flush=True)
-    fig["ring"] = [ring(fine, 0.0), ring(fine, 0.05)]
-    print("ring", fig["ring"], flush=True)
+    for name, measure in (("balance", load_balance), ("energy", energy), ("ring", PARTS["ring"])):
+        fig[name] = measure(fine)
+        print(name, fig[name], flush=True)
     fig["step_rpms"] = [2000.0, 6000.0, 14000.0]
     fig["step"] = {f"{rpm:.0f}": step_study(fine, rpm) for rpm in fig["step_rpms"]}
     print("step", fig["step"], flush=True)
@@ -309,7 +304,7 @@ def main() -> None:
     print("relief", fig["relief"], flush=True)
     fig["settling"] = settling(fine)
     print("settling", fig["settling"], flush=True)
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
     from spurdyn.sweep.resonance import resonance_estimate
 
     case = resolve_cases("paper-fig8", {"run.cycles": 2, "run.torque": TORQUE, "mesh.nx": fine["nx"],
@@ -326,9 +321,9 @@ def main() -> None:
     fig["rattle"] = rattle(fine)
     print("rattle", fig["rattle"], flush=True)
     fig["wall_s"] = time.perf_counter() - t0
-    (HERE / "sector_dynamics_validation.json").write_text(json.dumps(fig, indent=1, default=float) + "\n")
-    PAGE.write_text(render(fig), encoding="utf-8")
-    print(f"wrote {PAGE} in {fig['wall_s']:.0f} s")
+    save_figures(STORE, fig)
+    write_page(PAGE, render(fig), echo=False)
+    return 0
 
 
 def render(f: dict) -> str:
@@ -340,7 +335,7 @@ def render(f: dict) -> str:
     lines = [
         "# The sector model in motion: measured",
         "",
-        "Written by `docs/make_sector_dynamics_validation.py` (figures in "
+        "Written by `docs/validation/sector_dynamics.py` (figures in "
         "`sector_dynamics_validation.json`); the derivations are docs/sector.md, section 6. The "
         f"paper's pair at {TORQUE:g} N m on the driver, teeth of {mesh} elements unless said.",
         "",
@@ -501,6 +496,3 @@ def render(f: dict) -> str:
               "--only is not counted).", ""]
     return "\n".join(lines)
 
-
-if __name__ == "__main__":
-    main()

@@ -1,19 +1,18 @@
 """The backlash-and-rattle part of docs/sector_dynamics_validation.md (its script,
-``make_sector_dynamics_validation.py``, imports it; ``--only rattle`` re-measures it): the
+``sector_dynamics.py``, imports it; ``--only rattle`` re-measures it): the
 idle-rattle example measured, its figure, and the momentum and energy balances of the same
 case undamped."""
 
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
 
 from spurdyn.settings import RPM
 from spurdyn.solvers.sector.run import simulate_sector
+from validation.common import FIGURES, ROOT, timed
 
-HERE = Path(__file__).resolve().parent
 #: The bodies without the sector model's default structural damping (the undamped checks of
 #: both scripts, the ring of the mesh damper alone, the tip-relief runs of undamped Fig. 8).
 UNDAMPED = dict(rayleigh_mass=0.0, rayleigh_stiffness=0.0)
@@ -28,14 +27,12 @@ def rattle(mesh: dict) -> dict:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from spurdyn.casefile import load_case
+    from spurdyn.case import load_case
 
-    case = load_case(HERE.parent / "examples" / "idle_rattle.toml",
+    case = load_case(ROOT / "examples" / "idle_rattle.toml",
                      {"mesh.nx": mesh["nx"], "mesh.ny": mesh["ny"]}, {})
     pair, s = case.pair, case.run
-    t0 = time.perf_counter()
-    run = simulate_sector(pair, s)
-    wall = time.perf_counter() - t0
+    run, wall = timed(simulate_sector, pair, s)
     back, drive = run.back_force.sum(axis=1), np.nansum(run.pair_force, axis=1)
     jn = run.info["backlash_normal_m"]
     hit = int(np.flatnonzero(back > 0)[0])
@@ -58,7 +55,7 @@ def rattle(mesh: dict) -> dict:
     ax[0].set_title(f"idle rattle: {s.speed_a / RPM:,.0f} rpm, j_n = {jn * 1e6:.1f} µm, "
                     f"{mesh['nx']} x {mesh['ny']} teeth")
     fig.tight_layout()
-    fig.savefig(HERE / "figures" / "validation_idle_rattle.png", dpi=110)
+    fig.savefig(FIGURES / "validation_idle_rattle.png", dpi=110)
     plt.close(fig)
     ref = simulate_sector(pair, s.with_(backend="numpy", rho_inf=1.0, damping_ratio=0.0, **UNDAMPED),
                           energy=True)

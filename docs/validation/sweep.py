@@ -1,7 +1,7 @@
 """Dynamic factor against speed of the paper's pair, FE and lumped: the validation figure
 ``docs/figures/dynamic_factor_sweep.png`` and the fragment ``docs/validation_sweep.md``.
 
-    python docs/make_sweep_figures.py [--out DIR] [--jobs N]
+    python docs/validation validation_sweep [--out DIR] [--jobs N]
 
 Runs (or resumes: the sweep folder keeps every finished point) two sweeps of
 ``paper-fig8`` (the paper's pair, 22.25 N m, dt 3e-8 s, 4 x 14 mesh, whole engagement,
@@ -19,19 +19,20 @@ import argparse
 import math
 import time
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 import xarray as xr
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.sweep.backends import default_jobs, local_backend
 from spurdyn.sweep.resonance import ResonanceEstimate, resonance_estimate
 from spurdyn.sweep.runner import run_sweep
 from spurdyn.sweep.spec import SweepPlan, parse_speeds
 from spurdyn.sweep.store import STATUS_CODES
+from validation.common import DOCS, FIGURES
 
-DOCS = Path(__file__).resolve().parent
-FIGURE = DOCS / "figures" / "dynamic_factor_sweep.png"
+FIGURE = FIGURES / "dynamic_factor_sweep.png"
 FRAGMENT = DOCS / "validation_sweep.md"
 FE_SPEEDS = ("1000:20000/40", "21000:30000:1000")
 LUMPED_SPEEDS = ("500:30000:100",)
@@ -212,7 +213,7 @@ def fragment(fe: xr.Dataset, lumped: xr.Dataset, res: ResonanceEstimate, walls: 
 
     lines = []
     w = walls
-    lines.append("<!-- written by docs/make_sweep_figures.py: every number below is computed "
+    lines.append("<!-- written by docs/validation/sweep.py: every number below is computed "
                  "there; do not edit by hand -->")
     lines.append("## Dynamic factor against speed: FE and lumped (`spurdyn sweep`)\n")
     lines.append(
@@ -291,18 +292,17 @@ def fragment(fe: xr.Dataset, lumped: xr.Dataset, res: ResonanceEstimate, walls: 
     return "\n".join(lines) + "\n"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: run (or resume) the two sweeps, then write the figure and the fragment."""
+    parser = argparse.ArgumentParser(prog="docs/validation validation_sweep",
+                                     description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default="out/sweep-validation", help="sweep folder")
     parser.add_argument("--jobs", type=int, default=default_jobs(), help="local workers")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     fe, lumped, res, walls = run(Path(args.out), args.jobs)
     for ds in (fe, lumped):
         assert (ds["status"].values == STATUS_CODES["complete"]).all()
     figure(fe, lumped, res, FIGURE)
     FRAGMENT.write_text(fragment(fe, lumped, res, walls), encoding="utf-8")
     print(f"wrote {FIGURE} and {FRAGMENT}")
-
-
-if __name__ == "__main__":
-    main()
+    return 0

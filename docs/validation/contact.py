@@ -1,6 +1,6 @@
 """Measure the distributed (Hertzian) contact beside the paper's point contact (issue 14).
 
-    .venv/bin/python docs/make_contact_validation.py [--only PART ...]
+    .venv/bin/python docs/validation contact_validation [--only PART ...]
 
 Parts: ``stiffness`` (pitch-point pair stiffness against the mesh, even and graded across
 and along the tooth), ``presets`` (every preset with both contacts), ``meshes`` (Fig. 8, 9,
@@ -14,15 +14,14 @@ from all of them, so a part can be re-measured alone.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import time
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from spurdyn.cases import resolve_cases
+from spurdyn.case import resolve_cases
 from spurdyn.contact.hertz import half_width, peak_pressure, strip_compliance
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.model.system import build_system, system_for
@@ -31,10 +30,11 @@ from spurdyn.simulators import MODELS
 from spurdyn.solvers.check import stable_step
 from spurdyn.solvers.paper.dynamics_numpy import strip_law
 from spurdyn.solvers.paper.statics import static_stiffness
+from validation.common import DOCS, ROOT, load_figures, save_figures, timed, write_page
+from validation.contact_page import render
 
-HERE = Path(__file__).parent
-STORE = HERE / "contact_validation.json"
-PAGE = HERE / "contact_validation.md"
+STORE = DOCS / "contact_validation.json"
+PAGE = DOCS / "contact_validation.md"
 #: The meshes of the stiffness study, and of the dynamic runs on finer meshes.
 STIFFNESS_MESHES = ((4, 14), (6, 20), (8, 28), (12, 40), (16, 56), (24, 80), (32, 112))
 RUN_MESHES = ((6, 20), (8, 28), (12, 40))
@@ -59,9 +59,7 @@ def _run(spec: str, **over: Any) -> dict[str, Any]:
     model = over.pop("model", "fe")
     overrides = {f"run.{k}" if k not in ("mesh.nx", "mesh.ny") else k: v for k, v in over.items()}
     case = resolve_cases(spec, overrides)[0]
-    t0 = time.perf_counter()
-    res = MODELS[model](case.pair, case.run)
-    wall = time.perf_counter() - t0
+    res, wall = timed(MODELS[model], case.pair, case.run)
     f = np.asarray(res.contact_force, float)
     static = float(res.info["static_force"])
     out = {"status": res.status, "reason": res.reason, "steps": int(res.steps), "wall_s": wall,
@@ -165,7 +163,7 @@ def part_stiffness() -> dict[str, Any]:
 
 
 def part_presets() -> dict[str, Any]:
-    from spurdyn.cases import PRESETS
+    from spurdyn.case import PRESETS
     return {name: {c: _run(name, contact=c) for c in ("point", "hertz")} for name in PRESETS}
 
 
@@ -199,13 +197,13 @@ DESIGN = (
 def part_design() -> dict[str, Any]:
     out = {}
     for path, torque, rpm in DESIGN:
-        case = resolve_cases(str(HERE.parent / path), {"run.torque": torque, "run.speed_a_rpm": rpm})[0]
+        case = resolve_cases(str(ROOT / path), {"run.torque": torque, "run.speed_a_rpm": rpm})[0]
         g = case.pair.gear_a
         face = min(case.pair.gear_a.face_width, case.pair.gear_b.face_width)
         key = f"{Path(path).stem} {torque:g} N m {rpm:g} rpm"
         over = {"torque": torque, "speed_a_rpm": rpm}
-        fe = _run(str(HERE.parent / path), **over)
-        lumped = _run(str(HERE.parent / path), model="lumped", **over)
+        fe = _run(str(ROOT / path), **over)
+        lumped = _run(str(ROOT / path), model="lumped", **over)
         out[key] = {"module_mm": g.module * 1e3, "pressure_angle_deg": math.degrees(g.pressure_angle),
                     "teeth": [case.pair.gear_a.teeth, case.pair.gear_b.teeth],
                     "load_N_per_mm": fe["static_N"] / (face * 1e3), "fe": fe, "lumped": lumped}
@@ -282,27 +280,21 @@ PARTS: dict[str, Callable[[], dict[str, Any]]] = {
 }
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: measure the parts asked for, then render the page from all of them."""
+    parser = argparse.ArgumentParser(prog="docs/validation contact_validation",
+                                     description=__doc__.split("\n\n")[0])
     parser.add_argument("--only", action="append", choices=sorted(PARTS), default=[])
     parser.add_argument("--skip", action="append", choices=sorted(PARTS), default=[])
     parser.add_argument("--render", action="store_true", help="only render the page")
-    args = parser.parse_args()
-    store = json.loads(STORE.read_text()) if STORE.exists() else {}
+    args = parser.parse_args(argv)
+    store = load_figures(STORE)
     if not args.render:
         for name in [p for p in (args.only or list(PARTS)) if p not in args.skip]:
             t0 = time.perf_counter()
             store[name] = PARTS[name]()
             store[name]["_seconds"] = time.perf_counter() - t0
-            STORE.write_text(json.dumps(store, indent=1, default=float))
+            save_figures(STORE, store)
             print(f"{name}: {time.perf_counter() - t0:.0f} s", flush=True)
-    import sys
-    sys.path.insert(0, str(HERE))
-    from contact_validation_page import render   # docs/contact_validation_page.py
-    PAGE.write_text(render(store))
-    print(f"wrote {PAGE}")
+    write_page(PAGE, render(store), echo=False)
     return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

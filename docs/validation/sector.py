@@ -1,7 +1,7 @@
 """The sector model's quasi-static mesh cycle against ISO 6336-1 and its own limits (issue 15):
 writes docs/sector_validation.md.
 
-    .venv/bin/python docs/make_sector_validation.py        # ~2 min
+    .venv/bin/python docs/validation sector_validation        # ~2 min
 
 For the paper's pair, the example 23/47 pair and a 23/47 pair with a thin rim on a web:
 the mean mesh stiffness and the single-pair maximum against ISO 6336-1's ``c_gamma_alpha b``
@@ -13,13 +13,14 @@ relief's static transmission error at three torques.
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import inspect
 import math
 import time
-from pathlib import Path
+from typing import Sequence
 
-from spurdyn.casefile import load_pair
+from spurdyn.case import load_pair
 from spurdyn.geometry.blank import Blank
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, nasa_like_relief, paper_pair
@@ -27,9 +28,9 @@ from spurdyn.iso6336.dynamics import single_pair_stiffness
 from spurdyn.iso6336.rating import iso_pair, rate
 from spurdyn.sector.body import sector_body
 from spurdyn.sector.statics import default_teeth, mesh_cycle, pairs_in_path
+from validation.common import DOCS, ROOT, write_page
 
-HERE = Path(__file__).parent
-PAGE = HERE / "sector_validation.md"
+PAGE = DOCS / "sector_validation.md"
 #: ISO 6336-1's ``C_M``, theoretical to measured stiffness (the rating's, the default of
 #: :func:`spurdyn.iso6336.dynamics.single_pair_stiffness`).
 C_M = inspect.signature(single_pair_stiffness).parameters["c_m"].default
@@ -86,16 +87,19 @@ def twist(gear, r_in: float, r_out: float, width: float) -> float:
     return gear.base_radius**2 / (4.0 * math.pi * g * width) * (1.0 / r_in**2 - 1.0 / r_out**2)
 
 
-def main() -> None:
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: measure, then write ``docs/sector_validation.md``."""
+    argparse.ArgumentParser(prog="docs/validation sector_validation",
+                            description=__doc__.split("\n\n")[0]).parse_args(argv)
     t0 = time.time()
     pair = paper_pair()
-    example = load_pair(HERE.parent / "examples" / "pinion_23_47.toml").pair
+    example = load_pair(ROOT / "examples" / "pinion_23_47.toml").pair
     thin = with_blank(example, Blank(hub_radius=0.012, rim_radius=example.gear_a.root_radius - 3 * 0.002,
                                      web_width=0.006))
     lines = [
         "# The sector model's quasi-static mesh cycle (issue 15)",
         "",
-        f"Written by `docs/make_sector_validation.py` ({time.strftime('%Y-%m-%d')}, "
+        f"Written by `docs/validation/sector.py` ({time.strftime('%Y-%m-%d')}, "
         "{seconds} s on this 2-core machine); the model and its derivation are in docs/sector.md. "
         "Default 4 x 14 tooth meshes, the teeth that carry load and a neighbour each side on the "
         "full rim, the Hertzian strips, 41 positions over one mesh cycle.",
@@ -226,9 +230,5 @@ def main() -> None:
         lines.append(f"| {tq:g} | {tq / g.pitch_radius / g.face_width / 1e3:.0f} | {a * 1e6:.3f} | {b * 1e6:.3f} |")
     lines.append("")
     text = "\n".join(lines).replace("{seconds}", f"{time.time() - t0:.0f}")
-    PAGE.write_text(text, encoding="utf-8")
-    print(f"wrote {PAGE}")
-
-
-if __name__ == "__main__":
-    main()
+    write_page(PAGE, text, echo=False)
+    return 0

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-from spurdyn.casefile import Case, MeshedPair, case_from_pair, load_case
+from spurdyn.case.file import Case, case_from_pair, load_case
+from spurdyn.case.pair_tables import MeshedPair
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
@@ -105,7 +106,7 @@ def resolve_cases(spec: str, overrides: Mapping[str, Any] | None = None,
     Raises
     ------
     InputError
-        For an unknown name or any bad value (see :func:`spurdyn.casefile.case_from_pair`).
+        For an unknown name or any bad value (see :func:`spurdyn.case.file.case_from_pair`).
     """
     if spec in GROUPS:
         return [preset_case(n, overrides, labels, check_step) for n in GROUPS[spec]]

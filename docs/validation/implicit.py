@@ -1,7 +1,7 @@
 """The implicit integrator against the paper's RK4 (issue 16): writes docs/implicit_validation.md.
 
-    .venv/bin/python docs/make_implicit_validation.py          # ~1.5 min
-    .venv/bin/python docs/make_implicit_validation.py --fine   # and the fine meshes, ~6 min
+    .venv/bin/python docs/validation implicit_validation          # ~1.5 min
+    .venv/bin/python docs/validation implicit_validation --fine   # and the fine meshes, ~6 min
 
 For the paper's Fig. 8, 9 and 10 (point contact, the presets) and Fig. 8 with the
 distributed contact, each run twice: RK4 at the paper's step (compiled) and the implicit
@@ -14,67 +14,21 @@ loops' wall times. Then damping: Fig. 9 with a mesh damper of 0.05 in the FE mod
 
 from __future__ import annotations
 
+import argparse
 import time
-from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 
-from spurdyn.cases import preset_case
+from spurdyn.case import preset_case
 from spurdyn.results.headline import averaged_peak, moving_average
 from spurdyn.simulators import MODELS
 from spurdyn.solvers.check import round_down
 from spurdyn.solvers.implicit.alpha import accuracy_step
 from spurdyn.solvers.loop import simulate
+from validation.common import DOCS, match_impacts, touches, write_page
 
-HERE = Path(__file__).parent
-PAGE = HERE / "implicit_validation.md"
-#: Force (N) below which the teeth count as apart, for the impact times.
-APART = 1e-9
-
-
-def touches(t: np.ndarray, f: np.ndarray) -> list[tuple[float, float, float]]:
-    """``(time, duration, peak force)`` of each contact made after a separation: the force
-    rises from zero, and lasts until it is zero again. The start's touch is not one: the
-    teeth start just touching, and a run whose force at ``t = 0`` is zero (to round-off)
-    and positive after its first step has not struck."""
-    on = f > APART
-    out = []
-    for i in np.flatnonzero(on[1:] & ~on[:-1]) + 1:
-        if i == 1:
-            continue
-        off = np.flatnonzero(~on[i:])
-        j = i + off[0] if off.size else t.size
-        out.append((float(t[i]), float(t[j - 1] - t[i]), float(f[i:j].max())))
-    return out
-
-
-def match_impacts(ref: list[tuple[float, float, float]], imp: list[tuple[float, float, float]]
-                  ) -> tuple[list[float], list[tuple[float, float, float]]]:
-    """RK4's impacts against the implicit run's touches: the time shifts (implicit minus
-    RK4, NaN where the implicit run has no touch left) and the implicit touches no RK4
-    impact took (extra bounces).
-
-    Each RK4 impact, in time order, takes the nearest implicit touch after those already
-    taken; an extra touch between the two belongs to the contact it is nearer in time: to
-    the end of the previous one taken (a bounce as the teeth part, listed only) or to this
-    one (the teeth striking early, then bouncing off), in which case the shift is that of
-    the early touch. Matching by index, as before, compared unrelated impacts as soon as
-    one run bounced once more: Fig. 9's 3.99 us at the old default step was RK4's second
-    impact against the implicit run's 13-N touch at 9.5 us, 1 us after it had parted in
-    what RK4 keeps as one first contact.
-    """
-    shifts, taken, last, end = [], set(), -1, 0.0
-    for ta, _, _ in ref:
-        free = [(abs(tb - ta), k) for k, (tb, _, _) in enumerate(imp) if k > last]
-        if not free:
-            shifts.append(float("nan"))
-            continue
-        k = min(free)[1]
-        early = [j for j in range(last + 1, k) if imp[j][0] - end > imp[k][0] - imp[j][0]]
-        shifts.append(imp[early[0] if early else k][0] - ta)
-        taken.add(k)
-        last, end = k, imp[k][0] + imp[k][1]
-    return shifts, [c for k, c in enumerate(imp) if k not in taken]
+PAGE = DOCS / "implicit_validation.md"
 
 
 def reference(name: str, contact: str | None = None):
@@ -230,9 +184,13 @@ def fine_meshes() -> list[str]:
     return rows
 
 
-def main() -> None:
-    import sys
-
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: measure, then write ``docs/implicit_validation.md``."""
+    parser = argparse.ArgumentParser(prog="docs/validation implicit_validation",
+                                     description=__doc__.split("\n\n")[0])
+    parser.add_argument("--fine", action="store_true",
+                        help="and the fine meshes on which RK4 stalls (~6 min more)")
+    args = parser.parse_args(argv)
     t0 = time.time()
     fig10 = reference("paper-fig10")
     rows = [compare("paper-fig8"), compare("paper-fig9"), compare("paper-fig10", ref=fig10),
@@ -249,7 +207,7 @@ def main() -> None:
     lines = [
         "# The implicit integrator against RK4 (issue 16)",
         "",
-        "Written by `docs/make_implicit_validation.py` (" + time.strftime("%Y-%m-%d") +
+        "Written by `docs/validation/implicit.py` (" + time.strftime("%Y-%m-%d") +
         f", {time.time() - t0:.0f} s on this 2-core machine); the method is derived in "
         "docs/implicit.md. RK4 at the paper's step 3e-8 s (compiled), the implicit "
         "integrator at its default step (compiled, `solvers/implicit/step_compiled.py`). "
@@ -284,7 +242,7 @@ def main() -> None:
         "| model | dynamic factor |",
         "| --- | --- |",
     ] + [f"| {k} | {v:.3f} |" for k, v in damp.items()] + [""]
-    if "--fine" in sys.argv[1:]:
+    if args.fine:
         lines += [
             "Fine meshes on which RK4 stalls at its stable step (the rattling Fig. 10 on 8 x 28 "
             "and 12 x 40 with both contacts; Fig. 8 on 12 x 40 with the point contact), run by "
@@ -293,9 +251,5 @@ def main() -> None:
             "| case | mesh | contact | status | steps | averaged peak (N) |",
             "| --- | --- | --- | --- | --- | --- |",
         ] + fine_meshes() + [""]
-    PAGE.write_text("\n".join(lines))
-    print("\n".join(lines))
-
-
-if __name__ == "__main__":
-    main()
+    write_page(PAGE, "\n".join(lines))
+    return 0

@@ -2,7 +2,7 @@
 
 Run from the repository root::
 
-    .venv/bin/python docs/make_stiffness_table.py
+    .venv/bin/python docs/validation stiffness
 
 Everything printed is computed here, with the paper's pair (``spurdyn.geometry.paper_pair``):
 the pitch-point pair stiffness and the stable explicit step for five mesh densities, the
@@ -12,7 +12,9 @@ ISO 6336-1 figures they are compared with. It takes a few seconds.
 
 from __future__ import annotations
 
+import argparse
 import math
+from typing import Sequence
 
 import numpy as np
 
@@ -121,7 +123,10 @@ def iso_table(pair) -> None:
     print()
 
 
-def main() -> None:
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: print the tables of ``docs/stiffness.md``."""
+    argparse.ArgumentParser(prog="docs/validation stiffness",
+                            description=__doc__.split("\n\n")[0]).parse_args(argv)
     pair = paper_pair()
     print(f"Paper pair: contact ratio {pair.contact_ratio:.4f}, face width "
           f"{pair.gear_a.face_width * 1e3:.2f} mm, E = {pair.gear_a.material.young:.3g} Pa, "
@@ -133,7 +138,4 @@ def main() -> None:
         path_table(pair, nx, ny)
     print("## ISO 6336-1 and the mean mesh stiffness\n")
     iso_table(pair)
-
-
-if __name__ == "__main__":
-    main()
+    return 0

@@ -50,7 +50,23 @@ class MeshedPair:
     row_grading: float = DEFAULT_ROW_GRADING
 
 
-def _check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
+def check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
+    """Refuse a key of ``table`` that is not in ``allowed``.
+
+    Parameters
+    ----------
+    table : dict
+        One table of a case file.
+    allowed : set of str
+        The keys it may hold.
+    where : str
+        The table's name, prefixed to the key in the message ("" at the top level).
+
+    Raises
+    ------
+    InputError
+        Naming the first unknown key and the keys expected.
+    """
     for key in table:
         if key not in allowed:
             hint = ", ".join(sorted(allowed))
@@ -92,7 +108,7 @@ def material_from_table(table: dict[str, Any], where: str) -> Material:
     """Build a :class:`Material` from a TOML table."""
     if not isinstance(table, dict):
         raise InputError(where, "must be a table with young, poisson and density")
-    _check_keys(table, MATERIAL_KEYS, where)
+    check_keys(table, MATERIAL_KEYS, where)
     values: dict[str, Any] = {k: _number(table, k, where) for k in ("young", "poisson", "density")}
     for key in ("sigma_flim", "sigma_hlim"):      # ISO 6336-5 allowables, optional
         if key in table:
@@ -111,7 +127,7 @@ def gear_from_table(table: dict[str, Any], where: str) -> Gear:
     """Build a :class:`Gear` from a TOML table (see ``docs/casefile.md`` for the keys)."""
     if not isinstance(table, dict):
         raise InputError(where, "must be a table")
-    _check_keys(table, GEAR_KEYS, where)
+    check_keys(table, GEAR_KEYS, where)
     teeth = _integer(table, "teeth", where)
     if teeth < 1:
         raise InputError(f"{where}.teeth", f"must be a positive whole number (got {teeth})")
@@ -207,7 +223,7 @@ def _rack_from_table(table: dict[str, Any], where: str) -> BasicRack | None:
         return ISO_53[value.upper()]
     if not isinstance(value, dict):
         raise InputError(f"{where}.basic_rack", "must be \"A\", \"B\", \"C\", \"D\" or a table")
-    _check_keys(value, RACK_KEYS, f"{where}.basic_rack")
+    check_keys(value, RACK_KEYS, f"{where}.basic_rack")
     a = ISO_53["A"]
     try:
         return BasicRack("custom", *(_number(value, k, f"{where}.basic_rack", getattr(a, k))
@@ -223,7 +239,7 @@ def _blank_from_table(table: dict[str, Any], where: str) -> Blank | None:
     value = table["blank"]
     if not isinstance(value, dict):
         raise InputError(f"{where}.blank", "must be a table of radii and a web width (m)")
-    _check_keys(value, BLANK_KEYS, f"{where}.blank")
+    check_keys(value, BLANK_KEYS, f"{where}.blank")
     if "disk_inertia" in table:
         raise InputError(f"{where}.blank", "give either disk_inertia or a blank, not both")
     dims = {k: _number(value, k, f"{where}.blank") for k in BLANK_KEYS if k in value}
@@ -275,7 +291,7 @@ def _relief_from_table(table: dict[str, Any], where: str,
 
 def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     """Build a :class:`MeshedPair` from the parsed TOML document."""
-    _check_keys(data, TOP_KEYS, "")
+    check_keys(data, TOP_KEYS, "")
     if "gear_a" not in data:
         raise InputError("gear_a", "table is missing")
     gear_a = gear_from_table(data["gear_a"], "gear_a")
@@ -283,7 +299,7 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     pair_table = data.get("pair", {})
     if not isinstance(pair_table, dict):
         raise InputError("pair", "must be a table")
-    _check_keys(pair_table, PAIR_KEYS, "pair")
+    check_keys(pair_table, PAIR_KEYS, "pair")
     centre = None
     if "centre_distance" in pair_table:
         centre = _number(pair_table, "centre_distance", "pair")
@@ -304,7 +320,7 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     mesh_table = data.get("mesh", {})
     if not isinstance(mesh_table, dict):
         raise InputError("mesh", "must be a table")
-    _check_keys(mesh_table, MESH_KEYS, "mesh")
+    check_keys(mesh_table, MESH_KEYS, "mesh")
     nx = _integer(mesh_table, "nx", "mesh", DEFAULT_NX)
     ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
     grading = _number(mesh_table, "grading", "mesh", DEFAULT_GRADING)
@@ -316,10 +332,27 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
 def load_pair(path: str | Path) -> MeshedPair:
     """Read a gear-pair TOML file."""
     path = Path(path)
-    return pair_from_dict(_read_toml(path), name=path.stem)
+    return pair_from_dict(read_toml(path), name=path.stem)
 
 
-def _read_toml(path: Path) -> dict[str, Any]:
+def read_toml(path: Path) -> dict[str, Any]:
+    """The tables of a TOML file.
+
+    Parameters
+    ----------
+    path : Path
+        The file.
+
+    Returns
+    -------
+    dict
+        Its tables, as :mod:`tomllib` reads them.
+
+    Raises
+    ------
+    InputError
+        Naming the file, if it is missing, unreadable or not valid TOML.
+    """
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -332,7 +365,19 @@ def _read_toml(path: Path) -> dict[str, Any]:
         raise InputError(str(path), f"is not valid TOML ({err})") from None
 
 
-def _gear_to_dict(gear: Gear) -> dict[str, Any]:
+def gear_to_dict(gear: Gear) -> dict[str, Any]:
+    """A gear as its case-file table, the inverse of :func:`gear_from_table`.
+
+    Parameters
+    ----------
+    gear : Gear
+        The gear.
+
+    Returns
+    -------
+    dict
+        The ``[gear_a]``/``[gear_b]`` table (relief, rack and blank keys only when used).
+    """
     table: dict[str, Any] = {
         "teeth": gear.teeth, "module": gear.module, "addendum": gear.addendum,
         "dedendum": gear.dedendum, "pressure_angle_deg": math.degrees(gear.pressure_angle),

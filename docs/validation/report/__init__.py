@@ -2,12 +2,10 @@
 
 Run from the repository root::
 
-    .venv/bin/python docs/make_validation.py            # runs what is missing, writes all
-    .venv/bin/python docs/make_validation.py --rerun    # ignore the cached runs
-    .venv/bin/python docs/make_validation.py --runs-only
-    .venv/bin/python docs/make_validation.py --sweep    # first docs/make_sweep_figures.py
-
-(or ``cd docs && ../.venv/bin/python -m validation_report`` with the same options).
+    .venv/bin/python docs/validation validation            # runs what is missing, writes all
+    .venv/bin/python docs/validation validation --rerun    # ignore the cached runs
+    .venv/bin/python docs/validation validation --runs-only
+    .venv/bin/python docs/validation validation --sweep    # first the sweeps of section 7
 
 Every number of the page is computed here: the runs of the FE solver, the lumped model
 and the momentum/energy bookkeeping on the paper's pair are cached in
@@ -20,9 +18,10 @@ Modules:
 
 * ``settings``: paths and the settings of the studies (window, meshes, ...);
 * ``spurdyn_api``: every name taken from ``spurdyn``, imported there only;
-* ``helpers``: pure functions of arrays and number formatting, tested in
+* ``helpers``: pure functions of arrays and number formatting (the markdown table is
+  :mod:`validation.common`'s, shared by all pages), tested in
   ``tests/test_validation_script.py``;
-* ``runs``: the run list (:class:`~validation_report.runs.Spec`) and its cache;
+* ``runs``: the run list (:class:`~validation.report.runs.Spec`) and its cache;
 * ``context``, ``figures``: what the sections share (the runs and the pair's figures;
   plotting);
 * ``paper``, ``convergence``, ``physics``, ``lumped``, ``relief``, ``limits``, ``sweep``:

@@ -1,7 +1,7 @@
 """The sector model's implicit loop against an RK4 reference (issue 16): writes
 docs/sector_rk4_validation.md (and its numbers, docs/sector_rk4_validation.json).
 
-    .venv/bin/python docs/make_sector_rk4_validation.py       # ~10 min on one core
+    .venv/bin/python docs/validation sector_rk4_validation       # ~10 min on one core
 
 The paper's pair (the ``paper-fig8`` case, 4 x 14 teeth, 22.25 N m) on the sector model's
 modal bodies, mesh damper zeta = 0.05, the bodies' default damping, at three speeds below,
@@ -17,28 +17,23 @@ by each pair and any separation of the mesh (times within 2 us), the steps and w
 
 from __future__ import annotations
 
-import json
+import argparse
 import math
-import sys
 import time
-from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 
-HERE = Path(__file__).parent
-sys.path.insert(0, str(HERE))
+from spurdyn.case import preset_case
+from spurdyn.results.headline import averaged_peak, moving_average
+from spurdyn.results.pairs import steady_figures
+from spurdyn.settings import RPM
+from spurdyn.solvers.sector.rk4 import PAPER_STEP, highest_frequency, simulate_sector_rk4
+from spurdyn.solvers.sector.run import simulate_sector
+from validation.common import DOCS, match_impacts, save_figures, timed, touches, write_page
 
-from make_implicit_validation import match_impacts, touches  # noqa: E402
-
-from spurdyn.cases import preset_case  # noqa: E402
-from spurdyn.results.headline import averaged_peak, moving_average  # noqa: E402
-from spurdyn.results.pairs import steady_figures  # noqa: E402
-from spurdyn.settings import RPM  # noqa: E402
-from spurdyn.solvers.sector.rk4 import PAPER_STEP, highest_frequency, simulate_sector_rk4  # noqa: E402
-from spurdyn.solvers.sector.run import simulate_sector  # noqa: E402
-
-PAGE = HERE / "sector_rk4_validation.md"
-DATA = HERE / "sector_rk4_validation.json"
+PAGE = DOCS / "sector_rk4_validation.md"
+DATA = DOCS / "sector_rk4_validation.json"
 SPEEDS_RPM = (4000, 11000, 16000)
 CYCLES = 20
 ZETA = 0.05
@@ -69,9 +64,7 @@ def nearest_shifts(ref: np.ndarray, other: np.ndarray) -> list[float]:
 
 def compare(rpm: float) -> dict:
     pair, run = settings(rpm)
-    w0 = time.perf_counter()
-    imp = simulate_sector(pair, run)
-    imp_wall = time.perf_counter() - w0
+    imp, imp_wall = timed(simulate_sector, pair, run)
     done = imp.info["steady"]["cycles_done"]
     h_imp = imp.info["dt_s"]
     k = math.ceil(h_imp / PAPER_STEP - 1e-9)            # RK4 steps an implicit step
@@ -229,16 +222,19 @@ def summary(rows: list[dict]) -> list[str]:
     ]
 
 
-def main() -> None:
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: measure, then write ``docs/sector_rk4_validation.md`` and its numbers."""
+    argparse.ArgumentParser(prog="docs/validation sector_rk4_validation",
+                            description=__doc__.split("\n\n")[0]).parse_args(argv)
     t0 = time.time()
     pair, run = settings(SPEEDS_RPM[0])
     stiff = highest_frequency(pair, run)
     rows = [compare(rpm) for rpm in SPEEDS_RPM]
-    DATA.write_text(json.dumps(dict(stability=stiff, rows=rows), indent=1, default=float) + "\n")
+    save_figures(DATA, dict(stability=stiff, rows=rows))
     lines = [
         "# The sector model: implicit against RK4 (issue 16)",
         "",
-        "Written by `docs/make_sector_rk4_validation.py` (the numbers also in "
+        "Written by `docs/validation/sector_rk4.py` (the numbers also in "
         "`sector_rk4_validation.json`). Issue 16 asks of the implicit integrator, on the sector model at "
         "three speeds: at its default step against RK4 at the paper's step (3e-8 s), the 10-µs-averaged "
         "contact force within 2 % RMS of its peak, impacts made within 2 µs, the settled dynamic factor "
@@ -309,9 +305,5 @@ def main() -> None:
         f"(Written in {time.time() - t0:.0f} s.)",
         "",
     ]
-    PAGE.write_text("\n".join(lines))
-    print("\n".join(lines))
-
-
-if __name__ == "__main__":
-    main()
+    write_page(PAGE, "\n".join(lines))
+    return 0

@@ -1,16 +1,18 @@
 """Pure helpers of the report: functions of arrays and numbers, no solver, no files.
 
 Moving average, dynamic factor, zone masks, contact episodes, spectra and number
-formatting; ``tests/test_validation_script.py`` checks them on synthetic data.
+formatting (and :func:`~validation.common.table`, shared with the other pages); ``tests/test_validation_script.py`` checks them on synthetic data.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any, Sequence
+from typing import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
+
+from validation.common import table  # noqa: F401 - the report's tables, shared by all pages
 
 from .settings import WINDOW
 from .spurdyn_api import window_means
@@ -241,10 +243,3 @@ def sci(x: float, digits: int = 2) -> str:
         m, e = m / 10, e + 1
     sup = str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
     return f"{m:.{digits}f} × 10{sup}"
-
-
-def table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
-    """A markdown table."""
-    lines = ["| " + " | ".join(header) + " |", "| " + " | ".join("---" for _ in header) + " |"]
-    lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
-    return "\n".join(lines)

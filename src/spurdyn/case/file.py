@@ -24,10 +24,11 @@ from typing import Any, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
-from spurdyn.pairfile import (  # noqa: F401 - the pair tables' readers, re-exported
-    GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS, TOP_KEYS, MeshedPair, _check_keys,
-    _gear_to_dict, _read_toml, gear_from_table, load_pair, material_from_table, pair_from_dict,
-)
+from spurdyn.case.pair_tables import MeshedPair, pair_from_dict
+# the pair tables' helpers under the names this module's body gave them when they were private
+from spurdyn.case.pair_tables import check_keys as _check_keys
+from spurdyn.case.pair_tables import gear_to_dict as _gear_to_dict
+from spurdyn.case.pair_tables import read_toml as _read_toml
 from spurdyn.model.loading import check_history
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_ROW_GRADING, MAX_GRADING, MAX_ROW_GRADING
@@ -38,7 +39,7 @@ from spurdyn.settings import (
 from spurdyn.solvers.check import check_run, default_dt, round_down, stable_step
 from spurdyn.solvers.implicit.alpha import accuracy_step
 from spurdyn.solvers.implicit.damping import rayleigh_from_ratio
-from spurdyn.torquefile import history_from_table, history_to_table, read_history_csv
+from spurdyn.case.torque import history_from_table, history_to_table, read_history_csv
 
 RUN_KEYS = {
     "speed_a_rpm", "speed_b_rpm", "torque", "dt", "angle_deg", "n_spline", "tol_disp",

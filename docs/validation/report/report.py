@@ -18,7 +18,7 @@ from .paper import section_paper
 from .physics import section_physics
 from .relief import section_relief
 from .runs import Run, all_runs, plain
-from .settings import DATA, REPORT, SWEEP_SCRIPT
+from .settings import DATA, REPORT, RUNNER
 from .sweep import section_sweep
 
 
@@ -35,7 +35,7 @@ def intro(ctx: Ctx, wall: float) -> str:
     bal = ctx.figures["balances"]
     return f"""# Validation: what the results are worth
 
-*This page is written by `docs/make_validation.py`; every number in it is computed by
+*This page is written by `docs/validation/report/`; every number in it is computed by
 that script from the runs it makes (re-run it to regenerate the page and the figures in
 `docs/figures/validation_*.png`). Runs: {len(R)} ({len(fe)} of the FE solver or its
 stepper), {total / 60:.1f} min of computing in all, made {dates[0]} – {dates[-1]} on
@@ -43,21 +43,21 @@ stepper), {total / 60:.1f} min of computing in all, made {dates[0]} – {dates[-
 
 > **The distributed contact (issue 14)** is measured on its own page,
 > [`docs/contact_validation.md`](contact_validation.md), written by
-> `docs/make_contact_validation.py`: stiffness against the mesh (even and graded), every
+> `docs/validation/contact.py`: stiffness against the mesh (even and graded), every
 > preset and Figs. 8-10 on finer meshes with both contacts, pairs at design loads, Hertz,
 > energy. This page measures the paper's point contact, which its presets use.
 >
 > **Root and contact stress (issue 17)** are measured on
 > [`docs/stress_validation.md`](stress_validation.md), written by
-> `docs/make_stress_validation.py`: the fillet stress against the mesh and ISO 6336-3 for
+> `docs/validation/stress.py`: the fillet stress against the mesh and ISO 6336-3 for
 > three pairs, the strip against Hertz and ISO 6336-2, the dynamic root stress of Figs. 8-10.
 >
 > **The sector model (issues 15, 16)**, several elastic teeth on elastic rims, is measured on
 > [`docs/sector_validation.md`](sector_validation.md) (its quasi-static mesh cycle against
 > ISO 6336-1) and [`docs/sector_dynamics_validation.md`](sector_dynamics_validation.md)
 > (its dynamic run: load balance, energy, ring and damping, time step, modal against whole
-> bodies, dynamic factor against speed), written by `docs/make_sector_validation.py` and
-> `docs/make_sector_dynamics_validation.py`.
+> bodies, dynamic factor against speed), written by `docs/validation/sector.py` and
+> `docs/validation/sector_dynamics.py`.
 
 The model is the paper's: one elastic Q8 tooth on a rigid disk per gear, the second
 tooth pair replaced by the torque ramps of its Fig. 7, undamped, frictionless, plane
@@ -109,16 +109,16 @@ def build_report(runs: dict[str, Run], wall: float) -> str:
     tail = f"""
 ## How this page is made
 
-`.venv/bin/python docs/make_validation.py --sweep` regenerates everything: it runs
-`docs/make_sweep_figures.py` (the sweeps of section 7, resumed from `out/sweep-validation`),
+`.venv/bin/python docs/validation validation --sweep` regenerates everything: it runs
+`docs/validation/sweep.py` (the sweeps of section 7, resumed from `out/sweep-validation`),
 then every case it needs (cached in
 `docs/validation_data/<run>.npz`, git-ignored; a run is redone when its settings
 change, or all with `--rerun`), then writes this page and the figures. Helpers it uses:
 `spurdyn.solvers.loop.simulate`, `spurdyn.lumped.simulate_lumped`,
 `spurdyn.results.balances.track`, `spurdyn.model.stiffness` and the pure functions of
-`docs/validation_report/helpers.py` (moving average, dynamic factor, zone masks, contact
+`docs/validation/report/helpers.py` (moving average, dynamic factor, zone masks, contact
 episodes, frequencies), which `tests/test_validation_script.py` checks on synthetic data.
-The script's code is the package `docs/validation_report/`, one module per section.
+The script's code is the package `docs/validation/report/`, one module per section.
 Writing the page from the cache took {wall:.0f} s.
 """
     DATA.mkdir(parents=True, exist_ok=True)
@@ -128,15 +128,16 @@ Writing the page from the cache took {wall:.0f} s.
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Command line: make the missing runs, then write ``docs/validation.md`` and the figures."""
-    parser = argparse.ArgumentParser(description="Regenerate docs/validation.md and its figures.")
+    parser = argparse.ArgumentParser(prog="docs/validation validation",
+                                     description="Regenerate docs/validation.md and its figures.")
     parser.add_argument("--rerun", action="store_true", help="ignore the cached runs")
     parser.add_argument("--runs-only", action="store_true", help="make the runs, write nothing")
     parser.add_argument("--sweep", action="store_true",
-                        help="first run docs/make_sweep_figures.py (section 7; resumes its sweeps)")
+                        help="first run the sweeps of section 7 (validation_sweep; resumes them)")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     if args.sweep:
-        subprocess.run([sys.executable, str(SWEEP_SCRIPT)], check=True)
+        subprocess.run([sys.executable, str(RUNNER), "validation_sweep"], check=True)
     runs = all_runs(args.rerun)
     t1 = time.perf_counter()
     print(f"runs ready in {t1 - t0:.0f} s")

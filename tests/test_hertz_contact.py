@@ -388,7 +388,7 @@ def test_case_files_default_to_the_strip_and_presets_to_the_point(tmp_path):
 
 def test_the_lumped_model_takes_the_strips_stiffness():
     from spurdyn.lumped import mesh_stiffness_table
-    from spurdyn.simulators import _hertz_table
+    from spurdyn.lumped.sources import hertz_table as _hertz_table
 
     case = RunSettings(speed_a=400.0, speed_b=400.0, torque=PAPER_TORQUE)
     strip = _hertz_table(PAIR, case)
@@ -408,7 +408,7 @@ def test_the_lumped_strip_table_does_not_depend_on_which_equal_pair_built_the_sy
     from dataclasses import replace as dc_replace
 
     from spurdyn.model.system import _kept_system, system_for
-    from spurdyn.simulators import _hertz_table
+    from spurdyn.lumped.sources import hertz_table as _hertz_table
 
     from spurdyn.case import resolve_cases
 

@@ -153,7 +153,7 @@ def test_a_back_flanks_rows_and_columns_are_their_matrices():
 
 
 def test_the_back_flanks_are_contacts_where_the_pair_has_backlash():
-    s = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=1, **MESH)
+    s = run_settings(PAIR, 4000 * RPM, 22.25, model="sector", cycles=1, **MESH)
     assert not back_flanks_on(PAIR, s) and back_flanks_on(LOOSE, s)
     assert back_flanks_on(PAIR, s.with_(back_flanks=True)) and not back_flanks_on(LOOSE, s.with_(back_flanks=False))
     # the bodies hold every tooth a back pair needs: the driver's k and the driven gear's -k + 1
@@ -169,7 +169,7 @@ def test_the_back_flanks_are_contacts_where_the_pair_has_backlash():
 def rattle():
     """2 N m at 11,000 rpm (the main resonance) on 0.34 um of backlash, undamped, six
     cycles: the pair's ring grows until the drive flanks separate and the back flanks meet."""
-    s = run_settings(LOOSE, 11000 * RPM, 2.0, dt=1e-6, cycles=6, max_cycles=6, rho_inf=1.0, **MESH,
+    s = run_settings(LOOSE, 11000 * RPM, 2.0, model="sector", cycles=6, max_cycles=6, rho_inf=1.0, **MESH,
                      rayleigh_mass=0.0, rayleigh_stiffness=0.0)
     return s, simulate_sector(LOOSE, s), simulate_sector(LOOSE, s.with_(backend="numpy"), energy=True)
 

@@ -105,7 +105,7 @@ def test_the_whole_gear_numbers_its_teeth_round_the_ring():
 def quasi_static():
     """One mesh cycle at 10 rpm, 100 steps: the scheme damps the pair's mode (tens of kHz
     against a step of 2 ms), so the run is the pair's quasi-static response."""
-    s = run_settings(PAIR, 10 * RPM, 60.0, dt=1e-6, cycles=1, **MESH, **UNDAMPED)
+    s = run_settings(PAIR, 10 * RPM, 60.0, model="sector", cycles=1, **MESH, **UNDAMPED)
     period = 2 * math.pi / PAIR.gear_a.teeth / s.speed_a
     return s, simulate_sector(PAIR, s, dt=period / 100)
 
@@ -142,7 +142,7 @@ def test_the_undamped_run_keeps_its_energy(bodies):
     the torques' work stay constant to within the terms the model leaves out (the strips
     sliding over the deformed flank, Appendix A's terms, and their half-widths a step
     late): 4 % of the largest strain energy."""
-    s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1, rho_inf=1.0, bodies=bodies, **MESH,
+    s = run_settings(PAIR, 1000 * RPM, 60.0, model="sector", cycles=1, rho_inf=1.0, bodies=bodies, **MESH,
                      **UNDAMPED)
     run = simulate_sector(PAIR, s, energy=True)
     e = run.info["energy"]
@@ -164,7 +164,7 @@ def test_each_hubs_momentum_is_its_torques_impulse(bodies):
     from spurdyn.solvers.implicit.damping import rayleigh_from_ratio
 
     a, b = rayleigh_from_ratio(0.02, 5e3, 5e4)
-    s = run_settings(PAIR, 2000 * RPM, 60.0, dt=1e-6, cycles=1, rho_inf=1.0, damping_ratio=0.05,
+    s = run_settings(PAIR, 2000 * RPM, 60.0, model="sector", cycles=1, rho_inf=1.0, damping_ratio=0.05,
                      rayleigh_mass=a, rayleigh_stiffness=b, bodies=bodies, **MESH)
     run = simulate_sector(PAIR, s, energy=True)
     p = np.array(run.info["momentum"]["hub_momentum"])
@@ -184,7 +184,7 @@ def test_the_mesh_damper_takes_energy_out_and_the_ring_down():
     pitch = 2 * math.pi / PAIR.gear_a.teeth
     ring, lost = {}, {}
     for zeta in (0.0, 0.1, 0.5):
-        s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1, damping_ratio=zeta, rho_inf=1.0, **MESH,
+        s = run_settings(PAIR, 1000 * RPM, 60.0, model="sector", cycles=1, damping_ratio=zeta, rho_inf=1.0, **MESH,
                          **UNDAMPED)
         run = simulate_sector(PAIR, s, energy=True)
         e = run.info["energy"]
@@ -215,7 +215,7 @@ def test_the_ring_decays_at_the_ratio_asked():
 
     from spurdyn.results.headline import moving_average
 
-    s = run_settings(PAIR, 300 * RPM, 60.0, cycles=1, damping_ratio=0.05, nx=4, ny=14, **UNDAMPED)
+    s = run_settings(PAIR, 300 * RPM, 60.0, cycles=1, model="sector", damping_ratio=0.05, nx=4, ny=14, **UNDAMPED)
     run = simulate_sector(PAIR, s)
     assert run.info["bodies"] == "modal"
     sel = single_contact_window(run, PAIR)
@@ -271,7 +271,7 @@ def test_the_bodies_damping_is_the_models_default_unless_given_and_zero_is_none(
     from spurdyn.case import case_from_dict, case_to_dict, preset_case
     from spurdyn.solvers.sector.run import BODY_DAMPING_FREQUENCY, BODY_DAMPING_RATIO, body_rayleigh
 
-    s = run_settings(PAIR, 1000 * RPM, 60.0, dt=1e-6, cycles=1)
+    s = run_settings(PAIR, 1000 * RPM, 60.0, model="sector", cycles=1)
     a, b = body_rayleigh(s)
     assert a == 0.0 and b * 2 * math.pi * BODY_DAMPING_FREQUENCY / 2 == pytest.approx(BODY_DAMPING_RATIO)
     assert s.rayleigh == (0.0, 0.0) and not s.damped         # the paper model's: none
@@ -341,7 +341,7 @@ def test_the_modal_bodies_follow_the_whole_ones():
     below 150 kHz and flank shapes with the flanks' residual flexibility: the mesh force
     within 1 % of the load (RMS), its peak within 0.5 %, the transmission error within 0.5 %
     of its peak-to-peak."""
-    s = run_settings(PAIR, 3000 * RPM, 60.0, dt=1e-6, cycles=1, damping_ratio=0.05, **MESH)
+    s = run_settings(PAIR, 3000 * RPM, 60.0, model="sector", cycles=1, damping_ratio=0.05, **MESH)
     full = simulate_sector(PAIR, s.with_(bodies="full"))
     modal = simulate_sector(PAIR, s)
     assert full.info["bodies"] == "full" and modal.info["bodies"] == "modal"
@@ -484,7 +484,7 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
     speed the continued run starts with the end state's shape, its rates scaled."""
     from spurdyn.solvers.sector.state import unpack_state
 
-    s3 = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, max_cycles=3, damping_ratio=0.05, **MESH)
+    s3 = run_settings(PAIR, 4000 * RPM, 22.25, model="sector", cycles=3, max_cycles=3, damping_ratio=0.05, **MESH)
     first = simulate_sector(PAIR, s3)
     end = first.info["sector_end_state"]
     again = simulate_sector(PAIR, s3.with_(start_state=end))
@@ -570,7 +570,7 @@ def test_the_compiled_loop_is_the_numpy_loops_twin():
     default; docs/sector.md 6.3): pair forces, transmission error, gaps and hubs against the
     NumPy loop to round-off, through engagements, exits and the mesh damper; and the end
     state a continuation starts from is the same."""
-    s = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, max_cycles=3, damping_ratio=0.05, **MESH)
+    s = run_settings(PAIR, 4000 * RPM, 22.25, model="sector", cycles=3, max_cycles=3, damping_ratio=0.05, **MESH)
     fast = simulate_sector(PAIR, s)
     ref = simulate_sector(PAIR, s.with_(backend="numpy"))
     assert fast.status == ref.status == "complete"
@@ -591,7 +591,7 @@ def test_a_run_not_settled_goes_on_a_cycle_at_a_time_until_it_settles():
     settled, and by default it may go on to ``SETTLE_CYCLES_FACTOR`` times its cycles."""
     from spurdyn.settings import SETTLE_CYCLES_FACTOR
 
-    s = run_settings(PAIR, 6000 * RPM, 22.25, cycles=3, max_cycles=12, damping_ratio=0.1, backend="numpy", **MESH)
+    s = run_settings(PAIR, 6000 * RPM, 22.25, cycles=3, model="sector", max_cycles=12, damping_ratio=0.1, backend="numpy", **MESH)
     run = simulate_sector(PAIR, s)
     st = run.info["steady"]
     done = st["cycles_done"]

@@ -34,7 +34,7 @@ PER_CYCLE = 2000
 
 @pytest.mark.parametrize("change", [dict(bodies="full"), dict(back_flanks=True), dict(row_grading=4.0)])
 def test_the_reference_refuses_what_it_does_not_step(change):
-    s = run_settings(PAIR, SPEED, 22.25, dt=1e-6, cycles=1, **MESH, **change)
+    s = run_settings(PAIR, SPEED, 22.25, model="sector", cycles=1, **MESH, **change)
     with pytest.raises(InputError):
         simulate_sector_rk4(PAIR, s)
 
@@ -44,7 +44,7 @@ def runs():
     """One loaded mesh cycle at 20,000 rpm from the static start, mesh damper 0.05 and the
     bodies' default damping: RK4 at 1e-7 s, and the implicit loop at a tenth of its default
     step (0.03 us)."""
-    s = run_settings(PAIR, SPEED, 22.25, dt=1e-6, cycles=1, damping_ratio=0.05, backend="numpy", **MESH)
+    s = run_settings(PAIR, SPEED, 22.25, model="sector", cycles=1, damping_ratio=0.05, backend="numpy", **MESH)
     period = 2 * math.pi / PAIR.gear_a.teeth / SPEED
     assert steps_per_cycle(SPEED, PAIR.gear_a.teeth) * 10 == PER_CYCLE
     return s, simulate_sector(PAIR, s, dt=period / PER_CYCLE), simulate_sector_rk4(PAIR, s, dt=period / PER_CYCLE)
@@ -83,7 +83,7 @@ def test_the_reference_is_stable_at_the_papers_step():
     """The stiffest mode of the constrained modal system (the pairs in contact held by their
     compliance) at the paper's step is far inside RK4's stability bound, and RK4's
     amplification over the damped system's eigenvalues is at most 1."""
-    s = run_settings(PAIR, SPEED, 22.25, dt=1e-6, cycles=1, damping_ratio=0.05, **MESH)
+    s = run_settings(PAIR, SPEED, 22.25, model="sector", cycles=1, damping_ratio=0.05, **MESH)
     top = highest_frequency(PAIR, s)
     assert top["pairs_in_contact"] == 2
     assert top["omega_dt"] < 0.5
@@ -93,7 +93,7 @@ def test_the_reference_is_stable_at_the_papers_step():
 def test_the_compiled_reference_is_the_numpy_ones_twin():
     """On whole gears (3 cycles) the compiled loop's first 300 steps, across its chunks, are
     the NumPy loop's to round-off."""
-    s = run_settings(PAIR, SPEED, 22.25, dt=1e-6, cycles=3, damping_ratio=0.05, **MESH)
+    s = run_settings(PAIR, SPEED, 22.25, model="sector", cycles=3, damping_ratio=0.05, **MESH)
     fast = simulate_sector_rk4(PAIR, s, dt=RK4_STEP, steps=300, backend="numba")
     ref = simulate_sector_rk4(PAIR, s, dt=RK4_STEP, steps=300, backend="numpy")
     fa, fr = np.nan_to_num(fast.pair_force), np.nan_to_num(ref.pair_force)

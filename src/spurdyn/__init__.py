@@ -12,7 +12,7 @@ torque tables) → ``results`` (files, plots) → ``simulators`` → ``sweep`` �
 Compiled code comes in through one gate, :mod:`spurdyn.jit`.
 """
 
-from typing import Any
+from typing import Any, Callable
 
 from spurdyn.errors import InputError
 
@@ -21,12 +21,30 @@ from spurdyn.version import __version__
 __all__ = ["InputError", "__version__", "run_settings", "simulate"]
 
 
-def __getattr__(name: str) -> Any:
-    # ``simulate`` and ``run_settings`` are the solver's entry points, imported when asked for.
-    if name == "simulate":
-        from spurdyn.solvers.loop import simulate
+def simulate(pair: Any, settings: Any, progress: Callable[[int, float, float], None] | None = None,
+             *, model: str | None = None) -> Any:
+    """Simulate ``pair`` with the run ``settings`` by ``model`` (one of
+    :data:`spurdyn.simulators.MODELS`: ``"fe"``, ``"lumped"``, ``"sector"``; by default
+    :data:`spurdyn.settings.DEFAULT_MODEL`, the FE model) and return its
+    :class:`~spurdyn.result.Result`.
 
-        return simulate
+    The model's entry first refuses, naming the field, a setting it does not read that
+    differs from its default (:meth:`spurdyn.simulators.Model.refuse`), so that nothing
+    given is ignored in silence.
+    """
+    from spurdyn.settings import DEFAULT_MODEL
+    from spurdyn.simulators import MODELS
+
+    model = DEFAULT_MODEL if model is None else model
+    if model not in MODELS:
+        raise InputError("model", f"must be one of {', '.join(MODELS)} (got {model!r})")
+    entry = MODELS[model]
+    entry.refuse(settings, None, pair)
+    return entry(pair, settings, progress)
+
+
+def __getattr__(name: str) -> Any:
+    # ``run_settings`` is the solver's entry point, imported when asked for.
     if name == "run_settings":
         from spurdyn.solvers.check import run_settings
 

@@ -6,7 +6,7 @@ The bottom floor of the solvers: it imports only the error type and the mesh def
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import MISSING, dataclass, field, fields, replace
 from typing import Any
 
 from spurdyn.errors import InputError
@@ -39,6 +39,8 @@ INTEGRATORS = ("rk4", "implicit")
 #: model, the lumped two-disk model and the sector model of several teeth on their rims
 #: (:data:`spurdyn.simulators.MODELS` holds their simulate functions, in this order).
 MODEL_NAMES = ("fe", "lumped", "sector")
+#: The model of a case that names none (``[model]`` left out, no ``--model``).
+DEFAULT_MODEL = MODEL_NAMES[0]
 #: Where the lumped model's mesh stiffness comes from: the paper model's root-clamped tooth
 #: pair, or the sector model's quasi-static mesh cycle (docs/sector.md).
 STIFFNESSES = ("tooth", "sector")
@@ -48,9 +50,6 @@ BODIES = ("modal", "full")
 #: Why the sector stiffness needs a steady state (the one place that says it).
 SECTOR_STIFFNESS_REASON = ("'sector' is a mesh cycle under constant torques: it needs a "
                            "steady-state run (cycles; --cycles N)")
-#: Why the FE model refuses the sector stiffness.
-FE_STIFFNESS_REASON = ("is the lumped model's: the FE model's stiffness is its own teeth's "
-                       "(use --model lumped)")
 #: Why the sector model (and the lumped model on its stiffness) refuses rows graded along
 #: the tooth.
 SECTOR_ROW_GRADING_REASON = ("the sector model meshes its teeth with rows even in radius: leave "
@@ -103,9 +102,6 @@ MAX_CYCLES = 10_000
 #: ``cycles``, up to this many times them: a run settles in time (its transient decays as
 #: ``exp(-zeta omega_n t)``), and at high speed a mesh cycle is short (docs/sector.md, 6.5).
 SETTLE_CYCLES_FACTOR = 4
-#: Why the FE model refuses ``cycles`` (the one place that says it).
-FE_CYCLES_REASON = ("needs a model that meshes for more than one engagement: the paper's "
-                    "one-tooth FE model covers one (use --model sector or --model lumped)")
 
 #: How a steady-state run starts: ``"static"``, from the static equilibrium of the loaded
 #: pair at the first position of a mesh cycle (no start-up oscillation); ``"rest"``, the
@@ -175,14 +171,29 @@ class TorqueHistory:
         return self.time[-1] - self.time[0]
 
 
-#: Why the FE solver's RK4 refuses damping (the one place that says it).
-FE_DAMPING_REASON = ("needs the implicit integrator in the FE model: the paper's RK4 is "
-                     "undamped (use --integrator implicit, --model lumped, or no damping)")
+
+
+#: The case keys of the Rayleigh damping (as a ratio at two frequencies, for both coefficients).
+RAYLEIGH_RATIO_KEYS = ("run.rayleigh_ratio", "run.rayleigh_hz")
+#: The case keys of a torque history.
+HISTORY_KEYS = ("run.torque_history", "run.torque_history_periodic")
+
+
+def _setting(default: Any, *models: str, keys: tuple[str, ...] | None = None) -> Any:
+    """A :class:`RunSettings` field read by ``models`` (every model when none is named),
+    given in a case file or on the command line as ``keys`` (``run.<name>`` by default):
+    who reads each setting is declared once, here (:func:`settings_read_by`)."""
+    return field(default=default, metadata={"models": models or MODEL_NAMES, "keys": keys})
 
 
 @dataclass(frozen=True)
 class RunSettings:
     """Settings of one run of the dynamic contact solver.
+
+    The fields come in sections: what every model reads, then each model's own options.
+    Which models read a field is declared once, beside it (:func:`settings_read_by`); a
+    model's registry entry (:data:`spurdyn.simulators.MODELS`) refuses the others when
+    they are given (docs/architecture.md, "Models that own their rules").
 
     Parameters
     ----------
@@ -230,7 +241,7 @@ class RunSettings:
     damping_ratio
         Viscous damping ratio of the pair's torsional mode, by a mesh damper along the
         line of action acting in contact (0: undamped, the paper's). The FE model takes
-        it with the implicit integrator only (:data:`FE_DAMPING_REASON`).
+        it with the implicit integrator only (:data:`spurdyn.simulators.FE_DAMPING_REASON`).
     rho_inf
         Spectral radius at infinite frequency of the implicit integrator (1: no
         numerical dissipation, 0: the most), :data:`DEFAULT_RHO_INF`.
@@ -289,41 +300,49 @@ class RunSettings:
         A name for the run.
     """
 
-    speed_a: float
-    speed_b: float
-    torque: float
-    dt: float = PAPER_DT
-    angle: float | None = None
-    nx: int = DEFAULT_NX
-    ny: int = DEFAULT_NY
-    grading: float = DEFAULT_GRADING
-    row_grading: float = DEFAULT_ROW_GRADING
-    n_spline: int = 61
-    tol_disp: float = PAPER_TOL
-    max_iter: int = 500
-    accel_levels: int = 3
-    method: str = "paper"
-    backend: str = "numba"
-    contact: str = "hertz"
-    integrator: str = "rk4"
-    damping_ratio: float = 0.0
-    rho_inf: float = DEFAULT_RHO_INF
-    rayleigh_mass: float | None = None
-    rayleigh_stiffness: float | None = None
-    cycles: int | None = None
-    max_cycles: int | None = None
-    stiffness: str = "tooth"
-    bodies: str = "modal"
-    back_flanks: bool | None = None
-    teeth: int | None = None
-    start: str = "static"
-    ramp_cycles: float | None = None
-    torque_history: TorqueHistory | None = None
-    start_state: tuple[float, ...] | None = None
-    save_every: int = 1
-    frames_every: int = 100
-    keep_theta_term: bool = True
-    name: str = "run"
+    # Every model reads these.
+    speed_a: float = _setting(MISSING, keys=("run.speed_a_rpm",))
+    speed_b: float = _setting(MISSING, keys=("run.speed_b_rpm",))
+    torque: float = _setting(MISSING)
+    nx: int = _setting(DEFAULT_NX, keys=("mesh.nx",))
+    ny: int = _setting(DEFAULT_NY, keys=("mesh.ny",))
+    grading: float = _setting(DEFAULT_GRADING, keys=("mesh.grading",))
+    damping_ratio: float = _setting(0.0)
+    name: str = _setting("run", keys=())
+    # One engagement along a time step: the FE model, and the lumped model's.
+    dt: float = _setting(PAPER_DT, "fe", "lumped")
+    angle: float | None = _setting(None, "fe", "lumped", keys=("run.angle_deg",))
+    row_grading: float = _setting(DEFAULT_ROW_GRADING, "fe", "lumped", keys=("mesh.row_grading",))
+    n_spline: int = _setting(61, "fe", "lumped")
+    contact: str = _setting("hertz", "fe", "lumped")
+    save_every: int = _setting(1, "fe", "lumped")
+    # The FE model's own: its constraint iteration, time integrator and tooth frames.
+    tol_disp: float = _setting(PAPER_TOL, "fe")
+    max_iter: int = _setting(500, "fe")
+    accel_levels: int = _setting(3, "fe")
+    method: str = _setting("paper", "fe")
+    integrator: str = _setting("rk4", "fe")
+    frames_every: int = _setting(100, "fe")
+    keep_theta_term: bool = _setting(True, "fe")
+    # Elastic bodies stepped by generalized-alpha: the FE model (implicit) and the sector model.
+    backend: str = _setting("numba", "fe", "sector")
+    rho_inf: float = _setting(DEFAULT_RHO_INF, "fe", "sector")
+    rayleigh_mass: float | None = _setting(None, "fe", "sector", keys=("run.rayleigh_mass", *RAYLEIGH_RATIO_KEYS))
+    rayleigh_stiffness: float | None = _setting(None, "fe", "sector",
+                                                keys=("run.rayleigh_stiffness", *RAYLEIGH_RATIO_KEYS))
+    # Mesh cycles of a steady state: the lumped and the sector model.
+    cycles: int | None = _setting(None, "lumped", "sector")
+    max_cycles: int | None = _setting(None, "lumped", "sector")
+    teeth: int | None = _setting(None, "lumped", "sector")
+    start: str = _setting("static", "lumped", "sector")
+    ramp_cycles: float | None = _setting(None, "lumped", "sector")
+    torque_history: TorqueHistory | None = _setting(None, "lumped", "sector", keys=HISTORY_KEYS)
+    start_state: tuple[float, ...] | None = _setting(None, "lumped", "sector", keys=())
+    # The lumped model's own.
+    stiffness: str = _setting("tooth", "lumped")
+    # The sector model's own.
+    bodies: str = _setting("modal", "sector")
+    back_flanks: bool | None = _setting(None, "sector")
 
     def __post_init__(self) -> None:
         for key in ("speed_a", "speed_b", "dt", "tol_disp"):
@@ -452,3 +471,16 @@ class RunSettings:
     def with_(self, **changes: Any) -> "RunSettings":
         """A copy with some settings changed."""
         return replace(self, **changes)
+
+
+def settings_read_by(model: str) -> tuple[str, ...]:
+    """The :class:`RunSettings` fields ``model`` (one of :data:`MODEL_NAMES`) reads, in
+    their order of declaration."""
+    return tuple(f.name for f in fields(RunSettings) if model in f.metadata["models"])
+
+
+def setting_keys(name: str) -> tuple[str, ...]:
+    """The case keys (``run.dt``, ``mesh.nx``, ...) a setting is given as, the first its
+    own; none for one no case gives (``name``, ``start_state``)."""
+    meta = next(f.metadata for f in fields(RunSettings) if f.name == name)
+    return (f"run.{name}",) if meta["keys"] is None else meta["keys"]

@@ -1,20 +1,36 @@
-"""The models a run or a sweep can use, by name: ``MODELS = {"fe": ..., "lumped": ...,
-"sector": ...}``.
+"""The models a run or a sweep can use, by name, and the rules each owns:
+``MODELS = {"fe": ..., "lumped": ..., "sector": ...}`` (SciPy's ``METHODS``, a name to an
+object with its capabilities).
 
-Each entry is a module-level function ``simulate(pair, settings, progress=None) -> Result``
-(picklable, so worker processes can take it by reference); the simulators themselves are
-imported when first called, so importing this registry stays cheap.
+Each entry is a :class:`Model`: called as ``MODELS[name](pair, settings, progress)`` it
+refuses what it cannot run and simulates; it says which settings it reads (declared once,
+beside each field of :class:`~spurdyn.settings.RunSettings`) and refuses the others in
+one line naming the key, and gives its default step, its size estimate, what a sweep's
+settings hash carries for it, and its capabilities (tooth frames, a steady state). Nothing
+outside this module asks a model's name what it can do. The solvers are imported when
+first called, so importing this registry stays cheap; the entries pickle by reference
+(worker processes take them).
 """
 
 from __future__ import annotations
 
-from typing import Any, Callable, Protocol
+import importlib
+import math
+from dataclasses import dataclass, field, fields
+from typing import Any, Callable, Mapping, Protocol
 
+from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
+from spurdyn.lumped.sources import sector_cycle, tooth_table
 from spurdyn.result import Result
-from spurdyn.settings import RunSettings
+from spurdyn.settings import (MODEL_NAMES, SECTOR_ROW_GRADING_REASON, RunSettings, refuse_sector_row_grading,
+                              setting_keys, settings_read_by)
+from spurdyn.solvers.limits import Size, estimate
 
 Progress = Callable[[int, float, float], None]
+#: The case keys given on the command line -> how to name them (``{"run.dt": "--dt"}``);
+#: ``None`` for settings built in Python, where a setting is given when it is not its default.
+Labels = Mapping[str, str] | None
 
 
 class Simulate(Protocol):
@@ -22,26 +38,274 @@ class Simulate(Protocol):
                  progress: Progress | None = None) -> Result: ...
 
 
-def simulate_fe(pair: GearPair, settings: RunSettings, progress: Progress | None = None) -> Result:
-    """The paper's FE contact model (:func:`spurdyn.solvers.loop.simulate`)."""
-    from spurdyn.solvers.loop import simulate
+#: Each setting's default (what a run that does not give it has).
+DEFAULTS = {f.name: f.default for f in fields(RunSettings)}
 
-    return simulate(pair, settings, progress)
+#: Why the FE model refuses the sector stiffness.
+FE_STIFFNESS_REASON = ("is the lumped model's: the FE model's stiffness is its own teeth's "
+                       "(use --model lumped)")
+#: Why the FE model refuses ``cycles``.
+FE_CYCLES_REASON = ("needs a model that meshes for more than one engagement: the paper's "
+                    "one-tooth FE model covers one (use --model sector or --model lumped)")
+#: Why the FE solver's RK4 refuses damping.
+FE_DAMPING_REASON = ("needs the implicit integrator in the FE model: the paper's RK4 is "
+                     "undamped (use --integrator implicit, --model lumped, or no damping)")
+#: Why a model without several teeth refuses ``teeth``.
+TEETH_REASON = ("sets the sector model's teeth per gear (--model sector, or the lumped model's "
+                "--stiffness sector); {model} would not read it")
+#: Why the sector model refuses a time step, another integrator or another contact.
+SECTOR_DT_REASON = ("the sector model sets its own step of accuracy (docs/sector.md, 6.3); "
+                    "leave it out")
+SECTOR_INTEGRATOR_REASON = "the sector model steps by generalized-alpha only; leave it out or give implicit"
+SECTOR_CONTACT_REASON = "the sector model's contact is the Hertzian strip; leave it out or give hertz"
 
 
-def simulate_sector(pair: GearPair, settings: RunSettings,
-                    progress: Progress | None = None) -> Result:
-    """The sector model: several elastic teeth on elastic rims, hubs with inertia, under
-    constant torques for ``settings.cycles`` mesh cycles
-    (:func:`spurdyn.solvers.sector.run.simulate_sector`)."""
-    from spurdyn.solvers.sector.run import simulate_sector as sector
+def label(name: str, labels: Labels) -> str:
+    """How to name setting ``name`` in a refusal: the option or key the user wrote, else its
+    own case key (the field's name for settings built in Python)."""
+    if labels is None:
+        return name
+    keys = setting_keys(name)
+    return next((labels[k] for k in keys if k in labels), keys[0] if keys else name)
 
-    return sector(pair, settings, progress)
+
+def given(name: str, settings: RunSettings, labels: Labels) -> bool:
+    """Whether the user gave setting ``name``: on the command line (``labels``), or for
+    settings built in Python (``labels`` None), a value other than its default."""
+    if labels is None:
+        return bool(getattr(settings, name) != DEFAULTS[name])
+    return any(k in labels for k in setting_keys(name))
 
 
-#: Mesh-stiffness tables of the lumped model, per (pair, nx, ny), kept in the process so
-#: that the points of a sweep share them.
-_TABLES: dict[Any, Any] = {}
+@dataclass(frozen=True)
+class Model:
+    """A model of the registry: its solver and the rules it owns.
+
+    Attributes
+    ----------
+    name
+        Its name (one of :data:`~spurdyn.settings.MODEL_NAMES`).
+    solver
+        ``"module:function"`` of its simulate function, imported when first called.
+    title
+        How refusals name it ("the sector model").
+    reasons
+        Why it refuses a setting it does not read, by field (a plain reason for the others),
+        in the order it checks them (before the others).
+    fixed
+        Settings it does not read because it fixes them: the value it fixes is no refusal.
+    strict
+        Settings it does not read that are refused wherever they were given (a case file
+        too), not only on the command line.
+    keeps_frames
+        Whether its runs keep tooth frames (``--vtu``, the size of a run).
+    """
+
+    name: str
+    solver: str
+    title: str
+    reasons: Mapping[str, str] = field(default_factory=dict)
+    fixed: Mapping[str, Any] = field(default_factory=dict)
+    strict: tuple[str, ...] = ()
+    keeps_frames: bool = False
+
+    @property
+    def reads(self) -> tuple[str, ...]:
+        """The settings it reads (:func:`~spurdyn.settings.settings_read_by`)."""
+        return settings_read_by(self.name)
+
+    @property
+    def unread(self) -> tuple[str, ...]:
+        """The settings it does not read: each refused when given."""
+        reads = set(self.reads)
+        return tuple(f.name for f in fields(RunSettings) if f.name not in reads)
+
+    def __call__(self, pair: GearPair, settings: RunSettings, progress: Progress | None = None) -> Result:
+        """Refuse what the model cannot run, wherever it was given; run it."""
+        self.refuse(settings, {}, pair)
+        module, name = self.solver.split(":")
+        return getattr(importlib.import_module(module), name)(pair, settings, progress)
+
+    def available(self) -> None:
+        """Refuse (naming ``solver``) if this installation cannot import its solver."""
+        module = self.solver.split(":")[0]
+        try:
+            importlib.import_module(module)
+        except ImportError as err:
+            raise InputError("solver", f"{module}.{self.solver.split(':')[1]} is not available "
+                             f"({err})") from None
+
+    def refuse(self, settings: RunSettings, labels: Labels = None, pair: GearPair | None = None) -> None:
+        """Refuse, in one line naming the key the user wrote (``labels``) and the fix, a
+        setting it does not read that was given, and what it cannot do with the others
+        (:meth:`check`; given the ``pair``, what depends on it)."""
+        # those it gives a reason for first, in its order (the refusals' order of before)
+        for name in (*self.reasons, *(n for n in self.unread if n not in self.reasons)):
+            value = getattr(settings, name)
+            if name in self.fixed and value == self.fixed[name]:
+                continue
+            wherever = labels is None or name in self.strict
+            if (value == DEFAULTS[name]) if wherever else not given(name, settings, labels):
+                continue
+            readers = [m for m in MODEL_NAMES if name in settings_read_by(m)]
+            raise InputError(label(name, labels), self.reasons.get(name) or
+                             f"the {self.title} does not read it: leave it out, or run a model "
+                             f"that does (--model {'|'.join(readers)})")
+        self.check(settings, labels, pair)
+
+    def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
+        """What the model cannot do with settings it reads (none by default)."""
+
+    def default_step(self, settings: RunSettings, pair: GearPair) -> float:
+        """The time step (s) of a run that gives none."""
+        from spurdyn.solvers.check import default_step
+
+        return default_step(settings, pair)
+
+    def size(self, case: Any) -> Size:
+        """What a case will cost (:func:`spurdyn.solvers.limits.check_size` refuses too
+        much): one engagement along its ``dt``."""
+        return estimate(case, frames=self.keeps_frames, steps_capped=False)
+
+    def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
+        """What a sweep's settings hash carries beside the case's settings: the defaults a
+        run takes where the case gives nothing (a steady state's most cycles)."""
+        if settings.cycles is not None and settings.max_cycles is None:
+            return {"cycles_limit": settings.cycles_limit}
+        return {}
+
+    def steady(self, settings: RunSettings) -> bool:
+        """Whether the run is a steady state of mesh cycles (else one engagement)."""
+        return settings.cycles is not None
+
+    def sector_stiffness(self, settings: RunSettings) -> bool:
+        """Whether the run's mesh stiffness is the sector model's mesh cycle."""
+        return settings.stiffness == "sector"
+
+    def refuse_continuation(self, case: Any) -> None:
+        """Refuse, naming ``--continuation``, a case a continuation sweep cannot carry."""
+
+    def compiles(self, settings: RunSettings) -> bool:
+        """Whether a first run would compile the solver first (worth a word beforehand)."""
+        return False
+
+
+@dataclass(frozen=True)
+class FEModel(Model):
+    """The paper's FE contact model: one tooth pair over one engagement
+    (:func:`spurdyn.solvers.loop.simulate`)."""
+
+    def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
+        if settings.damped and settings.integrator == "rk4":
+            name = ("damping_ratio" if settings.damping_ratio > 0.0 else "rayleigh_mass"
+                    if settings.rayleigh[0] > 0.0 else "rayleigh_stiffness")
+            raise InputError(label(name, labels), FE_DAMPING_REASON)
+
+    def size(self, case: Any) -> Size:
+        return estimate(case, frames=True, steps_capped=True)
+
+    def compiles(self, settings: RunSettings) -> bool:
+        if settings.backend != "numba":
+            return False
+        from spurdyn.solvers.warmup import needs_compiling
+
+        return bool(needs_compiling())
+
+
+@dataclass(frozen=True)
+class LumpedModel(Model):
+    """Two disks on a mesh spring, damped by the run's ``damping_ratio``
+    (:func:`simulate_lumped`)."""
+
+    def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
+        if settings.stiffness == "sector":
+            refuse_sector_row_grading(settings.row_grading, label("row_grading", labels),
+                                      "with the sector stiffness (stiffness = \"sector\"), ")
+        if settings.teeth is None:
+            return
+        if settings.stiffness != "sector":
+            raise InputError(label("teeth", labels),
+                             TEETH_REASON.format(model="the lumped model with the tooth's stiffness"))
+        if pair is not None:
+            from spurdyn.sector.statics import driving_pair, pairs_in_path
+
+            need = pairs_in_path(driving_pair(pair))
+            if settings.teeth < need:
+                raise InputError(label("teeth", labels), f"must be at least the {need} teeth "
+                                 f"that carry load together (got {settings.teeth})")
+
+
+@dataclass(frozen=True)
+class SectorModel(Model):
+    """Several elastic teeth on elastic rims, hubs with inertia, under constant torques
+    for ``settings.cycles`` mesh cycles (:func:`spurdyn.solvers.sector.run.simulate_sector`)."""
+
+    def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
+        """Given the ``pair``, fewer ``teeth`` than the run meets."""
+        if pair is None or settings.teeth is None:
+            return
+        from spurdyn.sector.statics import driving_pair
+        from spurdyn.solvers.sector.rules import back_flanks_on, cover_cycles
+        from spurdyn.solvers.sector.system import teeth_for
+
+        dp = driving_pair(pair)
+        try:
+            teeth_for(dp, cover_cycles(settings), back_flanks_on(dp, settings), settings.teeth)
+        except InputError as err:
+            raise InputError(label("teeth", labels), err.reason) from None
+
+    def default_step(self, settings: RunSettings, pair: GearPair) -> float:
+        """Its own step of accuracy: a whole number of steps per mesh cycle of the driver
+        (:func:`~spurdyn.solvers.sector.rules.steps_per_cycle`)."""
+        from spurdyn.solvers.sector.rules import steps_per_cycle
+
+        speed, teeth = self._driver(settings, pair)
+        return 2.0 * math.pi / (teeth * speed) / steps_per_cycle(speed, teeth)
+
+    def size(self, case: Any) -> Size:
+        """Every step of the most cycles it may go on to, one sample each."""
+        from spurdyn.solvers.limits import BYTES_PER_SAMPLE
+        from spurdyn.solvers.sector.rules import cycles_limit, steps_per_cycle
+
+        speed, teeth = self._driver(case.run, case.pair)
+        steps = steps_per_cycle(speed, teeth) * cycles_limit(case.run)
+        return Size(steps, (steps + 1) * BYTES_PER_SAMPLE, sampling="cycles")
+
+    def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
+        """Its revision, and its defaults where the case gives nothing: the bodies' damping,
+        the most cycles."""
+        from spurdyn.solvers.sector.rules import SECTOR_REVISION, body_rayleigh, cycles_limit
+
+        extras: dict[str, Any] = {"sector_revision": SECTOR_REVISION}
+        if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
+            extras["sector_body_rayleigh"] = list(body_rayleigh(settings))
+        if settings.max_cycles is None:
+            extras["cycles_limit"] = cycles_limit(settings)
+        return extras
+
+    def steady(self, settings: RunSettings) -> bool:
+        return True          # one mesh cycle at least
+
+    def sector_stiffness(self, settings: RunSettings) -> bool:
+        return True
+
+    def refuse_continuation(self, case: Any) -> None:
+        """Its continuation carries whole gears from one speed to the next."""
+        from spurdyn.solvers.sector.system import WHOLE_FROM_CYCLES
+
+        if case.run.cycles < WHOLE_FROM_CYCLES:
+            raise InputError("--continuation", "carries the sector model's whole gears from one "
+                             f"speed to the next: give --cycles {WHOLE_FROM_CYCLES} or more")
+        most = max(case.pair.gear_a.teeth, case.pair.gear_b.teeth)
+        if case.run.teeth is not None and case.run.teeth < most:
+            raise InputError("--continuation", "carries the sector model's whole gears from one "
+                             f"speed to the next: leave out --teeth or give {most}")
+
+    @staticmethod
+    def _driver(settings: RunSettings, pair: GearPair) -> tuple[float, int]:
+        """The driver's speed (rad/s) and teeth."""
+        driver = pair.gear_a if pair.driver == "a" else pair.gear_b
+        return float(settings.speed_a if pair.driver == "a" else settings.speed_b), driver.teeth
 
 
 def simulate_lumped(pair: GearPair, settings: RunSettings,
@@ -70,81 +334,22 @@ def simulate_lumped(pair: GearPair, settings: RunSettings,
     return result
 
 
-def tooth_table(pair: GearPair, settings: RunSettings) -> Any:
-    """The paper model's single-pair stiffness table of the run's contact model (the strip's
-    depends on the load), on the run's tooth meshes (rows graded by ``row_grading``; the
-    point contact's table on even columns, as it always was), cached per process."""
-    from spurdyn.lumped import mesh_stiffness_table
-
-    hertz = settings.contact == "hertz" and settings.torque > 0
-    key = (pair, settings.nx, settings.ny, settings.torque if hertz else None,
-           settings.grading if hertz else None, settings.row_grading)
-    try:
-        table = _TABLES.get(key)
-    except TypeError:  # an unhashable pair: no caching
-        key, table = None, None
-    if table is None:
-        table = (_hertz_table(pair, settings) if hertz
-                 else mesh_stiffness_table(pair, settings.nx, settings.ny,
-                                           row_grading=settings.row_grading))
-        if key is not None:
-            _TABLES[key] = table
-    return table
+#: Model name -> its entry, in the order of :data:`~spurdyn.settings.MODEL_NAMES`.
+MODELS: dict[str, Model] = {
+    "fe": FEModel("fe", "spurdyn.solvers.loop:simulate", "paper's FE model",
+                  reasons={"stiffness": FE_STIFFNESS_REASON, "cycles": FE_CYCLES_REASON,
+                           "teeth": TEETH_REASON.format(model="the paper's FE model")},
+                  strict=("cycles", "teeth", "stiffness"), keeps_frames=True),
+    "lumped": LumpedModel("lumped", "spurdyn.simulators:simulate_lumped", "lumped model"),
+    "sector": SectorModel("sector", "spurdyn.solvers.sector.run:simulate_sector", "sector model",
+                          reasons={"dt": SECTOR_DT_REASON, "integrator": SECTOR_INTEGRATOR_REASON,
+                                   "contact": SECTOR_CONTACT_REASON,
+                                   "row_grading": SECTOR_ROW_GRADING_REASON},
+                          fixed={"integrator": "implicit", "contact": "hertz", "row_grading": 1.0},
+                          strict=("row_grading",)),
+}
 
 
-def sector_cycle(pair: GearPair, settings: RunSettings) -> Any:
-    """The sector model's mesh cycle of the run's pair, mesh, torque and teeth as the lumped
-    model's stiffness (:class:`spurdyn.lumped.cycle.SectorCycle`), cached per process."""
-    from spurdyn.lumped.cycle import SectorCycle
-    from spurdyn.sector.statics import mesh_cycle
-    from spurdyn.settings import refuse_sector_row_grading
-
-    refuse_sector_row_grading(settings.row_grading)
-
-    key = ("sector", pair, settings.nx, settings.ny, settings.grading, settings.torque, settings.teeth)
-    try:
-        cycle = _TABLES.get(key)
-    except TypeError:  # an unhashable pair: no caching
-        key, cycle = None, None
-    if cycle is None:
-        # K at or above a gear's teeth is the whole gear (the cycle takes one K for both)
-        teeth = None if settings.teeth is None else min(settings.teeth, pair.gear_a.teeth, pair.gear_b.teeth)
-        mc = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, teeth=teeth,
-                        grading=settings.grading)
-        cycle = SectorCycle.from_mesh_cycle(pair, mc)
-        if key is not None:
-            _TABLES[key] = cycle
-    return cycle
-
-
-def _hertz_table(pair: GearPair, settings: RunSettings) -> Any:
-    """The lumped model's stiffness table with the Hertzian strip of the static force
-    (:func:`spurdyn.solvers.paper.statics.static_stiffness`), over the path of contact."""
-    import numpy as np
-
-    from spurdyn.lumped.model import DEFAULT_TABLE_POINTS, MeshStiffnessTable
-    from spurdyn.model.loading import static_force
-    from spurdyn.model.system import system_for
-    from spurdyn.solvers.paper.statics import static_stiffness
-
-    system = system_for(pair, settings.nx, settings.ny, settings.n_spline, settings.grading,
-                        settings.row_grading)
-    spair = system.pair                      # the pair as the solver runs it (A driving)
-    roll = np.linspace(spair.start_roll_a, spair.end_roll_a, DEFAULT_TABLE_POINTS)
-    force = static_force(pair, settings.torque)
-    k = np.array([static_stiffness(system, float(r), force, "hertz").stiffness for r in roll])
-    if pair.driver != "a":
-        # B drives: the solver's A is the pair's B; the table runs along the pair's A roll,
-        # which is the solver's B roll there
-        roll = np.asarray(spair.roll_b_from_roll_a(roll), dtype=float)
-        order = np.argsort(roll)
-        roll, k = roll[order], k[order]
-    return MeshStiffnessTable(roll, k, "pchip")
-
-
-#: Model name -> its simulate function.
-MODELS: dict[str, Simulate] = {"fe": simulate_fe, "lumped": simulate_lumped,
-                               "sector": simulate_sector}
-
-
-__all__ = ["MODELS", "Progress", "Simulate", "simulate_fe", "simulate_lumped", "simulate_sector"]
+__all__ = ["DEFAULTS", "FE_CYCLES_REASON", "FE_DAMPING_REASON", "FE_STIFFNESS_REASON", "MODELS", "Model",
+           "Progress", "Simulate", "TEETH_REASON", "given", "label", "sector_cycle", "simulate_lumped",
+           "tooth_table"]

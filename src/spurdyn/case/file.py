@@ -33,11 +33,10 @@ from spurdyn.model.loading import check_history
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_ROW_GRADING, MAX_GRADING, MAX_ROW_GRADING
 from spurdyn.settings import (
-    BACKENDS, BODIES, CONTACTS, INTEGRATORS, METHODS, MODEL_NAMES, PAPER_DT, RETIRED_METHODS, RPM, STARTS, STIFFNESSES,
+    BACKENDS, BODIES, CONTACTS, DEFAULT_MODEL, INTEGRATORS, METHODS, MODEL_NAMES, PAPER_DT, RETIRED_METHODS, RPM, STARTS, STIFFNESSES,
     RunSettings, TorqueHistory,
 )
-from spurdyn.solvers.check import check_run, default_dt, round_down, stable_step
-from spurdyn.solvers.implicit.alpha import accuracy_step
+from spurdyn.solvers.check import check_run, default_step
 from spurdyn.solvers.implicit.damping import rayleigh_from_ratio
 from spurdyn.case.torque import history_from_table, history_to_table, read_history_csv
 
@@ -76,7 +75,7 @@ class Case:
     pair: GearPair
     run: RunSettings
     description: str = ""
-    model: str = "fe"
+    model: str = DEFAULT_MODEL
 
     @property
     def meshed_pair(self) -> MeshedPair:
@@ -281,10 +280,8 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     system = None
     if check_step or dt is None:
         system = _system(pair, nx, ny, run.n_spline, grading, overrides, labels, row_grading)
-    if dt is None and run.integrator == "implicit":   # a step of accuracy, not stability
-        run = run.with_(dt=round_down(accuracy_step(run.speed_a, pair.gear_a.teeth), 2))
-    elif dt is None:  # a stated fraction of the stable step of this mesh
-        run = run.with_(dt=default_dt(stable_step(system)))
+    if dt is None:  # the FE model's default step (stored, and hashed by a sweep, for every model)
+        run = run.with_(dt=default_step(run, pair, system))
 
     if system is not None:
         def field(name: str) -> str:
@@ -391,7 +388,7 @@ def case_from_dict(data: dict[str, Any], name: str = "case",
     model = _model_kind(data.get("model"), overrides or {}, labels or {})
     case = case_from_pair(meshed_pair, data.get("run"), name, overrides, labels,
                           check_step=check_step, base=base)
-    return case if model == "fe" else replace(case, model=model)
+    return replace(case, model=model)
 
 
 def _model_kind(table: Any, overrides: Mapping[str, Any], labels: Mapping[str, str]) -> str:
@@ -400,11 +397,11 @@ def _model_kind(table: Any, overrides: Mapping[str, Any], labels: Mapping[str, s
         kind, name = overrides["model.kind"], labels.get("model.kind", "model.kind")
     else:
         if table is None:
-            return "fe"
+            return DEFAULT_MODEL
         if not isinstance(table, dict):
             raise InputError("model", "must be a table, e.g. [model] kind = \"sector\"")
         _check_keys(table, {"kind"}, "model")
-        kind, name = table.get("kind", "fe"), "model.kind"
+        kind, name = table.get("kind", DEFAULT_MODEL), "model.kind"
     if kind not in MODEL_NAMES:
         raise InputError(name, f"must be one of {', '.join(MODEL_NAMES)} (got {kind!r})")
     return str(kind)
@@ -462,4 +459,4 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         | {key: getattr(run, key) for key, default in _MESH_WRITTEN_IF_GIVEN
            if getattr(run, key) != default},
         "run": run_table,
-    } | ({} if case.model == "fe" else {"model": {"kind": case.model}})
+    } | ({} if case.model == DEFAULT_MODEL else {"model": {"kind": case.model}})

@@ -17,8 +17,7 @@ from typing import Any, NoReturn, Sequence
 
 from spurdyn.case.pair_tables import MeshedPair
 from spurdyn.cli.inputs import meshed_case, png_target, resolve_pair
-from spurdyn.cli.options import (DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics,
-                                 refuse_lumped_options, refuse_sector_options)
+from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import PAPER_TORQUE
 from spurdyn.simulators import MODELS
@@ -138,8 +137,9 @@ def cmd_run(args: argparse.Namespace) -> int:
     overrides, labels = run_overrides(args)
     cases = resolve_cases(args.case, overrides, labels)
     model = model_of(cases, args.model)
+    entry = MODELS[model]
     if args.vtu:  # a ParaView series is made of tooth frames: refuse a run that keeps none
-        if model != "fe":
+        if not entry.keeps_frames:
             raise InputError("--vtu", f"draws the FE teeth; the {model} model has none "
                              "(leave out --vtu or use --model fe)")
         for case in cases:
@@ -150,17 +150,12 @@ def cmd_run(args: argparse.Namespace) -> int:
                 raise InputError("--vtu", f"needs tooth frames, but {case.name} is driven by "
                                  "gear B, whose runs keep none; leave out --vtu")
     for case in cases:   # not ignored in silence
-        if model == "fe":
-            refuse_fe_dynamics(case.run, labels)
-        elif model == "sector":
-            refuse_sector_options(case.run, labels, case.pair)
-        else:
-            refuse_lumped_options(case.run, labels, case.pair)
+        entry.refuse(case.run, labels, case.pair)
     if not args.allow_large:
         from spurdyn.solvers.limits import check_size
 
         for case in cases:
-            check_size(case, labels, model=model)
+            check_size(case, labels, entry.size(case))
     simulate = runner.load_simulate(model)
     plans = runner.plan_runs(cases, args.out, args.force, vtu=args.vtu)
     return runner.run_plans(plans, simulate, jobs=args.jobs, progress=not args.quiet,

@@ -1,17 +1,13 @@
 """Option parsing shared by the subcommands (below :mod:`spurdyn.cli.main` and
-:mod:`spurdyn.cli.sweep`, which both import it)."""
+:mod:`spurdyn.cli.sweep`, which both import it); what each model refuses of them is its
+registry entry's (:meth:`spurdyn.simulators.Model.refuse`)."""
 
 from __future__ import annotations
 
 import argparse
 
 from spurdyn.errors import InputError
-from spurdyn.geometry.pair import GearPair
-from spurdyn.settings import BODIES, INTEGRATORS, STARTS, STIFFNESSES, RunSettings, refuse_sector_row_grading
-
-#: Why a model without several teeth refuses ``teeth`` (the one place that says it).
-TEETH_REASON = ("sets the sector model's teeth per gear (--model sector, or the lumped model's "
-                "--stiffness sector); {model} would not read it")
+from spurdyn.settings import BODIES, INTEGRATORS, STARTS, STIFFNESSES
 
 #: Options of the time integrator and damping that ``run`` and ``sweep`` share:
 #: (dest, dotted case key, label).
@@ -48,73 +44,6 @@ def _on_off(text: str) -> bool:
     if text not in ("on", "off"):
         raise argparse.ArgumentTypeError(f"must be on or off (got {text!r})")
     return text == "on"
-
-
-def refuse_fe_dynamics(run: RunSettings, labels: dict[str, str]) -> None:
-    """Refuse, in one line, what the FE model cannot do with these settings: damping with
-    RK4, a steady state of several mesh cycles."""
-    from spurdyn.settings import FE_CYCLES_REASON, FE_DAMPING_REASON, FE_STIFFNESS_REASON
-
-    if run.stiffness != "tooth":
-        raise InputError(labels.get("run.stiffness", "run.stiffness"), FE_STIFFNESS_REASON)
-    if run.cycles is not None:
-        raise InputError(labels.get("run.cycles", "run.cycles"), FE_CYCLES_REASON)
-    if run.teeth is not None:
-        raise InputError(labels.get("run.teeth", "run.teeth"), TEETH_REASON.format(model="the paper's FE model"))
-    if run.damped and run.integrator == "rk4":
-        raise InputError(damping_label(run, labels), FE_DAMPING_REASON)
-
-
-def refuse_sector_options(run: RunSettings, labels: dict[str, str], pair: GearPair | None = None) -> None:
-    """Refuse, in one line, the options the sector model would not read: its step is its own
-    (of accuracy), its integrator generalized-alpha and its contact the Hertzian strip
-    (docs/sector.md, section 6); and, given the ``pair``, fewer ``teeth`` than the run meets."""
-    if "run.dt" in labels:
-        raise InputError(labels["run.dt"], "the sector model sets its own step of accuracy "
-                         "(docs/sector.md, 6.3); leave it out")
-    if "run.integrator" in labels and run.integrator != "implicit":
-        raise InputError(labels["run.integrator"], "the sector model steps by generalized-alpha "
-                         "only; leave it out or give implicit")
-    if "run.contact" in labels and run.contact != "hertz":
-        raise InputError(labels["run.contact"], "the sector model's contact is the Hertzian "
-                         "strip; leave it out or give hertz")
-    refuse_sector_row_grading(run.row_grading, labels.get("mesh.row_grading", "mesh.row_grading"))
-    if pair is not None and run.teeth is not None:
-        from spurdyn.sector.statics import driving_pair
-        from spurdyn.solvers.sector.rules import back_flanks_on, cover_cycles
-        from spurdyn.solvers.sector.system import teeth_for
-
-        dp = driving_pair(pair)
-        try:
-            teeth_for(dp, cover_cycles(run), back_flanks_on(dp, run), run.teeth)
-        except InputError as err:
-            raise InputError(labels.get("run.teeth", "run.teeth"), err.reason) from None
-
-
-def refuse_lumped_options(run: RunSettings, labels: dict[str, str], pair: GearPair) -> None:
-    """Refuse, in one line, ``teeth`` where the lumped model would not read it (its stiffness
-    the tooth's) or fewer than carry load together (its stiffness the sector's); rows graded
-    along the tooth with the sector's stiffness."""
-    if run.stiffness == "sector":
-        refuse_sector_row_grading(run.row_grading, labels.get("mesh.row_grading", "mesh.row_grading"),
-                                  "with the sector stiffness (stiffness = \"sector\"), ")
-    if run.teeth is None:
-        return
-    label = labels.get("run.teeth", "run.teeth")
-    if run.stiffness != "sector":
-        raise InputError(label, TEETH_REASON.format(model="the lumped model with the tooth's stiffness"))
-    from spurdyn.sector.statics import driving_pair, pairs_in_path
-
-    need = pairs_in_path(driving_pair(pair))
-    if run.teeth < need:
-        raise InputError(label, f"must be at least the {need} teeth that carry load together (got {run.teeth})")
-
-
-def damping_label(run: RunSettings, labels: dict[str, str]) -> str:
-    """The key or flag of the damping a run was given (for an RK4 run's refusal)."""
-    key = ("run.damping_ratio" if run.damping_ratio > 0.0 else "run.rayleigh_ratio"
-           if "run.rayleigh_ratio" in labels else "run.rayleigh_mass")
-    return labels.get(key, key)
 
 
 def add_dynamics_options(p: argparse.ArgumentParser) -> None:
@@ -182,5 +111,4 @@ def parse_mesh(text: str | None) -> tuple[int, int] | None:
     return nx, ny
 
 
-__all__ = ["DYNAMICS_OVERRIDES", "add_dynamics_options", "damping_label", "parse_mesh",
-           "refuse_fe_dynamics", "refuse_lumped_options", "refuse_sector_options"]
+__all__ = ["DYNAMICS_OVERRIDES", "add_dynamics_options", "parse_mesh"]

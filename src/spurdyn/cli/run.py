@@ -25,6 +25,7 @@ from typing import Any, Sequence
 
 from spurdyn.case.file import Case
 from spurdyn.errors import InputError
+from spurdyn.settings import DEFAULT_MODEL
 from spurdyn.signals import Interrupts, install_in_worker
 from spurdyn.simulators import MODELS, Simulate
 
@@ -32,20 +33,15 @@ from spurdyn.simulators import MODELS, Simulate
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 
 
-def load_simulate(model: str = "fe") -> Simulate:
-    """The simulate function of ``model`` (:data:`spurdyn.simulators.MODELS`).
+def load_simulate(model: str = DEFAULT_MODEL) -> Simulate:
+    """The entry of ``model`` (:data:`spurdyn.simulators.MODELS`), called to simulate.
 
     Raises
     ------
     InputError
-        If this installation has no FE solver.
+        If this installation has not its solver.
     """
-    if model == "fe":
-        try:
-            import spurdyn.solvers.loop  # noqa: F401
-        except ImportError as err:
-            raise InputError("solver", f"spurdyn.solvers.loop.simulate is not available ({err})") \
-                from None
+    MODELS[model].available()
     return MODELS[model]
 
 
@@ -159,11 +155,8 @@ class ProgressBar:
 
 def _compiling_note(plan: RunPlan, simulate: Simulate, quiet: bool) -> None:
     """Say so before a first run compiles the solver (a minute without a word otherwise)."""
-    if quiet or simulate is not MODELS["fe"] or plan.case.run.backend != "numba":
-        return
-    from spurdyn.solvers.warmup import needs_compiling
-
-    if needs_compiling():
+    compiles = getattr(simulate, "compiles", None)   # a registry entry's (a stand-in has none)
+    if not quiet and compiles is not None and compiles(plan.case.run):
         print("spurdyn: compiling the solver (first run only, up to a minute)...",
               file=sys.stderr, flush=True)
 

@@ -17,9 +17,9 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
-from spurdyn.cli.options import (DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh, refuse_fe_dynamics,
-                                 refuse_lumped_options, refuse_sector_options)
+from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh
 from spurdyn.errors import InputError
+from spurdyn.simulators import MODELS as ENTRIES
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep.spec import CONTINUATIONS, MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
 
@@ -125,12 +125,8 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     overrides, labels = _overrides(args, torques)
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
     model = args.model or case.model          # --model, else the case file's [model] kind
-    if model == "fe":   # not ignored in silence
-        refuse_fe_dynamics(case.run, labels)
-    elif model == "sector":
-        refuse_sector_options(case.run, labels, case.pair)
-    else:
-        refuse_lumped_options(case.run, labels, case.pair)
+    entry = ENTRIES[model]
+    entry.refuse(case.run, labels, case.pair)   # not ignored in silence
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:
             raise InputError("--continuation", f"must be one of {', '.join(CONTINUATIONS)} "
@@ -138,15 +134,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
         if case.run.cycles is None:
             raise InputError("--continuation", "starts each speed from the previous one's "
                              "settled state: it needs a steady-state sweep (--cycles N)")
-        from spurdyn.solvers.sector.system import WHOLE_FROM_CYCLES
-
-        if model == "sector" and case.run.cycles < WHOLE_FROM_CYCLES:
-            raise InputError("--continuation", "carries the sector model's whole gears from one "
-                             f"speed to the next: give --cycles {WHOLE_FROM_CYCLES} or more")
-        most = max(case.pair.gear_a.teeth, case.pair.gear_b.teeth)
-        if model == "sector" and case.run.teeth is not None and case.run.teeth < most:
-            raise InputError("--continuation", "carries the sector model's whole gears from one "
-                             f"speed to the next: leave out --teeth or give {most}")
+        entry.refuse_continuation(case)
         if args.jobs is not None or args.scheduler is not None:
             raise InputError("--continuation", "runs its speeds in turn in this process: "
                              "leave out --jobs and --scheduler")
@@ -186,7 +174,7 @@ def _check_points(plan: SweepPlan, labels: dict[str, str], allow_large: bool) ->
         check_sampling(point.pair, point.run, field)
     if not allow_large:
         slowest = min(points, key=lambda p: p.run.speed_a)
-        check_size(slowest, labels, model=plan.model, speed_field="--rpm")
+        check_size(slowest, labels, ENTRIES[plan.model].size(slowest), speed_field="--rpm")
 
 
 def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:
@@ -233,10 +221,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from spurdyn.sweep.runner import points_to_compute, run_sweep
 
     plan = build_plan(args)
-    if plan.model == "fe":
-        from spurdyn.cli.run import load_simulate
-
-        load_simulate("fe")  # refuse now if this installation has no solver
+    entry = ENTRIES[plan.model]
+    entry.available()  # refuse now if this installation has no solver
     resonance = resonance_estimate(plan.case, plan.model)
     todo = len(points_to_compute(plan))
     if todo == 0:
@@ -249,12 +235,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         jobs = min(args.jobs or _backends.default_jobs(), todo)
         backend_cm = local_backend(jobs)
         where = f"{jobs} local worker{'s' if jobs > 1 else ''}"
-    if todo and plan.model == "fe" and plan.case.run.backend == "numba" and not args.quiet:
-        from spurdyn.solvers.warmup import needs_compiling
-
-        if needs_compiling():
-            print("spurdyn: the workers compile the solver first (first run only, up to a "
-                  "minute)...", file=sys.stderr, flush=True)
+    if todo and not args.quiet and entry.compiles(plan.case.run):
+        print("spurdyn: the workers compile the solver first (first run only, up to a "
+              "minute)...", file=sys.stderr, flush=True)
     with backend_cm as backend:
         report = run_sweep(plan, backend, resonance=resonance, progress=not args.quiet)
     _report(report, resonance, where, args.quiet)

@@ -42,6 +42,7 @@ from spurdyn.results.frames import (
 from spurdyn.results.headline import headline
 from spurdyn.results.pairs import _pair_variables, back_flank_figures, steady_figures
 from spurdyn.results.stress import root_stress_variables, stress_summary
+from spurdyn.settings import DEFAULT_MODEL
 
 RESULT_FILE = "result.nc"
 CSV_FILE = "contact_force.csv"
@@ -377,7 +378,7 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     if "steady" in info:
         summary.update(steady_figures(time, force, info["steady"], complete))
     model = info.get("model")
-    if model and model != "fe":  # say which model made it (the FE solver's is implied)
+    if model and model != DEFAULT_MODEL:  # say which model made it (the default's is implied)
         summary["model"] = model
     if "start" in info:         # a run of mesh cycles: how it started, what torques it carried
         summary["start"] = info["start"]

@@ -16,7 +16,8 @@ from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
 from spurdyn.model.system import PairSystem, system_for
-from spurdyn.settings import RunSettings
+from spurdyn.settings import DEFAULT_MODEL, RunSettings, settings_read_by
+from spurdyn.solvers.implicit.alpha import accuracy_step
 from spurdyn.solvers.limits import check_run_bounds, check_sampling, steps_for
 
 #: How far beyond the angle of action ``theta_s`` (as a fraction of it) a run may go:
@@ -67,26 +68,42 @@ def default_dt(stable_dt: float) -> float:
     return round_down(DT_FRACTION * stable_dt, 2)
 
 
+def default_step(settings: RunSettings, pair: GearPair, system: PairSystem | None = None) -> float:
+    """The time step (s) of a one-engagement run that gives none (the FE model's, and the
+    lumped model's samples): for the implicit integrator a step of accuracy
+    (:func:`~spurdyn.solvers.implicit.alpha.accuracy_step`, two digits), else
+    :func:`default_dt` of the stable step of the run's tooth meshes (``system`` if built)."""
+    if settings.integrator == "implicit":   # a step of accuracy, not stability
+        return round_down(accuracy_step(settings.speed_a, pair.gear_a.teeth), 2)
+    if system is None:
+        system = system_for(pair, settings.nx, settings.ny, settings.n_spline, settings.grading,
+                            settings.row_grading)
+    return default_dt(stable_step(system))
+
+
 def run_settings(pair: GearPair, speed_a: float, torque: float, *,
                  speed_b: float | None = None, dt: float | None = None,
-                 **kwargs: Any) -> RunSettings:
+                 model: str = DEFAULT_MODEL, **kwargs: Any) -> RunSettings:
     """:class:`~spurdyn.settings.RunSettings` with the command line's defaults (SI units:
     rad/s, N m, s).
 
     ``speed_b`` defaults to the speed that meshes, ``speed_a z_a / z_b``; ``dt`` to
     :func:`default_dt` of the stable step of the ``nx`` x ``ny`` tooth meshes (built here,
-    a fraction of a second, and kept for the run). ``kwargs`` are the other fields of
-    :class:`~spurdyn.settings.RunSettings`.
+    a fraction of a second, and kept for the run) when ``model`` reads a ``dt``
+    (:func:`~spurdyn.settings.settings_read_by`; the sector model steps by its own rule and
+    gets none). ``kwargs`` are the other fields of :class:`~spurdyn.settings.RunSettings`.
     """
     if speed_b is None:
         speed_b = speed_a * pair.gear_a.teeth / pair.gear_b.teeth
-    if dt is None:
+    if dt is None and "dt" in settings_read_by(model):
         system = system_for(pair, kwargs.get("nx", DEFAULT_NX), kwargs.get("ny", DEFAULT_NY),
                             kwargs.get("n_spline", RunSettings.n_spline),
                             kwargs.get("grading", RunSettings.grading),
                             kwargs.get("row_grading", RunSettings.row_grading))
         dt = default_dt(stable_step(system))
-    return RunSettings(speed_a=speed_a, speed_b=speed_b, torque=torque, dt=dt, **kwargs)
+    if dt is not None:
+        kwargs["dt"] = dt
+    return RunSettings(speed_a=speed_a, speed_b=speed_b, torque=torque, **kwargs)
 
 
 def check_run(pair: GearPair, settings: RunSettings, system: PairSystem,

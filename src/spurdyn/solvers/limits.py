@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import sys
+from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
 from spurdyn.errors import InputError
@@ -120,51 +121,79 @@ def engagement_steps_of(pair: Any, run: Any) -> int:
     return steps_for(pair.theta_s if run.angle is None else run.angle, run.speed_a, run.dt)
 
 
-def estimate(case: Any, model: str = "fe") -> tuple[int, int]:
-    """``(steps, bytes of results)`` of a case: history samples and tooth frames."""
+@dataclass(frozen=True)
+class Size:
+    """What a run will cost: its steps and the bytes of results it keeps.
+
+    Attributes
+    ----------
+    steps
+        Time steps of the run.
+    bytes
+        Bytes of results it keeps (the history, and the tooth frames).
+    frame_bytes
+        The part of ``bytes`` that the tooth frames take.
+    steps_capped
+        Whether the steps themselves are limited (:data:`MAX_STEPS`): the FE model's cost is
+        per step; the others' steps are cheap.
+    sampling
+        The ``[run]`` key that sets how many samples are kept (blamed for too many bytes).
+    """
+
+    steps: int
+    bytes: int
+    frame_bytes: int = 0
+    steps_capped: bool = False
+    sampling: str = "save_every"
+
+
+def estimate(case: Any, frames: bool = True, steps_capped: bool = True) -> Size:
+    """The :class:`Size` of a case stepped by its ``dt`` over the angle it simulates: its
+    history samples, and with ``frames`` its tooth frames."""
     steps = engagement_steps(case)
     size = (steps // case.run.save_every + 1) * BYTES_PER_SAMPLE
-    if model == "fe" and case.run.frames_every:
+    frame_bytes = 0
+    if frames and case.run.frames_every:
         from spurdyn.mesh.tooth import tooth_mesh
 
         n_u = sum(tooth_mesh(g, case.run.nx, case.run.ny).n_dof
                   for g in (case.pair.gear_a, case.pair.gear_b))
-        size += (steps // case.run.frames_every + 1) * n_u * 8
-    return steps, size
+        frame_bytes = (steps // case.run.frames_every + 1) * n_u * 8
+    return Size(steps, size + frame_bytes, frame_bytes, steps_capped)
 
 
 def _label(labels: Mapping[str, str], key: str) -> str:
     return labels.get(f"run.{key}", f"run.{key}")
 
 
-def check_size(case: Any, labels: Mapping[str, str], *, model: str = "fe",
+def check_size(case: Any, labels: Mapping[str, str], size: Size, *,
                flag: str = "--allow-large", speed_field: str | None = None) -> None:
-    """Refuse a run beyond :data:`MAX_STEPS` or :data:`MAX_BYTES` (``flag`` allows it).
+    """Refuse a run beyond :data:`MAX_STEPS` or :data:`MAX_BYTES` (``flag`` allows it), of
+    the ``size`` its model estimates (:meth:`spurdyn.simulators.Model.size`).
 
     The refusal names the time step when the paper's would keep the run within the limit,
     else the speed (``speed_field`` if given); for the size, the tooth frames or the saving
     interval (the speed instead, when ``speed_field`` is given and the interval is not an
     option the user gave).
     """
-    steps, size = estimate(case, model)
-    if model == "fe" and steps > MAX_STEPS:
+    steps = size.steps
+    if size.steps_capped and steps > MAX_STEPS:
         # Blame the time step when the paper's would keep the run within the limit.
         dt_blamed = steps * case.run.dt / PAPER_DT <= MAX_STEPS
         key = _label(labels, "dt") if dt_blamed else speed_field or _label(labels, "speed_a_rpm")
         raise InputError(key, f"{case.name} would take {steps:,} steps (limit {MAX_STEPS:,}; "
                          f"about {steps / STEPS_PER_S / 60:,.0f} min at {STEPS_PER_S:,} steps/s); raise the "
                          f"speed, shorten --angle, or give {flag} to run it anyway")
-    if size > MAX_BYTES:
-        frames = model == "fe" and case.run.frames_every and \
-            size - (steps // case.run.save_every + 1) * BYTES_PER_SAMPLE > size / 2
-        what = "frames_every" if frames else "save_every"
+    if size.bytes > MAX_BYTES:
+        frames = size.frame_bytes > size.bytes / 2
+        what = "frames_every" if frames else size.sampling
         # The saving interval, unless the speed was what the user wrote for it (a sweep).
         key = _label(labels, what) if frames or f"run.{what}" in labels or not speed_field \
             else speed_field
-        raise InputError(key, f"{case.name} would keep about {size / 2**30:,.1f} GiB of results "
+        raise InputError(key, f"{case.name} would keep about {size.bytes / 2**30:,.1f} GiB of results "
                          f"(limit {MAX_BYTES / 2**30:g} GiB); keep fewer "
                          f"{'tooth frames' if frames else 'steps'} or give {flag} to run it anyway")
 
 
-__all__ = ["MAX_BYTES", "MAX_STEPS", "check_run_bounds", "check_sampling", "check_size", "engagement_steps",
+__all__ = ["MAX_BYTES", "MAX_STEPS", "Size", "check_run_bounds", "check_sampling", "check_size", "engagement_steps",
            "estimate"]

@@ -22,13 +22,12 @@ from typing import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.errors import InputError
 from spurdyn.contact.hertz import half_width, peak_pressure
 from spurdyn.geometry.pair import GearPair
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem, build_system, solver_pair
 from spurdyn.result import Result
-from spurdyn.settings import FE_CYCLES_REASON, FE_DAMPING_REASON, RunSettings
+from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.check import check_run
 from spurdyn.solvers.layout import HISTORY, NCOL
@@ -70,13 +69,10 @@ def simulate(pair: GearPair, settings: RunSettings, progress: Progress | None = 
     -------
     Result
         ``status`` is ``"incomplete"`` (with ``reason``) if the run stopped early.
+
+    What the FE model cannot run (damping with RK4, mesh cycles) is refused by its registry
+    entry (:data:`spurdyn.simulators.MODELS`), through which runs come.
     """
-    if settings.cycles is not None:
-        raise InputError("cycles", FE_CYCLES_REASON)
-    if settings.damped and settings.integrator == "rk4":
-        raise InputError("damping_ratio" if settings.damping_ratio > 0.0 else "rayleigh_mass"
-                         if settings.rayleigh[0] > 0.0 else "rayleigh_stiffness",
-                         FE_DAMPING_REASON)
     if pair.driver == "b":
         return _simulate_driven_by_b(pair, settings, progress, chunk)
     wall0 = time.perf_counter()

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from spurdyn.case.file import Case
+from spurdyn.settings import DEFAULT_MODEL
+from spurdyn.simulators import MODELS
 
 
 @dataclass(frozen=True)
@@ -100,7 +102,7 @@ def iso_kv_grid(case: Case, rpms: Any, torques: Any) -> Any:
     return out if np.isfinite(out).any() else None
 
 
-def resonance_estimate(case: Case, model: str = "fe") -> ResonanceEstimate:
+def resonance_estimate(case: Case, model: str = DEFAULT_MODEL) -> ResonanceEstimate:
     """The estimate for the pair and tooth mesh of ``case`` (a fraction of a second; the
     sector model's, whose stiffness is its quasi-static mesh cycle, a few seconds)."""
     from spurdyn.lumped import (equivalent_mass, mesh_stiffness_table,
@@ -108,14 +110,15 @@ def resonance_estimate(case: Case, model: str = "fe") -> ResonanceEstimate:
 
     pair = case.pair
     table = mesh_stiffness_table(pair, case.run.nx, case.run.ny)
-    if case.run.cycles is None and model != "sector":
+    entry = MODELS[model]
+    if not entry.steady(case.run):
         k = table.mean(float(table.roll_a[0]), float(table.roll_a[-1]))
     else:
         # a steady-state run meshes every pair the path holds: the mean of their sum
         from spurdyn.lumped.steady import cycle_stiffness
 
-        if case.run.stiffness == "sector" or model == "sector":
-            from spurdyn.simulators import sector_cycle
+        if entry.sector_stiffness(case.run):
+            from spurdyn.lumped.sources import sector_cycle
 
             source: Any = sector_cycle(pair, case.run)
         else:

@@ -22,7 +22,7 @@ from typing import Any
 from spurdyn.case.file import Case, case_to_dict
 from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as _MODELS
-from spurdyn.settings import RPM
+from spurdyn.settings import DEFAULT_MODEL, RPM
 
 #: Models a sweep can run.
 MODELS = tuple(_MODELS)
@@ -164,16 +164,7 @@ def settings_hash(case: Case, continuation: str | None = None, model: str | None
     data = settings_dict(case)
     if continuation is not None:
         data["sweep"] = {"continuation": continuation}
-    if model == "sector":
-        from spurdyn.solvers.sector.run import SECTOR_REVISION, body_rayleigh, cycles_limit
-
-        data["run"]["sector_revision"] = SECTOR_REVISION
-        if case.run.rayleigh_mass is None and case.run.rayleigh_stiffness is None:
-            data["run"]["sector_body_rayleigh"] = list(body_rayleigh(case.run))
-        if case.run.max_cycles is None:
-            data["run"]["cycles_limit"] = cycles_limit(case.run)
-    elif case.run.cycles is not None and case.run.max_cycles is None:
-        data["run"]["cycles_limit"] = case.run.cycles_limit
+    data["run"].update(_MODELS[model or DEFAULT_MODEL].hash_extras(case.run))
     text = json.dumps(data, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]
 

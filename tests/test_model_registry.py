@@ -134,7 +134,7 @@ def test_no_model_name_is_asked_outside_the_registry():
 
 
 def test_the_default_step_comes_from_the_entry(tmp_path):
-    from spurdyn.cases import resolve_cases
+    from spurdyn.case import resolve_cases
     from spurdyn.solvers.check import default_dt, stable_step
     from spurdyn.model.system import system_for
 

@@ -29,7 +29,7 @@ def simulate(pair: Any, settings: Any, progress: Callable[[int, float, float], N
     :class:`~spurdyn.result.Result`.
 
     The model's entry first refuses, naming the field, a setting it does not read that
-    differs from its default (:meth:`spurdyn.simulators.Model.refuse`), so that nothing
+    differs from its default (:meth:`spurdyn.simulators.ModelEntry.refuse`), so that nothing
     given is ignored in silence.
     """
     from spurdyn.settings import DEFAULT_MODEL

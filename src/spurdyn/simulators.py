@@ -2,7 +2,7 @@
 ``MODELS = {"fe": ..., "lumped": ..., "sector": ...}`` (SciPy's ``METHODS``, a name to an
 object with its capabilities).
 
-Each entry is a :class:`Model`: called as ``MODELS[name](pair, settings, progress)`` it
+Each entry is a :class:`ModelEntry`: called as ``MODELS[name](pair, settings, progress)`` it
 refuses what it cannot run and simulates; it says which settings it reads (declared once,
 beside each field of :class:`~spurdyn.settings.RunSettings`) and refuses the others in
 one line naming the key, and gives its default step, its size estimate, what a sweep's
@@ -78,7 +78,7 @@ def given(name: str, settings: RunSettings, labels: Labels) -> bool:
 
 
 @dataclass(frozen=True)
-class Model:
+class ModelEntry:
     """A model of the registry: its solver and the rules it owns.
 
     Attributes
@@ -191,7 +191,7 @@ class Model:
 
 
 @dataclass(frozen=True)
-class FEModel(Model):
+class FEEntry(ModelEntry):
     """The paper's FE contact model: one tooth pair over one engagement
     (:func:`spurdyn.solvers.loop.simulate`)."""
 
@@ -213,7 +213,7 @@ class FEModel(Model):
 
 
 @dataclass(frozen=True)
-class LumpedModel(Model):
+class LumpedEntry(ModelEntry):
     """Two disks on a mesh spring, damped by the run's ``damping_ratio``
     (:func:`simulate_lumped`)."""
 
@@ -236,7 +236,7 @@ class LumpedModel(Model):
 
 
 @dataclass(frozen=True)
-class SectorModel(Model):
+class SectorEntry(ModelEntry):
     """Several elastic teeth on elastic rims, hubs with inertia, under constant torques
     for ``settings.cycles`` mesh cycles (:func:`spurdyn.solvers.sector.run.simulate_sector`)."""
 
@@ -335,13 +335,13 @@ def simulate_lumped(pair: GearPair, settings: RunSettings,
 
 
 #: Model name -> its entry, in the order of :data:`~spurdyn.settings.MODEL_NAMES`.
-MODELS: dict[str, Model] = {
-    "fe": FEModel("fe", "spurdyn.solvers.loop:simulate", "paper's FE model",
+MODELS: dict[str, ModelEntry] = {
+    "fe": FEEntry("fe", "spurdyn.solvers.loop:simulate", "paper's FE model",
                   reasons={"stiffness": FE_STIFFNESS_REASON, "cycles": FE_CYCLES_REASON,
                            "teeth": TEETH_REASON.format(model="the paper's FE model")},
                   strict=("cycles", "teeth", "stiffness"), keeps_frames=True),
-    "lumped": LumpedModel("lumped", "spurdyn.simulators:simulate_lumped", "lumped model"),
-    "sector": SectorModel("sector", "spurdyn.solvers.sector.run:simulate_sector", "sector model",
+    "lumped": LumpedEntry("lumped", "spurdyn.simulators:simulate_lumped", "lumped model"),
+    "sector": SectorEntry("sector", "spurdyn.solvers.sector.run:simulate_sector", "sector model",
                           reasons={"dt": SECTOR_DT_REASON, "integrator": SECTOR_INTEGRATOR_REASON,
                                    "contact": SECTOR_CONTACT_REASON,
                                    "row_grading": SECTOR_ROW_GRADING_REASON},
@@ -350,6 +350,6 @@ MODELS: dict[str, Model] = {
 }
 
 
-__all__ = ["DEFAULTS", "FE_CYCLES_REASON", "FE_DAMPING_REASON", "FE_STIFFNESS_REASON", "MODELS", "Model",
+__all__ = ["DEFAULTS", "FE_CYCLES_REASON", "FE_DAMPING_REASON", "FE_STIFFNESS_REASON", "MODELS", "ModelEntry",
            "Progress", "Simulate", "TEETH_REASON", "given", "label", "sector_cycle", "simulate_lumped",
            "tooth_table"]

@@ -2,7 +2,7 @@
 
 A file holds the tables ``[gear_a]``, ``[gear_b]`` (optional: a copy of gear A),
 ``[pair]`` (optional), ``[mesh]`` (optional) and ``[run]`` (the run settings, needed by
-``spurdyn run``); ``docs/casefile.md`` lists every key, and :mod:`spurdyn.pairfile`
+``spurdyn run``); ``docs/casefile.md`` lists every key, and :mod:`spurdyn.case.pair_tables`
 reads the pair tables. Lengths are in metres, angles in degrees (keys
 ending ``_deg``), speeds in rpm (keys ending ``_rpm``), torque in N m, time in s, inertia
 in kg m^2, moduli in Pa, density in kg/m^3. A gear table may hold a tip relief:
@@ -24,11 +24,7 @@ from typing import Any, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
-from spurdyn.case.pair_tables import MeshedPair, pair_from_dict
-# the pair tables' helpers under the names this module's body gave them when they were private
-from spurdyn.case.pair_tables import check_keys as _check_keys
-from spurdyn.case.pair_tables import gear_to_dict as _gear_to_dict
-from spurdyn.case.pair_tables import read_toml as _read_toml
+from spurdyn.case.pair_tables import MeshedPair, check_keys, gear_to_dict, pair_from_dict, read_toml
 from spurdyn.model.loading import check_history
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_ROW_GRADING, MAX_GRADING, MAX_ROW_GRADING
@@ -218,7 +214,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     table = {} if run_table is None else run_table
     if not isinstance(table, dict):
         raise InputError("run", "must be a table")
-    _check_keys(table, RUN_KEYS, "run")
+    check_keys(table, RUN_KEYS, "run")
     src = _Source(table, "run", overrides, labels)
     pair = meshed_pair.pair
     hint = "give it in the [run] table or on the command line"
@@ -315,7 +311,7 @@ def _speed_scale(table: Mapping[str, Any], overrides: Mapping[str, Any]) -> floa
 def _torque_history(src: _Source, base: Path | None) -> TorqueHistory | None:
     """The ``torque_history``: a CSV file's name (relative to ``base``, or to the working
     folder where the command line gave it) or an inline table
-    (:mod:`spurdyn.torquefile`), repeated if ``torque_history_periodic``."""
+    (:mod:`spurdyn.case.torque`), repeated if ``torque_history_periodic``."""
     periodic = src.boolean("torque_history_periodic", False)
     found, value, name = src.get("torque_history")
     if not found:
@@ -400,7 +396,7 @@ def _model_kind(table: Any, overrides: Mapping[str, Any], labels: Mapping[str, s
             return DEFAULT_MODEL
         if not isinstance(table, dict):
             raise InputError("model", "must be a table, e.g. [model] kind = \"sector\"")
-        _check_keys(table, {"kind"}, "model")
+        check_keys(table, {"kind"}, "model")
         kind, name = table.get("kind", DEFAULT_MODEL), "model.kind"
     if kind not in MODEL_NAMES:
         raise InputError(name, f"must be one of {', '.join(MODEL_NAMES)} (got {kind!r})")
@@ -411,7 +407,7 @@ def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
               labels: Mapping[str, str] | None = None, check_step: bool = True) -> Case:
     """Read a case TOML file: the pair tables and the ``[run]`` table."""
     path = Path(path)
-    return case_from_dict(_read_toml(path), name=path.stem, overrides=overrides,
+    return case_from_dict(read_toml(path), name=path.stem, overrides=overrides,
                           labels=labels, check_step=check_step, base=path.parent)
 
 
@@ -452,8 +448,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         run_table["torque_history"] = history_to_table(run.torque_history)
         run_table["torque_history_periodic"] = run.torque_history.periodic
     return {
-        "gear_a": _gear_to_dict(case.pair.gear_a),
-        "gear_b": _gear_to_dict(case.pair.gear_b),
+        "gear_a": gear_to_dict(case.pair.gear_a),
+        "gear_b": gear_to_dict(case.pair.gear_b),
         "pair": {"centre_distance": case.pair.centre_distance, "driver": case.pair.driver},
         "mesh": {"nx": run.nx, "ny": run.ny, "grading": run.grading}
         | {key: getattr(run, key) for key, default in _MESH_WRITTEN_IF_GIVEN

@@ -1,6 +1,6 @@
 """Option parsing shared by the subcommands (below :mod:`spurdyn.cli.main` and
 :mod:`spurdyn.cli.sweep`, which both import it); what each model refuses of them is its
-registry entry's (:meth:`spurdyn.simulators.Model.refuse`)."""
+registry entry's (:meth:`spurdyn.simulators.ModelEntry.refuse`)."""
 
 from __future__ import annotations
 

@@ -169,7 +169,7 @@ def _label(labels: Mapping[str, str], key: str) -> str:
 def check_size(case: Any, labels: Mapping[str, str], size: Size, *,
                flag: str = "--allow-large", speed_field: str | None = None) -> None:
     """Refuse a run beyond :data:`MAX_STEPS` or :data:`MAX_BYTES` (``flag`` allows it), of
-    the ``size`` its model estimates (:meth:`spurdyn.simulators.Model.size`).
+    the ``size`` its model estimates (:meth:`spurdyn.simulators.ModelEntry.size`).
 
     The refusal names the time step when the paper's would keep the run within the limit,
     else the speed (``speed_field`` if given); for the size, the tooth frames or the saving

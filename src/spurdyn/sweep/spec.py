@@ -137,7 +137,7 @@ def speed_ratio(case: Case) -> float:
 def settings_dict(case: Case) -> dict[str, Any]:
     """Every setting of the case that a point depends on, apart from speed and torque.
 
-    The case in the TOML layout (:func:`spurdyn.casefile.case_to_dict`) with the speeds
+    The case in the TOML layout (:func:`spurdyn.case.file.case_to_dict`) with the speeds
     replaced by their ratio ``run.speed_ratio`` and without ``run.torque`` (both are part
     of the point's key) and ``run.frames_every`` (which changes what is kept, not what is
     computed).

@@ -14,8 +14,8 @@ sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1]
 from make_sector_dynamics_validation import PAIR, TORQUE
 from spurdyn.settings import RPM
 from spurdyn.solvers.check import run_settings
-from spurdyn.sector.statics import _law, _solve_position, driving_pair, mesh_cycle, pairs_in_path
-from spurdyn.solvers.sector.system import gear_block, teeth_for, _half_widths, _radii
+from spurdyn.sector.statics import contact_law, driving_pair, mesh_cycle, pairs_in_path, solve_position
+from spurdyn.solvers.sector.system import contact_radii, gear_block, half_widths, teeth_for
 from spurdyn.solvers.sector import reduced as red
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
@@ -37,17 +37,17 @@ class System:
     def __init__(self, nx, ny, bodies="full", phase=None, flank_shapes=5, top=150e3, kmean=None):
         s = run_settings(PAIR, 300 * RPM, TORQUE, dt=1e-6, cycles=1, nx=nx, ny=ny)
         self.blocks = blk = blocks_for(nx, ny, s.grading)
-        law = _law(PAIR, TORQUE, (blk[0].body, blk[1].body))
+        law = contact_law(PAIR, TORQUE, (blk[0].body, blk[1].body))
         self.c_h = law.c_h
         if phase is None:
             phase = 0.5 * (PAIR.contact_ratio % 1.0 + 0.1 + 0.93)
         roll0 = dp.start_roll_a + phase * pitch
-        js, f0, e0, cmat, _ = _solve_position(law, roll0)
+        js, f0, e0, cmat, _ = solve_position(law, roll0)
         assert list(js) == [0] or len(js) == 1, js
         self.W, self.e0 = float(f0.sum()), e0
         self.k_single = 1.0 / float(cmat[0, 0])
-        hw = _half_widths(dp, [roll0], f0, law.estar, law.width)
-        radii = _radii(dp, [roll0])
+        hw = half_widths(dp, [roll0], f0, law.estar, law.width)
+        radii = contact_radii(dp, [roll0])
         self.jA, self.jB = blk[0].inertia, blk[1].inertia
         self.m_e = reduced_mass(self.jA, self.jB, ra, rb)
         if kmean is None:

@@ -83,7 +83,7 @@ def test_the_flank_load_is_the_bodys_load_on_the_flank_dofs():
     for gear, sense, k in ((PAIR.gear_a, 1.0, -1), (PAIR.gear_b, -1.0, 2)):
         blk = gear_block(gear, sense, -2, 5, **MESH, grading=1.0)
         for r, b in ((gear.pitch_radius, 60e-6), (gear.tip_radius - 1e-4, 0.0)):
-            full = blk.body.load(k, r, b)[blk.body._free]
+            full = blk.body.load(k, r, b)[blk.body.free_dofs]
             light = np.zeros_like(full)
             light[blk.flank_dofs(k)] = blk.flank_load(k, r, b)
             np.testing.assert_allclose(light, full, rtol=0, atol=1e-15)
@@ -328,10 +328,10 @@ def test_the_whole_rings_flexibility_is_the_same_under_a_turn_by_a_pitch():
     red = reduce_gear(blk, 60e3)
     for i, j in ((3, 3), (4, 3), (-7, -8), (10, 12)):
         fast = red.residual(i, j)
-        direct = red._static(j)[blk.flank_dofs(i)] - (red.modes_at(i) / red.omega2) @ red.modes_at(j).T
+        direct = red.static_response(j)[blk.flank_dofs(i)] - (red.modes_at(i) / red.omega2) @ red.modes_at(j).T
         np.testing.assert_allclose(fast, direct, rtol=0, atol=1e-9 * np.abs(direct).max())
     # a mode basis whose static part plus the residual is the whole flexibility
-    k_inv = red._static(0)[blk.flank_dofs(0)]
+    k_inv = red.static_response(0)[blk.flank_dofs(0)]
     np.testing.assert_allclose(red.residual(0, 0) + (red.modes_at(0) / red.omega2) @ red.modes_at(0).T,
                                k_inv, rtol=1e-10, atol=1e-12 * np.abs(k_inv).max())
 

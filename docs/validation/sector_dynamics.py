@@ -70,19 +70,19 @@ def _energy_run(mesh: dict, rho: float, dt: float | None, frozen: bool) -> dict:
     """One cycle at 1,000 rpm, undamped bodies and mesh: the balance of kinetic and strain
     energy, the strips' ``c_H F^2/2`` and the torques' work. ``frozen`` spreads the strips at
     the static force throughout (a diagnostic: the run's own half-widths follow the forces of
-    the step before), by swapping the run module's half-width function for the run."""
-    import spurdyn.solvers.sector.run as sector_run
+    the step before), by swapping the model module's half-width function for the run."""
+    import spurdyn.solvers.sector.model as sector_model
     from spurdyn.model.loading import static_force
 
     s = run_settings(PAIR, 1000 * RPM, TORQUE, cycles=1, rho_inf=rho, **mesh, **UNDAMPED)
-    own = sector_run._half_widths_at
+    own = sector_model.half_widths_at
     if frozen:
         w = static_force(PAIR, TORQUE)
-        sector_run._half_widths_at = lambda dp, r, f, estar, width: own(dp, r, np.full(np.shape(f), w), estar, width)
+        sector_model.half_widths_at = lambda dp, r, f, estar, width: own(dp, r, np.full(np.shape(f), w), estar, width)
     try:
         run = simulate_sector(PAIR, s, energy=True, dt=dt)
     finally:
-        sector_run._half_widths_at = own
+        sector_model.half_widths_at = own
     e = run.info["energy"]
     total = np.array(e["kinetic_J"]) + np.array(e["strain_J"]) + np.array(e["strip_J"]) - np.array(e["work_J"])
     err = total - total[0]

@@ -24,23 +24,36 @@ STRIP_X, STRIP_W = strip_quadrature(STRIP_POINTS)
 
 
 @njit
+def involute_curvature(r, rb):
+    """The radius of curvature (m) of an involute of base radius ``rb`` at radius ``r``: the
+    compiled home of :func:`spurdyn.contact.hertz.involute_curvature_radius`."""
+    return math.sqrt(max(r * r - rb * rb, 0.0))
+
+
+@njit
+def hertz_half_width(load, rho_a, rho_b, estar, face):
+    """Hertz half-width (m) under ``|load|`` between radii of curvature ``rho_a``, ``rho_b``:
+    the one compiled home of :func:`spurdyn.contact.hertz.half_width` (the paper's strip and
+    the sector model's loops read it)."""
+    if load == 0.0 or rho_a <= 0.0 or rho_b <= 0.0:
+        return 0.0
+    r_star = rho_a * rho_b / (rho_a + rho_b)
+    return math.sqrt(4.0 * abs(load) * r_star / (math.pi * estar * face))
+
+
+@njit
 def radius_of_curvature(fpar, t):
     """The involute's radius of curvature (m) at flank coordinate ``t``."""
     r = fpar[F.r0] + (fpar[F.r_tip] - fpar[F.r0]) * t / fpar[F.ny]
-    rb = fpar[F.base_radius]
-    return math.sqrt(max(r * r - rb * rb, 0.0))
+    return involute_curvature(r, fpar[F.base_radius])
 
 
 @njit
 def strip_half_width(P, a, b, load, estar, face):
     """Hertz half-width (m) at the pair ``(a, b)`` under ``|load|`` (twin of
     :func:`spurdyn.contact.search_numpy.strip_half_width`)."""
-    ra = radius_of_curvature(P.fpar[0], a)
-    rb = radius_of_curvature(P.fpar[1], b)
-    if load == 0.0 or ra <= 0.0 or rb <= 0.0:
-        return 0.0
-    r_star = ra * rb / (ra + rb)
-    return math.sqrt(4.0 * abs(load) * r_star / (math.pi * estar * face))
+    return hertz_half_width(load, radius_of_curvature(P.fpar[0], a), radius_of_curvature(P.fpar[1], b),
+                            estar, face)
 
 
 @njit

@@ -72,6 +72,16 @@ class SectorBody:
         u[self._free] = self._lu.solve(np.ascontiguousarray(f[self._free]))
         return u
 
+    @property
+    def free_dofs(self) -> NDArray[np.intp]:
+        """The DOFs not held by the hub, in the order :meth:`solve_free` takes them."""
+        return self._free
+
+    def solve_free(self, f: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Displacements (m) of the free DOFs under forces ``f`` on them (columns allowed),
+        the hub held: :meth:`solve` without the held DOFs."""
+        return self._lu.solve(np.ascontiguousarray(f))
+
     def compliance(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
         """``C = F^T K^-1 F`` (m/N) for the load columns ``F``: each load's work-conjugate
         displacement under each other load."""

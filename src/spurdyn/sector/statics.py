@@ -199,7 +199,7 @@ def _active_set(c: NDArray[np.float64], g: NDArray[np.float64], w: float) -> tup
 
 
 @dataclass(frozen=True)
-class _Law:
+class ContactLaw:
     """What every position shares: the pair (driver as A), the two sectors, the load and
     the strips' law."""
 
@@ -215,15 +215,15 @@ class _Law:
         return strip_compliance(self.estar, self.width)
 
 
-def _law(pair: GearPair, torque: float, bodies: tuple[SectorBody, SectorBody]) -> _Law:
+def contact_law(pair: GearPair, torque: float, bodies: tuple[SectorBody, SectorBody]) -> ContactLaw:
     dp = driving_pair(pair)
     ga, gb = dp.gear_a, dp.gear_b
     estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young, gb.material.poisson)
-    return _Law(dp, bodies, static_force(pair, torque), estar, min(ga.face_width, gb.face_width),
+    return ContactLaw(dp, bodies, static_force(pair, torque), estar, min(ga.face_width, gb.face_width),
                 pairs_in_path(dp))
 
 
-def _solve_position(law: _Law, rho: float) -> tuple[list[int], NDArray[np.float64], float,
+def solve_position(law: ContactLaw, rho: float) -> tuple[list[int], NDArray[np.float64], float,
                                                     NDArray[np.float64], NDArray[np.bool_]]:
     """The pairs on the path at the driver's roll ``rho`` of pair 0, their forces, the
     approach ``e``, the compliance matrix and the active set (module docstring)."""
@@ -256,7 +256,7 @@ def pair_forces_at(pair: GearPair, torque: float, roll: float,
                    bodies: tuple[SectorBody, SectorBody]) -> NDArray[np.float64]:
     """The forces (N) of the pairs ``0, 1, ...`` on the path at the driver's roll angle
     ``roll`` of pair 0 (one position of :func:`mesh_cycle`)."""
-    return _solve_position(_law(pair, torque, bodies), roll)[1]
+    return solve_position(contact_law(pair, torque, bodies), roll)[1]
 
 
 def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | None = None,
@@ -278,7 +278,7 @@ def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | Non
                              inner_radius=inner_radius[1], grading=grading)
     else:
         body_a, body_b = bodies
-    law = _law(pair, torque, (body_a, body_b))
+    law = contact_law(pair, torque, (body_a, body_b))
     pitch = 2.0 * math.pi / ga.teeth
     rolls = dp.start_roll_a + pitch * np.arange(positions) / (positions - 1)
     n = rolls.size
@@ -288,7 +288,7 @@ def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | Non
     single = np.full((n, n_pairs), np.nan)
     bw = np.zeros((n, n_pairs))
     for i, rho in enumerate(rolls):
-        js, f, e, c, active = _solve_position(law, float(rho))
+        js, f, e, c, active = solve_position(law, float(rho))
         idx = np.flatnonzero(active)
         force[i, js] = f
         te[i] = e

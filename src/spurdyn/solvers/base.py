@@ -19,30 +19,38 @@ from numpy.typing import NDArray
 from spurdyn.model.system import PairSystem
 from spurdyn.result import STAGES
 from spurdyn.settings import RunSettings
-from spurdyn.solvers.layout import FAIL_NAN, FAIL_NEWTON, FAIL_STRIP, OK
+from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, FAIL_NEWTON, FAIL_STRIP, OK
 
 Frames = list[tuple[float, NDArray[np.float64], NDArray[np.float64]]]
+#: The failures that are not a stage's: reported by their step (and ``detail``) alone.
+PLAIN = (FAIL_NAN, FAIL_STRIP, FAIL_NEWTON, FAIL_BEYOND, FAIL_LCP)
 
 
 @dataclass(frozen=True)
 class Failure:
-    """Why a step failed: its number, and for a stage that did not converge, the stage's
-    final residual, tolerance and iteration cap."""
+    """Why a step failed: its number, for a stage that did not converge, the stage's final
+    residual, tolerance and iteration cap, and what the method adds (``detail``: where the
+    sector model's driver had turned)."""
 
     status: int
     step: int
     residual: float = float("nan")
     tol: float = float("nan")
     iterations: int = 0
+    detail: str = ""
 
     @property
     def stage(self) -> str:
-        return "" if self.status in (FAIL_NAN, FAIL_STRIP, FAIL_NEWTON) else STAGES[self.status - 1]
+        return "" if self.status in PLAIN else STAGES[self.status - 1]
 
     def message(self) -> str:
         """The one message of a failed step."""
         if self.status == FAIL_NAN:
             return f"the solution became NaN at step {self.step}"
+        if self.status == FAIL_BEYOND:
+            return f"at step {self.step} {self.detail}"
+        if self.status == FAIL_LCP:
+            return f"step {self.step}: the contact problem of the pairs near the path had no solution"
         if self.status == FAIL_STRIP:
             return (f"step {self.step}: the contact strip spread over more elements than the run "
                     f"allowed for (a force over 50 times the static one); check the load")
@@ -62,7 +70,8 @@ class Stepper:
     hold their state in ``self.state``, which the properties below read.
     """
 
-    def __init__(self, system: PairSystem, settings: RunSettings) -> None:
+    def __init__(self, system: PairSystem | Any, settings: RunSettings) -> None:
+        # ``system``: the model stepped (the paper's PairSystem, the SectorModel)
         self.system = system
         self.settings = settings
         self.index = 0                       # steps taken
@@ -81,6 +90,10 @@ class Stepper:
         step to ``frames``.
         """
         raise NotImplementedError
+
+    def failure_detail(self, status: int) -> str:
+        """What the method adds to the message of a failure ``status`` (none by default)."""
+        return ""
 
     def row(self) -> NDArray[np.float64]:
         """The history row (columns :data:`spurdyn.solvers.layout.HISTORY`) of the current state."""
@@ -132,6 +145,7 @@ class Stepper:
         tols = (s.tol_disp, s.tol_vel, s.tol_acc)
         if status == FAIL_NEWTON:   # the Newton iteration reports in the displacement columns
             k = 0
-        self.failure = (Failure(status, self.index + 1) if status in (FAIL_NAN, FAIL_STRIP) else
+        plain = status in (FAIL_NAN, FAIL_STRIP, FAIL_BEYOND, FAIL_LCP)
+        self.failure = (Failure(status, self.index + 1, detail=self.failure_detail(status)) if plain else
                         Failure(status, self.index + 1, float(self.residual[k]), tols[k], s.max_iter))
         return done, written, self.failure.message()

@@ -30,7 +30,7 @@ from spurdyn.result import Result
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.check import check_run
-from spurdyn.solvers.layout import HISTORY, NCOL
+from spurdyn.solvers.layout import FAIL_ACC, FAIL_DISP, FAIL_NEWTON, FAIL_VEL, HISTORY, NCOL, OK
 from spurdyn.solvers.paper.dynamics_numpy import strip_law
 
 Progress = Callable[[int, float, float], None]
@@ -100,7 +100,8 @@ def simulate(pair: GearPair, settings: RunSettings, progress: Progress | None = 
                 progress(steps, stepper.theta_a, angle)
             if stop:
                 status, reason = "incomplete", stop
-                if ("did not converge" in stop and settings.method == "paper"
+                failed = stepper.failure.status if stepper.failure is not None else OK
+                if (failed in (FAIL_DISP, FAIL_VEL, FAIL_ACC, FAIL_NEWTON) and settings.method == "paper"
                         and settings.contact == "point"):
                     reason += ("; the distributed contact (--contact hertz) may carry it "
                                "through (docs/solver.md, sections 6 and 11)")

@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 from scipy.linalg import cho_factor, cho_solve
 
 from spurdyn.fem.factor import factor_spd
+from spurdyn.solvers.layout import ModalGear
 from spurdyn.solvers.sector.reduced import ReducedGear
 from spurdyn.solvers.sector.system import GearBlock
 
@@ -65,11 +66,11 @@ def _tooth_frames(reduced: ReducedGear, sides: int = 1) -> tuple[NDArray[np.floa
     turns = [[np.kron(np.eye(n_side), blk.turn_of(k, s)) for s in range(sides)] for k in teeth]
     modes = np.array([[q[s].T @ reduced.modes_at(k, s) for s in range(sides)] for q, k in zip(turns, teeth)])
     if blk.whole:
-        base = [reduced._static(teeth[0], t) for t in range(sides)]
+        base = [reduced.static_response(teeth[0], t) for t in range(sides)]
         flex = np.array([[[turns[d][s].T @ base[t][blk.flank_dofs(teeth[d], s)] @ turns[0][t]
                            for t in range(sides)] for s in range(sides)] for d in range(blk.count)])
     else:
-        flex = np.array([[[[turns[i][s].T @ reduced._static(teeth[j], t)[blk.flank_dofs(teeth[i], s)] @ turns[j][t]
+        flex = np.array([[[[turns[i][s].T @ reduced.static_response(teeth[j], t)[blk.flank_dofs(teeth[i], s)] @ turns[j][t]
                             for t in range(sides)] for j in range(blk.count)] for s in range(sides)]
                          for i in range(blk.count)])
     return modes, flex
@@ -122,10 +123,7 @@ class FullBody:
 
     def static(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
         """The elastic coordinates of the held body under the free DOFs' ``loads``."""
-        body = self.block.body
-        full = np.zeros(body.mesh.n_dof)
-        full[body._free] = loads
-        return body.solve(full)[body._free]
+        return self.block.body.solve_free(loads)
 
     def momentum(self, v: NDArray[np.float64]) -> float:
         """The hub's generalised momentum ``(M v)_theta`` (kg m^2/s)."""
@@ -153,24 +151,35 @@ class ModalBody:
         m = reduced.m
         self.n = 1 + m
         a, b = rayleigh
-        self._damp = a + b * reduced.omega2
+        self.damp = a + b * reduced.omega2
         mat = np.zeros((self.n, self.n))
         mat[0, 0] = self.block.inertia
         mat[0, 1:] = mat[1:, 0] = reduced.coupling
         mat[1:, 1:] = np.eye(m)
         self.mass = mat.copy()
-        mat[1:, 1:] += np.diag(gp * self._damp + bp * reduced.omega2)
+        mat[1:, 1:] += np.diag(gp * self.damp + bp * reduced.omega2)
         # S is small and constant: its inverse makes a solve one product
         inv = cho_solve(cho_factor(mat), np.eye(self.n))
-        self._inv = 0.5 * (inv + inv.T)
+        self.inv = 0.5 * (inv + inv.T)
         self._modes, self._flex = _tooth_frames(reduced, sides)
 
     def solve(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return self._inv @ x
+        return self.inv @ x
+
+    def compiled(self) -> ModalGear:
+        """The body's twin for the compiled loops (:data:`~spurdyn.solvers.layout.ModalGear`):
+        ``S^-1`` (or ``M^-1``), the modes' damping and ``omega^2``, the modes in each tooth's
+        frame, the static blocks, the flank's geometry, the body's first tooth and count."""
+        blk = self.block
+        fl = blk.body.flank
+        geo = np.array([fl.r0, fl.r_tip, float(fl.ny), fl.base_radius, blk.gear.half_angle_base])
+        return ModalGear(np.ascontiguousarray(self.inv), np.ascontiguousarray(self.damp),
+                         np.ascontiguousarray(self.reduced.omega2), np.ascontiguousarray(self._modes),
+                         np.ascontiguousarray(self._flex), geo, blk.first, blk.count)
 
     def forces(self, q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.zeros_like(q)
-        out[1:] = self._damp * v[1:] + self.reduced.omega2 * q[1:]
+        out[1:] = self.damp * v[1:] + self.reduced.omega2 * q[1:]
         return out
 
     def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64],
@@ -188,7 +197,7 @@ class ModalBody:
         return rows.modal @ x[1:]
 
     def columns(self, rows: ModalRows) -> NDArray[np.float64]:
-        return self._inv[:, 1:] @ rows.modal.T
+        return self.inv[:, 1:] @ rows.modal.T
 
     def residual(self, rows: ModalRows) -> NDArray[np.float64]:
         """``b_i^T R b_j`` of the pairs' loads: the static flexibility in the teeth's frames

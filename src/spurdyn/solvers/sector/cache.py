@@ -13,7 +13,7 @@ _CACHE: dict[Any, Any] = {}
 CACHE_SIZE = 6
 
 
-def _cached(key: Any, build: Callable[[], Any]) -> Any:
+def cached(key: Any, build: Callable[[], Any]) -> Any:
     """``build()``, kept under ``key`` (the oldest entry dropped beyond :data:`CACHE_SIZE`;
     nothing kept for an unhashable key)."""
     try:
@@ -28,4 +28,4 @@ def _cached(key: Any, build: Callable[[], Any]) -> Any:
     return found
 
 
-__all__ = ["CACHE_SIZE"]
+__all__ = ["CACHE_SIZE", "cached"]

@@ -1,6 +1,7 @@
 """The sector model's mesh damper along the cycle (docs/sector.md, 6.3): its coefficient
-``c(phi) = 2 zeta sqrt(k(phi) m_e)`` tabulated over a pitch of the driver, and read as both
-loops read it (the compiled one inline, :mod:`spurdyn.solvers.sector.step_compiled`)."""
+``c(phi) = 2 zeta sqrt(k(phi) m_e)`` tabulated over a pitch of the driver, and read as the
+NumPy loops read it (the compiled loops' twin:
+:func:`~spurdyn.solvers.sector.rows_compiled.damper_coefficient`)."""
 
 from __future__ import annotations
 
@@ -26,8 +27,8 @@ def mesh_damper_table(cycle: Any, zeta: float, m_e: float, pitch: float) -> NDAr
 
 def damper_at(table: NDArray[np.float64], pitch: float, theta: float) -> float:
     """The mesh damper's coefficient at the driver's turn ``theta`` (rad from the start):
-    ``table`` (:func:`mesh_damper_table`) linear between its phases, as the compiled loop
-    reads it."""
+    ``table`` (:func:`mesh_damper_table`) linear between its phases (twin of
+    :func:`~spurdyn.solvers.sector.rows_compiled.damper_coefficient`)."""
     n = table.size - 1
     x = (theta % pitch) / pitch * n
     i = min(int(x), n - 1)

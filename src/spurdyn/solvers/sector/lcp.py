@@ -21,10 +21,12 @@ class Rows(NamedTuple):
 
 
 def lcp(w: NDArray[np.float64], v: NDArray[np.float64],
-        guess: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
-    """``F >= 0`` with ``W F + v >= 0`` and ``F (W F + v) = 0`` for a small positive definite
-    ``W``: the active set ``guess`` (the step before's) tried first, then all of them, the
-    fewest contacts first. The solution is unique, so the order changes only the cost."""
+        guess: NDArray[np.bool_] | None = None) -> tuple[NDArray[np.float64], bool]:
+    """``(F, found)``: ``F >= 0`` with ``W F + v >= 0`` and ``F (W F + v) = 0`` for a small
+    positive definite ``W``: the active set ``guess`` (the step before's) tried first, then
+    all of them, the fewest contacts first. The solution is unique, so the order changes only
+    the cost; none found is a status (``found`` false), as in the compiled twin
+    (:func:`~spurdyn.solvers.sector.rows_compiled.lcp_ordered`)."""
     n = v.size
     tol = 1e-12 * max(float(np.abs(v).max()), 1e-300)
     first = [tuple(np.flatnonzero(guess))] if guess is not None else []
@@ -36,8 +38,8 @@ def lcp(w: NDArray[np.float64], v: NDArray[np.float64],
             if (f[idx] < 0.0).any():
                 continue
         if (w @ f + v >= -tol).all():
-            return f
-    raise RuntimeError("the contact problem has no solution")     # pragma: no cover
+            return f, True
+    return np.zeros(n), False
 
 
 __all__ = ["Rows", "lcp"]

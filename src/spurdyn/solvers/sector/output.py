@@ -23,10 +23,11 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
             gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
             max_cycles: int, h: float, torques: NDArray[np.float64], c_table: NDArray[np.float64], status: str, reason: str,
             wall: float, load: float,
-            back: tuple[NDArray[np.intp], NDArray[np.float64]] | None = None) -> Result:
+            back: tuple[NDArray[np.intp], NDArray[np.float64]] | None = None,
+            info: dict[str, Any] | None = None) -> Result:
     """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B; ``torques`` the
     hubs' at each step (driver first), ``back`` the back flanks' driver teeth and forces where
-    they are contacts."""
+    they are contacts, ``info`` what the integrator adds to the result's record."""
     ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
     sel = slice(0, n_kept)
     t, theta, omega, forces, gap = t[sel], theta[sel], omega[sel], forces[sel], gap[sel]
@@ -48,7 +49,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
 
     reach = REACH * pitch
     on = (rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach)
-    info: dict[str, Any] = {
+    record: dict[str, Any] = {
         "model": "sector",
         "integrator": "implicit",
         "contact": "hertz",
@@ -83,10 +84,10 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
     back_force = None
     if back is not None:
         back_force = back[1][sel]
-        info["back_pair_teeth"] = back[0].tolist()
+        record["back_pair_teeth"] = back[0].tolist()
     if en is not None:
-        info["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
-        info["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
+        record["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
+        record["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
                           "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
     return Result(
         time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most, gap=gap,
@@ -94,7 +95,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
         corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
-        info=info, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
+        info={**record, **(info or {})}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
         back_force=back_force, transmission_error=te)
 
 

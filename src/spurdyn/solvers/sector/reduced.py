@@ -80,7 +80,7 @@ class ReducedGear:
         flank, 1 the left)."""
         return self.phi[self.block.flank_dofs(k, side)]
 
-    def _static(self, k: int, side: int = 0) -> NDArray[np.float64]:
+    def static_response(self, k: int, side: int = 0) -> NDArray[np.float64]:
         """``K^-1 E_k``: the held body's response to unit loads on tooth ``k``'s flank DOFs."""
         key = (self.block.tooth(k), side)
         if key not in self._resp:
@@ -88,7 +88,7 @@ class ReducedGear:
             dofs = blk.flank_dofs(k, side)
             rhs = np.zeros((blk.mass.size, dofs.size))
             rhs[dofs, np.arange(dofs.size)] = 1.0
-            self._resp[key] = blk.body._lu.solve(rhs)
+            self._resp[key] = blk.body.solve_free(rhs)
         return self._resp[key]
 
     def residual(self, i: int, j: int) -> NDArray[np.float64]:
@@ -102,7 +102,7 @@ class ReducedGear:
                 # of teeth (i, j) is that of (i - j, 0)
                 z = blk.count
                 d = (i - j) % z
-                base = self._static(blk.first)
+                base = self.static_response(blk.first)
                 n_side = blk.body.flank.side_nodes.size
                 t_i = _turn_block(blk.body.mesh.tooth_angle(blk.tooth(i)), n_side)
                 t_j = _turn_block(blk.body.mesh.tooth_angle(blk.tooth(j)), n_side)
@@ -111,7 +111,7 @@ class ReducedGear:
                 local = t_d.T @ base[blk.flank_dofs(blk.first + d)] @ t_0
                 full = t_i @ local @ t_j.T
             else:
-                full = self._static(j)[blk.flank_dofs(i)]
+                full = self.static_response(j)[blk.flank_dofs(i)]
             phi_i, phi_j = self.modes_at(i), self.modes_at(j)
             self._flex[key] = full - (phi_i / self.omega2) @ phi_j.T
         return self._flex[key]
@@ -123,9 +123,8 @@ def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
     mass = sp.diags(block.mass).tocsc()
     k = block.stiffness.tocsc()
     # shift-invert about 0 through the body's own static factor: the lowest modes first
-    lu = block.body._lu
-    op = sp.linalg.LinearOperator(k.shape, matvec=lambda x: lu.solve(np.asarray(x, dtype=float)),
-                                  dtype=float)
+    solve = block.body.solve_free
+    op = sp.linalg.LinearOperator(k.shape, matvec=lambda x: solve(np.asarray(x, dtype=float)), dtype=float)
     # a first guess of three modes a tooth and the rim's (the paper's whole gear on 4 x 14
     # teeth has 82 below 150 kHz: 2.9 a tooth), more until one lies above the top: a plane
     # body's count of modes grows as omega^2 (Weyl), so as the eigenvalue
@@ -148,7 +147,7 @@ def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
         tooth = block.first + t
         for i, r in enumerate(radii):
             loads[block.flank_dofs(tooth), t * FLANK_SHAPES + i] = block.flank_load(tooth, float(r), 0.0)
-    shapes = lu.solve(np.column_stack([block.mass * block.rot, loads]))
+    shapes = solve(np.column_stack([block.mass * block.rot, loads]))
     basis = np.column_stack([vec[:, keep], shapes])
     # Rayleigh-Ritz on the augmented basis: M-orthonormal modes diagonalising K
     kr = basis.T @ (k @ basis)

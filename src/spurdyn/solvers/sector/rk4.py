@@ -21,7 +21,8 @@ four at a fixed step (by default the paper's, 3e-8 s, shortened to a whole numbe
 mesh cycle), each stage with its own rows at its own driver's turn (the rigid gap, its slope
 and the contact radii from the run's gap table), its own forces and its own mesh damper.
 
-The pieces are the implicit loop's (:mod:`spurdyn.solvers.sector.run`): the same bodies
+The pieces are the implicit loop's: the same model
+(:class:`~spurdyn.solvers.sector.model.SectorModel`, built for RK4), the same bodies
 (:class:`~spurdyn.solvers.sector.bodies.ModalBody` with ``gamma' = beta' = 0``, so that its
 ``S`` is ``M`` and its solve ``M^-1``), the same rows (the gap table, the strips' unit loads,
 the modal rows, the residual compliance), the same complementarity solver
@@ -42,8 +43,9 @@ scheme takes it so:
 It does not do what the implicit loop alone does: whole (not modal) bodies, back flanks,
 torque histories, a start from another run's end, the energy record, going on until settled
 (it runs the cycles asked). It refuses them by :class:`~spurdyn.errors.InputError`.
-:func:`simulate_sector_rk4` steps in NumPy (``backend="numpy"``) or in the compiled twin
-(:mod:`spurdyn.solvers.sector.rk4_compiled`, the default where Numba is on).
+:func:`simulate_sector_rk4` steps in NumPy (:class:`Rk4Stepper`, ``backend="numpy"``) or in the
+compiled twin (:mod:`spurdyn.solvers.sector.rk4_compiled`, the default where Numba is on),
+the steppers of :data:`~spurdyn.solvers.sector.stepper.STEPPERS`.
 """
 
 from __future__ import annotations
@@ -56,44 +58,24 @@ import numpy as np
 from numpy.typing import NDArray
 from threadpoolctl import threadpool_limits
 
-from spurdyn.contact.hertz import effective_modulus
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
-from spurdyn.iso6336.dynamics import reduced_mass
-from spurdyn.model.loading import hub_torques, static_force
 from spurdyn.result import Result
-from spurdyn.sector.statics import _law, _solve_position, driving_pair, mesh_cycle, pairs_in_path
+from spurdyn.sector.statics import driving_pair
 from spurdyn.settings import RunSettings, refuse_sector_row_grading
-from spurdyn.solvers.sector.bodies import ModalBody
-from spurdyn.solvers.sector.cache import _cached
-from spurdyn.solvers.sector.damper import damper_at, mesh_damper_table
-from spurdyn.solvers.sector.lcp import Rows, lcp
+from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK, SectorRk4State
+from spurdyn.solvers.sector.damper import damper_at
+from spurdyn.solvers.sector.lcp import lcp
+from spurdyn.solvers.sector.model import SectorModel
 from spurdyn.solvers.sector.output import sector_result
-from spurdyn.solvers.sector.reduced import reduce_gear
-from spurdyn.solvers.sector.rules import (
-    CYCLE_POSITIONS,
-    KEEP_FREQUENCY,
-    back_flanks_on,
-    cover_cycles,
-    body_rayleigh,
-    steps_per_cycle,
-)
-from spurdyn.solvers.sector.system import (
-    REACH,
-    _half_widths,
-    _half_widths_at,
-    _radii,
-    covered_turns,
-    gap_table,
-    gear_block,
-    teeth_for,
-)
+from spurdyn.solvers.sector.rules import back_flanks_on
+from spurdyn.solvers.sector.stepper import SectorRecord, SectorStepper, drive, make_stepper
 
 #: The paper's RK4 step (s): the reference's default.
 PAPER_STEP = 3e-8
 
 
-def _refuse(pair: GearPair, settings: RunSettings, modes: bool | float | None) -> None:
+def refuse_rk4(pair: GearPair, settings: RunSettings, modes: bool | float | None) -> None:
     """Refuse, in one line each, what the RK4 reference does not step."""
     dp = driving_pair(pair)
     if modes is False or (modes is None and settings.bodies != "modal"):
@@ -110,150 +92,90 @@ def _refuse(pair: GearPair, settings: RunSettings, modes: bool | float | None) -
                          "equilibrium or from rest, not from another run's end")
 
 
-class Model:
-    """The sector model on modal bodies as the RK4 reference sees it: what
-    :func:`spurdyn.solvers.sector.run.simulate_sector` builds for its run, with ``M^-1`` in
-    place of ``S^-1``; :meth:`stage` is the ODE's right-hand side."""
+def rk4_stage(model: SectorModel, t: float, q: NDArray[np.float64], v: NDArray[np.float64],
+              held: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], float, bool]:
+    """``(q_ddot, F, smallest gap, found)`` at time ``t`` and state ``(q, v)`` of ``model``
+    (built for RK4: its bodies' solve is ``M^-1``): the forces of the complementarity problem
+    at ``q`` (half-widths of ``held``, whose active set is tried first), the torques, the
+    bodies' forces, the pairs' ``G^T F`` and the mesh damper ``-D^T C D v`` shared by the
+    forces ``F`` (twin of :func:`~spurdyn.solvers.sector.rk4_compiled.stage`)."""
+    gears, parts = model.gears, model.parts
+    r = np.zeros(model.n)
+    r[0], r[model.na] = model.torques(np.array(t))
+    for g in range(2):
+        r[parts[g]] -= gears[g].forces(q[parts[g]], v[parts[g]])
+    acc = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
+    force = np.zeros(model.c_teeth.size)
+    rows = model.rows_at(float(q[0]), held)
+    if rows is None:
+        return acc, force, math.nan, True
+    on = rows.on
+    cs = model.contact_compliance(rows)
+    gaps = rows.const + model.gap_rows(rows, q)
+    lam, found = lcp(0.5 * (cs + cs.T), gaps, held[on] > 0.0)
+    if not found:
+        return acc, force, math.nan, False
+    force[on] = lam
+    c_mesh = damper_at(model.c_table, model.pitch, float(q[0]))
+    total = lam.sum()
+    rate = (c_mesh * lam / total) * model.rigid_rows(rows, v) if c_mesh > 0.0 and total > 0.0 \
+        else np.zeros(on.size)
+    for g, (coef, el) in enumerate(rows.sides):
+        # M^-1 G^T F (hub: z c^T F; elastic: the body's columns) less M^-1 D^T C D v
+        acc[parts[g]] += model.z_theta[g] * float(coef @ (lam - rate)) + gears[g].columns(el) @ lam
+    return acc, force, float((gaps + cs @ lam).min()), True
 
-    def __init__(self, pair: GearPair, settings: RunSettings, modes: bool | float | None = None) -> None:
-        _refuse(pair, settings, modes)
-        self.pair, self.settings = pair, settings
-        dp = self.dp = driving_pair(pair)
-        ga, gb = dp.gear_a, dp.gear_b
-        self.ra, self.rb = ga.base_radius, gb.base_radius
-        self.cycles = int(settings.cycles or 1)
-        self.speed = float(settings.speed_a if pair.driver == "a" else settings.speed_b)
-        self.pitch = pitch = 2.0 * math.pi / ga.teeth
-        # the teeth the implicit run carries (cover_cycles: those of the cycles it may go on to)
-        cover = cover_cycles(settings)
-        (first_a, count_a), (first_b, count_b) = teeth_for(dp, cover, False, settings.teeth)
-        mesh_keys = (settings.nx, settings.ny, settings.grading)
-        self.blocks = blocks = tuple(
-            _cached(("block", gear, sense, first, count, *mesh_keys),
-                    lambda gear=gear, sense=sense, first=first, count=count:
-                    gear_block(gear, sense, first, count, *mesh_keys))
-            for gear, sense, first, count in ((ga, 1.0, first_a, count_a), (gb, -1.0, first_b, count_b)))
-        bodies = (blocks[0].body, blocks[1].body)
-        self.load = static_force(pair, settings.torque)
-        self.estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young,
-                                       gb.material.poisson)
-        self.width = min(ga.face_width, gb.face_width)
-        n_path = pairs_in_path(dp)
-        self.teeth = np.arange(-cover - 1, n_path + 1).astype(np.intp)
-        self.rayleigh = rayleigh = body_rayleigh(settings)
-        top = KEEP_FREQUENCY if modes in (None, True) else float(modes)
-        # gamma' = beta' = 0: the body's S is M, its solve M^-1 and its columns M^-1 E^T
-        self.gears = tuple(
-            ModalBody(_cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top),
-                              lambda blk=blk: reduce_gear(blk, top)), 0.0, 0.0, rayleigh, 1)
-            for blk in blocks)
-        na = self.na = self.gears[0].n
-        self.n = na + self.gears[1].n
-        self.parts = (slice(0, na), slice(na, self.n))
-        self.cycle = _cached(("cycle", pair, settings.torque, first_a, count_a, first_b, count_b, *mesh_keys),
-                             lambda: mesh_cycle(pair, settings.torque, settings.nx, settings.ny,
-                                                positions=CYCLE_POSITIONS, bodies=bodies))
-        self.law = _law(pair, settings.torque, bodies)
-        self.c_h = self.law.c_h
-        self.z_theta = []
-        for g in range(2):
-            e = np.zeros(self.gears[g].n)
-            e[0] = 1.0
-            self.z_theta.append(self.gears[g].solve(e))
-        self.c_table = mesh_damper_table(self.cycle, settings.damping_ratio,
-                                         reduced_mass(blocks[0].inertia, blocks[1].inertia, self.ra, self.rb), pitch)
-        self.reach = REACH * pitch
-        self.theta_lo, self.theta_hi = covered_turns(dp, (int(self.teeth[0]), int(self.teeth[-1])), None, self.reach)
-        self.table = _cached(("gaps", pair, self.reach), lambda: gap_table(dp, self.reach))
-        self.roll_0, self.roll_1 = dp.start_roll_a, dp.end_roll_a
 
-    # -- the start (simulate_sector's) ------------------------------------------------------
-    def start(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """``(q, v, force)`` at ``t = 0``: the static equilibrium of the loaded pair at the
-        start of a cycle (as :func:`~spurdyn.solvers.sector.run.simulate_sector` starts), or
-        with ``start="rest"`` the bodies undeformed; the hubs at their meshing speeds."""
-        dp, n, na = self.dp, self.n, self.na
-        q, v, force = np.zeros(n), np.zeros(n), np.zeros(self.teeth.size)
-        v[0], v[na] = self.speed, self.speed * self.ra / self.rb
-        if self.settings.start == "rest":
-            return q, v, force
-        js, f0, e0, _, _ = _solve_position(self.law, dp.start_roll_a)
-        rolls0 = [dp.start_roll_a + j * self.pitch for j in js]
-        hw0 = _half_widths(dp, rolls0, f0, self.estar, self.width)
-        for g, blk in enumerate(self.blocks):
-            sign = 1 if g == 0 else -1
-            loads = np.zeros(blk.mass.size)
-            for j, r, b, fj in zip(js, _radii(dp, rolls0)[g], hw0, f0):
-                loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
-            q[self.parts[g]][1:] = self.gears[g].static(loads)
-        q[0] = e0 / self.ra
-        force[np.searchsorted(self.teeth, js)] = f0
-        return q, v, force
+class Rk4Stepper(SectorStepper):
+    """The RK4 reference in NumPy, step by step: the stages' rows at their own turns, the
+    strips' half-widths held at the forces of the step's start."""
 
-    def torques(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
-        """The hubs' torques at times ``t`` (driver first)."""
-        tq = hub_torques(self.pair, self.settings, t)
-        return tq[..., ::-1].copy() if self.pair.driver == "b" else tq
+    def __init__(self, model: SectorModel, record: SectorRecord, offset: int = 0, energy: bool = False) -> None:
+        super().__init__(model, record, offset, energy)
+        start = model.start()
+        self.state = SectorRk4State(start.q, start.v, start.force, start.force.copy())
+        a1, f1, gap, found = rk4_stage(model, 0.0, start.q, start.v, start.force)
+        self.a1, self.first_status = a1, OK if found else FAIL_LCP
+        self.force[:] = f1
+        self._write(0, gap)
 
-    # -- the rows and the forces at a state -------------------------------------------------
-    def rows_at(self, theta_a: float, held: NDArray[np.float64]) -> Rows | None:
-        """The drive flanks near their paths at the driver's turn ``theta_a`` (the implicit
-        loop's ``rows_at`` without back flanks), the strips' half-widths those of the forces
-        ``held`` at this turn's contact radii."""
-        rolls = self.roll_0 + theta_a + self.teeth * self.pitch
-        on = np.flatnonzero((rolls >= self.roll_0 - self.reach) & (rolls <= self.roll_1 + self.reach))
-        if not on.size:
-            return None
-        g0, slope, r_a, r_b = self.table.at(rolls[on])
-        hw = _half_widths_at(self.dp, (r_a, r_b), held[on], self.estar, self.width)
-        k = self.teeth[on]
-        sides = tuple((coef, self.gears[g].rows(kg, self.blocks[g].flank_loads(r, hw)))
-                      for g, (kg, coef, r) in enumerate(((k, slope - self.ra, r_a),
-                                                          (-k, np.full(on.size, self.rb), r_b))))
-        return Rows(on, g0 - slope * theta_a, sides)
+    def _write(self, i: int, gap: float) -> None:
+        rec, q, v, na = self.record, self.state.q, self.state.v, self.model.na
+        rec.theta[i] = q[0], q[na]
+        rec.omega[i] = v[0], v[na]
+        rec.force[i] = self.force
+        rec.gap[i] = gap
 
-    def gap_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``G x`` (the rows' constant parts not included)."""
-        return sum(coef * x[self.parts[g]][0] + self.gears[g].elastic(el, x[self.parts[g]])
-                   for g, (coef, el) in enumerate(rows.sides))
-
-    def rigid_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``D x``: the rows' hub entries alone (the mesh damper's rows)."""
-        return sum(coef * x[self.parts[g]][0] for g, (coef, _) in enumerate(rows.sides))
-
-    def compliance(self, rows: Rows) -> NDArray[np.float64]:
-        """``C_s = c_H I + b_i^T R b_j``: the pairs' compliance without inertia."""
-        res = sum(self.gears[g].residual(el) for g, (_, el) in enumerate(rows.sides))
-        return res + self.c_h * np.eye(rows.on.size)
-
-    def stage(self, t: float, q: NDArray[np.float64], v: NDArray[np.float64], held: NDArray[np.float64],
-              guess: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
-        """``(q_ddot, F, smallest gap)`` at time ``t`` and state ``(q, v)``: the forces of
-        the complementarity problem at ``q`` (half-widths of ``held``; ``guess`` the forces
-        whose active set is tried first), the torques, the bodies' forces, the pairs'
-        ``G^T F`` and the mesh damper ``-D^T C D v`` shared by the forces ``F``."""
-        r = np.zeros(self.n)
-        r[0], r[self.na] = self.torques(np.array(t))
-        for g in range(2):
-            r[self.parts[g]] -= self.gears[g].forces(q[self.parts[g]], v[self.parts[g]])
-        acc = np.concatenate([self.gears[g].solve(r[self.parts[g]]) for g in range(2)])
-        force = np.zeros(self.teeth.size)
-        rows = self.rows_at(float(q[0]), held)
-        if rows is None:
-            return acc, force, math.nan
-        on = rows.on
-        cs = self.compliance(rows)
-        gaps = rows.const + self.gap_rows(rows, q)
-        lam = lcp(0.5 * (cs + cs.T), gaps, guess[on] > 0.0)
-        force[on] = lam
-        c_mesh = damper_at(self.c_table, self.pitch, float(q[0]))
-        total = lam.sum()
-        rate = (c_mesh * lam / total) * self.rigid_rows(rows, v) if c_mesh > 0.0 and total > 0.0 \
-            else np.zeros(on.size)
-        for g, (coef, el) in enumerate(rows.sides):
-            # M^-1 G^T F (hub: z c^T F; elastic: the body's columns) less M^-1 D^T C D v
-            acc[self.parts[g]] += self.z_theta[g] * float(coef @ (lam - rate)) + self.gears[g].columns(el) @ lam
-        return acc, force, float((gaps + cs @ lam).min())
+    def _steps(self, n: int) -> tuple[int, int]:
+        if self.first_status != OK:
+            return 0, self.first_status
+        model, h, q, v, a1 = self.model, self.model.h, self.state.q, self.state.v, self.a1
+        for k in range(n):
+            step = self.index + k
+            t = step * h
+            held = self.force.copy()      # the strips' half-widths over the step: the forces at its start
+            a2, _, _, ok2 = rk4_stage(model, t + 0.5 * h, q + 0.5 * h * v, v + 0.5 * h * a1, held)
+            v2 = v + 0.5 * h * a1
+            a3, _, _, ok3 = rk4_stage(model, t + 0.5 * h, q + 0.5 * h * v2, v + 0.5 * h * a2, held)
+            v3 = v + 0.5 * h * a2
+            a4, _, _, ok4 = rk4_stage(model, t + h, q + h * v3, v + h * a3, held)
+            v4 = v + h * a3
+            if not (ok2 and ok3 and ok4):
+                return k, FAIL_LCP
+            q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
+            v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
+            if not (np.isfinite(q).all() and np.isfinite(v).all()):
+                return k, FAIL_NAN
+            if not model.theta_lo <= q[0] <= model.theta_hi:
+                return k, FAIL_BEYOND
+            a1, f1, gap, found = rk4_stage(model, t + h, q, v, held)
+            if not found:
+                return k, FAIL_LCP
+            self.a1 = a1
+            self.force[:] = f1
+            self._write(step + 1, gap)
+            self.reached = step + 1
+        return n, OK
 
 
 def simulate_sector_rk4(pair: GearPair, settings: RunSettings, dt: float = PAPER_STEP,
@@ -272,89 +194,31 @@ def simulate_sector_rk4(pair: GearPair, settings: RunSettings, dt: float = PAPER
     Raises
     ------
     InputError
-        Whole bodies, back flanks, a torque history, a start from another run's end.
+        Whole bodies, back flanks, a torque history, a start from another run's end, the
+        compiled backend on gears that are not whole.
     """
     wall0 = _time.perf_counter()
-    model = Model(pair, settings, modes)
-    per_cycle = steps_per_cycle(model.speed, model.dp.gear_a.teeth, dt)
-    h = model.pitch / model.speed / per_cycle
-    cycles = model.cycles
+    refuse_rk4(pair, settings, modes)
+    model = SectorModel.build(pair, settings, integrator="rk4", dt=dt, modes=modes)
+    per_cycle, h, cycles = model.per_cycle, model.h, model.cycles
     n_steps = per_cycle * cycles if steps is None else min(int(steps), per_cycle * cycles)
-    q, v, force = model.start()
-    n_c = model.teeth.size
-    n_out = n_steps + 1
-    tq_out = model.torques(np.arange(n_out) * h)
-    th_out = np.full((n_out, 2), np.nan)
-    om_out = np.full((n_out, 2), np.nan)
-    f_out = np.full((n_out, n_c), np.nan)
-    gap_out = np.full(n_out, np.nan)
     backend = backend or settings.backend
-    status, reason, step = "complete", "", 0
+    record = SectorRecord(model, n_steps)
+    stepper = make_stepper(model, record, "rk4", backend)
     limit = threadpool_limits(limits=1, user_api="blas")
     loop0 = _time.perf_counter()
     try:
-        if backend == "numba":
-            from spurdyn.solvers.sector.rk4_compiled import run_rk4_compiled
-
-            step, failed = run_rk4_compiled(model, q, v, force, h, n_steps, (th_out, om_out, f_out, gap_out), progress)
-        else:
-            step, failed = _run_numpy(model, q, v, force, h, n_steps, (th_out, om_out, f_out, gap_out), progress)
-        if failed == 1:
-            status, reason = "incomplete", f"the solution became NaN at step {step}"
-        elif failed == 2:
-            status, reason = "incomplete", (f"at step {step} the driver left the turns its teeth cover")
+        status, reason = drive(stepper, n_steps, max(n_steps // 100, 1), progress, n_steps * h * model.speed)
     finally:
         limit.restore_original_limits()
     loop_s = _time.perf_counter() - loop0
-    n_kept = step + 1 if status == "complete" else step
-    result = sector_result(pair, model.dp, settings, model.blocks, model.cycle, model.teeth, n_kept,
-                           np.arange(n_out) * h, th_out, om_out, f_out, gap_out, None, per_cycle, cycles,
-                           cycles, h, tq_out, model.c_table, status, reason, _time.perf_counter() - wall0,
-                           model.load)
-    result.info.update(integrator="rk4", loop_s=loop_s, rayleigh=list(model.rayleigh), bodies="modal",
-                       modes=[g.n - 1 for g in model.gears], coordinates=model.n, tooth_offset=0,
-                       rk4_backend=backend)
-    return result
-
-
-def _run_numpy(model: Model, q: NDArray[np.float64], v: NDArray[np.float64], force: NDArray[np.float64],
-               h: float, n_steps: int, outs: tuple[NDArray[np.float64], ...],
-               progress: Callable[[int, float, float], None] | None) -> tuple[int, int]:
-    """The RK4 loop in NumPy from the state ``(q, v)`` with the forces ``force`` at ``t = 0``
-    (changed in place); step ``i``'s samples into ``outs`` (turns, speeds, forces, smallest
-    gap). Returns ``(last step, 0)`` or the failed step and 1 (not finite), 2 (the driver left
-    the turns the contacts cover)."""
-    th_out, om_out, f_out, gap_out = outs
-    na = model.na
-    every = max(n_steps // 100, 1)
-    a1, f1, gap = model.stage(0.0, q, v, force, force)
-    force[:] = f1
-    for step in range(n_steps + 1):
-        th_out[step] = q[0], q[na]
-        om_out[step] = v[0], v[na]
-        f_out[step] = force
-        gap_out[step] = gap
-        if step == n_steps:
-            break
-        t = step * h
-        held = force.copy()           # the strips' half-widths over the step: the forces at its start
-        a2, _, _ = model.stage(t + 0.5 * h, q + 0.5 * h * v, v + 0.5 * h * a1, held, held)
-        v2 = v + 0.5 * h * a1
-        a3, _, _ = model.stage(t + 0.5 * h, q + 0.5 * h * v2, v + 0.5 * h * a2, held, held)
-        v3 = v + 0.5 * h * a2
-        a4, _, _ = model.stage(t + h, q + h * v3, v + h * a3, held, held)
-        v4 = v + h * a3
-        q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
-        v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
-        if not (np.isfinite(q).all() and np.isfinite(v).all()):
-            return step + 1, 1
-        if not model.theta_lo <= q[0] <= model.theta_hi:
-            return step + 1, 2
-        a1, f1, gap = model.stage(t + h, q, v, held, held)
-        force[:] = f1
-        if progress is not None and (step + 1) % every == 0:
-            progress(step + 1, float(q[0]), n_steps * h * model.speed)
-    return n_steps, 0
+    n_kept = stepper.reached + 1 if reason.startswith("interrupted") else stepper.index + 1
+    extra = dict(integrator="rk4", loop_s=loop_s, rayleigh=list(model.rayleigh), bodies="modal",
+                 modes=[g.n - 1 for g in model.gears], coordinates=model.n, tooth_offset=0, rk4_backend=backend)
+    return sector_result(pair, model.dp, settings, model.blocks, model.cycle, model.teeth, n_kept,
+                         np.arange(n_steps + 1) * h, record.theta, record.omega, record.force, record.gap, None,
+                         per_cycle, cycles, cycles, h, record.torque, model.c_table, status, reason,
+                         _time.perf_counter() - wall0, model.load, info=extra)
 
 
 def highest_frequency(pair: GearPair, settings: RunSettings, dt: float = PAPER_STEP) -> dict[str, float]:
@@ -363,8 +227,10 @@ def highest_frequency(pair: GearPair, settings: RunSettings, dt: float = PAPER_S
     (rad/s) and of the free bodies, ``omega_max dt`` against RK4's 2.83 on the imaginary axis,
     and the largest ``|R(lambda dt)|`` of RK4's amplification over the damped system's
     eigenvalues (bodies' Rayleigh damping, the mesh damper at the start's phase)."""
-    model = Model(pair, settings)
-    q, v, force = model.start()
+    refuse_rk4(pair, settings, None)
+    model = SectorModel.build(pair, settings, integrator="rk4", dt=dt)
+    start = model.start()
+    q, v, force = start.q, start.v, start.force
     n = model.n
     mass, stiff, damp = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
     for g in range(2):
@@ -372,11 +238,11 @@ def highest_frequency(pair: GearPair, settings: RunSettings, dt: float = PAPER_S
         mass[s, s] = body.mass
         w2 = body.reduced.omega2
         stiff[s, s][1:, 1:] = np.diag(w2)
-        damp[s, s][1:, 1:] = np.diag(body._damp)
+        damp[s, s][1:, 1:] = np.diag(body.damp)
     free = float(np.sqrt(max(g.reduced.omega2.max() for g in model.gears)))
     rows = model.rows_at(float(q[0]), force)
     assert rows is not None
-    _, f, _ = model.stage(0.0, q, v, force, force)
+    _, f, _, _ = rk4_stage(model, 0.0, q, v, force)
     act = f[rows.on] > 0.0
     gmat = np.zeros((rows.on.size, n))
     dmat = np.zeros((rows.on.size, n))
@@ -386,7 +252,7 @@ def highest_frequency(pair: GearPair, settings: RunSettings, dt: float = PAPER_S
         dmat[:, s.start] = coef
         gmat[:, s.start + 1:s.stop] = el.modal
     ga, da = gmat[act], dmat[act]
-    cs = model.compliance(rows)[np.ix_(act, act)]
+    cs = model.contact_compliance(rows)[np.ix_(act, act)]
     stiff_c = stiff + ga.T @ np.linalg.solve(cs, ga)
     c_mesh = damper_at(model.c_table, model.pitch, float(q[0]))
     share = f[rows.on][act] / f[rows.on][act].sum()
@@ -403,4 +269,4 @@ def highest_frequency(pair: GearPair, settings: RunSettings, dt: float = PAPER_S
             "free_omega_max": free, "rk4_amplification_max": float(amp.max()), "pairs_in_contact": int(act.sum())}
 
 
-__all__ = ["Model", "PAPER_STEP", "highest_frequency", "simulate_sector_rk4"]
+__all__ = ["PAPER_STEP", "Rk4Stepper", "highest_frequency", "refuse_rk4", "rk4_stage", "simulate_sector_rk4"]

@@ -46,6 +46,7 @@ from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
 from spurdyn.sector.body import SectorBody, sector_body
 from spurdyn.sector.statics import pairs_in_path
+from spurdyn.solvers.layout import GapArrays
 
 
 def rotation_field(nodes: NDArray[np.float64], sense: float) -> NDArray[np.float64]:
@@ -289,7 +290,7 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
     # does not hold is the hub's (a floor of 1e-3 of it where the body holds more).
     j_whole = gear.disk_inertia + gear.tooth_polar_inertia()
     j_hub = max(j_whole - j_body, 1e-3 * j_whole)
-    free = body._free
+    free = body.free_dofs
     free_of = np.full(mesh.n_dof, -1, dtype=np.intp)
     free_of[free] = np.arange(free.size)
     side_of = np.full(mesh.tooth.n_nodes, -1, dtype=np.intp)
@@ -344,20 +345,20 @@ def rigid_gap(dp: GearPair, rho: float, side: int = 0) -> tuple[float, float, fl
     return g, (hi - lo) / ((2 if side == 0 else 1) * SLOPE_STEP), r_a, r_b
 
 
-def _radii(dp: GearPair, rolls: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def contact_radii(dp: GearPair, rolls: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The contact radii on the driver and the driven gear at the driver's rolls."""
     rolls = np.atleast_1d(np.asarray(rolls, dtype=float))
     return (np.atleast_1d(dp.gear_a.radius_at_roll_angle(rolls)),
             np.atleast_1d(dp.gear_b.radius_at_roll_angle(np.asarray(dp.roll_b_from_roll_a(rolls)))))
 
 
-def _half_widths(dp: GearPair, rolls: Any, forces: NDArray[np.float64], estar: float,
-                 width: float) -> NDArray[np.float64]:
+def half_widths(dp: GearPair, rolls: Any, forces: NDArray[np.float64], estar: float,
+                width: float) -> NDArray[np.float64]:
     """Hertz's half-widths of the pairs' forces at the driver's rolls."""
-    return _half_widths_at(dp, _radii(dp, rolls), forces, estar, width)
+    return half_widths_at(dp, contact_radii(dp, rolls), forces, estar, width)
 
 
-def _half_widths_at(dp: GearPair, radii: tuple[NDArray[np.float64], NDArray[np.float64]],
+def half_widths_at(dp: GearPair, radii: tuple[NDArray[np.float64], NDArray[np.float64]],
                     forces: NDArray[np.float64], estar: float, width: float) -> NDArray[np.float64]:
     """Hertz's half-widths of the pairs' forces at the contact radii ``(r_a, r_b)`` (the
     involutes' curvatures there, a tip corner's too)."""
@@ -405,6 +406,10 @@ class GapTable:
         r_b = self.r_b[i] + u * (self.r_b[i + 1] - self.r_b[i])
         return gap, slope, r_a, r_b
 
+    def compiled(self) -> GapArrays:
+        """The table's twin for the compiled loops (:data:`~spurdyn.solvers.layout.GapArrays`)."""
+        return GapArrays(self.rho, self.gap, self.slope, self.r_a, self.r_b)
+
 
 def gap_table(dp: GearPair, reach: float) -> GapTable:
     """:func:`rigid_gap` of ``dp`` tabulated over the driver's rolls of the path of contact
@@ -429,6 +434,6 @@ def gap_table(dp: GearPair, reach: float) -> GapTable:
     return GapTable(rho=vals[:, 0], gap=vals[:, 1], slope=vals[:, 2], r_a=vals[:, 3], r_b=vals[:, 4])
 
 
-__all__ = ["GAP_TABLE_DENSITY", "GapTable", "GearBlock", "REACH", "SLOPE_STEP", "back_roll_sum", "back_teeth", "covered_turns",
-           "gap_table", "gear_block",
+__all__ = ["GAP_TABLE_DENSITY", "GapTable", "GearBlock", "REACH", "SLOPE_STEP", "back_roll_sum", "back_teeth", "contact_radii", "covered_turns",
+           "gap_table", "gear_block", "half_widths", "half_widths_at",
            "mirror_nodes", "rigid_gap", "rotation_field", "teeth_for"]

@@ -1,0 +1,169 @@
+"""The sector model's implicit step in NumPy (docs/sector.md, 6.3), the twin of the compiled
+:func:`~spurdyn.solvers.sector.step_compiled.run_steps`, and its stepper.
+
+By generalized-alpha (docs/implicit.md, section 1), with the equations of motion linear and
+the contact rows held over a step, a step is one solve per gear with the factor of
+``S = M + gamma' C + beta' K`` and a complementarity problem of as many unknowns as pairs
+near the path,
+
+    W F + v >= 0,  F >= 0,  F (W F + v) = 0,   W = beta' G S^-1 G^T + c_H I + C_res,
+
+``v`` the pairs' gaps at the end of the step without their forces, ``c_H`` the strip's
+curvature compliance and ``C_res`` the modal bodies' residual compliance. The strips'
+half-widths follow the forces of the step before. The mesh damper
+``c = 2 zeta sqrt(k(phi) m_e)`` acts along the line of action on the rate of the pairs'
+whole deflection, ``-D q_dot`` with ``D`` the rows' hub entries, for the pairs in contact at
+the step before, shared by their forces; its ``gamma' D^T C D`` is taken by Woodbury's
+formula, so the factors stay the run's.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK, SectorStepState
+from spurdyn.solvers.sector.damper import damper_at
+from spurdyn.solvers.sector.lcp import Rows, lcp
+from spurdyn.solvers.sector.model import SectorModel
+from spurdyn.solvers.sector.stepper import SectorRecord, SectorStepper
+
+
+class ImplicitStep(NamedTuple):
+    """One step's outcome: the new ``state`` (the old one where the step failed before its
+    update), the ``rows`` it held (``None``: no pair near the path), their residual
+    compliance ``c_res`` and mesh damper ``c_pairs``, and the step's ``status``."""
+
+    state: SectorStepState
+    rows: Rows | None
+    c_res: NDArray[np.float64] | None
+    c_pairs: NDArray[np.float64] | None
+    status: int
+
+
+def implicit_step(model: SectorModel, st: SectorStepState, tq: NDArray[np.float64], offset: int = 0) -> ImplicitStep:
+    """One generalized-alpha step of ``model`` from ``st`` under the hubs' torques ``tq`` at
+    its end (module docstring); ``offset`` the driver's body tooth of pair 0."""
+    m_, gears, parts = model, model.gears, model.parts
+    am, af, beta, gamma, h, bp, gp = m_.am, m_.af, m_.beta, m_.gamma, m_.h, m_.bp, m_.gp
+    q, v, acc, qdd, last = st
+    a_part = (af * qdd - am * acc) / (1.0 - am)
+    q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
+    v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
+    r = np.zeros(m_.n)
+    r[0], r[m_.na] = tq
+    for g in range(2):
+        r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
+    x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
+    rows = m_.rows_at(float(q_hat[0]), last, offset)
+    force = np.zeros(m_.c_teeth.size)
+    c_res = c_pairs = None
+    if rows is not None:
+        on = rows.on
+        w0, w_gd, w_dd, c_res, cols = m_.compliance(rows)
+        m = on.size
+        # the mesh damper on the rate of the whole approach of the pairs in contact at the
+        # step before (the rows' rigid part D, in parallel with the mesh stiffness), shared
+        # by their forces: S + gamma' D^T C D, by Woodbury through the pairs' couplings
+        shares = last[on]
+        c_mesh = damper_at(m_.c_table, m_.pitch, float(q_hat[0]))
+        c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 else np.zeros(m)
+        if c_pairs.any():
+            x0 -= m_.rigid_columns_times(rows, c_pairs * m_.rigid_rows(rows, v_hat))
+        g_x0, d_x0 = m_.gap_rows(rows, x0), m_.rigid_rows(rows, x0)
+        k_w = (gp * c_pairs)[:, None] * np.linalg.inv(np.eye(m) + w_dd * (gp * c_pairs)[None, :]) \
+            if c_pairs.any() else np.zeros((m, m))
+        w = bp * (w0 - w_gd @ k_w @ w_gd.T) + c_res + m_.c_h * np.eye(m)
+        vv = rows.const + m_.gap_rows(rows, q_hat) + bp * (g_x0 - w_gd @ k_w @ d_x0)
+        lam, found = lcp(0.5 * (w + w.T), vv, shares > 0.0)
+        if not found:
+            return ImplicitStep(st, rows, c_res, c_pairs, FAIL_LCP)
+        qdd_new = x0 + m_.columns_times(cols, lam) - m_.rigid_columns_times(rows, k_w @ (d_x0 + w_gd.T @ lam))
+        force[on] = lam
+    else:
+        qdd_new = x0
+    if not np.isfinite(qdd_new).all():
+        return ImplicitStep(st, rows, c_res, c_pairs, FAIL_NAN)
+    new = SectorStepState(q_hat + bp * qdd_new, v_hat + gp * qdd_new,
+                          a_part + (1.0 - af) / (1.0 - am) * qdd_new, qdd_new, force)
+    status = OK if m_.theta_lo <= new.q[0] <= m_.theta_hi else FAIL_BEYOND
+    return ImplicitStep(new, rows, c_res, c_pairs, status)
+
+
+class ImplicitStepper(SectorStepper):
+    """:func:`implicit_step` step by step, every step's samples (and, if asked, the energy
+    balance and the hubs' momenta) into the record."""
+
+    keeps_energy = True
+
+    def __init__(self, model: SectorModel, record: SectorRecord, offset: int = 0, energy: bool = False) -> None:
+        super().__init__(model, record, offset, energy)
+        start = model.start()
+        self.start_state = start
+        self.state = SectorStepState(start.q, start.v, start.acc, start.qdd, start.force)
+        self.c_res = np.zeros((0, 0))
+        self.damper_torque = [0.0, 0.0]     # the mesh damper's torques on the hubs at the last step
+        q, na = start.q, model.na
+        # the torques' work (J), by the trapezoid rule between saved steps (exact for constant ones)
+        self.work = [float(record.torque[0] @ np.array([q[0], q[na]])), q[0], q[na]]
+        rows0 = model.rows_at(0.0, start.force, start.offset)
+        if rows0 is not None:
+            self.c_res = model.compliance(rows0)[3]
+        self.save(0, rows0)
+
+    def _steps(self, n: int) -> tuple[int, int]:
+        model, offset = self.model, self.start_state.offset
+        for k in range(n):
+            step = self.index + k + 1
+            out = implicit_step(model, self.state, self.record.torque[step], offset)
+            if out.status in (FAIL_NAN, FAIL_LCP):
+                return k, out.status
+            self.state = out.state
+            if out.status != OK:
+                return k, out.status
+            if out.rows is not None:
+                self.c_res = out.c_res
+            if self.energy:
+                self.damper_torque[:] = [0.0, 0.0]
+                if out.rows is not None and out.c_pairs.any():
+                    rate = out.c_pairs * model.rigid_rows(out.rows, self.state.v)
+                    self.damper_torque[:] = [-float(coef @ rate) for coef, _ in out.rows.sides]
+            self.save(step, out.rows)
+            self.reached = step
+        return n, OK
+
+    def save(self, i: int, rows: Rows | None) -> None:
+        """Step ``i``'s samples into the record."""
+        model, rec, (q, v, _, _, force) = self.model, self.record, self.state
+        na, c_res = model.na, self.c_res
+        rec.theta[i] = q[0], q[na]
+        rec.omega[i] = v[0], v[na]
+        rec.force[i] = force
+        fo = force[rows.on] if rows is not None else np.zeros(0)
+        if rows is not None:
+            gaps = model.gap_rows(rows, q) + rows.const + model.c_h * fo + c_res @ fo
+            rec.gap[i] = float(gaps.min())
+        if rec.energy is not None:
+            rec.energy[i] = self.energy_row(i, rows, fo)
+
+    def energy_row(self, i: int, rows: Rows | None, fo: NDArray[np.float64]) -> tuple[Any, ...]:
+        """Step ``i``'s energy balance and the hubs' momenta with the pairs' torques on them."""
+        model, (q, v, _, _, force), work = self.model, self.state, self.work
+        gears, parts, na, tq = model.gears, model.parts, model.na, self.record.torque
+        if i > 0:
+            work[0] += 0.5 * float((tq[i - 1] + tq[i]) @ np.array([q[0] - work[1], q[na] - work[2]]))
+            work[1:] = q[0], q[na]
+        res = 0.5 * float(fo @ self.c_res @ fo) if rows is not None else 0.0
+        return (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)),
+                sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
+                0.5 * model.c_h * float(force @ force), work[0],
+                *(gears[g].momentum(v[parts[g]]) for g in range(2)),
+                # the pairs' generalised forces on the hubs: the rows' hub entries, and the
+                # mesh damper's torques (it acts on the hubs)
+                *((float(rows.sides[g][0] @ fo) if rows is not None else 0.0) + self.damper_torque[g]
+                  for g in range(2)))
+
+
+__all__ = ["ImplicitStep", "ImplicitStepper", "implicit_step"]

@@ -1,0 +1,256 @@
+"""The sector model's compiled pieces that both compiled loops read (the implicit loop of
+:mod:`spurdyn.solvers.sector.step_compiled` and the RK4 reference's of
+:mod:`spurdyn.solvers.sector.rk4_compiled`): the rigid gap's table, a flank's unit strip
+load, the bodies' free accelerations, the pairs' contact rows and residual compliance, the
+mesh damper's coefficient, and the complementarity problem by active sets.
+
+Each has its NumPy twin: :meth:`~spurdyn.solvers.sector.system.GapTable.at`,
+:meth:`~spurdyn.solvers.sector.system.GearBlock.flank_loads`,
+:meth:`~spurdyn.solvers.sector.bodies.ModalBody.forces` and ``solve``,
+:meth:`~spurdyn.solvers.sector.model.SectorModel.rows_at` with the bodies' ``rows`` and
+``residual``, :func:`~spurdyn.solvers.sector.damper.damper_at`, and
+:func:`~spurdyn.solvers.sector.lcp.lcp`. The gears are :data:`~spurdyn.solvers.layout.ModalGear`
+packs, the table a :data:`~spurdyn.solvers.layout.GapArrays`, the contacts a
+:data:`~spurdyn.solvers.layout.SectorContacts` and the run's scalars a
+:data:`~spurdyn.solvers.layout.SectorConfig`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from spurdyn.contact.search_compiled import edge_shape
+from spurdyn.contact.strip_compiled import hertz_half_width, involute_curvature
+from spurdyn.jit import njit
+
+#: Counts of pairs near the path whose active sets the loops order once (two to four occur).
+ORDERS = 6
+
+
+@njit
+def table_at(table, x):
+    """The rigid gap's table at roll ``x``: ``(g, dg/drho, r_a, r_b)`` (twin of ``GapTable.at``)."""
+    t_rho = table.rho
+    n = t_rho.size
+    i = np.searchsorted(t_rho, x, side="right") - 1
+    i = min(max(i, 0), n - 2)
+    if t_rho[i + 1] == t_rho[i]:
+        i += 1
+    x0 = t_rho[i]
+    h = t_rho[i + 1] - x0
+    u = (x - x0) / h
+    g0, g1 = table.gap[i], table.gap[i + 1]
+    d0, d1 = table.slope[i] * h, table.slope[i + 1] * h
+    u2 = u * u
+    u3 = u2 * u
+    gap = (2 * u3 - 3 * u2 + 1) * g0 + (u3 - 2 * u2 + u) * d0 + (-2 * u3 + 3 * u2) * g1 + (u3 - u2) * d1
+    slope = ((6 * u2 - 6 * u) * g0 + (3 * u2 - 4 * u + 1) * d0 + (-6 * u2 + 6 * u) * g1
+             + (3 * u2 - 2 * u) * d1) / h
+    r_a = table.r_a[i] + u * (table.r_a[i + 1] - table.r_a[i])
+    r_b = table.r_b[i] + u * (table.r_b[i + 1] - table.r_b[i])
+    return gap, slope, r_a, r_b
+
+
+@njit
+def flank_load(geo, r, b, xq, wq, out):
+    """The unit strip load at involute radius ``r``, half-width ``b``, on a flank in tooth 0's
+    frame (twin of ``GearBlock.flank_loads``), into ``out`` (``2 (2 ny + 1)``)."""
+    r0, r_tip, ny_f, rbase, hab = geo[0], geo[1], geo[2], geo[3], geo[4]
+    ny = int(ny_f)
+    slope = (r_tip - r0) / ny
+    out[:] = 0.0
+    for k in range(xq.size):
+        rk = math.sqrt(max(r * r + 2.0 * rbase * b * xq[k], 0.0))
+        t = min(max((rk - r0) / slope, 0.0), float(ny))
+        row = min(int(math.floor(t)), ny - 1)
+        s0, s1, s2 = edge_shape(2.0 * (t - row) - 1.0)
+        out[2 * (2 * row)] += s0 * wq[k]
+        out[2 * (2 * row + 1)] += s1 * wq[k]
+        out[2 * (2 * row + 2)] += s2 * wq[k]
+    # the mating flank pushes into the tooth, against the outward normal
+    alpha = math.acos(min(max(rbase / r, -1.0), 1.0))
+    chi = hab - math.tan(alpha)
+    nx, nyy = math.cos(chi), -math.sin(chi)
+    for j in range(2 * ny + 1):
+        w = out[2 * j]
+        out[2 * j] = -w * nx
+        out[2 * j + 1] = -w * nyy
+
+
+@njit
+def modal_free(tq0, tq1, q, v, gear0, gear1):
+    """The bodies' accelerations without the contacts' forces: the hubs' torques ``tq0``,
+    ``tq1`` less each mode's damping and stiffness at ``(q, v)``, through each gear's
+    ``inv`` (``S^-1`` of the implicit loop, ``M^-1`` of the RK4 reference)."""
+    na = gear0.inv.shape[0]
+    n = na + gear1.inv.shape[0]
+    r = np.zeros(n)
+    r[0] = tq0
+    r[na] = tq1
+    for j in range(gear0.omega2.size):
+        r[1 + j] -= gear0.damp[j] * v[1 + j] + gear0.omega2[j] * q[1 + j]
+    for j in range(gear1.omega2.size):
+        r[na + 1 + j] -= gear1.damp[j] * v[na + 1 + j] + gear1.omega2[j] * q[na + 1 + j]
+    out = np.empty(n)
+    out[:na] = gear0.inv @ r[:na]
+    out[na:] = gear1.inv @ r[na:]
+    return out
+
+
+@njit
+def damper_coefficient(c_table, pitch, theta):
+    """The mesh damper's coefficient at the driver's turn ``theta`` (twin of ``damper.damper_at``)."""
+    n_damp = c_table.size - 1
+    x_d = (theta % pitch) / pitch * n_damp
+    i_d = min(int(x_d), n_damp - 1)
+    f_d = x_d - i_d
+    return c_table[i_d] * (1.0 - f_d) + c_table[i_d + 1] * f_d
+
+
+@njit
+def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
+    """The contacts near their paths at the driver's turn ``theta``: ``(on, const, coef0,
+    coef1, rows0, rows1, res)``, their indices in the run's contacts, the constant parts of
+    their gaps, per gear the rows' hub coefficients and modal rows, and the bodies' residual
+    compliance between their loads (``b_i^T R b_j``); the strips' half-widths those of the
+    forces ``widths`` (twin of ``SectorModel.rows_at`` with the bodies' ``residual``). A back
+    flank's roll runs backwards (``system.back_roll_sum``). No contact: ``on`` empty."""
+    teeth, sides = con.teeth, con.sides
+    nt = teeth.size
+    on_all = np.empty(nt, np.int64)
+    p = 0
+    for i in range(nt):
+        roll = cfg.roll_0 + theta + teeth[i] * cfg.pitch
+        if sides[i]:
+            roll = cfg.sigma - roll
+        if roll >= cfg.roll_0 - cfg.reach and roll <= cfg.roll_1 + cfg.reach:
+            on_all[p] = i
+            p += 1
+    on = on_all[:p].copy()
+    if p == 0:      # no pair near the path: no rows (and no products of empty arrays)
+        return (on, np.empty(0), np.empty(0), np.empty(0), np.empty((0, gear0.omega2.size)),
+                np.empty((0, gear1.omega2.size)), np.zeros((0, 0)))
+    nf = gear0.modes.shape[2]
+    const = np.empty(p)
+    coef0 = np.empty(p)
+    coef1 = np.empty(p)
+    at0 = np.empty(p, np.int64)
+    at1 = np.empty(p, np.int64)
+    sd = np.empty(p, np.int64)
+    loads0 = np.empty((p, nf))
+    loads1 = np.empty((p, nf))
+    for a in range(p):
+        i = on[a]
+        sd[a] = sides[i]
+        # d roll / d theta_A: +1 on a drive flank, -1 on a back flank
+        sgn = -1.0 if sd[a] else 1.0
+        rho = cfg.roll_0 + theta + teeth[i] * cfg.pitch
+        if sd[a]:
+            rho = cfg.sigma - rho
+        g0, slope, r_a, r_b = table_at(table, rho)
+        hw = hertz_half_width(widths[i], involute_curvature(r_a, gear0.geo[3]),
+                              involute_curvature(r_b, gear1.geo[3]), cfg.estar, cfg.width)
+        const[a] = g0 - sgn * slope * theta + (cfg.jn if sd[a] else 0.0)
+        coef0[a] = sgn * (slope - cfg.ra)
+        coef1[a] = sgn * cfg.rb
+        k = teeth[i] + con.offset
+        at0[a] = (k - gear0.first) % gear0.count
+        at1[a] = (-k + sd[a] - gear1.first) % gear1.count
+        flank_load(gear0.geo, r_a, hw, con.xq, con.wq, loads0[a])
+        flank_load(gear1.geo, r_b, hw, con.xq, con.wq, loads1[a])
+    rows0 = np.empty((p, gear0.omega2.size))
+    rows1 = np.empty((p, gear1.omega2.size))
+    for a in range(p):
+        rows0[a] = loads0[a] @ gear0.modes[at0[a], sd[a]]
+        rows1[a] = loads1[a] @ gear1.modes[at1[a], sd[a]]
+    res = np.zeros((p, p))
+    for a in range(p):
+        for c in range(p):
+            d0 = (at0[a] - at0[c]) % gear0.count
+            d1 = (at1[a] - at1[c]) % gear1.count
+            res[a, c] = (loads0[a] @ (gear0.flex[d0, sd[a], sd[c]] @ loads0[c])
+                         + loads1[a] @ (gear1.flex[d1, sd[a], sd[c]] @ loads1[c]))
+    res -= (rows0 / gear0.omega2) @ rows0.T + (rows1 / gear1.omega2) @ rows1.T
+    return on, const, coef0, coef1, rows0, rows1, res
+
+
+@njit
+def masks_by_size(n):
+    """All ``2^n`` masks, the fewest members first (ties in increasing order)."""
+    out = np.empty(1 << n, np.int64)
+    k = 0
+    for m in range(n + 1):
+        for mask in range(1 << n):
+            c = 0
+            x = mask
+            while x:
+                c += x & 1
+                x >>= 1
+            if c == m:
+                out[k] = mask
+                k += 1
+    return out
+
+
+@njit
+def mask_orders():
+    """The active sets to try, by size, for each count of pairs up to :data:`ORDERS`."""
+    orders = np.full((ORDERS + 1, 1 << ORDERS), -1, np.int64)
+    for k in range(ORDERS + 1):
+        orders[k, :1 << k] = masks_by_size(k)
+    return orders
+
+
+@njit
+def lcp_ordered(w, v, guess, orders):
+    """``F >= 0`` with ``W F + v >= 0`` and ``F (W F + v) = 0`` (twin of ``lcp.lcp``): the
+    active set ``guess`` (a mask) first, then the masks by size (``orders``, of
+    :func:`mask_orders`). Returns ``(F, found)``."""
+    n = v.size
+    order = orders[n, :1 << n] if n <= ORDERS else masks_by_size(n)
+    vmax = 0.0
+    for i in range(n):
+        vmax = max(vmax, abs(v[i]))
+    tol = 1e-12 * max(vmax, 1e-300)
+    f = np.zeros(n)
+    idx = np.empty(n, np.int64)
+    for attempt in range(-1, order.size):
+        mask = guess if attempt == -1 else order[attempt]
+        f[:] = 0.0
+        m = 0
+        for i in range(n):
+            if mask >> i & 1:
+                idx[m] = i
+                m += 1
+        ok = True
+        if m:
+            sub = np.empty((m, m))
+            rhs = np.empty(m)
+            for a in range(m):
+                rhs[a] = -v[idx[a]]
+                for c in range(m):
+                    sub[a, c] = w[idx[a], idx[c]]
+            sol = np.linalg.solve(sub, rhs)
+            for a in range(m):
+                if sol[a] < 0.0:
+                    ok = False
+                f[idx[a]] = sol[a]
+        if not ok:
+            continue
+        good = True
+        for i in range(n):
+            s = v[i]
+            for c in range(n):
+                s += w[i, c] * f[c]
+            if s < -tol:
+                good = False
+                break
+        if good:
+            return f, True
+    return f, False
+
+
+__all__ = ["ORDERS", "contact_rows", "damper_coefficient", "flank_load", "lcp_ordered", "mask_orders",
+           "masks_by_size", "modal_free", "table_at"]

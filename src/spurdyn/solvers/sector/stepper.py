@@ -1,0 +1,176 @@
+"""The sector model's time steppers on the :class:`~spurdyn.solvers.base.Stepper` contract,
+their registry, and the control that drives them.
+
+:data:`STEPPERS` maps a time integrator and a backend to the stepper that steps a
+:class:`~spurdyn.solvers.sector.model.SectorModel`: the implicit generalized-alpha loop in
+NumPy (:class:`~spurdyn.solvers.sector.implicit_numpy.ImplicitStepper`) and compiled
+(:class:`~spurdyn.solvers.sector.stepper_compiled.CompiledImplicitStepper`), the RK4
+reference in both (:mod:`spurdyn.solvers.sector.rk4`,
+:class:`~spurdyn.solvers.sector.stepper_compiled.CompiledRk4Stepper`). A stepper writes each
+step's samples into the run's :class:`SectorRecord` and reports a failure as a status of
+:mod:`spurdyn.solvers.layout` through the base's one message builder. :func:`drive` takes
+steps to an end with progress and Ctrl-C; :func:`settle` is the settle-until-steady control
+around it (one more cycle at a time until the run's settled test passes).
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.errors import InputError
+from spurdyn.solvers.base import Frames, Stepper
+from spurdyn.solvers.layout import FAIL_BEYOND, SectorOut
+from spurdyn.solvers.sector.model import SectorModel
+from spurdyn.solvers.steady import settled_after
+
+Progress = Callable[[int, float, float], None]
+
+#: ``(integrator, backend) -> "module:class"`` of the sector's steppers, imported when used.
+STEPPERS: dict[tuple[str, str], str] = {
+    ("implicit", "numpy"): "spurdyn.solvers.sector.implicit_numpy:ImplicitStepper",
+    ("implicit", "numba"): "spurdyn.solvers.sector.stepper_compiled:CompiledImplicitStepper",
+    ("rk4", "numpy"): "spurdyn.solvers.sector.rk4:Rk4Stepper",
+    ("rk4", "numba"): "spurdyn.solvers.sector.stepper_compiled:CompiledRk4Stepper",
+}
+
+
+class SectorRecord:
+    """A sector run's samples, one row a step: the hubs' ``torque`` at each step's end (driver
+    first), turns ``theta`` and speeds ``omega``, the contacts' ``force``, the smallest ``gap``
+    and, if asked, the ``energy`` balance (8 columns: kinetic, strain, strip, the torques'
+    work, the hubs' momenta and the pairs' torques on them). Unwritten rows are NaN."""
+
+    def __init__(self, model: SectorModel, n_steps: int, energy: bool = False) -> None:
+        n_out = n_steps + 1
+        self.torque = model.torques_at(np.arange(n_out))
+        self.theta = np.full((n_out, 2), np.nan)
+        self.omega = np.full((n_out, 2), np.nan)
+        self.force = np.full((n_out, model.c_teeth.size), np.nan)
+        self.gap = np.full(n_out, np.nan)
+        self.energy = np.full((n_out, 8), np.nan) if energy else None
+
+    def out(self) -> SectorOut:
+        """The saved columns as the compiled loops write them."""
+        return SectorOut(self.theta, self.omega, self.force, self.gap)
+
+    def extend(self, model: SectorModel, n_steps: int, more: int) -> None:
+        """``more`` rows beyond the run's ``n_steps`` (now ``n_steps + more``), their torques."""
+        self.theta, self.omega, self.force, self.gap = (
+            np.concatenate([x, np.full((more,) + x.shape[1:], np.nan)])
+            for x in (self.theta, self.omega, self.force, self.gap))
+        self.torque = np.concatenate([self.torque, model.torques_at(np.arange(n_steps + 1, n_steps + more + 1))])
+        if self.energy is not None:
+            self.energy = np.concatenate([self.energy, np.full((more, 8), np.nan)])
+
+
+class SectorStepper(Stepper):
+    """Base of the sector's steppers: the model, the record it writes, the state's turn.
+
+    A stepper holds its state in ``self.state`` (with the model's coordinates ``q``,
+    velocities ``v`` and the contacts' ``force``), keeps ``self.reached`` (the last step
+    whose samples are written, for an interrupt between two) and implements :meth:`_steps`."""
+
+    #: Whether the stepper keeps the energy record (the NumPy implicit loop alone).
+    keeps_energy = False
+
+    def __init__(self, model: SectorModel, record: SectorRecord, offset: int = 0, energy: bool = False) -> None:
+        super().__init__(model, model.settings)
+        self.model, self.record, self.offset, self.energy = model, record, offset, energy
+        self.reached = 0
+
+    @classmethod
+    def refuse(cls, model: SectorModel, energy: bool) -> None:
+        """Refuse, by :class:`~spurdyn.errors.InputError`, a model this stepper does not step."""
+        if energy and not cls.keeps_energy:
+            raise InputError("energy", "the energy record is kept by the NumPy implicit loop alone: "
+                             "give backend='numpy'")
+
+    def _steps(self, n: int) -> tuple[int, int]:
+        """Take up to ``n`` steps; ``(steps done, status)``."""
+        raise NotImplementedError
+
+    def _advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
+                 frames_every: int, frames: Frames) -> tuple[int, int, int]:
+        # the sector's samples go to its record, every step: no rows, no frames
+        done, status = self._steps(n)
+        return done, 0, status
+
+    def steps(self, n: int) -> str:
+        """Take up to ``n`` steps; the stop reason (``""`` unless the run cannot go on)."""
+        return self.advance(n, np.inf, 1, np.zeros((0, 0)), 0, [])[2]
+
+    def failure_detail(self, status: int) -> str:
+        return self.model.beyond(float(self.q[0])) if status == FAIL_BEYOND else ""
+
+    @property
+    def q(self) -> NDArray[np.float64]:
+        return self.state.q
+
+    @property
+    def force(self) -> NDArray[np.float64]:
+        return self.state.force
+
+    @property
+    def theta_a(self) -> float:
+        return float(self.q[0])
+
+
+def make_stepper(model: SectorModel, record: SectorRecord, integrator: str, backend: str,
+                 energy: bool = False, offset: int = 0) -> SectorStepper:
+    """The stepper of ``integrator`` on ``backend`` for ``model``; an unknown pair, or a model
+    the stepper does not step, is refused (:class:`~spurdyn.errors.InputError`)."""
+    if (integrator, backend) not in STEPPERS:
+        raise InputError("backend", f"the sector model has no {integrator} integrator on {backend!r}: "
+                         f"one of {', '.join('/'.join(k) for k in STEPPERS)}")
+    module, name = STEPPERS[(integrator, backend)].split(":")
+    cls = getattr(importlib.import_module(module), name)
+    cls.refuse(model, energy)
+    return cls(model, record, offset, energy)
+
+
+def drive(stepper: SectorStepper, end: int, every: int, progress: Progress | None,
+          total: float) -> tuple[str, str]:
+    """Take steps to step ``end``, ``every`` a call of ``progress(step, turn, total)``;
+    ``(status, reason)``, ``"incomplete"`` with why where a step failed or Ctrl-C came."""
+    try:
+        while stepper.index < end:
+            stop = stepper.steps(min(every, end - stepper.index))
+            if stop:
+                return "incomplete", stop
+            if progress is not None:
+                progress(stepper.index, stepper.theta_a, total)
+    except KeyboardInterrupt:
+        return "incomplete", f"interrupted by the user at step {stepper.reached + 1}"
+    return "complete", ""
+
+
+def settle(stepper: SectorStepper, progress: Progress | None) -> tuple[str, str, int, int]:
+    """Drive ``stepper`` over the run's cycles, then one more at a time until the last two
+    settle (:func:`~spurdyn.solvers.steady.settled_after`) or the run's limit; ``(status,
+    reason, rows kept, cycles run)``."""
+    model, record = stepper.model, stepper.record
+    per_cycle, pitch = model.per_cycle, model.pitch
+    target = model.cycles           # the cycles the run goes to: more, one at a time
+    n_steps = per_cycle * target
+    every = max(n_steps // 100, 1)
+    while True:
+        status, reason = drive(stepper, n_steps, every, progress, target * pitch)
+        if status != "complete":
+            kept = stepper.reached + 1 if reason.startswith("interrupted") else stepper.index + 1
+            return status, reason, kept, target
+        lo, hi = max(target - 2, 0) * per_cycle, n_steps + 1       # the last two cycles
+        if target >= model.most or settled_after(
+                record.force[lo:hi].sum(axis=1),
+                model.ra * record.theta[lo:hi, 0] - model.rb * record.theta[lo:hi, 1], per_cycle,
+                min(target, 2)):
+            return status, reason, n_steps + 1, target
+        record.extend(model, n_steps, per_cycle)        # not settled, and it may go on
+        target += 1
+        n_steps += per_cycle
+
+
+__all__ = ["STEPPERS", "SectorRecord", "SectorStepper", "drive", "make_stepper", "settle"]

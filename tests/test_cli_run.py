@@ -465,25 +465,10 @@ def test_console_script_refuses_without_traceback(tmp_path):
 
 # -- the real solver ---------------------------------------------------------------------
 
-@pytest.fixture
-def real_solver():
-    """``spurdyn.solvers.loop.simulate`` if it exists, else skip."""
-    try:
-        from spurdyn.solvers.loop import simulate
-    except ImportError as err:
-        pytest.skip(f"the solver is not there yet ({err})")
-    return simulate
-
-
 @pytest.mark.parametrize("backend, angle", [("numpy", "0.1"), ("numba", "0.3")])
-def test_real_solver_short_run(real_solver, here, capsys, backend, angle):
-    try:
-        code, out, err = run(capsys, "run", "paper-fig9", "--angle", angle, "--backend", backend,
-                             "--frames-every", "20")
-    except ImportError as err:  # a backend that has not landed yet
-        if getattr(err, "name", "") and err.name.startswith("spurdyn."):
-            pytest.skip(f"the {backend} backend is not there yet ({err})")
-        raise
+def test_real_solver_short_run(here, capsys, backend, angle):
+    code, out, err = run(capsys, "run", "paper-fig9", "--angle", angle, "--backend", backend,
+                         "--frames-every", "20")
     assert code == 0, err
     ds, summary = check_run_folder(here / "out" / "paper-fig9")
     assert summary["status"] == "complete"
@@ -494,7 +479,7 @@ def test_real_solver_short_run(real_solver, here, capsys, backend, angle):
     assert code == 0
 
 
-def test_real_solver_interrupted(real_solver, here, capsys, monkeypatch):
+def test_real_solver_interrupted(here, capsys, monkeypatch):
     def ctrl_c(self, step, angle, total):
         os.kill(os.getpid(), signal.SIGINT)
 

@@ -233,10 +233,6 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from spurdyn.sweep.runner import points_to_compute, run_sweep
 
     plan = build_plan(args)
-    if plan.model == "fe":
-        from spurdyn.cli.run import load_simulate
-
-        load_simulate("fe")  # refuse now if this installation has no solver
     resonance = resonance_estimate(plan.case, plan.model)
     todo = len(points_to_compute(plan))
     if todo == 0:

@@ -179,6 +179,7 @@ def test_vtu_option(fake, here, capsys):
     assert len(list((d / "vtu").glob("frame_*.vtu"))) == 3  # steps 0, 40, 80 (+ the last)
 
 
+@pytest.mark.slow
 def test_plot_and_animate_commands(fake, here, capsys):
     run(capsys, "run", "paper-fig9", *SHORT, "--quiet")
     run(capsys, "run", "paper-fig11", *SHORT, "--quiet", "--frames-every", "0")
@@ -220,6 +221,7 @@ def test_bdrive_preset_drives_with_b():
     assert preset_case("paper-fig10").pair.driver == "a"
 
 
+@pytest.mark.slow
 def test_paper_all_sequential(fake, here, capsys):
     code, out, _ = run(capsys, "run", "paper-all", "--angle", "0.05", "--out", "all")
     assert code == 0 and out.count("complete") == 4
@@ -228,6 +230,7 @@ def test_paper_all_sequential(fake, here, capsys):
         assert summary["case"] == name
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(multiprocessing.get_start_method(allow_none=False) != "fork",
                     reason="the synthetic solver reaches the workers only when they fork")
 def test_paper_all_jobs(fake, here, capsys):
@@ -465,6 +468,7 @@ def test_console_script_refuses_without_traceback(tmp_path):
 
 # -- the real solver ---------------------------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend, angle", [("numpy", "0.1"), ("numba", "0.3")])
 def test_real_solver_short_run(here, capsys, backend, angle):
     code, out, err = run(capsys, "run", "paper-fig9", "--angle", angle, "--backend", backend,

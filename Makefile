@@ -1,12 +1,21 @@
 # Two commands for a fresh machine with only Python 3.11+:
 #   make demo   - install spurdyn into .venv and run the paper's Fig. 8 case (out/paper-fig8)
-#   make test   - install spurdyn with its test extras and run the whole test suite
+#   make test   - install spurdyn with its test extras and run the whole test suite (what CI
+#                 runs) on both cores (pytest-xdist), printing its 30 slowest tests
+# and for the inner loop:
+#   make check  - the fast tier: the same less the tests marked `slow` (pyproject.toml)
+# Times: docs/performance.md, "The test suite's time".
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test install clean
+.PHONY: demo test check install clean
+
+# Two workers; tests that share a module fixture go to one of them (tests/conftest.py).
+# Bytecode is written (as compileall does for src below) so that the assertion rewriting of
+# the ~50 test files, done by each worker, is done once.
+PYTEST := PYTHONDONTWRITEBYTECODE= $(BIN)/python -m pytest -q -n 2 --dist loadgroup
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -26,7 +35,10 @@ demo: install
 	$(BIN)/spurdyn run paper-fig8 --force
 
 test: install
-	$(BIN)/python -m pytest -q
+	$(PYTEST) --durations=30
+
+check: install
+	$(PYTEST) -m "not slow"
 
 clean:
 	rm -rf $(VENV) out

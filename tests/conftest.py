@@ -1,9 +1,14 @@
-"""Fixtures shared by several test files."""
+"""Fixtures shared by several test files, and where pytest-xdist runs each test."""
+
+import inspect
+from pathlib import Path
 
 import pytest
 
 from spurdyn.contact.constants import FLANK
 from twin_helpers import Loaded
+
+TESTS = Path(__file__).resolve().parent
 
 
 @pytest.fixture(scope="session")
@@ -14,3 +19,29 @@ def loaded():
     assert st.contact.mode == FLANK
     assert 0.05 < st.S.theta[0] < 0.14            # on the torque ramp (non-zero slope)
     return st
+
+
+def _shares_a_fixture(item: pytest.Item) -> bool:
+    """Whether ``item`` uses a module- or session-scoped fixture of this suite."""
+    info = getattr(item, "_fixtureinfo", None)
+    if info is None:
+        return False
+    for defs in info.name2fixturedefs.values():
+        d = defs[-1]
+        if d.scope in ("module", "package", "session"):
+            try:
+                if TESTS in Path(inspect.getfile(d.func)).resolve().parents:
+                    return True
+            except TypeError:
+                pass
+    return False
+
+
+def pytest_collection_modifyitems(config, items):
+    """Under ``--dist loadgroup`` (``make test``, ``make check``): the tests of a file that
+    share one of its module fixtures (or a session fixture) run on one worker, which builds
+    the fixture once; every other test goes to whichever worker is free, so that one long
+    file (the sector model's) does not hold up the run on one core."""
+    for item in items:
+        if _shares_a_fixture(item):
+            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::")[0]))

@@ -51,6 +51,7 @@ def test_rigidly_turning_teeth_have_the_momentum_and_energy_of_a_rigid_body():
     assert snap.torque_power == pytest.approx(float(tau_own @ omega), rel=1e-14)
 
 
+@pytest.mark.slow
 def test_free_spinning_pair_keeps_momentum_and_energy():
     """No torque, the teeth apart from the start (B 10 % fast): nothing acts on either gear."""
     f = _stepper(4000, 4400, 0.0)
@@ -63,6 +64,7 @@ def test_free_spinning_pair_keeps_momentum_and_energy():
     assert np.abs(rec.energy_error).max() < 2e-9 * rec.energy[0]
 
 
+@pytest.mark.slow
 def test_balances_close_through_a_loaded_contact():
     """At 20,000 rpm with the paper's torque: each gear's momentum changes by the impulse of
     its torque and of the contact force (to 1 %), and the energy by the torques' work, once
@@ -83,6 +85,7 @@ def test_balances_close_through_a_loaded_contact():
     assert e[-1] > 0 and e[len(e) // 2] == pytest.approx(e[-1] / 2, rel=0.05)
 
 
+@pytest.mark.slow
 def test_the_strips_balance_closes_over_fig8():
     """Issue 14's energy check, as validation.md 3.2 takes it: Fig. 8 with the Hertzian strip,
     whose row carries its pair's roll with the disks and whose velocity stage carries the

@@ -122,6 +122,7 @@ def test_refusals_name_the_key_written(where, key, value, field, words):
     assert words in err.value.reason
 
 
+@pytest.mark.slow
 def test_the_23_47_example_runs_at_first_try(tmp_path, capsys):
     text = EXAMPLE.read_text()
     # Only teeth, module, pressure angle, face width, material, speed and torque.

@@ -66,6 +66,7 @@ def reference_state(system, fast):
 
 # -- 1. the constraints of a real run, recomputed -------------------------------------------
 
+@pytest.mark.slow
 def test_constraints_of_a_real_run_recomputed_with_the_reference_code(paper20k):
     """Through a compiled run of the whole engagement, the reference code's root
     constraints ``Phi``, ``Phi_q q_dot`` and ``Phi_q q_ddot + R Y theta_dot^2``, and the

@@ -179,6 +179,7 @@ def test_vtu_option(fake, here, capsys):
     assert len(list((d / "vtu").glob("frame_*.vtu"))) == 3  # steps 0, 40, 80 (+ the last)
 
 
+@pytest.mark.slow
 def test_plot_and_animate_commands(fake, here, capsys):
     run(capsys, "run", "paper-fig9", *SHORT, "--quiet")
     run(capsys, "run", "paper-fig11", *SHORT, "--quiet", "--frames-every", "0")
@@ -220,6 +221,7 @@ def test_bdrive_preset_drives_with_b():
     assert preset_case("paper-fig10").pair.driver == "a"
 
 
+@pytest.mark.slow
 def test_paper_all_sequential(fake, here, capsys):
     code, out, _ = run(capsys, "run", "paper-all", "--angle", "0.05", "--out", "all")
     assert code == 0 and out.count("complete") == 4
@@ -228,6 +230,7 @@ def test_paper_all_sequential(fake, here, capsys):
         assert summary["case"] == name
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(multiprocessing.get_start_method(allow_none=False) != "fork",
                     reason="the synthetic solver reaches the workers only when they fork")
 def test_paper_all_jobs(fake, here, capsys):
@@ -465,25 +468,11 @@ def test_console_script_refuses_without_traceback(tmp_path):
 
 # -- the real solver ---------------------------------------------------------------------
 
-@pytest.fixture
-def real_solver():
-    """``spurdyn.solvers.loop.simulate`` if it exists, else skip."""
-    try:
-        from spurdyn.solvers.loop import simulate
-    except ImportError as err:
-        pytest.skip(f"the solver is not there yet ({err})")
-    return simulate
-
-
+@pytest.mark.slow
 @pytest.mark.parametrize("backend, angle", [("numpy", "0.1"), ("numba", "0.3")])
-def test_real_solver_short_run(real_solver, here, capsys, backend, angle):
-    try:
-        code, out, err = run(capsys, "run", "paper-fig9", "--angle", angle, "--backend", backend,
-                             "--frames-every", "20")
-    except ImportError as err:  # a backend that has not landed yet
-        if getattr(err, "name", "") and err.name.startswith("spurdyn."):
-            pytest.skip(f"the {backend} backend is not there yet ({err})")
-        raise
+def test_real_solver_short_run(here, capsys, backend, angle):
+    code, out, err = run(capsys, "run", "paper-fig9", "--angle", angle, "--backend", backend,
+                         "--frames-every", "20")
     assert code == 0, err
     ds, summary = check_run_folder(here / "out" / "paper-fig9")
     assert summary["status"] == "complete"
@@ -494,7 +483,7 @@ def test_real_solver_short_run(real_solver, here, capsys, backend, angle):
     assert code == 0
 
 
-def test_real_solver_interrupted(real_solver, here, capsys, monkeypatch):
+def test_real_solver_interrupted(here, capsys, monkeypatch):
     def ctrl_c(self, step, angle, total):
         os.kill(os.getpid(), signal.SIGINT)
 

@@ -282,6 +282,7 @@ def _contact_columns(stepper) -> dict[str, float]:
     return dict(zip(("s", "alpha", "beta", "mode", "half_width"), values))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("integrator, backend", sorted(STEPPERS))
 def test_every_history_writer_fills_each_column_with_its_own_value(integrator, backend):
     """Every registered stepper's history rows, written by its writer, hold column by

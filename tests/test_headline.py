@@ -76,6 +76,7 @@ def smooth_force(t: np.ndarray, static: float) -> np.ndarray:
 
 # -- the average ---------------------------------------------------------------------------
 
+@pytest.mark.slow
 @SETTINGS
 @given(data=st.data())
 def test_moving_average_of_a_line_is_the_line_at_the_window_centre(data):

@@ -299,6 +299,7 @@ def test_the_strip_sits_on_the_rigid_flanks_and_its_sliding_terms_follow_its_gap
     assert (c1.beta - c0.beta) / dt == pytest.approx(bd, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_compiled_and_numpy_hertz_steps_agree():
     """The two backends of the distributed contact, step by step at 20,000 rpm."""
     case = RunSettings(speed_a=20000 * RPM, speed_b=20000 * RPM, torque=PAPER_TORQUE,
@@ -425,6 +426,7 @@ def test_the_lumped_strip_table_does_not_depend_on_which_equal_pair_built_the_sy
     assert table.roll_a[-1] == pytest.approx(pair.end_roll_a)
 
 
+@pytest.mark.slow
 def test_a_graded_mesh_brings_the_strip_stiffness_nearer_its_fine_mesh_limit():
     """Thin outline columns resolve the strip's near field: the pitch-point stiffness of
     12 x 40 graded 6 lies nearer that of 24 x 80 (graded alike) than the even 12 x 40 lies

@@ -146,6 +146,7 @@ def _energy(stepper: ImplicitStepper) -> float:
     return e
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("rho", [1.0, 0.8])
 def test_a_free_spinning_pair_keeps_its_energy_up_to_the_dissipation_asked_for(rho):
     """No torque and the teeth apart: without numerical dissipation (rho_inf = 1) the
@@ -168,6 +169,7 @@ def test_a_free_spinning_pair_keeps_its_energy_up_to_the_dissipation_asked_for(r
         assert change.max() < 1e-12 and change.min() > -1e-6
 
 
+@pytest.mark.slow
 def test_the_implicit_step_follows_rk4_through_fig9_at_a_step_22_times_larger():
     """Fig. 9 (20,000 rpm, point contact): the 10-us-averaged force within 2 % RMS of its
     peak and the averaged peak within 1 %, at 6.6e-7 s against RK4's 3e-8 s."""
@@ -184,6 +186,7 @@ def test_the_implicit_step_follows_rk4_through_fig9_at_a_step_22_times_larger():
     assert averaged_peak(imp.time, imp.contact_force)[0] == pytest.approx(peak, rel=0.01)
 
 
+@pytest.mark.slow
 def test_a_case_asks_for_the_implicit_integrator_its_step_and_its_damping(tmp_path, monkeypatch):
     """run.integrator / --integrator: a preset without --dt takes the step of accuracy;
     Rayleigh damping from a ratio at two frequencies; the case survives its TOML round
@@ -207,6 +210,7 @@ def test_a_case_asks_for_the_implicit_integrator_its_step_and_its_damping(tmp_pa
     assert summary["integrator"] == "implicit" and summary["settings"]["run"]["damping_ratio"] == 0.05
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("contact", ["point", "hertz"])
 def test_the_compiled_implicit_step_follows_its_numpy_twin(contact):
     """The compiled implicit step (backend numba) against NumPy's, its twin: 150 steps of

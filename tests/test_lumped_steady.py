@@ -41,6 +41,7 @@ def _start_deviation(rpm: float) -> float:
     return float(np.abs(k_now[before] * -r.gap[before] / r.info["static_force"] - 1.0).max())
 
 
+@pytest.mark.slow
 def test_a_slow_run_starts_in_static_equilibrium():
     """The run starts at the static compression, so before the pairs in contact first
     change the mesh carries the static force; what remains is the lag behind the
@@ -51,6 +52,7 @@ def test_a_slow_run_starts_in_static_equilibrium():
     assert d300 / d30 == pytest.approx(10.0, rel=0.2)
 
 
+@pytest.mark.slow
 def test_a_slow_damped_run_holds_the_load_between_changes_of_pairs():
     """At 30 rpm, away from the changes of the pairs in contact (the last 20 % of each
     stretch between them, where what the change set ringing has died out), ``k(phi) delta
@@ -95,11 +97,13 @@ def test_the_free_oscillation_after_a_change_of_pairs_decays_at_the_damping_rati
         assert measured == pytest.approx(zeta, rel=0.10)
 
 
+@pytest.mark.slow
 def test_the_settled_test_needs_the_run_to_settle():
     assert not _run(15000.0, 0.0, 4).info["steady"]["settled"]
     assert _run(4000.0, 0.05, 20).info["steady"]["settled"]
 
 
+@pytest.mark.slow
 def test_cycles_from_the_case_and_the_command_line(tmp_path, monkeypatch, capsys):
     from spurdyn.case import case_from_dict, case_to_dict
     from spurdyn.cli.main import main
@@ -148,6 +152,7 @@ def test_the_sweep_file_holds_iso_kv_at_each_speed_and_torque():
     assert kv[0, 1] != kv[0, 2]     # below resonance K_v depends on the line load (N_S)
 
 
+@pytest.mark.slow
 def test_the_sector_stiffness_feeds_the_steady_state(tmp_path, monkeypatch, capsys):
     """``stiffness = "sector"``: the pairs' effective stiffnesses are their shares of the
     sector's mesh stiffness, so a slow damped run carries each pair's static share of the
@@ -197,6 +202,7 @@ def test_the_sector_stiffness_feeds_the_steady_state(tmp_path, monkeypatch, caps
     assert not (tmp_path / "bad").exists()
 
 
+@pytest.mark.slow
 def test_a_sweep_down_in_speed_stays_on_the_upper_branch(tmp_path, capsys):
     """Continuation (``--continuation down``): each speed starts from the previous speed's
     end state, so below the resonance the softening pair stays on the branch of large
@@ -223,6 +229,7 @@ def test_a_sweep_down_in_speed_stays_on_the_upper_branch(tmp_path, capsys):
     assert err.startswith("spurdyn: error: --continuation:") and err.count("\n") == 1
 
 
+@pytest.mark.slow
 def test_the_lumped_run_goes_on_until_it_settles_and_max_cycles_bounds_it(tmp_path, capsys):
     """Above the resonance (18,000 rpm, zeta = 0.05) twenty cycles are too short for the
     transient to decay: asked exactly (``max_cycles = cycles``) the run has not settled; by

@@ -104,6 +104,7 @@ def quasi_static():
     return case, simulate(case.pair, case.run)
 
 
+@pytest.mark.slow
 def test_unequal_pair_quasi_static_mean_force_is_driver_torque_over_its_base_radius(quasi_static):
     case, r = quasi_static
     assert r.status == "complete", r.reason
@@ -122,6 +123,7 @@ def test_unequal_pair_quasi_static_mean_force_is_driver_torque_over_its_base_rad
     assert r.theta[-1, 1] / r.theta[-1, 0] == pytest.approx(RB_A / RB_B, rel=2e-3)
 
 
+@pytest.mark.slow
 def test_driven_gear_carries_tau0_times_the_ratio_of_base_radii(quasi_static):
     """Each disk's torque follows its own Fig. 7 ramp; the driven gear's full load torque
     is tau0 r_bB / r_bA (100 N m here), so that both pass the same tooth force."""
@@ -134,6 +136,7 @@ def test_driven_gear_carries_tau0_times_the_ratio_of_base_radii(quasi_static):
     assert r.torque[:, 0].max() == pytest.approx(TAU0, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_unequal_pair_angular_momentum_balance():
     """Each gear's angular momentum changes by the angular impulse of its centre torque and
     of the contact force (to 1 % of the largest impulse), through the ramp at 10,000 rpm."""
@@ -167,6 +170,7 @@ def spurdyn_command() -> list[str]:
     return [str(script)] if script.is_file() else [sys.executable, "-m", "spurdyn.cli.main"]
 
 
+@pytest.mark.slow
 def test_pinion_gear_file_runs_from_the_command_line(tmp_path):
     out = tmp_path / "pg"
     proc = subprocess.run([*spurdyn_command(), "run", str(PINION_TOML), "--angle", "2", "--out", str(out)],
@@ -274,6 +278,7 @@ def unrelieved_first_contact(tmp_path_factory):
     return first_contact_deg(r)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("amount", [5e-6, 20e-6])
 def test_tip_relief_delays_first_contact_to_where_the_free_disks_close_the_gap(
         tmp_path, hpstc_deg, unrelieved_first_contact, amount):

@@ -35,6 +35,7 @@ def pair_of_steppers():
     return system, case, CompiledStepper(system, case), PaperMethod(system, case)
 
 
+@pytest.mark.slow
 def test_compiled_and_reference_steps_agree_over_300_steps(pair_of_steppers):
     system, case, fast, ref = pair_of_steppers
     st = initial_state(ref.system, ref.case)
@@ -131,6 +132,7 @@ def test_a_stage_that_does_not_converge_stops_both_backends_and_keeps_the_steps_
     assert np.allclose(runs["numba"].contact_force, runs["numpy"].contact_force, rtol=1e-6, atol=1e-6)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", ["numba", "numpy"])
 def test_a_nan_stops_the_run_and_keeps_the_steps_before(backend, monkeypatch):
     """A NaN in the state (here put into one nodal velocity after the first chunk of 20

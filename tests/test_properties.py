@@ -161,6 +161,7 @@ def _refused(capsys, folder: Path, argv: list[str], name: str) -> None:
     assert sorted(p.name for p in folder.iterdir()) == before  # nothing written
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(data=st.data(), key=st.sampled_from(sorted(RUN_KEYS)))
 def test_bad_run_values_are_refused_by_key(fake, capsys, data, key):
@@ -236,6 +237,7 @@ def test_bad_options_are_refused_by_name(fake, capsys, data, flag):
 
 # -- valid small cases -------------------------------------------------------------------
 
+@pytest.mark.slow
 @settings(max_examples=8, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(speed=_floats(3000.0, 20000.0), torque=_floats(0.0, 40.0), angle=_floats(0.2, 1.0),

@@ -284,6 +284,7 @@ def test_vtu_series(run_dir):
     assert m.points.shape[1] == 3
 
 
+@pytest.mark.slow
 def test_animation_gif(tmp_path, run_dir):
     from spurdyn.results.animate import animate_run
 
@@ -304,6 +305,7 @@ def loaded_run(tmp_path_factory):
     return load_run(d)
 
 
+@pytest.mark.slow
 def test_animation_scale_shows_the_fillet_and_the_view_follows_the_teeth(loaded_run):
     """The colour scale is set by the fillets (the contact's peak above it saturates), so
     the fillet elements spread over the scale instead of sitting in one flat colour; each
@@ -334,6 +336,7 @@ def test_animation_scale_shows_the_fillet_and_the_view_follows_the_teeth(loaded_
     assert max(x1 - x0, y1 - y0) < 1.1 * size
 
 
+@pytest.mark.slow
 def test_a_run_keeps_its_root_stress_and_iso_beside_it(loaded_run):
     from spurdyn.iso6336.rating import iso_pair, rate
     from spurdyn.results.frames import case_from_run
@@ -495,6 +498,7 @@ def test_prefetch_draws_a_picture_of_the_run_kind_and_leaves_nothing(tmp_path, m
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_the_elastic_part_of_all_frames_at_once_is_each_frames(loaded_run):
     from spurdyn.results.frames import tooth_frames
 

@@ -135,12 +135,14 @@ def cycle():
     return mesh_cycle(PAIR, PAPER_TORQUE, 4, 14, positions=21)
 
 
+@pytest.mark.slow
 def test_the_cut_ends_change_the_mesh_stiffness_by_less_than_one_percent(cycle):
     wider = mesh_cycle(PAIR, PAPER_TORQUE, 4, 14, teeth=cycle.teeth + 2, positions=21)
     assert wider.stiffness_mean == pytest.approx(cycle.stiffness_mean, rel=1e-2)
     assert np.abs(wider.stiffness / cycle.stiffness - 1).max() < 1e-2
 
 
+@pytest.mark.slow
 def test_the_pairs_carry_the_load_and_only_push(cycle):
     assert np.abs(cycle.force.sum(axis=1) / cycle.load - 1).max() < 1e-12
     assert (cycle.force >= 0).all()
@@ -154,6 +156,7 @@ def test_the_pairs_carry_the_load_and_only_push(cycle):
     assert cycle.transmission_error == pytest.approx(cycle.load / cycle.stiffness, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_the_load_share_follows_the_single_pair_solutions():
     """Two pairs in contact: with each pair loaded alone, ``c_ij`` is the approach of pair
     ``i`` per newton at pair ``j`` (both sectors and the strips), and equal approaches give
@@ -199,6 +202,7 @@ def test_the_active_set_opens_a_pair_whose_gap_the_load_does_not_close():
     assert (c @ f + [0.0, 1e-7]) == pytest.approx([e, e], rel=1e-12)
 
 
+@pytest.mark.slow
 def test_tip_relief_cuts_the_transmission_error_near_its_design_load_only():
     """The NASA-like relief (20 um from the HPSTC): at 60 N m the static transmission
     error's peak-to-peak falls below the unmodified pair's; at a light 5 N m the relief
@@ -212,6 +216,7 @@ def test_tip_relief_cuts_the_transmission_error_near_its_design_load_only():
     assert pp[5.0][1] > 5 * pp[5.0][0]
 
 
+@pytest.mark.slow
 def test_spurdyn_stiffness_prints_the_cycle_and_refuses_bad_input(tmp_path, capsys):
     from spurdyn.cli.main import main
 

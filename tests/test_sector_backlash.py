@@ -46,6 +46,7 @@ def _left_flank(gear, centre, phi0, rho, n=20000):
     return centre + np.column_stack([rad * np.cos(ang), rad * np.sin(ang)])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("more", [0.0, 0.2e-3])
 def test_the_back_flanks_face_each_other_across_the_backlash(more):
     """Drawn from the outlines (the corner module's frame: the drive line of action the x
@@ -112,6 +113,7 @@ def test_a_back_flanks_load_is_the_mirror_image_and_its_row_the_rotation_fields_
                 assert float(drive @ blk.rot[blk.flank_dofs(k)]) == pytest.approx(-expect, rel=2e-3)
 
 
+@pytest.mark.slow
 def test_a_back_flanks_rows_and_columns_are_their_matrices():
     """Rows on drive and back flanks together, on whole and modal bodies, against the
     matrices written out: ``E x``, ``S^-1 E^T``, and the modal bodies' residual compliance
@@ -174,6 +176,7 @@ def rattle():
     return s, simulate_sector(LOOSE, s), simulate_sector(LOOSE, s.with_(backend="numpy"), energy=True)
 
 
+@pytest.mark.slow
 def test_a_light_load_rattles_across_a_little_backlash(rattle):
     """Drive-flank separation, then back-flank impact: the first step with a back-flank force
     comes after steps with no drive-flank force, with the driver's hub behind the rigid
@@ -194,6 +197,7 @@ def test_a_light_load_rattles_across_a_little_backlash(rattle):
                                atol=1e-8 * np.abs(ref.transmission_error).max())
 
 
+@pytest.mark.slow
 def test_each_hubs_momentum_is_its_torques_impulse_through_back_impacts(rattle):
     """With rho_inf = 1 a hub's momentum changes by the trapezoidal impulse of its torque and
     of the contacts' forces through their rows' hub entries, the back flanks' with the
@@ -205,6 +209,7 @@ def test_each_hubs_momentum_is_its_torques_impulse_through_back_impacts(rattle):
     np.testing.assert_allclose(p - p[0], impulse, rtol=0, atol=1e-9 * np.abs(p[0]).max())
 
 
+@pytest.mark.slow
 def test_spurdyn_run_writes_both_flanks_forces(tmp_path, capsys):
     """``spurdyn run`` of a case with backlash: ``result.nc`` has the back flanks' forces by
     the driver's tooth, the summary their peak and steps, the command's line says so; the

@@ -110,6 +110,7 @@ def quasi_static():
     return s, simulate_sector(PAIR, s, dt=period / 100)
 
 
+@pytest.mark.slow
 def test_a_quasi_static_run_carries_the_load_and_follows_the_static_cycle(quasi_static):
     """The pairs carry the load at every step, and away from the path's ends (where the run
     has the tip corners' early and late contact that the static analysis leaves out) the
@@ -135,6 +136,7 @@ def test_a_quasi_static_run_carries_the_load_and_follows_the_static_cycle(quasi_
     np.testing.assert_allclose(run.pair_force[away].max(axis=1), top, rtol=0.01)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("bodies", ["modal", "full"])
 def test_the_undamped_run_keeps_its_energy(bodies):
     """rho_inf = 1 (no numerical dissipation), no damping, 1,000 rpm through the pairs'
@@ -153,6 +155,7 @@ def test_the_undamped_run_keeps_its_energy(bodies):
     assert np.ptp(e["strain_J"]) > 0.1 * strain
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("bodies", ["modal", "full"])
 def test_each_hubs_momentum_is_its_torques_impulse(bodies):
     """With rho_inf = 1 the scheme's accelerations are the equations' (``a = qddot``) and its
@@ -175,6 +178,7 @@ def test_each_hubs_momentum_is_its_torques_impulse(bodies):
     np.testing.assert_allclose(p - p[0], impulse, rtol=0, atol=1e-9 * np.abs(p[0]).max())
 
 
+@pytest.mark.slow
 def test_the_mesh_damper_takes_energy_out_and_the_ring_down():
     """After a pair leaves at 1,000 rpm the pair rings over the stretch of single contact.
     With rho_inf = 1 (no numerical dissipation) the undamped run keeps its energy to the
@@ -199,6 +203,7 @@ def test_the_mesh_damper_takes_energy_out_and_the_ring_down():
     assert lost[0.5] > lost[0.1] > 5 * abs(lost[0.0])
 
 
+@pytest.mark.slow
 def test_the_ring_decays_at_the_ratio_asked():
     """After a pair leaves at 300 rpm the remaining pair rings alone (about seven periods).
     The mesh damper ``c = 2 zeta sqrt(k(phi) m_e)`` follows the cycle's mesh stiffness, so a
@@ -235,6 +240,7 @@ def test_the_ring_decays_at_the_ratio_asked():
     assert freq == pytest.approx(math.sqrt(k_s / m_e) / (2 * math.pi), rel=0.1)
 
 
+@pytest.mark.slow
 def test_spurdyn_run_model_sector_writes_the_pairs_and_the_transmission_error(tmp_path, capsys):
     from spurdyn.cli.main import main
 
@@ -317,6 +323,7 @@ def test_a_case_file_asks_for_its_model_and_the_flag_overrides_it(tmp_path):
     assert not (tmp_path / "no").exists()
 
 
+@pytest.mark.slow
 def test_the_whole_rings_flexibility_is_the_same_under_a_turn_by_a_pitch():
     """On a whole gear the residual flexibility between two teeth's flanks comes from one
     tooth's static response turned round the ring; it equals each tooth's own (to the
@@ -336,6 +343,7 @@ def test_the_whole_rings_flexibility_is_the_same_under_a_turn_by_a_pitch():
                                k_inv, rtol=1e-10, atol=1e-12 * np.abs(k_inv).max())
 
 
+@pytest.mark.slow
 def test_the_modal_bodies_follow_the_whole_ones():
     """The same damped run at 3,000 rpm on the whole finite-element bodies and on their modes
     below 150 kHz and flank shapes with the flanks' residual flexibility: the mesh force
@@ -399,6 +407,7 @@ def test_the_strips_weights_are_the_quadrature_of_the_edges_shape_functions():
     np.testing.assert_allclose(point, w, rtol=0, atol=1e-13)
 
 
+@pytest.mark.slow
 def test_the_gap_table_follows_the_rigid_gap():
     """The run reads a pair's rigid gap, its slope and the contact radii from a table: within
     1e-10 m, 1e-7 m/rad and 1e-9 m of :func:`rigid_gap` between the table's points, on the
@@ -436,6 +445,7 @@ def test_the_gap_table_follows_the_rigid_gap():
             assert got[1][0] == pytest.approx(want[1], abs=1e-7)
 
 
+@pytest.mark.slow
 def test_the_bodies_rows_and_columns_are_their_matrices():
     """Both bodies' rows, columns and residual compliance against the matrices written out:
     ``E x`` against the turned loads at the flank DOFs (or ``Phi^T`` of them), ``S^-1 E^T``
@@ -474,6 +484,7 @@ def test_the_bodies_rows_and_columns_are_their_matrices():
             np.testing.assert_allclose(res, want, rtol=0, atol=1e-9 * np.abs(want).max())
 
 
+@pytest.mark.slow
 def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
     """Three cycles, then three more from their end state (a continuation's next speed, here
     the same one): the pair forces and the transmission error are those of one run of six
@@ -542,6 +553,7 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
         simulate_sector(PAIR, s3.with_(cycles=1, max_cycles=1, start_state=end))
 
 
+@pytest.mark.slow
 def test_a_sector_sweep_carries_each_speeds_end_to_the_next(tmp_path, capsys):
     """``spurdyn sweep --model sector --continuation up``: the chain's first point is the
     point a sweep without continuation computes; the next starts from its end (and so
@@ -565,6 +577,7 @@ def test_a_sector_sweep_carries_each_speeds_end_to_the_next(tmp_path, capsys):
     assert not (tmp_path / "bad").exists()
 
 
+@pytest.mark.slow
 def test_the_compiled_loop_is_the_numpy_loops_twin():
     """Modal bodies of whole gears step in the compiled loop (``backend = "numba"``, the
     default; docs/sector.md 6.3): pair forces, transmission error, gaps and hubs against the
@@ -584,6 +597,7 @@ def test_the_compiled_loop_is_the_numpy_loops_twin():
     np.testing.assert_allclose(fast.info["sector_end_state"], ref.info["sector_end_state"], rtol=1e-6, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_a_run_not_settled_goes_on_a_cycle_at_a_time_until_it_settles():
     """``max_cycles``: a run not settled after its cycles goes on, one cycle at a time, and
     stops at the first cycle end where the settled test holds. So it is the run asked for

@@ -50,6 +50,7 @@ def runs():
     return s, simulate_sector(PAIR, s, dt=period / PER_CYCLE), simulate_sector_rk4(PAIR, s, dt=period / PER_CYCLE)
 
 
+@pytest.mark.slow
 def test_rk4_and_the_implicit_loop_at_a_small_step_agree(runs):
     """Sample for sample, pair by pair, the forces through the cycle (an exit and an entry,
     the tip corners' early and late contact) within 0.3 % of the largest, the transmission
@@ -79,6 +80,7 @@ def test_rk4_and_the_implicit_loop_at_a_small_step_agree(runs):
     np.testing.assert_allclose(rk.omega, imp.omega, rtol=1e-5)      # measured 2.7e-6
 
 
+@pytest.mark.slow
 def test_the_reference_is_stable_at_the_papers_step():
     """The stiffest mode of the constrained modal system (the pairs in contact held by their
     compliance) at the paper's step is far inside RK4's stability bound, and RK4's
@@ -90,6 +92,7 @@ def test_the_reference_is_stable_at_the_papers_step():
     assert highest_frequency(PAIR, s, dt=RK4_STEP)["rk4_amplification_max"] <= 1.0 + 1e-8
 
 
+@pytest.mark.slow
 def test_the_compiled_reference_is_the_numpy_ones_twin():
     """On whole gears (3 cycles) the compiled loop's first 300 steps, across its chunks, are
     the NumPy loop's to round-off."""

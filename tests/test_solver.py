@@ -46,6 +46,7 @@ def _stage1_errors(ref, st, x):
     return np.append(ref.root_errors(th1, u1), c.s)
 
 
+@pytest.mark.slow
 def test_de_dx_against_C_for_the_displacement_stage(loaded_state):
     """Finite differences of the stage-1 errors against C = dt^2/2 G M^-1 G^T.
 
@@ -75,6 +76,7 @@ def test_de_dx_against_C_for_the_displacement_stage(loaded_state):
     assert 0.3 < fd[-1, -1] / c[-1, -1] <= 1.0 + 1e-6
 
 
+@pytest.mark.slow
 def test_de_dx_equals_C_for_the_acceleration_stage(loaded_state):
     """The acceleration errors are linear in x with exactly C = G M^-1 G^T (c = 1)."""
     ref, st = loaded_state
@@ -175,6 +177,7 @@ def test_the_free_energy_drift_is_first_order_in_dt_and_vanishes_with_it():
     assert g20 / g4 == pytest.approx(5.0 ** 4, rel=0.05)
 
 
+@pytest.mark.slow
 def test_angular_momentum_balance_with_contact():
     """Each gear's angular momentum changes by the angular impulse of its centre torque and
     of the contact force about its centre."""
@@ -212,6 +215,7 @@ def test_angular_momentum_balance_with_contact():
     assert np.allclose(change, impulse, rtol=0.01, atol=0.01 * np.abs(impulse).max())
 
 
+@pytest.mark.slow
 def test_quasi_static_limit():
     """At 2,000 rpm the mean force over the single-contact zone is tau_0 / r_b (532.7 N)."""
     case = RunSettings(contact="point", speed_a=2000 * RPM, speed_b=2000 * RPM, torque=PAPER_TORQUE, nx=3, ny=10,
@@ -238,6 +242,7 @@ def test_halving_dt_changes_the_averaged_force_by_less_than_half_a_percent():
     assert rms / fc.max() < 0.005
 
 
+@pytest.mark.slow
 def test_rattling_teeth_separate_and_meet_again():
     """Gear B 1 % faster at the start: contact is lost and made again, and the run goes on.
 
@@ -257,6 +262,7 @@ def test_rattling_teeth_separate_and_meet_again():
     assert np.all(np.isfinite(r.contact_force))
 
 
+@pytest.mark.slow
 def test_the_hard_impact_of_fig11_with_b_driving_runs_through_at_the_papers_dt():
     """B drives 1 % fast at 20,200 rpm: one long, hard impact in which the flanks ring.
 
@@ -275,6 +281,7 @@ def test_the_hard_impact_of_fig11_with_b_driving_runs_through_at_the_papers_dt()
     assert r.contact_force.max() > 5 * static
 
 
+@pytest.mark.slow
 def test_the_distributed_contact_carries_a_fine_mesh_through_the_point_contact_stall():
     """Fig. 9 on the 8 x 28 mesh with the paper's 61 spline points: the point contact
     stalls in a displacement stage (docs/solver.md section 6); the distributed contact runs
@@ -299,6 +306,7 @@ def test_the_distributed_contact_carries_a_fine_mesh_through_the_point_contact_s
     assert ts[np.argmax(fs)] == pytest.approx(tf[np.argmax(ff)], abs=5e-6)
 
 
+@pytest.mark.slow
 def test_raw_peaks_of_the_first_microseconds_converge_with_dt():
     """Issue 19: the raw peak force of the first 2 us of Fig. 8 at dt = 3e-8 ... 3e-11 s.
 

@@ -88,6 +88,7 @@ def test_grids():
 
 # -- what a sweep leaves ---------------------------------------------------------------
 
+@pytest.mark.slow
 def test_lumped_sweep_files_and_agreement_with_run(tmp_path, capsys, serial, calls):
     out = tmp_path / "sw"
     code, stdout, err = sweep(capsys, "paper-fig8", "--rpm", "4000:20000:8000", "--model",
@@ -134,6 +135,7 @@ def test_lumped_sweep_files_and_agreement_with_run(tmp_path, capsys, serial, cal
     assert "10 us" in own.attrs["dynamic_factor_note"]
 
 
+@pytest.mark.slow
 def test_torque_dimension_and_fe_overlay(tmp_path, capsys, serial, calls, monkeypatch):
     out = tmp_path / "sw"
     code, _, err = sweep(capsys, "paper-fig8", "--rpm", "6000,12000", "--torque", "11.125,22.25",
@@ -165,6 +167,7 @@ def test_torque_dimension_and_fe_overlay(tmp_path, capsys, serial, calls, monkey
 
 # -- nothing lost, resumable -----------------------------------------------------------
 
+@pytest.mark.slow
 def test_resume_computes_only_missing_points(tmp_path, capsys, serial, calls):
     out = tmp_path / "sw"
     args = ["paper-fig9", "--model", "lumped", "--out", out, "--quiet"]
@@ -337,6 +340,7 @@ def test_tiny_fe_sweep_keeps_runs(tmp_path, capsys, serial):
 
 # -- Dask ------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_local_cluster_of_processes(tmp_path, capsys):
     out = tmp_path / "sw"
     code, stdout, err = sweep(capsys, "paper-fig8", "--rpm", "8000:20000:4000", "--model",
@@ -356,6 +360,7 @@ def _dying_point(task):
     return run_point(task)
 
 
+@pytest.mark.slow
 def test_worker_dying_loses_only_its_point(tmp_path):
     import dask
     import distributed  # noqa: F401 - its defaults must be loaded before config.set
@@ -414,6 +419,7 @@ def loopback_cluster(tmp_path):
                 p.wait()
 
 
+@pytest.mark.slow
 def test_external_scheduler_on_loopback(tmp_path, capsys, loopback_cluster):
     out = tmp_path / "sw"
     code, stdout, err = sweep(capsys, "paper-fig8", "--rpm", "10000:20000:5000", "--model",

@@ -135,6 +135,7 @@ def test_the_teeth_asked_for_are_those_needed_and_more_neighbours_or_the_whole_g
     assert err.value.field == "teeth" and f"at least {need[0][1]}" in err.value.reason
 
 
+@pytest.mark.slow
 def test_a_run_of_the_default_teeth_asked_for_is_the_default_run():
     """Asking for the default count is the default run, bit for bit; two more neighbours move
     the cut ends away and change the quasi-static transmission error (the pair's compliance)
@@ -151,6 +152,7 @@ def test_a_run_of_the_default_teeth_asked_for_is_the_default_run():
 
 # -- the sector run under a history, from rest -----------------------------------------------
 
+@pytest.mark.slow
 def test_a_constant_history_is_the_constant_torque_bit_for_bit():
     s = run_settings(PAIR, 4000 * RPM, 22.25, dt=1e-6, cycles=3, max_cycles=3, **MESH)
     rb_ra = PAIR.gear_b.base_radius / PAIR.gear_a.base_radius
@@ -172,6 +174,7 @@ def idle():
             simulate_sector(LOOSE, s.with_(backend="numpy"), energy=True, dt=IDLE_DT))
 
 
+@pytest.mark.slow
 def test_an_idling_drivers_torque_rattles_across_tens_of_micrometres(idle):
     """When the driver's torque swings below minus the drag's share of its inertia the drive
     flanks part, the driver falls back across the 69 um of backlash (the transmission error
@@ -191,6 +194,7 @@ def test_an_idling_drivers_torque_rattles_across_tens_of_micrometres(idle):
                                atol=1e-8 * drive.max())
 
 
+@pytest.mark.slow
 def test_each_hubs_momentum_is_its_varying_torques_impulse(idle):
     """With rho_inf = 1 a hub's momentum changes by the trapezoidal impulse of its torque (the
     history's, at the end of each step) and of the contacts, to round-off through the rattle."""
@@ -201,6 +205,7 @@ def test_each_hubs_momentum_is_its_varying_torques_impulse(idle):
     np.testing.assert_allclose(p - p[0], impulse, rtol=0, atol=1e-9 * np.abs(p[0]).max())
 
 
+@pytest.mark.slow
 def test_a_run_from_rest_ramps_its_load_up_and_carries_it():
     """At 10 rpm (quasi-static), from rest over a ramp of one cycle: no force at the start,
     the pair forces following the torques' ramp and, after it, summing to ``T / r_b`` within
@@ -215,6 +220,7 @@ def test_a_run_from_rest_ramps_its_load_up_and_carries_it():
     np.testing.assert_allclose(mesh[per + 1:], run.info["static_force"], rtol=5e-3)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", ["numba", "numpy"])
 def test_a_run_whose_gears_run_away_stops_and_says_so(backend):
     """A driver's torque far above the load speeds the gears beyond the teeth the run carries:
@@ -226,6 +232,7 @@ def test_a_run_whose_gears_run_away_stops_and_says_so(backend):
     assert np.isfinite(run.pair_force[-1]).any()
 
 
+@pytest.mark.slow
 def test_the_lumped_model_takes_the_history_and_the_start():
     from spurdyn.lumped.model import mesh_stiffness_table
 
@@ -252,6 +259,7 @@ CASE = ("[gear_a]\nteeth = 28\npitch_radius = 0.04445\ntip_radius = 0.047625\nro
         "torque_history = \"idle.csv\"\ntorque_history_periodic = true\n[model]\nkind = \"sector\"\n")
 
 
+@pytest.mark.slow
 def test_spurdyn_run_reads_the_history_beside_the_case_and_refuses_in_one_line(tmp_path, capsys, monkeypatch):
     from spurdyn.cli.main import main
 

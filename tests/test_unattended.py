@@ -95,6 +95,7 @@ def test_stop_before_the_solver_loop_leaves_nothing(here, capsys, monkeypatch, s
     assert list(here.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_console_script_keeps_results_on_sigterm(tmp_path):
     """The command, stopped by SIGTERM in its time loop, keeps its steps.
 

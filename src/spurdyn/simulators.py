@@ -126,15 +126,6 @@ class ModelEntry:
         module, name = self.solver.split(":")
         return getattr(importlib.import_module(module), name)(pair, settings, progress)
 
-    def available(self) -> None:
-        """Refuse (naming ``solver``) if this installation cannot import its solver."""
-        module = self.solver.split(":")[0]
-        try:
-            importlib.import_module(module)
-        except ImportError as err:
-            raise InputError("solver", f"{module}.{self.solver.split(':')[1]} is not available "
-                             f"({err})") from None
-
     def refuse(self, settings: RunSettings, labels: Labels = None, pair: GearPair | None = None) -> None:
         """Refuse, in one line naming the key the user wrote (``labels``) and the fix, a
         setting it does not read that was given, and what it cannot do with the others

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
 from spurdyn.solvers.base import Frames, Stepper
-from spurdyn.solvers.layout import FAIL_BEYOND, SectorOut
+from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_NAN, SectorOut
 from spurdyn.solvers.sector.model import SectorModel
 from spurdyn.solvers.steady import settled_after
 
@@ -95,6 +95,11 @@ class SectorStepper(Stepper):
 
     def _advance(self, n: int, angle_end: float, save_every: int, rows: NDArray[np.float64],
                  frames_every: int, frames: Frames) -> tuple[int, int, int]:
+        # a state that is not finite (a NaN put into it between two calls) fails the next step
+        # as a NaN: a step from it may otherwise fail as another (the contact problem, the
+        # driver's turn), raise in a compiled solve or go on
+        if not all(np.isfinite(x).all() for x in self.state):
+            return 0, 0, FAIL_NAN
         # the sector's samples go to its record, every step: no rows, no frames
         done, status = self._steps(n)
         return done, 0, status
@@ -144,7 +149,8 @@ def drive(stepper: SectorStepper, end: int, every: int, progress: Progress | Non
             if progress is not None:
                 progress(stepper.index, stepper.theta_a, total)
     except KeyboardInterrupt:
-        return "incomplete", f"interrupted by the user at step {stepper.reached + 1}"
+        # the steps whose samples are written, as the FE loop counts them
+        return "incomplete", f"interrupted by the user at step {stepper.reached}"
     return "complete", ""
 
 

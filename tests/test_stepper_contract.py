@@ -1,17 +1,19 @@
 """The stepper contract, one test looped over every stepper (docs/architecture.md).
 
 Each entry of :data:`CONTRACT` is one stepper (:class:`~spurdyn.solvers.base.Stepper`) with
-the time loop that drives it. Every one of them, whatever its model, integrator and
-backend:
+the time loop that drives it: the FE (paper) model's of :data:`spurdyn.solvers.loop.STEPPERS`
+and the sector model's of :data:`spurdyn.solvers.sector.stepper.STEPPERS`, every integrator
+on both backends. Every one of them:
 
-- *starts*: a fresh stepper has taken no step, has no failure, and its history row is
+- *starts*: a fresh stepper has taken no step, has no failure, and its current sample is
   finite;
-- *steps*: ``advance(n)`` takes ``n`` steps, writes ``n`` finite rows in time order, the
-  last of them the stepper's current row, and counts them;
+- *steps*: ``advance(n)`` takes ``n`` steps, writes ``n`` finite samples in time order (the
+  FE model's as history rows, the sector model's into its record), the last of them the
+  stepper's current state, and counts them;
 - *stops on a signal*: a stop signal (SIGTERM, handled as :mod:`spurdyn.signals` handles it
   in a command) that lands while the loop runs stops the loop at its next progress report,
   and the run comes back ``incomplete``, "interrupted by the user at step N", with the N
-  steps it made and their rows;
+  steps it made and their samples;
 - *reports a failure the same way*: a NaN put into its state stops the next step; the
   stepper keeps its step count, sets :attr:`~spurdyn.solvers.base.Stepper.failure` and
   returns the base class's message (:meth:`~spurdyn.solvers.base.Failure.message`), and the
@@ -23,6 +25,7 @@ test below then runs on it.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import signal
@@ -31,6 +34,7 @@ from typing import Any, Callable
 
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.model.system import build_system
@@ -38,15 +42,30 @@ from spurdyn.result import Result
 from spurdyn.settings import RPM, RunSettings
 from spurdyn.signals import Interrupts
 from spurdyn.solvers.base import Failure, Stepper
+from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.layout import FAIL_NAN, NCOL
 from spurdyn.solvers.loop import STEPPERS, make_stepper, simulate
+from spurdyn.solvers.sector import stepper as sector
+from spurdyn.solvers.sector.model import SectorModel
+from spurdyn.solvers.sector.rk4 import PAPER_STEP, simulate_sector_rk4
+from spurdyn.solvers.sector.run import simulate_sector
 
 Progress = Callable[[int, float, float], None]
+Samples = NDArray[np.float64]
 
 
 def _poison_velocity(stepper: Stepper) -> None:
     """A NaN in one nodal velocity of the stepper's state."""
     stepper.state.v[7] = np.nan
+
+
+def _history_samples(stepper: Stepper, rows: Samples, n: int) -> tuple[Samples, Samples]:
+    """The history rows the last ``n`` steps wrote into ``rows``, and the row after them."""
+    return rows[:n], rows[n]
+
+
+def _history_row(stepper: Stepper) -> Samples:
+    return stepper.row()
 
 
 @dataclass(frozen=True)
@@ -58,12 +77,21 @@ class Entry:
     ``chunk`` steps, and returns the :class:`~spurdyn.result.Result`; the loop must build
     its stepper as ``make()`` does (the same class), long enough for three reports.
     ``poison(stepper)`` puts a NaN into the stepper's state.
+
+    How to read what a step wrote: ``rows_per_step`` history rows it writes into
+    ``advance``'s ``rows`` (the sector's write none: they keep their record);
+    ``samples(stepper, rows, n)`` the samples of its last ``n`` steps (one row a step, the
+    time first) and what it wrote after them (all NaN: nothing); ``current(stepper)`` the
+    sample of its current state, in the same columns.
     """
 
     name: str
     make: Callable[[], Stepper]
     run: Callable[[Progress | None, int], Result]
     poison: Callable[[Stepper], None] = field(default=_poison_velocity)
+    rows_per_step: int = 1
+    samples: Callable[[Stepper, Samples, int], tuple[Samples, Samples]] = field(default=_history_samples)
+    current: Callable[[Stepper], Samples] = field(default=_history_row)
 
 
 def _paper(integrator: str, backend: str) -> Entry:
@@ -85,9 +113,76 @@ def _paper(integrator: str, backend: str) -> Entry:
     return Entry(f"fe-{integrator}-{backend}", make, run)
 
 
-#: Every stepper under the contract. The FE model's come from ``STEPPERS`` (so one added
-#: there is here too); append the others' entries (e.g. the sector model's) below.
-CONTRACT: list[Entry] = [_paper(integrator, backend) for integrator, backend in sorted(STEPPERS)]
+# -- the sector model ----------------------------------------------------------------------
+SPEED = 4000 * RPM
+#: The sector runs' steps: whole gears (3 cycles, which the compiled loops need); the implicit
+#: loop at 100 steps a mesh cycle, so that its run of 300 steps reports every 3 (a hundred
+#: reports a run), RK4 at its paper step, its run cut at 300 steps.
+SECTOR_STEPS = 300
+
+
+def _sector_settings(backend: str) -> RunSettings:
+    return run_settings(paper_pair(), SPEED, 22.25, model="sector", nx=2, ny=8, cycles=3, max_cycles=3,
+                        damping_ratio=0.05, backend=backend)
+
+
+def _sector_dt(integrator: str) -> float:
+    period = 2 * math.pi / paper_pair().gear_a.teeth / SPEED
+    return period / 100 if integrator == "implicit" else PAPER_STEP
+
+
+@functools.lru_cache(maxsize=None)
+def _sector_model(integrator: str) -> SectorModel:
+    """The model of the sector entries (built once a session; the backend is the stepper's)."""
+    return SectorModel.build(paper_pair(), _sector_settings("numpy"), integrator=integrator,
+                             dt=_sector_dt(integrator))
+
+
+def _sector_poison(stepper: Stepper) -> None:
+    """A NaN in the velocity of the driver's first mode."""
+    stepper.state.v[1] = np.nan
+
+
+def _sector_sample(stepper: Any, i: int) -> Samples:
+    """Step ``i``'s sample of the stepper's record: the time, the hubs' turns and speeds, the
+    pairs' forces."""
+    rec = stepper.record
+    return np.concatenate([[i * stepper.model.h], rec.theta[i], rec.omega[i], rec.force[i]])
+
+
+def _sector_samples(stepper: Any, rows: Samples, n: int) -> tuple[Samples, Samples]:
+    i = stepper.index
+    return (np.array([_sector_sample(stepper, k) for k in range(i - n + 1, i + 1)]),
+            _sector_sample(stepper, i + 1)[1:])
+
+
+def _sector_current(stepper: Any) -> Samples:
+    model, q, v = stepper.model, stepper.state.q, stepper.state.v
+    return np.concatenate([[stepper.index * model.h, q[0], q[model.na], v[0], v[model.na]], stepper.force])
+
+
+def _sector(integrator: str, backend: str) -> Entry:
+    """The sector model of the paper pair (2 x 8 teeth meshes, modal bodies of whole gears) at
+    4,000 rpm: ``(integrator, backend)`` of :data:`spurdyn.solvers.sector.stepper.STEPPERS`."""
+    settings = _sector_settings(backend)
+
+    def make() -> Stepper:
+        model = _sector_model(integrator)
+        return sector.make_stepper(model, sector.SectorRecord(model, 4 * SECTOR_STEPS // 100), integrator, backend)
+
+    def run(progress: Progress | None, chunk: int) -> Result:
+        assert chunk == SECTOR_STEPS // 100, "the sector loops report every hundredth of their run"
+        if integrator == "implicit":
+            return simulate_sector(paper_pair(), settings, progress, dt=_sector_dt(integrator))
+        return simulate_sector_rk4(paper_pair(), settings, _sector_dt(integrator), progress, steps=SECTOR_STEPS)
+
+    return Entry(f"sector-{integrator}-{backend}", make, run, _sector_poison, 0, _sector_samples, _sector_current)
+
+
+#: Every stepper under the contract: the FE model's and the sector model's, each from its
+#: ``STEPPERS`` (so one added there is here too); append any other's entries below.
+CONTRACT: list[Entry] = ([_paper(integrator, backend) for integrator, backend in sorted(STEPPERS)]
+                         + [_sector(integrator, backend) for integrator, backend in sorted(sector.STEPPERS)])
 
 IDS = [e.name for e in CONTRACT]
 STEPS = 3          # steps a test takes (each a report of the loop in the signal test)
@@ -97,25 +192,32 @@ def test_every_registered_fe_stepper_is_under_the_contract():
     assert {e.name for e in CONTRACT} >= {f"fe-{i}-{b}" for i, b in STEPPERS}
 
 
+def test_every_registered_sector_stepper_is_under_the_contract():
+    assert {e.name for e in CONTRACT} >= {f"sector-{i}-{b}" for i, b in sector.STEPPERS}
+
+
 @pytest.mark.parametrize("entry", CONTRACT, ids=IDS)
 def test_starts_and_steps(entry: Entry):
     stepper = entry.make()
     assert stepper.index == 0 and stepper.failure is None
-    start = stepper.row()
-    assert start.shape == (NCOL,) and np.isfinite(start).all()
-    t0, theta0 = stepper.t, stepper.theta_a
+    start = entry.current(stepper)
+    assert np.isfinite(start).all()
+    t0, theta0 = start[0], stepper.theta_a
     rows = np.full((STEPS + 1, NCOL), np.nan)
-    assert stepper.advance(STEPS, math.inf, 1, rows, 0, []) == (STEPS, STEPS, "")
+    written = entry.rows_per_step * STEPS
+    assert stepper.advance(STEPS, math.inf, 1, rows, 0, []) == (STEPS, written, "")
     assert stepper.index == STEPS and stepper.failure is None
-    assert np.isfinite(rows[:STEPS]).all() and np.isnan(rows[STEPS]).all()
-    assert np.array_equal(rows[STEPS - 1], stepper.row())
-    t = np.concatenate([[t0], rows[:STEPS, 0]])
-    assert np.all(np.diff(t) > 0) and stepper.t == t[-1]
+    taken, after = entry.samples(stepper, rows, STEPS)
+    assert taken.shape == (STEPS,) + start.shape
+    assert np.isfinite(taken).all() and np.isnan(after).all()
+    assert np.array_equal(taken[-1], entry.current(stepper))
+    t = np.concatenate([[t0], taken[:, 0]])
+    assert np.all(np.diff(t) > 0) and entry.current(stepper)[0] == t[-1]
     assert stepper.theta_a > theta0                      # gear A turns
     # and goes on from where it stopped
     more = np.full((STEPS + 1, NCOL), np.nan)
-    assert stepper.advance(STEPS, math.inf, 1, more, 0, []) == (STEPS, STEPS, "")
-    assert stepper.index == 2 * STEPS and more[0, 0] > t[-1]
+    assert stepper.advance(STEPS, math.inf, 1, more, 0, []) == (STEPS, written, "")
+    assert stepper.index == 2 * STEPS and entry.samples(stepper, more, STEPS)[0][0, 0] > t[-1]
 
 
 @pytest.mark.parametrize("entry", CONTRACT, ids=IDS)

@@ -455,13 +455,13 @@ def sliding(P, theta, omega, u, v, a, b, mode, nx, ny, va, vb, Ma, Mb, rigid=Fal
     if rigid:
         _splined_at(P, np.int64(0), theta[0], omega[0], v, np.int64(3), a, fa)
         _splined_at(P, np.int64(1), theta[1], omega[1], v, np.int64(3), b, fb)
-        ad, bd = _pair_rates(ea, eb, fa, fb, mode)
+        ad, bd = pair_rates(ea, eb, fa, fb, mode)
         _splined_at(P, np.int64(0), theta[0], 0.0, u, np.int64(0), a, ea)
         _splined_at(P, np.int64(1), theta[1], 0.0, u, np.int64(0), b, eb)
     _splined_at(P, np.int64(0), theta[0], omega[0], v, np.int64(1), a, fa)
     _splined_at(P, np.int64(1), theta[1], omega[1], v, np.int64(1), b, fb)
     if not rigid:
-        ad, bd = _pair_rates(ea, eb, fa, fb, mode)
+        ad, bd = pair_rates(ea, eb, fa, fb, mode)
     cax, cay = ea[4], ea[5]
     cbx, cby = eb[4], eb[5]
     return (2.0 * ad * (nx * fa[2] + ny * fa[3]) + ad * ad * (nx * cax + ny * cay)
@@ -469,9 +469,9 @@ def sliding(P, theta, omega, u, v, a, b, mode, nx, ny, va, vb, Ma, Mb, rigid=Fal
 
 
 @njit
-def _pair_rates(ea, eb, fa, fb, mode):
+def pair_rates(ea, eb, fa, fb, mode):
     """``(d alpha/dt, d beta/dt)`` from the position (``ea``, ``eb``) and velocity (``fa``,
-    ``fb``) splines' values at the pair (the twin of ``search_numpy._pair_rates``)."""
+    ``fb``) splines' values at the pair (the twin of ``search_numpy.pair_rates``)."""
     tax, tay, cax, cay = ea[2], ea[3], ea[4], ea[5]
     tbx, tby, cbx, cby = eb[2], eb[3], eb[4], eb[5]
     ta2 = tax * tax + tay * tay

@@ -282,7 +282,7 @@ def sliding_acceleration(fa: Flank, fb: Flank, xa: NDArray[np.float64], xb: NDAr
     pa, pb = flank_spline(fa, xa, ra), flank_spline(fb, xb, rb)
     sa, sb = flank_spline(fa, va, ma), flank_spline(fb, vb, mb)
     n = c.normal
-    ad, bd = _pair_rates(c, pa, pb, sa, sb) if rates_from is None else _pair_rates(
+    ad, bd = pair_rates(c, pa, pb, sa, sb) if rates_from is None else pair_rates(
         c, *(flank_spline(f, x, m) for f, x, m in zip((fa, fb, fa, fb), rates_from, (ra, rb, ma, mb))))
     ca, cb = pa(c.alpha, 2), pb(c.beta, 2)
     dwa, dwb = sa(c.alpha, 1), sb(c.beta, 1)
@@ -313,7 +313,7 @@ def roll_entries(fa: Flank, fb: Flank, c: ContactPair, xa: NDArray[np.float64],
     ``n . (s_A R_A Jz delta_A - s_B R_B Jz delta_B)``. ``rigid``: the rigid flanks' nodal
     positions ``(xa, xb)``, then their nodal velocities for a unit turn of each disk and
     the matrices ``s R Jz`` those turns apply to the offsets, ``(va, vb, ma, mb)``; the
-    pair's rates per unit turn come from :func:`_pair_rates` on them.
+    pair's rates per unit turn come from :func:`pair_rates` on them.
     """
     pa, pb = flank_spline(fa, rigid[0], ra), flank_spline(fb, rigid[1], rb)
     zero = np.zeros((2, 2))
@@ -321,8 +321,8 @@ def roll_entries(fa: Flank, fb: Flank, c: ContactPair, xa: NDArray[np.float64],
     still_b = flank_spline(fb, np.zeros_like(rigid[3]), zero)
     turn_a = flank_spline(fa, rigid[2], rigid[4])
     turn_b = flank_spline(fb, rigid[3], rigid[5])
-    da_a, db_a = _pair_rates(c, pa, pb, turn_a, still_b)
-    da_b, db_b = _pair_rates(c, pa, pb, still_a, turn_b)
+    da_a, db_a = pair_rates(c, pa, pb, turn_a, still_b)
+    da_b, db_b = pair_rates(c, pa, pb, still_a, turn_b)
     slopes = []
     for f, t, x, r, moves in ((fa, c.alpha, xa, ra, da_a != 0.0 or da_b != 0.0),
                               (fb, c.beta, xb, rb, db_a != 0.0 or db_b != 0.0)):
@@ -337,7 +337,7 @@ def roll_entries(fa: Flank, fb: Flank, c: ContactPair, xa: NDArray[np.float64],
     return roll, (roll[0] + turn[0], roll[1] + turn[1])
 
 
-def _pair_rates(c: ContactPair, pa: CubicSpline, pb: CubicSpline, sa: CubicSpline,
+def pair_rates(c: ContactPair, pa: CubicSpline, pb: CubicSpline, sa: CubicSpline,
                 sb: CubicSpline) -> tuple[float, float]:
     """``(d alpha/dt, d beta/dt)`` of the pair ``c`` on the flanks of positions ``pa``, ``pb``
     and velocities ``sa``, ``sb`` (Appendix A: equal tangential velocities, normals that stay

@@ -15,7 +15,7 @@ import numpy as np
 from spurdyn.contact.constants import F, ROLL_STEP
 from spurdyn.contact.hertz import STRIP_POINTS, strip_quadrature
 from spurdyn.contact.search_compiled import (
-    _pair_rates, delta_at, edge_shape, exact_at, material_point, spline_eval, weighted_point,
+    pair_rates, delta_at, edge_shape, exact_at, material_point, spline_eval, weighted_point,
 )
 from spurdyn.jit import njit
 
@@ -160,10 +160,10 @@ def roll_entries(P, theta, u, a, b, mode, nx, ny, va, vb, Ma, Mb, hw, da, db):
     # A unit turn moves the rigid flank's data points by s Jz (x - c), so its velocity
     # spline is s Jz (position spline - c): no spline to fit.
     _turned(P, np.int64(0), ea, fa)
-    da_a, db_a = _pair_rates(ea, eb, fa, fb, mode)
+    da_a, db_a = pair_rates(ea, eb, fa, fb, mode)
     fa[:] = 0.0
     _turned(P, np.int64(1), eb, fb)
-    da_b, db_b = _pair_rates(ea, eb, fa, fb, mode)
+    da_b, db_b = pair_rates(ea, eb, fa, fb, mode)
     nside = P.side.shape[1]
     cn = np.empty(nside, dtype=np.int64)
     cw = np.empty(nside)

@@ -44,7 +44,7 @@ _DN_CENTRE = _ELEMENT.dshape(0.0, 0.0)[None]  # (1, 8, 2)
 # --------------------------------------------------------------------------
 
 
-def _jacobian(
+def jacobian(
     xy: NDArray[np.float64], dn: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Jacobian matrices and determinants at points.
@@ -57,7 +57,7 @@ def _jacobian(
     return jac, det
 
 
-def _strain_displacement(
+def strain_displacement(
     jac: NDArray[np.float64], det: NDArray[np.float64], dn: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """Strain-displacement matrices ``B (E, G, 3, 16)`` from reference derivatives."""
@@ -97,7 +97,7 @@ def _as_element_xy(xy: ArrayLike) -> NDArray[np.float64]:
     return a[None]
 
 
-def _as_mesh(
+def as_mesh(
     nodes: ArrayLike, elements: ArrayLike
 ) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
     nd = np.asarray(nodes, dtype=float)
@@ -128,9 +128,9 @@ def _check_thickness(thickness: float) -> None:
 def _stiffness_batch(
     xy: NDArray[np.float64], d: NDArray[np.float64], thickness: float, what: str
 ) -> NDArray[np.float64]:
-    jac, det = _jacobian(xy, _DN)
+    jac, det = jacobian(xy, _DN)
     _check_positive_jacobian(det, what)
-    b = _strain_displacement(jac, det, _DN)
+    b = strain_displacement(jac, det, _DN)
     n_el = xy.shape[0]
     db = np.einsum("kl,eglj->egkj", d, b).reshape(n_el, -1, 16)
     wb = (b * (thickness * det * _WEIGHTS)[..., None, None]).reshape(n_el, -1, 16)
@@ -145,7 +145,7 @@ def _scalar_mass_batch(
     xy: NDArray[np.float64], density: float, thickness: float, what: str
 ) -> NDArray[np.float64]:
     """Consistent mass for one displacement component, ``(E, 8, 8)``."""
-    _, det = _jacobian(xy, _DN)
+    _, det = jacobian(xy, _DN)
     _check_positive_jacobian(det, what)
     m8 = np.einsum("eg,gi,gj->eij", density * thickness * det * _WEIGHTS, _N, _N)
     return 0.5 * (m8 + m8.transpose(0, 2, 1))
@@ -300,9 +300,9 @@ def _centre_stress_batch(
     d: NDArray[np.float64],
     what: str,
 ) -> NDArray[np.float64]:
-    jac, det = _jacobian(xy, _DN_CENTRE)
+    jac, det = jacobian(xy, _DN_CENTRE)
     _check_positive_jacobian(det, what)
-    b = _strain_displacement(jac, det, _DN_CENTRE)[:, 0]  # (E, 3, 16)
+    b = strain_displacement(jac, det, _DN_CENTRE)[:, 0]  # (E, 3, 16)
     return np.einsum("kl,elj,ej->ek", d, b, u)
 
 
@@ -346,8 +346,8 @@ def jacobian_determinants(nodes: ArrayLike, elements: ArrayLike) -> NDArray[np.f
         :func:`gauss_2d` ``(3)`` (``xi`` varying fastest).  Non-positive
         values flag inverted or degenerate elements; no error is raised here.
     """
-    nd, el = _as_mesh(nodes, elements)
-    return _jacobian(nd[el], _DN)[1]
+    nd, el = as_mesh(nodes, elements)
+    return jacobian(nd[el], _DN)[1]
 
 
 def assemble_stiffness(
@@ -377,7 +377,7 @@ def assemble_stiffness(
         If any element has a Jacobian determinant <= 0 at a Gauss point.
     """
     _check_thickness(thickness)
-    nd, el = _as_mesh(nodes, elements)
+    nd, el = as_mesh(nodes, elements)
     d = plane_stress_matrix(material)
     ke = _stiffness_batch(nd[el], d, thickness, "assemble_stiffness")
     return _assemble_sparse(ke, el, nd.shape[0])
@@ -399,7 +399,7 @@ def assemble_consistent_mass(
         Symmetric positive-definite mass [kg].
     """
     _check_thickness(thickness)
-    nd, el = _as_mesh(nodes, elements)
+    nd, el = as_mesh(nodes, elements)
     m8 = _scalar_mass_batch(nd[el], material.density, thickness, "assemble_consistent_mass")
     return _assemble_sparse(_expand_to_2d(m8), el, nd.shape[0])
 
@@ -421,7 +421,7 @@ def assemble_lumped_mass(
         ``density * thickness * area``.  Nodes not used by any element get 0.
     """
     _check_thickness(thickness)
-    nd, el = _as_mesh(nodes, elements)
+    nd, el = as_mesh(nodes, elements)
     m8 = _scalar_mass_batch(nd[el], material.density, thickness, "assemble_lumped_mass")
     node_mass = np.bincount(el.ravel(), weights=_hrz_scalar(m8).ravel(), minlength=nd.shape[0])
     # Lumped mass is the same for x and y, so interleave one nodal array twice.
@@ -449,7 +449,7 @@ def centroid_stresses(
     ndarray, shape (E, 3)
         ``(sxx, syy, txy)`` [Pa] at each element centre.
     """
-    nd, el = _as_mesh(nodes, elements)
+    nd, el = as_mesh(nodes, elements)
     uu = np.asarray(u, dtype=float)
     if uu.shape != (2 * nd.shape[0],):
         raise ValueError(f"u must have shape ({2 * nd.shape[0]},) (got {uu.shape})")

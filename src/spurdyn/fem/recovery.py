@@ -19,7 +19,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from spurdyn.fem.assembly import _as_mesh, _jacobian, _strain_displacement
+from spurdyn.fem.assembly import as_mesh, jacobian, strain_displacement
 from spurdyn.fem.element import ElementQuadS2
 from spurdyn.fem.material import Material, plane_stress_matrix
 
@@ -61,15 +61,15 @@ def surface_stress_columns(nodes: ArrayLike, elements: ArrayLike, surface: Array
     """:func:`surface_stress_operator` as ``(R_c, dofs)``: ``R_c @ u[dofs]`` is ``R @ u``,
     ``dofs`` the displacements of the elements that hold a surface node (a few per node,
     where ``R`` has a column for every DOF of the mesh)."""
-    nd, el = _as_mesh(nodes, elements)
+    nd, el = as_mesh(nodes, elements)
     surf = np.asarray(surface, dtype=np.intp)
     where = {int(n): i for i, n in enumerate(surf)}
     if len(where) != surf.size:
         raise ValueError("surface nodes must be distinct")
     holding = np.flatnonzero(np.isin(el, surf).any(axis=1))
     dn = ElementQuadS2().dshape(BARLOW_POINTS[:, 0], BARLOW_POINTS[:, 1])     # (4, 8, 2)
-    jac, det = _jacobian(nd[el[holding]], dn)
-    b = _strain_displacement(jac, det, dn)                                    # (E, 4, 3, 16)
+    jac, det = jacobian(nd[el[holding]], dn)
+    b = strain_displacement(jac, det, dn)                                    # (E, 4, 3, 16)
     db = np.einsum("kl,eglj->egkj", plane_stress_matrix(material), b)          # Gauss stresses
     at_nodes = np.einsum("ng,egkj->enkj", extrapolation_matrix(), db)         # (E, 8, 3, 16)
     element_dofs = np.stack([2 * el[holding], 2 * el[holding] + 1], axis=2).reshape(len(holding), 16)

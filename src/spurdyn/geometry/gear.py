@@ -43,7 +43,7 @@ MAX_TEETH = 1000
 MAX_SHIFT = 2.0
 
 
-def _positive(name: str, value: float) -> None:
+def require_positive(name: str, value: float) -> None:
     if not isinstance(value, (int, float)) or isinstance(value, bool):
         raise InputError(name, f"must be a number (got {type(value).__name__})")
     if not math.isfinite(value) or value <= 0.0:
@@ -121,7 +121,7 @@ class Gear:
         if self.teeth > MAX_TEETH:
             raise InputError("teeth", f"must be at most {MAX_TEETH} (got {self.teeth})")
         for name in ("module", "pressure_angle", "face_width"):
-            _positive(name, getattr(self, name))
+            require_positive(name, getattr(self, name))
         deg = math.degrees(self.pressure_angle)
         if not 12.0 <= deg <= 35.0:
             raise InputError("pressure_angle", f"must lie between 12 and 35 degrees (got {deg:.4g})")
@@ -158,7 +158,7 @@ class Gear:
                              f"rack's tooth comes to a point (the rack's dedendum must stay "
                              f"below {deepest:.3g} x module)")
         for name in ("addendum", "dedendum", "cutter_tip_radius"):
-            _positive(name, getattr(self, name))
+            require_positive(name, getattr(self, name))
         if self.cutter_tip_radius > self.dedendum - 1e-6 * self.module:
             # The rounding's centre would reach the pitch line, where the trochoid of
             # involute.fillet_point turns over (docs/geometry.md, section 8).
@@ -221,7 +221,7 @@ class Gear:
     def _resolve_inertia(self) -> None:
         """Fill ``disk_inertia`` from the blank when it was not given."""
         if self.disk_inertia is not None:
-            _positive("disk_inertia", self.disk_inertia)
+            require_positive("disk_inertia", self.disk_inertia)
             if self.blank is not None:
                 raise InputError("blank", "give either disk_inertia or a blank, not both")
             return
@@ -240,7 +240,7 @@ class Gear:
 
         ``kwargs`` are the other fields (``profile_shift``, ``material``, ``blank``, ...).
         """
-        _positive("pressure_angle_deg", pressure_angle_deg)
+        require_positive("pressure_angle_deg", pressure_angle_deg)
         return cls(teeth=teeth, module=module, pressure_angle=math.radians(pressure_angle_deg),
                    face_width=face_width, **kwargs)
 
@@ -262,9 +262,9 @@ class Gear:
 
         ``pressure_angle`` is in radians; ``kwargs`` are the other fields of :class:`Gear`.
         """
-        _positive("pitch_radius", pitch_radius)
-        _positive("tip_radius", tip_radius)
-        _positive("root_radius", root_radius)
+        require_positive("pitch_radius", pitch_radius)
+        require_positive("tip_radius", tip_radius)
+        require_positive("root_radius", root_radius)
         if not isinstance(teeth, int) or isinstance(teeth, bool) or teeth <= 0:
             raise InputError("teeth", f"must be a positive whole number (got {teeth!r})")
         if tip_radius <= pitch_radius:

@@ -15,7 +15,7 @@ import numpy as np
 from spurdyn.errors import InputError
 from spurdyn.geometry import involute as ivl
 from spurdyn.geometry import working as wkg
-from spurdyn.geometry.gear import Gear, _positive
+from spurdyn.geometry.gear import Gear, require_positive
 
 
 @dataclass(frozen=True)
@@ -44,7 +44,7 @@ class GearPair:
             object.__setattr__(self, "centre_distance", wkg.zero_backlash_centre_distance(
                 ga.pitch_radius + gb.pitch_radius, ga.pressure_angle,
                 ga.profile_shift + gb.profile_shift, ga.teeth + gb.teeth))
-        _positive("centre_distance", self.centre_distance)
+        require_positive("centre_distance", self.centre_distance)
         if self.driver not in ("a", "b"):
             raise InputError("driver", f"must be 'a' or 'b' (got {self.driver!r})")
         if not math.isclose(self.gear_a.module, self.gear_b.module, rel_tol=1e-9):

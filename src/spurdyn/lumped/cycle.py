@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from spurdyn.geometry.pair import GearPair
-from spurdyn.lumped.model import MeshStiffnessTable, _contact_roll_a
+from spurdyn.lumped.model import MeshStiffnessTable, contact_roll_a
 
 
 #: Samples per cycle of :meth:`SectorCycle.at`'s dense table (linear between them, as
@@ -38,7 +38,7 @@ def pair_rolls(pair: GearPair, phi_a: ArrayLike, j: ArrayLike) -> NDArray[np.flo
     ``phi_a`` (columns)."""
     p = 2.0 * math.pi / pair.gear_a.teeth
     phi = np.asarray(phi_a, dtype=float)[None, :] - p * np.asarray(j, dtype=float)[:, None]
-    return _contact_roll_a(pair, phi)
+    return contact_roll_a(pair, phi)
 
 
 def rows_in_path(pair: GearPair) -> int:

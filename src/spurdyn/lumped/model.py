@@ -204,7 +204,7 @@ def torsional_natural_frequency(pair: GearPair, k: float | ArrayLike) -> float |
     return float(f) if f.ndim == 0 else f
 
 
-def _contact_roll_a(pair: GearPair, phi_a: ArrayLike) -> NDArray[np.float64]:
+def contact_roll_a(pair: GearPair, phi_a: ArrayLike) -> NDArray[np.float64]:
     """Roll angle on A of the rigid-kinematics contact point at A's rotation ``phi_a``.
 
     A driving: contact starts at B's tip, low on A, and climbs A's flank. B driving:
@@ -273,7 +273,7 @@ def simulate_lumped(
     amp_a, amp_b = torque_amplitudes(pair, settings.torque)
     m_e = equivalent_mass(pair)
     zeta2_sqrt_me = 2.0 * damping_ratio * math.sqrt(m_e)
-    roll0 = float(_contact_roll_a(pair, 0.0))
+    roll0 = float(contact_roll_a(pair, 0.0))
     droll = 1.0 if pair.driver == "a" else -1.0
     kfun: Callable[[float], float] = table.scalar
     target = pair.theta_s if settings.angle is None else float(settings.angle)
@@ -332,7 +332,7 @@ def simulate_lumped(
     phi_a, w_a, delta, ddelta = y
     phi_b = (ra * phi_a - s * delta) / rb
     w_b = (ra * w_a - s * ddelta) / rb
-    roll_a = _contact_roll_a(pair, phi_a)
+    roll_a = contact_roll_a(pair, phi_a)
     k = table(roll_a)
     f = k * delta + zeta2_sqrt_me * np.sqrt(k) * ddelta
     f = np.where(delta > 0.0, np.maximum(f, 0.0), 0.0)
@@ -351,7 +351,7 @@ def simulate_lumped(
         "static_force": static,
         "single_zone": single,
         "mesh_stiffness_table": table.as_dict(),
-        "mesh_stiffness_single_zone": table.mean(*sorted(float(v) for v in _contact_roll_a(pair, np.array(single)))),
+        "mesh_stiffness_single_zone": table.mean(*sorted(float(v) for v in contact_roll_a(pair, np.array(single)))),
         "natural_frequency_hz_kmax": f_n,
         "equivalent_mass": m_e,
         "damping_ratio": damping_ratio,

@@ -30,7 +30,7 @@ from scipy.integrate import solve_ivp
 
 from spurdyn.geometry.pair import GearPair
 from spurdyn.lumped.cycle import SectorCycle, TableCycle, pair_rolls
-from spurdyn.lumped.model import RTOL, MeshStiffnessTable, _contact_roll_a, equivalent_mass, torsional_natural_frequency
+from spurdyn.lumped.model import RTOL, MeshStiffnessTable, contact_roll_a, equivalent_mass, torsional_natural_frequency
 from spurdyn.model.loading import check_history, hub_torques, static_force, torque_amplitudes
 from spurdyn.result import Result
 from spurdyn.settings import RunSettings
@@ -206,7 +206,7 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
             end_state=[float(delta[-1]), float(ddelta[-1] / w_a[-1])] if n else None,
             start_state=None if settings.start_state is None else list(settings.start_state)),
     }
-    roll_a = _contact_roll_a(pair, phi_a - pitch * np.floor(phi_a / pitch))
+    roll_a = contact_roll_a(pair, phi_a - pitch * np.floor(phi_a / pitch))
     return Result(
         time=t, angle=phi_a.copy(), contact_force=most, gap=-delta,
         roll=np.column_stack([roll_a, pair.roll_b_from_roll_a(roll_a)]),

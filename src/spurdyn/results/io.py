@@ -40,7 +40,7 @@ from spurdyn.results.frames import (
     tooth_frames,
 )
 from spurdyn.results.headline import headline
-from spurdyn.results.pairs import _pair_variables, back_flank_figures, steady_figures
+from spurdyn.results.pairs import pair_variables, back_flank_figures, steady_figures
 from spurdyn.results.stress import root_stress_variables, stress_summary
 from spurdyn.settings import DEFAULT_MODEL
 
@@ -139,7 +139,7 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
         data_vars["contact_pressure_max"] = var(
             result.contact_pressure_max, "Pa", "peak Hertzian contact pressure of the contact "
             "force (2 F / (pi b L))")
-    data_vars.update(_pair_variables(result, n))
+    data_vars.update(pair_variables(result, n))
     for j, stage in enumerate(STAGES):
         data_vars[f"residual_{stage}"] = var(
             col(result.residual, j), _STAGE_UNITS[stage],

@@ -15,7 +15,7 @@ from spurdyn.result import Result
 from spurdyn.results.headline import averaged_peak
 
 
-def _pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
+def pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
     """The tooth pairs' forces, roll angles and load shares, the mesh force and the
     transmission error of a model of several teeth (none for a model of one pair)."""
     out: dict[str, xr.Variable] = {}

@@ -170,6 +170,7 @@ def test_the_size_and_the_hash_extras_are_the_entries():
     assert MODELS["lumped"].hash_extras(run) == MODELS["fe"].hash_extras(run) == {"cycles_limit": run.cycles_limit}
 
 
+@pytest.mark.slow
 def test_a_sector_run_through_the_api_takes_no_dt():
     import spurdyn
     from spurdyn.solvers.check import run_settings

@@ -1,6 +1,9 @@
 """Fixtures shared by several test files, and where pytest-xdist runs each test."""
 
 import inspect
+import os
+import shutil
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -19,6 +22,27 @@ def loaded():
     assert st.contact.mode == FLANK
     assert 0.05 < st.S.theta[0] < 0.14            # on the torque ramp (non-zero slope)
     return st
+
+
+#: Where the run's mode store is (the controller's stash).
+_STORE = pytest.StashKey[str]()
+
+
+def pytest_configure(config):
+    """A mode store (:mod:`spurdyn.store`) of this run's own, empty at its start and shared
+    by its workers (which inherit the variable): a gear's modes are computed once a run
+    whichever files ask for them, and never come from a run of other code or another day."""
+    if hasattr(config, "workerinput"):
+        return
+    folder = tempfile.mkdtemp(prefix="spurdyn-modes-")
+    config.stash[_STORE] = folder
+    os.environ["SPURDYN_MODE_CACHE"] = folder
+
+
+def pytest_unconfigure(config):
+    folder = config.stash.get(_STORE, None)
+    if folder is not None:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def _shares_a_fixture(item: pytest.Item) -> bool:

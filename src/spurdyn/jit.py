@@ -21,6 +21,8 @@ from typing import Any, Callable
 
 import numba
 
+from spurdyn.store import cache_base
+
 PACKAGE = Path(__file__).resolve().parent
 
 __all__ = ["njit", "cache_folder", "compiled_sources", "imported_modules"]
@@ -92,8 +94,7 @@ def cache_folder() -> str | None:
         digest.update(path.relative_to(PACKAGE).as_posix().encode())
         digest.update(path.read_bytes())
     digest.update(numba.__version__.encode())
-    base = os.environ.get("SPURDYN_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "spurdyn")
-    folder = os.path.join(base, "numba-" + digest.hexdigest()[:16])
+    folder = os.path.join(cache_base(), "numba-" + digest.hexdigest()[:16])
     try:
         os.makedirs(folder, exist_ok=True)
     except OSError:

@@ -324,6 +324,9 @@ def build_parser() -> argparse.ArgumentParser:
     from spurdyn.cli.stiffness import add_stiffness_parser
 
     add_stiffness_parser(sub)
+    from spurdyn.cli.cache import add_cache_parser
+
+    add_cache_parser(sub)
 
     cases = sub.add_parser("cases", help="list the ready-made cases (presets)")
     cases.set_defaults(func=cmd_cases)

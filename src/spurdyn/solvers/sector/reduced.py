@@ -33,6 +33,8 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse.linalg import eigsh
 
+from spurdyn import store
+from spurdyn.fem.factor import factor_spd
 from spurdyn.solvers.sector.system import GearBlock
 
 #: Static shapes added to the basis per tooth: the response to a unit normal load at this
@@ -119,7 +121,71 @@ class ReducedGear:
 
 def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
     """The modes of ``block``'s held body below ``max_frequency`` (Hz), Ritz-augmented by
-    the static response to a unit hub acceleration's inertial load (module docstring)."""
+    the static response to a unit hub acceleration's inertial load and to unit loads on the
+    flanks (module docstring); read from the mode store (:mod:`spurdyn.store`) when a run
+    before computed them for the same body, code and libraries."""
+    target = (2.0 * math.pi * max_frequency) ** 2
+    loads = _flank_loads(block)
+    key = store.digest("reduced", _revision(block), block.stiffness, block.mass, block.rot, loads, target)
+    found = store.load(key)
+    if found is None:
+        found = _reduce(block, target, loads)
+        store.save(key, **found)
+    return ReducedGear(block=block, phi=found["phi"], omega2=found["omega2"], coupling=found["coupling"])
+
+
+def _revision(block: GearBlock) -> str:
+    """What decides the modes' last bits besides the body: this module's code, the body's
+    factor's and the libraries' versions."""
+    return store.code_revision(__name__, type(block.body).__module__, factor_spd.__module__)
+
+
+def _flank_loads(block: GearBlock) -> NDArray[np.float64]:
+    """The unit normal loads at :data:`FLANK_SHAPES` radii of every tooth's drive flank, a
+    column each."""
+    flank = block.body.flank
+    radii = np.linspace(flank.r0, flank.r_tip, FLANK_SHAPES + 2)[1:-1]
+    loads = np.zeros((block.mass.size, block.count * FLANK_SHAPES))
+    for t in range(block.count):
+        tooth = block.first + t
+        for i, r in enumerate(radii):
+            loads[block.flank_dofs(tooth), t * FLANK_SHAPES + i] = block.flank_load(tooth, float(r), 0.0)
+    return loads
+
+
+def _reduce(block: GearBlock, target: float, loads: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+    """:func:`reduce_gear`'s arrays computed: the held body's modes below ``target``
+    (rad^2/s^2) in a basis with the static shapes, Rayleigh-Ritz on it."""
+    w2, vec = _held_modes(block, target)
+    shapes = block.body.solve_free(np.column_stack([block.mass * block.rot, loads]))
+    basis = np.column_stack([vec, shapes])
+    # Rayleigh-Ritz on the augmented basis: M-orthonormal modes diagonalising K
+    k = block.stiffness.tocsc()
+    kr = basis.T @ (k @ basis)
+    mr = basis.T @ (block.mass[:, None] * basis)
+    w2r, vr = _generalized_eigh(kr, mr)
+    phi = basis @ vr
+    return {"phi": phi, "omega2": w2r, "coupling": phi.T @ (block.mass * block.rot)}
+
+
+#: The held bodies' modes the last runs of this process computed, by a digest of the body:
+#: the two gears of a pair of equal gears share theirs.
+_HELD: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+
+
+def _held_modes(block: GearBlock, target: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The held body's ``omega^2`` below ``target`` and their modes (shift-invert Lanczos)."""
+    key = store.digest("held", _revision(block), block.stiffness, block.mass, target)
+    if key not in _HELD:
+        if len(_HELD) >= 2:
+            _HELD.pop(next(iter(_HELD)))
+        _HELD[key] = _lanczos(block, target)
+    return _HELD[key]
+
+
+def _lanczos(block: GearBlock, target: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`_held_modes` computed: ARPACK about 0 through the body's own static factor,
+    asking for more modes until one lies above ``target``."""
     mass = sp.diags(block.mass).tocsc()
     k = block.stiffness.tocsc()
     # shift-invert about 0 through the body's own static factor: the lowest modes first
@@ -129,7 +195,6 @@ def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
     # teeth has 82 below 150 kHz: 2.9 a tooth), more until one lies above the top: a plane
     # body's count of modes grows as omega^2 (Weyl), so as the eigenvalue
     count = 3 * block.count + 24
-    target = (2.0 * math.pi * max_frequency) ** 2
     # a fixed start vector: ARPACK's own is drawn from a generator that lives as long as the
     # process, so the modes (to round-off) would hang on what ran before in it
     v0 = np.random.default_rng(0).uniform(-1.0, 1.0, k.shape[0])
@@ -140,21 +205,7 @@ def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
             break
         count = max(int(1.2 * count * target / w2.max()), count + 8)
     keep = w2 < target
-    flank = block.body.flank
-    radii = np.linspace(flank.r0, flank.r_tip, FLANK_SHAPES + 2)[1:-1]
-    loads = np.zeros((block.mass.size, block.count * FLANK_SHAPES))
-    for t in range(block.count):
-        tooth = block.first + t
-        for i, r in enumerate(radii):
-            loads[block.flank_dofs(tooth), t * FLANK_SHAPES + i] = block.flank_load(tooth, float(r), 0.0)
-    shapes = solve(np.column_stack([block.mass * block.rot, loads]))
-    basis = np.column_stack([vec[:, keep], shapes])
-    # Rayleigh-Ritz on the augmented basis: M-orthonormal modes diagonalising K
-    kr = basis.T @ (k @ basis)
-    mr = basis.T @ (block.mass[:, None] * basis)
-    w2r, vr = _generalized_eigh(kr, mr)
-    phi = basis @ vr
-    return ReducedGear(block=block, phi=phi, omega2=w2r, coupling=phi.T @ (block.mass * block.rot))
+    return w2[keep], vec[:, keep]
 
 
 def _generalized_eigh(k: NDArray[np.float64], m: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

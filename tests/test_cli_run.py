@@ -1,6 +1,6 @@
 """``spurdyn run``, ``cases``, ``plot`` and ``animate`` end to end.
 
-Most tests run the command with a synthetic solver (``fake``, see ``test_results_io.py``)
+Most tests run the command with a synthetic solver (``fake``, see ``cli_helpers.py``)
 so that they test the run layer quickly. ``test_real_solver_short_run`` runs the real
 ``spurdyn.solvers.loop.simulate`` on a short case; it skips itself while the solver (or one
 of its backends) is not importable.
@@ -14,8 +14,6 @@ import math
 import multiprocessing
 import os
 import signal
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -24,92 +22,10 @@ import xarray as xr
 
 from spurdyn.case import resolve_cases
 from spurdyn.cli import run as runner
-from spurdyn.cli.main import main
-from spurdyn.results.headline import AVERAGING_WINDOW_S, moving_average
 from spurdyn.settings import METHODS, RPM
-from test_results_io import PNG_MAGIC, fake_simulate
-
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-PAPER_TOML = (EXAMPLES / "paper_fig8.toml").read_text()
-FILES = ("result.nc", "contact_force.csv", "contact_force.png", "summary.json")
-SHORT = ["--angle", "0.3"]  # paper-fig9 speeds: 84 steps of 3e-8 s
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-@pytest.fixture
-def fake(monkeypatch):
-    """Use the synthetic solver; returns a dict to set its keyword arguments."""
-    options: dict = {}
-
-    def simulate(pair, case, progress=None):
-        return fake_simulate(pair, case, progress, **options)
-
-    monkeypatch.setattr(runner, "load_simulate", lambda model="fe": simulate)
-    return options
-
-
-@pytest.fixture
-def here(tmp_path, monkeypatch):
-    """Run in an empty folder (so the default out/<case> lands there)."""
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
-
-
-def leftovers(folder: Path) -> list[str]:
-    return sorted(p.name for p in folder.iterdir() if ".partial-" in p.name or ".old-" in p.name)
-
-
-def check_run_folder(d: Path) -> tuple[xr.Dataset, dict]:
-    """Everything a run leaves, and summary.json agreeing with result.nc."""
-    for name in FILES:
-        assert (d / name).is_file(), name
-    assert (d / "contact_force.png").read_bytes()[:8] == PNG_MAGIC
-    with xr.open_dataset(d / "result.nc", engine="netcdf4") as ds:
-        ds = ds.load()
-    summary = json.loads((d / "summary.json").read_text())
-    force = ds["contact_force"].values
-    assert summary["case"] == ds.attrs["case_name"]
-    assert summary["status"] == ds.attrs["status"] and summary["reason"] == ds.attrs["reason"]
-    assert summary["steps"] == ds.attrs["steps"] and summary["samples"] == ds.sizes["time"]
-    assert summary["dt_s"] == ds.attrs["dt_s"] == json.loads(ds.attrs["case"])["run"]["dt"]
-    assert summary["n_dof"] == ds.attrs["n_dof"] > 0
-    if np.nanmax(force) > 0:  # the headline peak is the averaged force's, the raw one beside
-        averaged = np.nanmax(moving_average(ds["time"].values, force))
-        assert summary["peak_force_N"] == pytest.approx(averaged, rel=1e-12)
-        assert summary["peak_force_raw_N"] == pytest.approx(np.nanmax(force))
-        assert summary["peak_force_raw_N"] >= averaged
-    else:  # no contact, no peak
-        assert summary["peak_force_N"] is None and summary["dynamic_factor"] is None
-        assert summary["peak_force_raw_N"] is None and summary["dynamic_factor_raw"] is None
-    assert summary["static_force_N"] == pytest.approx(ds.attrs["static_force_N"])
-    assert summary["averaging_window_s"] == AVERAGING_WINDOW_S and summary["dynamic_factor_note"]
-    if summary["status"] == "complete" and summary["peak_force_N"] is not None:
-        assert summary["dynamic_factor"] == pytest.approx(
-            summary["peak_force_N"] / summary["static_force_N"])
-        assert summary["dynamic_factor_raw"] == pytest.approx(
-            summary["peak_force_raw_N"] / summary["static_force_N"])
-    else:  # an incomplete run's largest force may be the spike that stopped it
-        assert summary["dynamic_factor"] is None and summary["dynamic_factor_raw"] is None
-        assert summary["dynamic_factor_note"].startswith("none:")
-    assert summary["angle_deg"] == pytest.approx(ds["angle_deg"].values[-1])
-    assert summary["time_s"] == pytest.approx(ds["time"].values[-1])
-    for stage in ("displacement", "velocity", "acceleration"):
-        assert summary["iterations_mean"][stage] == pytest.approx(
-            ds[f"iterations_{stage}"].values[1:].mean())
-        assert summary["residual_max"][stage] == pytest.approx(
-            np.nanmax(ds[f"residual_{stage}"].values))
-    contact = force > 0
-    first = np.argmax(contact)
-    losses = int(np.sum(contact[first:-1] & ~contact[first + 1:]))
-    assert summary["separations"] in (losses, losses - 1)  # the tip leaving at the end
-    rows = (d / "contact_force.csv").read_text().splitlines()
-    assert rows[0] == "angle_deg,time_s,contact_force_N" and len(rows) == ds.sizes["time"] + 1
-    return ds, summary
+from cli_helpers import (  # noqa: F401 (fake, here: fixtures)
+    EXAMPLES, PNG_MAGIC, SHORT, _Terminal, check_run_folder, fake, here, leftovers, run,
+)
 
 
 # -- end to end --------------------------------------------------------------------------
@@ -247,10 +163,6 @@ def test_paper_all_jobs(fake, here, capsys):
 
 # -- progress ----------------------------------------------------------------------------
 
-class _Terminal(io.StringIO):
-    def isatty(self) -> bool:
-        return True
-
 
 def test_progress_bar_on_a_terminal_only():
     tty = _Terminal()
@@ -281,189 +193,6 @@ def test_progress_bar_starts_no_thread():
     bar(500, 0.1, 0.3)
     assert set(threading.enumerate()) <= before
     bar.close()
-
-
-# -- nothing lost ------------------------------------------------------------------------
-
-def test_overwrite_guard_and_force(fake, here, capsys):
-    d = here / "out" / "paper-fig9"
-    d.mkdir(parents=True)
-    (d / "keep.txt").write_text("precious")
-    code, out, err = run(capsys, "run", "paper-fig9", *SHORT)
-    assert code == 2 and out == "" and err.count("\n") == 1
-    assert err.startswith("spurdyn: error: ") and "--force" in err
-    assert sorted(p.name for p in d.iterdir()) == ["keep.txt"]
-    code, _, _ = run(capsys, "run", "paper-fig9", *SHORT, "--force", "--quiet")
-    assert code == 0 and not (d / "keep.txt").exists()
-    check_run_folder(d)
-    assert leftovers(d.parent) == []
-    # An empty folder may be used without --force; a file may not.
-    empty = here / "empty"
-    empty.mkdir()
-    assert run(capsys, "run", "paper-fig9", *SHORT, "--out", empty, "--quiet")[0] == 0
-    (here / "file").write_text("x")
-    code, _, err = run(capsys, "run", "paper-fig9", *SHORT, "--out", here / "file", "--force")
-    assert code == 2 and "is a file" in err
-
-
-def test_a_folder_filled_during_the_run_is_kept(fake, here, capsys, monkeypatch):
-    """The folder was free when the run started but another run filled it meanwhile:
-    without --force neither result is lost (the new one goes beside it, and says so);
-    with --force it is replaced."""
-    d = here / "out" / "paper-fig9"
-    execute = runner.execute
-
-    def fill_then_execute(plan, simulate, progress=True, quiet=False):
-        def simulate_while_another_writes(pair, case, bar=None):
-            d.mkdir(parents=True, exist_ok=True)
-            (d / "other.txt").write_text("another run's result")
-            return simulate(pair, case, bar)
-        return execute(plan, simulate_while_another_writes, progress, quiet)
-
-    monkeypatch.setattr(runner, "execute", fill_then_execute)
-    code, out, err = run(capsys, "run", "paper-fig9", *SHORT)
-    assert code == 0, err
-    assert sorted(p.name for p in d.iterdir()) == ["other.txt"]
-    moved = Path("out") / "paper-fig9-2"
-    assert f"written to {moved} instead" in err and f"-> {moved}" in out
-    check_run_folder(moved)
-    code, _, err = run(capsys, "run", "paper-fig9", *SHORT, "--force", "--out", d)
-    assert code == 0, err
-    assert not (d / "other.txt").exists()
-    check_run_folder(d)
-    assert leftovers(here / "out") == []
-
-
-def test_jobs_show_the_cases_finished_on_a_terminal_only():
-    tty = _Terminal()
-    bar = runner._cases_bar(4, True, tty)
-    bar.update(1)
-    bar.close()
-    assert "cases finished" in tty.getvalue() and "1/4" in tty.getvalue()
-    assert runner._cases_bar(4, True, io.StringIO()) is None   # a pipe
-    assert runner._cases_bar(4, False, _Terminal()) is None    # --quiet
-
-
-def test_interrupted_run_keeps_what_was_computed(fake, here, capsys, monkeypatch):
-    calls = []
-
-    def ctrl_c(self, step, angle, total):
-        calls.append(step)
-        if len(calls) == 2:  # Ctrl-C during the run: the solver returns what it has
-            os.kill(os.getpid(), signal.SIGINT)
-
-    monkeypatch.setattr(runner.ProgressBar, "__call__", ctrl_c)
-    code, out, err = run(capsys, "run", "paper-all", *SHORT, "--out", "all")
-    assert code == 1 and out == ""
-    d = here / "all" / "paper-fig8"
-    ds, summary = check_run_folder(d)
-    assert summary["status"] == "incomplete" == ds.attrs["status"]
-    assert "interrupted" in summary["reason"] and summary["steps"] == 40
-    assert ds.sizes["time"] == 41
-    assert "paper-fig8 incomplete" in err and "kept in" in err
-    # The other cases are not started after Ctrl-C.
-    assert "paper-fig9 not run" in err and not (here / "all" / "paper-fig9").exists()
-    assert leftovers(here / "all") == []
-
-
-def test_non_convergence_is_incomplete(fake, here, capsys):
-    fake.update(status="incomplete", reason="velocity stage did not converge in 500 iterations")
-    code, out, err = run(capsys, "run", "paper-fig10", "--angle", "0.05")
-    assert code == 1 and "did not converge" in err
-    _, summary = check_run_folder(here / "out" / "paper-fig10")
-    assert summary["status"] == "incomplete" and "converge" in summary["reason"]
-    # stopped early: the line says so and gives no factor, final or not
-    assert "stopped early: no dynamic factor" in err and "x static" not in out + err
-    assert summary["peak_force_N"] is not None and summary["dynamic_factor"] is None
-    assert "stopped early (velocity stage did not" in summary["dynamic_factor_note"]
-
-
-def test_interrupt_escaping_the_solver_leaves_nothing(here, capsys, monkeypatch):
-    def broken(pair, case, progress=None):
-        raise KeyboardInterrupt
-
-    monkeypatch.setattr(runner, "load_simulate", lambda model="fe": broken)
-    code, _, err = run(capsys, "run", "paper-fig9", *SHORT)
-    assert code == 130 and "nothing written" in err
-    assert list(here.iterdir()) == []
-
-
-# -- bad input ---------------------------------------------------------------------------
-
-BAD_ARGS = [
-    (["paper-fig12"], "CASE: unknown case"),
-    (["paper-fig8", "--dt", "4e-8"], "--dt: dt 4e-08 s is above the stable RK4 step"),
-    (["paper-fig8", "--mesh", "8x28"], "--mesh: dt 3e-08 s is above the stable RK4 step"),
-    (["paper-fig8", "--mesh", "8x28", "--dt", "5e-8"], "--dt:"),
-    (["paper-fig8", "--angle", "25"], "--angle: 25 deg goes beyond the angle of action"),
-    (["paper-fig8", "--angle", "-1"], "--angle: must be positive"),
-    (["paper-fig8", "--angle", "1e-9"], "--angle: 1e-09 deg is shorter than one time step"),
-    (["paper-fig8", "--speed-a", "-4000"], "--speed-a: must be positive"),
-    (["paper-fig8", "--speed-b", "0"], "--speed-b: must be positive"),
-    (["paper-fig8", "--torque", "-1"], "--torque: must not be negative"),
-    (["paper-fig8", "--dt", "0"], "--dt: must be positive"),
-    (["paper-fig8", "--dt", "nan"], "--dt: must be a finite number"),
-    (["paper-fig8", "--dt", "fast"], "argument --dt"),
-    (["paper-fig8", "--save-every", "0"], "--save-every: must be a whole number >= 1"),
-    (["paper-fig8", "--mesh", "4by14"], "--mesh: must look like NXxNY"),
-    (["paper-fig8", "--mesh", "0x14"], "--mesh: must be a whole number"),
-    (["paper-fig8", "--mesh", "100x14"], "--mesh: nx must be a whole number from 1 to 64"),
-    (["paper-fig8", "--method", "magic"], "--method: must be one of paper"),
-    (["paper-fig8", "--backend", "cuda"], "--backend: must be one of numba, numpy"),
-    (["paper-all", "--jobs", "0"], "--jobs: must be a whole number >= 1"),
-    (["paper-fig9", "--vtu", "--frames-every", "0"], "--vtu: needs tooth frames"),
-    (["paper-fig9", "--vtu", "--model", "lumped"], "--vtu: draws the FE teeth"),
-    (["missing.toml"], "missing.toml: no such file"),
-    ([str(EXAMPLES / "paper_pair.toml")], "run.speed_a_rpm: is missing"),
-]
-
-
-@pytest.mark.parametrize("argv, message", BAD_ARGS)
-def test_bad_arguments_one_line_exit_2_nothing_written(fake, here, capsys, argv, message):
-    code, out, err = run(capsys, "run", *argv)
-    assert code == 2 and out == ""
-    assert err.startswith("spurdyn: error: ") and err.count("\n") == 1
-    assert message in err, err
-    assert list(here.iterdir()) == []
-
-
-BAD_TOML = [
-    ("speed_a_rpm = 4000.0", "speed_a_rpm = \"fast\"", "run.speed_a_rpm: must be a number"),
-    ("speed_a_rpm = 4000.0", "speed_a_rpm = -4000.0", "run.speed_a_rpm: must be positive"),
-    ("torque = 22.25", "torque = -22.25", "run.torque: must not be negative"),
-    ("dt = 3e-8  ", "dt = 4e-8  ", "run.dt: dt 4e-08 s is above the stable RK4 step"),
-    ("# angle_deg = 21.06", "angle_deg = 40.0", "run.angle_deg: 40 deg goes beyond"),
-    ("save_every = 1", "save_every = 0", "run.save_every"),
-    ("method = \"paper\"", "method = \"fastest\"", "run.method: must be one of"),
-    ("keep_theta_term = true", "keep_theta_term = \"yes\"", "run.keep_theta_term"),
-    ("n_spline = 61", "n_spline = 61\nspline_points = 61", "run.spline_points: unknown key"),
-    ("[run]", "[runs]", "runs: unknown key"),
-    ("teeth = 28", "teeth = 4", "gear_a.teeth"),
-    ("nx = 4", "nx = 0", "mesh.nx"),
-    ("speed_a_rpm = 4000.0", "speed_a_rpm = [4000.0", "is not valid TOML"),
-]
-
-
-@pytest.mark.parametrize("old, new, message", BAD_TOML)
-def test_bad_case_file_one_line_exit_2_nothing_written(fake, here, capsys, old, new, message):
-    assert old in PAPER_TOML
-    bad = here / "bad.toml"
-    bad.write_text(PAPER_TOML.replace(old, new, 1))
-    code, out, err = run(capsys, "run", bad)
-    assert code == 2 and out == ""
-    assert err.startswith("spurdyn: error: ") and err.count("\n") == 1
-    assert message in err, err
-    assert [p.name for p in here.iterdir()] == ["bad.toml"]
-
-
-def test_console_script_refuses_without_traceback(tmp_path):
-    for argv in (["run", "paper-fig12"], ["run", "paper-fig8", "--dt", "1e-7"], ["run"]):
-        proc = subprocess.run([sys.executable, "-m", "spurdyn.cli.main", *argv], cwd=tmp_path,
-                              capture_output=True, text=True)
-        assert proc.returncode == 2, argv
-        assert "Traceback" not in proc.stderr and proc.stderr.count("\n") == 1
-        assert proc.stderr.startswith("spurdyn: error: ")
-    assert list(tmp_path.iterdir()) == []
 
 
 # -- the real solver ---------------------------------------------------------------------

@@ -3,7 +3,7 @@
 Generated bad values for every ``[run]`` key and every ``spurdyn run`` option are each
 answered with exit status 2 and one line naming the key or option, no traceback and
 nothing written; generated valid small cases run. The FE solver is replaced by the
-synthetic one of ``test_results_io.py`` (the run layer is what is tested); the lumped
+synthetic one of ``run_helpers.py`` (the run layer is what is tested); the lumped
 model runs for real. Example counts are bounded to keep the suite's budget.
 """
 
@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 from spurdyn.case import RUN_KEYS
 from spurdyn.cli import run as runner
 from spurdyn.cli.main import main
-from test_results_io import fake_simulate
+from run_helpers import fake_simulate
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "paper_fig8.toml"
 SETTINGS = settings(max_examples=40, deadline=None, derandomize=True,

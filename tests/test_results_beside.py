@@ -19,7 +19,7 @@ from spurdyn.case import preset_case
 from spurdyn.results import beside as beside_module
 from spurdyn.results.beside import beside
 from spurdyn.results.io import write_run
-from test_results_io import fake_simulate
+from run_helpers import fake_simulate
 
 #: Where beside() forks. Other tests may leave a thread behind (a tqdm monitor), which
 #: turns the child off in this process; these tests turn it on again.

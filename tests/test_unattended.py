@@ -24,8 +24,8 @@ from spurdyn.cli import run as runner
 from spurdyn.signals import Interrupts
 from spurdyn.settings import MAX_ACCEL_LEVELS
 from spurdyn.solvers.paper.iteration_numpy import coefficients
-from test_cli_run import check_run_folder, leftovers, run
-from test_results_io import fake_simulate
+from cli_helpers import check_run_folder, leftovers, run
+from run_helpers import fake_simulate
 
 SHORT = ["--angle", "0.3"]
 

@@ -1,7 +1,7 @@
 """spurdyn: dynamic contact analysis of spur gears by the method of Lee and Jang.
 
 Floors, each using only those below it (docs/architecture.md, tests/test_floor_plan.py):
-``errors``, ``version``, ``result``, ``jit``, ``signals`` → ``fem`` (elements, assembly,
+``errors``, ``version``, ``result``, ``jit``, ``signals``, ``lazy`` → ``fem`` (elements, assembly,
 stable step) → ``geometry`` (involute teeth, fillets, relief, pairs) → ``iso6336`` →
 ``mesh`` (Q8 meshes of a tooth and of a sector) → ``settings`` → ``model`` (what a run
 builds once: bodies, flanks, loading, stiffness) → ``contact`` (flank search, Hertzian
@@ -15,6 +15,7 @@ Compiled code comes in through one gate, :mod:`spurdyn.jit`.
 from typing import Any, Callable
 
 from spurdyn.errors import InputError
+from spurdyn.lazy import lazy_facade
 
 from spurdyn.version import __version__
 
@@ -43,10 +44,5 @@ def simulate(pair: Any, settings: Any, progress: Callable[[int, float, float], N
     return entry(pair, settings, progress)
 
 
-def __getattr__(name: str) -> Any:
-    # ``run_settings`` is the solver's entry point, imported when asked for.
-    if name == "run_settings":
-        from spurdyn.solvers.check import run_settings
-
-        return run_settings
-    raise AttributeError(f"module 'spurdyn' has no attribute {name!r}")
+# ``run_settings`` is the solver's entry point, imported when asked for (spurdyn.lazy)
+__getattr__, __dir__ = lazy_facade(__name__, {"run_settings": "solvers.check"}, globals())

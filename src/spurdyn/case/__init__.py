@@ -16,8 +16,7 @@ the torque reader does not import the solvers.
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import Any
+from spurdyn.lazy import lazy_facade
 
 #: Public names and the module each comes from (imported when first asked for).
 _EXPORTS = {
@@ -38,8 +37,5 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name: str) -> Any:
-    """Serve a public name from its module, importing the module when first asked."""
-    if name in _EXPORTS:
-        return getattr(import_module(f"spurdyn.case.{_EXPORTS[name]}"), name)
-    raise AttributeError(f"module 'spurdyn.case' has no attribute {name!r}")
+# served lazily (spurdyn.lazy); an unknown name is an AttributeError
+__getattr__, __dir__ = lazy_facade(__name__, _EXPORTS, globals())

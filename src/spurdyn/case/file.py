@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
@@ -225,6 +225,35 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     torque = src.number("torque", None, positive=False, required_hint=hint)
     dt = src.number("dt", None)
     angle_deg = src.number("angle_deg", None)
+    nx, ny, grading, row_grading = _mesh_density(meshed_pair, overrides, labels)
+    settings = dict(
+        # without a dt, the paper's until the system is built (the values are checked first)
+        speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque,
+        dt=PAPER_DT if dt is None else dt,
+        angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
+        grading=grading, row_grading=row_grading,
+        **_run_options(src, base),
+        name=name,
+    )
+    try:
+        run = RunSettings(**settings)
+        check_history(pair, run)
+    except InputError as err:  # the upper bounds are RunSettings's own
+        raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
+    system = None
+    if check_step or dt is None:
+        system = _system(pair, nx, ny, run.n_spline, grading, overrides, labels, row_grading)
+    if dt is None:  # the FE model's default step (stored, and hashed by a sweep, for every model)
+        run = run.with_(dt=default_step(run, pair, system))
+    if system is not None:
+        check_run(pair, run, system, _step_field(src, overrides, labels, scale_b))
+    return Case(name=name, pair=pair, run=run, description=description)
+
+
+def _mesh_density(meshed_pair: MeshedPair, overrides: Mapping[str, Any],
+                  labels: Mapping[str, str]) -> tuple[int, int, float, float]:
+    """``(nx, ny, grading, row_grading)`` of the ``[mesh]`` table as ``overrides`` change it,
+    the gradings refused beyond their bounds."""
     mesh = _Source({"nx": meshed_pair.nx, "ny": meshed_pair.ny, "grading": meshed_pair.grading,
                     "row_grading": meshed_pair.row_grading}, "mesh", overrides, labels)
     nx = mesh.integer("nx", meshed_pair.nx, 1)
@@ -237,12 +266,13 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     if not DEFAULT_ROW_GRADING <= row_grading <= MAX_ROW_GRADING:
         raise InputError(mesh.field("row_grading"), f"must be a number from 1 (even rows) to "
                          f"{MAX_ROW_GRADING:g} (got {row_grading:g})")
-    settings = dict(
-        # without a dt, the paper's until the system is built (the values are checked first)
-        speed_a=speed_a * RPM, speed_b=speed_b * RPM, torque=torque,
-        dt=PAPER_DT if dt is None else dt,
-        angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
-        grading=grading, row_grading=row_grading,
+    return nx, ny, grading, row_grading
+
+
+def _run_options(src: _Source, base: Path | None) -> dict[str, Any]:
+    """The :class:`RunSettings` fields of the ``[run]`` table beyond the speeds, torque, step,
+    angle and mesh, each checked (in this order, the order refusals come in)."""
+    return dict(
         n_spline=src.integer("n_spline", _RUN_DEFAULTS["n_spline"], 8),
         tol_disp=src.number("tol_disp", _RUN_DEFAULTS["tol_disp"]),
         max_iter=src.integer("max_iter", _RUN_DEFAULTS["max_iter"], 1),
@@ -266,31 +296,22 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         start=src.choice("start", "static", STARTS),
         ramp_cycles=src.number("ramp_cycles", None),
         torque_history=_torque_history(src, base),
-        name=name,
     )
-    try:
-        run = RunSettings(**settings)
-        check_history(pair, run)
-    except InputError as err:  # the upper bounds are RunSettings's own
-        raise InputError(src.field(_RUN_KEY_OF.get(err.field, err.field)), err.reason) from None
-    system = None
-    if check_step or dt is None:
-        system = _system(pair, nx, ny, run.n_spline, grading, overrides, labels, row_grading)
-    if dt is None:  # the FE model's default step (stored, and hashed by a sweep, for every model)
-        run = run.with_(dt=default_step(run, pair, system))
 
-    if system is not None:
-        def field(name: str) -> str:
-            if name == "dt" and "run.dt" not in overrides:
-                for key in ("mesh.grading", "mesh.row_grading", "mesh.nx"):  # the mesh made the step too large
-                    if key in overrides:
-                        return labels.get(key, "mesh" if key == "mesh.nx" else key)
-            if name == "speed_b_rpm" and (not src.get(name)[0] or scale_b != 1.0):
-                return src.field("speed_a_rpm")          # B's speed comes from A's
-            return src.field(name)
 
-        check_run(pair, run, system, field)
-    return Case(name=name, pair=pair, run=run, description=description)
+def _step_field(src: _Source, overrides: Mapping[str, Any], labels: Mapping[str, str],
+                scale_b: float) -> Callable[[str], str]:
+    """How the run check names a refused field: the key the user wrote, or what made it so."""
+    def field(name: str) -> str:
+        if name == "dt" and "run.dt" not in overrides:
+            for key in ("mesh.grading", "mesh.row_grading", "mesh.nx"):  # the mesh made the step too large
+                if key in overrides:
+                    return labels.get(key, "mesh" if key == "mesh.nx" else key)
+        if name == "speed_b_rpm" and (not src.get(name)[0] or scale_b != 1.0):
+            return src.field("speed_a_rpm")          # B's speed comes from A's
+        return src.field(name)
+
+    return field
 
 
 def _speed_scale(table: Mapping[str, Any], overrides: Mapping[str, Any]) -> float:

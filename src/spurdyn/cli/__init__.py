@@ -9,8 +9,7 @@ reports.
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import Any
+from spurdyn.lazy import lazy_facade
 
 #: Public names and the module each comes from, imported when first asked for
 #: (so that ``import spurdyn.cli`` costs nothing before a command is parsed).
@@ -21,8 +20,5 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name: str) -> Any:
-    """Serve a public name from its module, importing the module when first asked."""
-    if name in _EXPORTS:
-        return getattr(import_module(f"spurdyn.cli.{_EXPORTS[name]}"), name)
-    raise AttributeError(f"module 'spurdyn.cli' has no attribute {name!r}")
+# served lazily (spurdyn.lazy); an unknown name is an AttributeError
+__getattr__, __dir__ = lazy_facade(__name__, _EXPORTS, globals())

@@ -264,19 +264,36 @@ def simulate_lumped(
     if table is None:
         table = mesh_stiffness_table(pair, settings.nx, settings.ny, n_table, interpolation,
                                      row_grading=settings.row_grading)
+    # the mesh damper's 2 zeta sqrt(m_e), times sqrt(k) where the pair is in contact
+    zeta2_sqrt_me = 2.0 * damping_ratio * math.sqrt(equivalent_mass(pair))
+    target = pair.theta_s if settings.angle is None else float(settings.angle)
+    rhs, reached = _equations(pair, settings, table, zeta2_sqrt_me, target)
+    sol, y0, t_max, f_n = _integrate(pair, settings, table, rhs, reached)
+    if sol.status == -1:
+        status, reason, t_end = "incomplete", f"integration failed: {sol.message}", float(sol.t[-1])
+    elif sol.t_events[0].size:
+        status, reason, t_end = "complete", "", float(sol.t_events[0][0])
+    else:
+        status, reason, t_end = "incomplete", (f"gear A had not turned {target:.6g} rad after "
+                                               f"{t_max:.6g} s"), float(sol.t[-1])
+    info = _lumped_info(pair, settings, table, sol, t_end, f_n, damping_ratio)
+    return _sampled_result(pair, settings, table, sol, y0, t_end, zeta2_sqrt_me, status, reason, wall0, info)
 
+
+def _equations(pair: GearPair, settings: RunSettings, table: MeshStiffnessTable, zeta2_sqrt_me: float,
+               target: float) -> tuple[Callable[[float, NDArray[np.float64]], list[float]],
+                                       Callable[[float, NDArray[np.float64]], float]]:
+    """The lumped model's right-hand side in ``y = (phi_a, omega_a, delta, delta_dot)`` and
+    the terminal event of gear A having turned ``target``."""
     ga, gb = pair.gear_a, pair.gear_b
     ra, rb = ga.base_radius, gb.base_radius
     ja, jb = ga.disk_inertia, gb.disk_inertia
     s = 1.0 if pair.driver == "a" else -1.0
     (tsa, t2a), (tsb, t2b) = gear_angles(pair)
     amp_a, amp_b = torque_amplitudes(pair, settings.torque)
-    m_e = equivalent_mass(pair)
-    zeta2_sqrt_me = 2.0 * damping_ratio * math.sqrt(m_e)
     roll0 = float(contact_roll_a(pair, 0.0))
     droll = 1.0 if pair.driver == "a" else -1.0
     kfun: Callable[[float], float] = table.scalar
-    target = pair.theta_s if settings.angle is None else float(settings.angle)
 
     def force(phi_a: float, delta: float, ddelta: float) -> float:
         if delta <= 0.0:
@@ -300,7 +317,17 @@ def simulate_lumped(
 
     reached.terminal = True  # type: ignore[attr-defined]
     reached.direction = 1.0  # type: ignore[attr-defined]
+    return rhs, reached
 
+
+def _integrate(pair: GearPair, settings: RunSettings, table: MeshStiffnessTable,
+               rhs: Callable[[float, NDArray[np.float64]], list[float]],
+               reached: Callable[[float, NDArray[np.float64]], float]) -> tuple[Any, NDArray[np.float64], float, float]:
+    """Integrate the model by DOP853 from the initial speeds; ``(solution, y0, t_max, f_n)``,
+    the tolerances scaled by the static deflection and the torsional mode ``f_n`` (Hz)."""
+    ra, rb = pair.gear_a.base_radius, pair.gear_b.base_radius
+    s = 1.0 if pair.driver == "a" else -1.0
+    target = pair.theta_s if settings.angle is None else float(settings.angle)
     w_a0, w_b0 = float(settings.speed_a), float(settings.speed_b)
     v0 = s * (ra * w_a0 - rb * w_b0)
     k_ref = table.k_max
@@ -308,21 +335,51 @@ def simulate_lumped(
     static = static_force(pair, settings.torque)
     delta_ref = max(static / k_ref, abs(v0) / (2 * math.pi * f_n), 1e-9)
     atol = np.array([1e-13, 1e-10 * w_a0, RTOL * delta_ref, RTOL * delta_ref * 2 * math.pi * f_n])
-    mesh_period = 2.0 * math.pi / (ga.teeth * w_a0)
+    mesh_period = 2.0 * math.pi / (pair.gear_a.teeth * w_a0)
     max_step = min(mesh_period / 40.0, 0.25 / f_n)
     t_max = 4.0 * target / w_a0
     y0 = np.array([0.0, w_a0, 0.0, v0])
-
     sol = solve_ivp(rhs, (0.0, t_max), y0, method="DOP853", rtol=RTOL, atol=atol,
                     max_step=max_step, events=reached, dense_output=True)
-    if sol.status == -1:
-        status, reason, t_end = "incomplete", f"integration failed: {sol.message}", float(sol.t[-1])
-    elif sol.t_events[0].size:
-        status, reason, t_end = "complete", "", float(sol.t_events[0][0])
-    else:
-        status, reason, t_end = "incomplete", (f"gear A had not turned {target:.6g} rad after "
-                                               f"{t_max:.6g} s"), float(sol.t[-1])
+    return sol, y0, t_max, f_n
 
+
+def _lumped_info(pair: GearPair, settings: RunSettings, table: MeshStiffnessTable, sol: Any, t_end: float,
+                 f_n: float, damping_ratio: float) -> dict[str, Any]:
+    """The lumped run's record: the pair, the stiffness table, the integration statistics."""
+    _, (tsb, t2b) = gear_angles(pair)
+    single = (pair.theta_2, pair.theta_s - pair.theta_2)
+    return {
+        "model": "lumped",
+        "n_dof": 2,
+        "case": settings.name,
+        "driver": pair.driver,
+        "theta_s": pair.theta_s,
+        "theta_2": pair.theta_2,
+        "theta_s_b": tsb,
+        "theta_2_b": t2b,
+        "static_force": static_force(pair, settings.torque),
+        "single_zone": single,
+        "mesh_stiffness_table": table.as_dict(),
+        "mesh_stiffness_single_zone": table.mean(*sorted(float(v) for v in contact_roll_a(pair, np.array(single)))),
+        "natural_frequency_hz_kmax": f_n,
+        "equivalent_mass": equivalent_mass(pair),
+        "damping_ratio": damping_ratio,
+        "integrator": "DOP853",
+        "rtol": RTOL,
+        "nfev": int(sol.nfev),
+        "t_end": t_end,
+        "angle_end": float(sol.sol(t_end)[0]) if t_end > 0 else 0.0,
+        "output_interval": settings.dt * settings.save_every,
+    }
+
+
+def _sampled_result(pair: GearPair, settings: RunSettings, table: MeshStiffnessTable, sol: Any,
+                    y0: NDArray[np.float64], t_end: float, zeta2_sqrt_me: float, status: str, reason: str,
+                    wall0: float, info: dict[str, Any]) -> Result:
+    """The solution sampled on the FE solver's saved time grid up to ``t_end``, as a Result."""
+    ra, rb = pair.gear_a.base_radius, pair.gear_b.base_radius
+    s = 1.0 if pair.driver == "a" else -1.0
     h = settings.dt * settings.save_every
     n_out = int(math.floor(t_end / h * (1.0 + 1e-12))) + 1
     # step index times dt, as the FE solver
@@ -337,31 +394,6 @@ def simulate_lumped(
     f = k * delta + zeta2_sqrt_me * np.sqrt(k) * ddelta
     f = np.where(delta > 0.0, np.maximum(f, 0.0), 0.0)
     tau_a, tau_b = gear_torques(pair, settings.torque, phi_a, phi_b)
-
-    single = (pair.theta_2, pair.theta_s - pair.theta_2)
-    info: dict[str, Any] = {
-        "model": "lumped",
-        "n_dof": 2,
-        "case": settings.name,
-        "driver": pair.driver,
-        "theta_s": pair.theta_s,
-        "theta_2": pair.theta_2,
-        "theta_s_b": tsb,
-        "theta_2_b": t2b,
-        "static_force": static,
-        "single_zone": single,
-        "mesh_stiffness_table": table.as_dict(),
-        "mesh_stiffness_single_zone": table.mean(*sorted(float(v) for v in contact_roll_a(pair, np.array(single)))),
-        "natural_frequency_hz_kmax": f_n,
-        "equivalent_mass": m_e,
-        "damping_ratio": damping_ratio,
-        "integrator": "DOP853",
-        "rtol": RTOL,
-        "nfev": int(sol.nfev),
-        "t_end": t_end,
-        "angle_end": float(sol.sol(t_end)[0]) if t_end > 0 else 0.0,
-        "output_interval": h,
-    }
     return Result(
         time=t,
         angle=phi_a.copy(),

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 import time as _time
-from typing import Any
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -73,21 +73,54 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
     holds ``steady``: the cycles, the mesh period, the settled test and its figures.
     """
     wall0 = _time.perf_counter()
+    check_history(pair, settings)
+    cycle = as_cycle(pair, stiffness)
+    zeta2_sqrt_me = 2.0 * damping_ratio * math.sqrt(equivalent_mass(pair))
+    rhs, pair_forces, stiffnesses = _steady_equations(pair, settings, cycle, zeta2_sqrt_me)
+    grid = _steady_grid(pair, settings, cycle, stiffnesses, cycles)
+    sol = solve_ivp(rhs, (0.0, grid.t[-1]), grid.y0, method="DOP853", rtol=RTOL, atol=grid.atol,
+                    max_step=grid.step, t_eval=grid.t)
+    status, reason = "complete", ""
+    if sol.status != 0:
+        status, reason = "incomplete", f"integration failed: {sol.message}"
+    # not settled, and it may go on (max_cycles): one more cycle from where it ended
+    limit = max(settings.cycles_limit or cycles, cycles)
+    t, y, nfev, status, reason = _go_on(rhs, pair_forces, grid, sol, status, reason, cycles, limit)
+    forces, j_all = pair_forces(y[0], y[2], y[3])
+    info = _steady_info(pair, settings, cycle, t, y, forces, nfev, grid, cycles, limit, damping_ratio)
+    return _steady_result(pair, settings, t, y, forces, j_all.size, status, reason, nfev, wall0, info)
+
+
+class _Grid(NamedTuple):
+    """The steady run's sampling and tolerances: the mesh ``period`` (s), ``per_cycle``
+    samples a cycle ``h`` apart, the first run's sample times ``t``, the start ``y0``,
+    the integrator's ``atol`` and largest ``step``, the torsional mode ``f_n`` (Hz) and the
+    static force."""
+
+    period: float
+    per_cycle: int
+    h: float
+    t: NDArray[np.float64]
+    y0: NDArray[np.float64]
+    atol: NDArray[np.float64]
+    step: float
+    f_n: float
+    static: float
+
+
+def _steady_equations(pair: GearPair, settings: RunSettings, cycle: Cycle, zeta2_sqrt_me: float) -> tuple[
+        Callable[[float, NDArray[np.float64]], list[float]],
+        Callable[..., tuple[NDArray[np.float64], NDArray[np.int64]]], Callable[[float], list[float]]]:
+    """The steady pair's right-hand side in ``y = (phi_a, omega_a, delta, delta_dot)``, every
+    pair's force at samples (with the pairs' numbers) and the pairs' stiffnesses at ``phi``."""
     ga, gb = pair.gear_a, pair.gear_b
     ra, rb = ga.base_radius, gb.base_radius
     ja, jb = ga.disk_inertia, gb.disk_inertia
     s = 1.0 if pair.driver == "a" else -1.0
-    check_history(pair, settings)
     amp_a, amp_b = torque_amplitudes(pair, settings.torque)
     # torques that vary (a history, a ramp from rest) are read at each time, others once
     varying = settings.torque_history is not None or settings.start == "rest"
-    m_e = equivalent_mass(pair)
     pitch = 2.0 * math.pi / ga.teeth
-    w_a0 = float(settings.speed_a)
-    period = pitch / w_a0
-    theta_s = pair.theta_s
-    cycle = as_cycle(pair, stiffness)
-    zeta2_sqrt_me = 2.0 * damping_ratio * math.sqrt(m_e)
     n_back = cycle.rows - 1                           # pairs entered before phi = 0
 
     def stiffnesses(phi: float) -> list[float]:
@@ -111,6 +144,34 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         acc_b = (t_b + s * rb * f) / jb
         return [w_a, acc_a, ddelta, s * (ra * acc_a - rb * acc_b)]
 
+    def pair_forces(phi_a: NDArray[np.float64], delta: NDArray[np.float64],
+                    ddelta: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+        """Every pair's force at every sample, and the pairs' numbers."""
+        n = phi_a.size
+        first = np.floor(phi_a / pitch).astype(np.int64)
+        j_all = np.arange(int(first.min()) - n_back, int(first.max()) + 1)
+        rows = cycle.grid(phi_a - pitch * first)          # (rows, n): row r entered at first - r
+        ks = np.zeros((j_all.size, n))
+        for r in range(cycle.rows):
+            ks[first - r - j_all[0], np.arange(n)] = rows[r]
+        k_tot = ks.sum(axis=0)
+        c = zeta2_sqrt_me * np.sqrt(np.maximum(k_tot, 0.0))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = np.where(k_tot > 0, ks / k_tot, 0.0)
+        return np.where(delta > 0, np.maximum(ks * delta + c * share * ddelta, 0.0), 0.0), j_all
+
+    return rhs, pair_forces, stiffnesses
+
+
+def _steady_grid(pair: GearPair, settings: RunSettings, cycle: Cycle, stiffnesses: Callable[[float], list[float]],
+                 cycles: int) -> _Grid:
+    """The first run's samples, start and tolerances (the static compression at nominal
+    speeds, another run's end, or rest)."""
+    ra, rb = pair.gear_a.base_radius, pair.gear_b.base_radius
+    s = 1.0 if pair.driver == "a" else -1.0
+    pitch = 2.0 * math.pi / pair.gear_a.teeth
+    w_a0 = float(settings.speed_a)
+    period = pitch / w_a0
     static = static_force(pair, settings.torque)
     k0 = sum(stiffnesses(0.0))
     delta0 = static / k0 if k0 > 0 else 0.0
@@ -131,55 +192,47 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         delta0 = 0.0
     y0 = np.array([0.0, w_a0, delta0, v0])
     step = min(period / 40.0, 0.25 / f_n)
-    sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=RTOL, atol=atol, max_step=step, t_eval=t)
-    status, reason = "complete", ""
-    if sol.status != 0:
-        status, reason = "incomplete", f"integration failed: {sol.message}"
+    return _Grid(period, per_cycle, h, t, y0, atol, step, f_n, static)
+
+
+def _go_on(rhs: Callable[[float, NDArray[np.float64]], list[float]],
+           pair_forces: Callable[..., tuple[NDArray[np.float64], NDArray[np.int64]]], grid: _Grid, sol: Any,
+           status: str, reason: str, cycles: int,
+           limit: int) -> tuple[NDArray[np.float64], NDArray[np.float64], int, str, str]:
+    """Run one more cycle at a time from the first run's end ``sol`` until the last two
+    settle or the run has ``limit`` cycles; ``(t, y, nfev, status, reason)``."""
     t, y, nfev = sol.t, sol.y, int(sol.nfev)
-
-    def pair_forces(phi_a: NDArray[np.float64], delta: NDArray[np.float64],
-                    ddelta: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-        """Every pair's force at every sample, and the pairs' numbers."""
-        n = phi_a.size
-        first = np.floor(phi_a / pitch).astype(np.int64)
-        j_all = np.arange(int(first.min()) - n_back, int(first.max()) + 1)
-        rows = cycle.grid(phi_a - pitch * first)          # (rows, n): row r entered at first - r
-        ks = np.zeros((j_all.size, n))
-        for r in range(cycle.rows):
-            ks[first - r - j_all[0], np.arange(n)] = rows[r]
-        k_tot = ks.sum(axis=0)
-        c = zeta2_sqrt_me * np.sqrt(np.maximum(k_tot, 0.0))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            share = np.where(k_tot > 0, ks / k_tot, 0.0)
-        return np.where(delta > 0, np.maximum(ks * delta + c * share * ddelta, 0.0), 0.0), j_all
-
-    # not settled, and it may go on (max_cycles): one more cycle from where it ended
-    target, limit = cycles, max(settings.cycles_limit or cycles, cycles)
+    period, per_cycle = grid.period, grid.per_cycle
+    target = cycles
     while status == "complete" and target < limit:
         last2 = y[:, -2 * per_cycle - 1:]
         if settled_after(pair_forces(last2[0], last2[2], last2[3])[0].sum(axis=0), last2[2], per_cycle, 2):
             break
         t_more = np.linspace(target * period, (target + 1) * period, per_cycle + 1)
-        more = solve_ivp(rhs, (t_more[0], t_more[-1]), y[:, -1], method="DOP853", rtol=RTOL, atol=atol,
-                         max_step=step, t_eval=t_more)
+        more = solve_ivp(rhs, (t_more[0], t_more[-1]), y[:, -1], method="DOP853", rtol=RTOL, atol=grid.atol,
+                         max_step=grid.step, t_eval=t_more)
         nfev += int(more.nfev)
         if more.status != 0:
             status, reason = "incomplete", f"integration failed: {more.message}"
         t, y = np.concatenate([t, more.t[1:]]), np.concatenate([y, more.y[:, 1:]], axis=1)
         target += 1
+    return t, y, nfev, status, reason
+
+
+def _steady_info(pair: GearPair, settings: RunSettings, cycle: Cycle, t: NDArray[np.float64],
+                 y: NDArray[np.float64], forces: NDArray[np.float64], nfev: int, grid: _Grid, cycles: int, limit: int, damping_ratio: float) -> dict[str, Any]:
+    """The steady run's record: the pair, the cycle's stiffness, the integration statistics
+    and the settled test (``steady``); ``forces`` every pair's at the samples ``t``."""
     phi_a, w_a, delta, ddelta = y
     n = t.size
-    phi_b = (ra * phi_a - s * delta) / rb
-    w_b = (ra * w_a - s * ddelta) / rb
-    forces, j_all = pair_forces(phi_a, delta, ddelta)
+    static, theta_s = grid.static, pair.theta_s
     mesh = forces.sum(axis=0)
-    most = forces.max(axis=0) if j_all.size else np.zeros(n)
     # the quasi-static largest pair force of a cycle: F_0 k_j / k, sampled finely
     _, kq = cycle_stiffness(pair, cycle)
     kq_tot = kq.sum(axis=0)
     static_pair_max = float(np.max(np.where(kq_tot > 0, static * kq / np.where(kq_tot > 0, kq_tot, 1.0), 0.0)))
-    fig = cycle_figures(t, mesh, delta, per_cycle, cycles, limit)
-    info: dict[str, Any] = {
+    fig = cycle_figures(t, mesh, delta, grid.per_cycle, cycles, limit)
+    return {
         "model": "lumped",
         "n_dof": 2,
         "case": settings.name,
@@ -189,8 +242,8 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         "static_force": static,
         "single_zone": (pair.theta_2, theta_s - pair.theta_2),
         "mesh_stiffness_cycle": cycle.describe(),
-        "natural_frequency_hz_kmax": f_n,
-        "equivalent_mass": m_e,
+        "natural_frequency_hz_kmax": grid.f_n,
+        "equivalent_mass": equivalent_mass(pair),
         "damping_ratio": damping_ratio,
         "start": settings.start,
         "torque_history": None if settings.torque_history is None else (settings.torque_history.source or "table"),
@@ -199,13 +252,29 @@ def simulate_steady(pair: GearPair, settings: RunSettings, stiffness: MeshStiffn
         "nfev": nfev,
         "t_end": float(t[-1]) if n else 0.0,
         "angle_end": float(phi_a[-1]) if n else 0.0,
-        "output_interval": h,
+        "output_interval": grid.h,
         "steady": steady_record(
-            fig, period, static_pair_max, float(kq_tot.mean()),
+            fig, grid.period, static_pair_max, float(kq_tot.mean()),
             # where the next speed of a continuation starts (a whole number of cycles: phase 0)
             end_state=[float(delta[-1]), float(ddelta[-1] / w_a[-1])] if n else None,
             start_state=None if settings.start_state is None else list(settings.start_state)),
     }
+
+
+def _steady_result(pair: GearPair, settings: RunSettings, t: NDArray[np.float64], y: NDArray[np.float64],
+                   forces: NDArray[np.float64], n_pairs: int, status: str, reason: str, nfev: int, wall0: float, info: dict[str, Any]) -> Result:
+    """The steady run as a :class:`~spurdyn.result.Result` (:func:`simulate_steady`): the most
+    loaded of the ``n_pairs`` pairs' ``forces`` at each sample."""
+    ra, rb = pair.gear_a.base_radius, pair.gear_b.base_radius
+    s = 1.0 if pair.driver == "a" else -1.0
+    pitch = 2.0 * math.pi / pair.gear_a.teeth
+    amp_a, amp_b = torque_amplitudes(pair, settings.torque)
+    varying = settings.torque_history is not None or settings.start == "rest"
+    phi_a, w_a, delta, ddelta = y
+    n = t.size
+    phi_b = (ra * phi_a - s * delta) / rb
+    w_b = (ra * w_a - s * ddelta) / rb
+    most = forces.max(axis=0) if n_pairs else np.zeros(n)
     roll_a = contact_roll_a(pair, phi_a - pitch * np.floor(phi_a / pitch))
     return Result(
         time=t, angle=phi_a.copy(), contact_force=most, gap=-delta,

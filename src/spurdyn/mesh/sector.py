@@ -224,22 +224,54 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
     # the rim's first row about as tall as the tooth's rows, so that the element size runs
     # on across the bottom curve
     h_row = (gear.tip_radius - gear.root_radius) / ny
-    r_top = top[:, 1][:, None]
+    r, n_web = _rim_radii(gear, top[:, 1][:, None], r_in, h_row, web)
+    index, rim_xy, rim_el, ncol = _rim_cell(top, r)
+    # the rim's top nodes under the tooth are the tooth's bottom nodes
+    top_b = index[first_b:first_b + 2 * nx + 1, -1]
+    hub_local = index[:, 0][index[:, 0] >= 0]
+    ks = np.arange(teeth) + (-((teeth - 1) // 2) if first is None else int(first))
+    pitch = 2.0 * math.pi / z
+    rim_is_web = np.zeros(rim_el.shape[0], dtype=bool)
+    rim_is_web[:n_web * ncol] = True
+    cells = ks if not full_rim or teeth == z else np.arange(int(ks[0]), int(ks[0]) + z)
+    xy, elements, hub, tooth_nodes, is_web = _place_cells(tooth, rim_xy, rim_el, rim_is_web, top_b, hub_local,
+                                                          ks, cells, pitch)
+    nodes, elements, renum = _merge_nodes(xy, elements, 1e-9 * gear.tip_radius)
+    det = jacobian_determinants(nodes, elements)
+    if not np.all(det > 0.0):
+        bad = int(np.argmin(det.min(axis=1)))
+        raise InputError("mesh", f"sector element {bad} has a non-positive Jacobian; "
+                         "use a different nx x ny")
+    width = np.where(is_web, float(web[1]) if web is not None else gear.face_width, gear.face_width)
+    return SectorMesh(nodes=nodes, elements=elements, width=width, hub_nodes=np.unique(renum[hub]),
+                      teeth=ks.astype(np.intp), tooth_nodes=renum[tooth_nodes], tooth=tooth,
+                      inner_radius=r_in, pitch_angle=pitch)
+
+
+def _rim_radii(gear: Gear, r_top: NDArray[np.float64], r_in: float, h_row: float,
+               web: tuple[float, float] | None) -> tuple[NDArray[np.float64], int]:
+    """The radii of one cell's rim nodes, column ``i`` from its top radius ``r_top[i]`` down
+    to the hub ``r_in`` (with a ``web``, the rim down to its radius, then the web), and the
+    number of web rows."""
     if web is None:
         tau = _rim_rows(gear.root_radius - r_in, h_row)
-        r = r_in + (r_top - r_in) * tau[None, :]
-        n_web = 0
-    else:
-        # the rim from the top curve down to the circle r_w, then the web to the hub
-        r_w = float(web[0])
-        if not r_in < r_w < gear.root_radius - 1e-6:
-            raise InputError("blank.rim_radius", f"must lie between the hub radius "
-                             f"{r_in * 1e3:.4g} mm and the root radius {gear.root_radius * 1e3:.4g} mm")
-        tau = _rim_rows(gear.root_radius - r_w, h_row)
-        tau_web = _rim_rows(r_w - r_in, (gear.root_radius - r_w) * (tau[2] - tau[0]))
-        r = np.hstack([np.broadcast_to(r_in + (r_w - r_in) * tau_web[None, :-1], (r_top.shape[0], tau_web.size - 1)),
-                       r_w + (r_top - r_w) * tau[None, :]])
-        n_web = (tau_web.size - 1) // 2
+        return r_in + (r_top - r_in) * tau[None, :], 0
+    # the rim from the top curve down to the circle r_w, then the web to the hub
+    r_w = float(web[0])
+    if not r_in < r_w < gear.root_radius - 1e-6:
+        raise InputError("blank.rim_radius", f"must lie between the hub radius "
+                         f"{r_in * 1e3:.4g} mm and the root radius {gear.root_radius * 1e3:.4g} mm")
+    tau = _rim_rows(gear.root_radius - r_w, h_row)
+    tau_web = _rim_rows(r_w - r_in, (gear.root_radius - r_w) * (tau[2] - tau[0]))
+    r = np.hstack([np.broadcast_to(r_in + (r_w - r_in) * tau_web[None, :-1], (r_top.shape[0], tau_web.size - 1)),
+                   r_w + (r_top - r_w) * tau[None, :]])
+    return r, (tau_web.size - 1) // 2
+
+
+def _rim_cell(top: NDArray[np.float64], r: NDArray[np.float64]) -> tuple[
+        NDArray[np.intp], NDArray[np.float64], NDArray[np.intp], int]:
+    """One cell's rim: the node number of grid point ``(i, j)`` (``-1`` at an element's
+    middle), the nodes' coordinates, the Q8 elements and the elements a row."""
     ncol, nrow = (top.shape[0] - 1) // 2, (r.shape[1] - 1) // 2
     # rim grid of one cell: node (i, j), i across (left to right), j up (hub to top)
     chi = np.broadcast_to(top[:, 0][:, None], r.shape)
@@ -253,17 +285,18 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
             i, j = 2 * ex, 2 * ey
             rim_el[ey * ncol + ex] = [index[i, j], index[i + 2, j], index[i + 2, j + 2], index[i, j + 2],
                                       index[i + 1, j], index[i + 2, j + 1], index[i + 1, j + 2], index[i, j + 1]]
-    # the rim's top nodes under the tooth are the tooth's bottom nodes
-    top_b = index[first_b:first_b + 2 * nx + 1, -1]
-    hub_local = index[:, 0][index[:, 0] >= 0]
-    ks = np.arange(teeth) + (-((teeth - 1) // 2) if first is None else int(first))
-    pitch = 2.0 * math.pi / z
-    rim_is_web = np.zeros(rim_el.shape[0], dtype=bool)
-    rim_is_web[:n_web * ncol] = True
+    return index, rim_xy, rim_el, ncol
+
+
+def _place_cells(tooth: ToothMesh, rim_xy: NDArray[np.float64], rim_el: NDArray[np.intp],
+                 rim_is_web: NDArray[np.bool_], top_b: NDArray[np.intp], hub_local: NDArray[np.intp],
+                 ks: NDArray[np.int64], cells: NDArray[np.int64], pitch: float) -> tuple[
+        NDArray[np.float64], NDArray[np.intp], NDArray[np.intp], NDArray[np.intp], NDArray[np.bool_]]:
+    """Every cell turned to its place, a tooth on those of ``ks``: ``(nodes, elements, hub
+    nodes, each tooth's nodes, web elements)``, the coincident nodes not yet merged."""
     xy_parts, el_parts, tooth_maps, hub_parts, web_parts = [], [], [], [], []
     count = 0
     n_rim, n_tooth = rim_xy.shape[0], tooth.n_nodes
-    cells = ks if not full_rim or teeth == z else np.arange(int(ks[0]), int(ks[0]) + z)
     for k in cells:
         ang = float(k) * pitch
         if k in ks:
@@ -283,15 +316,18 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
             web_parts.append(rim_is_web)
             count += n_rim
         hub_parts.append(rmap[hub_local])
-    xy = np.vstack(xy_parts)
-    elements = np.vstack(el_parts)
-    hub = np.concatenate(hub_parts)
-    tooth_nodes = np.vstack(tooth_maps)
-    # merge coincident nodes: the duplicated tooth-bottom rows and the shared radial edges
+    return (np.vstack(xy_parts), np.vstack(el_parts), np.concatenate(hub_parts), np.vstack(tooth_maps),
+            np.concatenate(web_parts))
+
+
+def _merge_nodes(xy: NDArray[np.float64], elements: NDArray[np.intp],
+                 tol: float) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp]]:
+    """Merge the nodes closer than ``tol`` (the duplicated tooth-bottom rows and the shared
+    radial edges): ``(nodes, elements, new number of each old node)``."""
     used = np.unique(elements)
     tree = cKDTree(xy[used])
     rep = np.arange(xy.shape[0])
-    for a, b in sorted(tree.query_pairs(1e-9 * gear.tip_radius)):
+    for a, b in sorted(tree.query_pairs(tol)):
         ia, ib = used[a], used[b]
         lo, hi = min(rep[ia], rep[ib]), max(rep[ia], rep[ib])
         rep[rep == hi] = lo
@@ -299,18 +335,7 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
     new = -np.ones(xy.shape[0], dtype=np.intp)
     new[keep_nodes] = np.arange(keep_nodes.size)
     renum = new[rep]
-    nodes = xy[keep_nodes]
-    elements = renum[elements]
-    det = jacobian_determinants(nodes, elements)
-    if not np.all(det > 0.0):
-        bad = int(np.argmin(det.min(axis=1)))
-        raise InputError("mesh", f"sector element {bad} has a non-positive Jacobian; "
-                         "use a different nx x ny")
-    is_web = np.concatenate(web_parts)
-    width = np.where(is_web, float(web[1]) if web is not None else gear.face_width, gear.face_width)
-    return SectorMesh(nodes=nodes, elements=elements, width=width, hub_nodes=np.unique(renum[hub]),
-                      teeth=ks.astype(np.intp), tooth_nodes=renum[tooth_nodes], tooth=tooth,
-                      inner_radius=r_in, pitch_angle=pitch)
+    return xy[keep_nodes], renum[elements], renum
 
 
 __all__ = ["DEFAULT_RIM_DEPTHS", "RIM_GROWTH", "SectorMesh", "default_inner_radius", "sector_mesh", "turn"]

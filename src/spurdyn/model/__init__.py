@@ -12,8 +12,7 @@ The names below are served lazily (stiffness needs SciPy's optimisers, slow to i
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import Any
+from spurdyn.lazy import lazy_facade
 
 _HOMES = {
     "IsoStiffness": "stiffness", "PairStiffness": "stiffness", "ToothCompliance": "stiffness",
@@ -24,7 +23,5 @@ _HOMES = {
 __all__ = sorted(_HOMES)
 
 
-def __getattr__(name: str) -> Any:
-    if name in _HOMES:
-        return getattr(import_module(f"spurdyn.model.{_HOMES[name]}"), name)
-    raise AttributeError(f"module 'spurdyn.model' has no attribute {name!r}")
+# served lazily (spurdyn.lazy); an unknown name is an AttributeError
+__getattr__, __dir__ = lazy_facade(__name__, _HOMES, globals())

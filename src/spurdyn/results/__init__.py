@@ -5,17 +5,11 @@
 
 from __future__ import annotations
 
-from typing import Any
-
+from spurdyn.lazy import lazy_facade
 from spurdyn.result import STAGES, Result
 
 __all__ = ["Result", "STAGES", "load_run"]
 
 
-def __getattr__(name: str) -> Any:
-    # xarray is imported only when a run is read.
-    if name == "load_run":
-        from spurdyn.results.io import load_run
-
-        return load_run
-    raise AttributeError(f"module 'spurdyn.results' has no attribute {name!r}")
+# xarray is imported only when a run is read (spurdyn.lazy)
+__getattr__, __dir__ = lazy_facade(__name__, {"load_run": "io"}, globals())

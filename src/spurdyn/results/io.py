@@ -103,15 +103,37 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
         The case that was run; stored whole as the JSON attribute ``case``.
     """
     n = len(result.time)
-    t = ("time",)
+    data_vars = _time_variables(result, n)
+    data_vars.update(_frame_variables(result))
+    coords = {"time": xr.Variable(("time",), np.asarray(result.time, float),
+                                  {"units": "s", "long_name": "time since the start of contact",
+                                   "standard_name": "time"})}
+    if "back_pair_force" in data_vars:
+        coords["back_pair"] = xr.Variable(("back_pair",), np.asarray(result.info["back_pair_teeth"], np.int32), {
+            "units": "1", "long_name": "the driver's tooth of the pair of back flanks (the driven "
+            "gear's is -k+1)"})
+    if "pair_force" in data_vars and "pair_teeth" in result.info:
+        coords["pair"] = xr.Variable(("pair",), np.asarray(result.info["pair_teeth"], np.int32), {
+            "units": "1", "long_name": "the driver's tooth of the pair (the driven gear's is its "
+            "negative; 0 enters the path at the start, negative ones later)"})
+    return xr.Dataset(data_vars, coords=coords, attrs=_dataset_attrs(result, case))
 
-    def col(a: NDArray[Any], j: int) -> NDArray[Any]:
-        a = np.asarray(a)
-        return a[:, j] if a.ndim == 2 and a.shape[0] == n else np.full(n, np.nan)
 
-    def var(data: Any, units: str, long_name: str, **extra: Any) -> xr.Variable:
-        return xr.Variable(t, np.asarray(data), {"units": units, "long_name": long_name, **extra})
+def _column(a: Any, j: int, n: int) -> NDArray[Any]:
+    """Column ``j`` of a per-sample array of ``n`` rows; NaN where the solver gave none."""
+    a = np.asarray(a)
+    return a[:, j] if a.ndim == 2 and a.shape[0] == n else np.full(n, np.nan)
 
+
+def _variable(data: Any, units: str, long_name: str, **extra: Any) -> xr.Variable:
+    """A variable along ``time`` with its units and long name."""
+    return xr.Variable(("time",), np.asarray(data), {"units": units, "long_name": long_name, **extra})
+
+
+def _time_variables(result: Result, n: int) -> dict[str, Any]:
+    """The dataset's variables along ``time``: the gears' motion, the contact, the pairs',
+    the stages' residuals and iterations and the contact point's corner flag."""
+    var = _variable
     data_vars: dict[str, Any] = {
         "angle_deg": var(np.degrees(result.angle), "degree",
                          "rotation of gear A since the start of contact"),
@@ -119,17 +141,17 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
                              "normal contact force between the teeth, compression positive"),
         "gap": var(result.gap, "m", "normal gap between the contact points, negative "
                    "when the surfaces interpenetrate"),
-        "theta_a": var(col(result.theta, 0), "rad", "rotation of gear A since the start "
+        "theta_a": var(_column(result.theta, 0, n), "rad", "rotation of gear A since the start "
                        "(clockwise)"),
-        "theta_b": var(col(result.theta, 1), "rad", "rotation of gear B since the start "
+        "theta_b": var(_column(result.theta, 1, n), "rad", "rotation of gear B since the start "
                        "(counter-clockwise)"),
-        "omega_a": var(col(result.omega, 0), "rad s-1", "angular speed of gear A"),
-        "omega_b": var(col(result.omega, 1), "rad s-1", "angular speed of gear B"),
-        "torque_a": var(col(result.torque, 0), "N m", "external torque on gear A"),
-        "torque_b": var(col(result.torque, 1), "N m", "external torque on gear B"),
-        "roll_a_deg": var(np.degrees(col(result.roll, 0)), "degree",
+        "omega_a": var(_column(result.omega, 0, n), "rad s-1", "angular speed of gear A"),
+        "omega_b": var(_column(result.omega, 1, n), "rad s-1", "angular speed of gear B"),
+        "torque_a": var(_column(result.torque, 0, n), "N m", "external torque on gear A"),
+        "torque_b": var(_column(result.torque, 1, n), "N m", "external torque on gear B"),
+        "roll_a_deg": var(np.degrees(_column(result.roll, 0, n)), "degree",
                           "roll angle of the contact point on the involute of A"),
-        "roll_b_deg": var(np.degrees(col(result.roll, 1)), "degree",
+        "roll_b_deg": var(np.degrees(_column(result.roll, 1, n)), "degree",
                           "roll angle of the contact point on the involute of B"),
     }
     if result.contact_half_width is not None and result.contact_pressure_max is not None:
@@ -142,29 +164,41 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
     data_vars.update(pair_variables(result, n))
     for j, stage in enumerate(STAGES):
         data_vars[f"residual_{stage}"] = var(
-            col(result.residual, j), _STAGE_UNITS[stage],
+            _column(result.residual, j, n), _STAGE_UNITS[stage],
             f"final constraint error of the {stage} stage (max norm)")
         data_vars[f"iterations_{stage}"] = var(
-            col(result.iterations, j).astype(np.int32) if np.asarray(result.iterations).ndim == 2
+            _column(result.iterations, j, n).astype(np.int32) if np.asarray(result.iterations).ndim == 2
             else np.zeros(n, np.int32), "1", f"iterations of the {stage} stage")
     corner = np.asarray(result.corner)
     data_vars["corner"] = var(corner.astype(np.int8) if corner.shape == (n,) else np.zeros(n, np.int8),
                               "1", "where the contact point is",
                               flag_values=np.array([0, 1, 2], np.int8),
                               flag_meanings="flank_to_flank tip_corner_of_a tip_corner_of_b")
+    return data_vars
+
+
+def _frame_variables(result: Result) -> dict[str, Any]:
+    """The tooth frames' variables along ``frame`` (none where the run kept no frame)."""
     frame_time = np.asarray(result.frame_time, float)
-    if frame_time.size:
-        f = ("frame",)
-        theta = np.asarray(result.frame_theta, float).reshape(frame_time.size, 2)
-        data_vars["frame_time"] = xr.Variable(f, frame_time, {"units": "s",
-                                              "long_name": "time of the tooth frame"})
-        data_vars["frame_theta_a"] = xr.Variable(f, theta[:, 0], {
-            "units": "rad", "long_name": "rotation of gear A since the start at the frame"})
-        data_vars["frame_theta_b"] = xr.Variable(f, theta[:, 1], {
-            "units": "rad", "long_name": "rotation of gear B since the start at the frame"})
-        data_vars["frame_u"] = xr.Variable(("frame", "dof"), np.asarray(result.frame_u, float), {
+    if not frame_time.size:
+        return {}
+    f = ("frame",)
+    theta = np.asarray(result.frame_theta, float).reshape(frame_time.size, 2)
+    return {
+        "frame_time": xr.Variable(f, frame_time, {"units": "s", "long_name": "time of the tooth frame"}),
+        "frame_theta_a": xr.Variable(f, theta[:, 0], {
+            "units": "rad", "long_name": "rotation of gear A since the start at the frame"}),
+        "frame_theta_b": xr.Variable(f, theta[:, 1], {
+            "units": "rad", "long_name": "rotation of gear B since the start at the frame"}),
+        "frame_u": xr.Variable(("frame", "dof"), np.asarray(result.frame_u, float), {
             "units": "m", "long_name": "absolute nodal displacements of both teeth in the "
-            "world frame, A's then B's, [u0x, u0y, u1x, ...]"})
+            "world frame, A's then B's, [u0x, u0y, u1x, ...]"}),
+    }
+
+
+def _dataset_attrs(result: Result, case: Case) -> dict[str, Any]:
+    """The dataset's attributes: the case whole (JSON), the run's status and figures, its
+    ``info`` (JSON) and the version that wrote it."""
     figures = _model_figures(result, case)
     attrs = {
         "title": f"spurdyn dynamic contact analysis: {case.name}",
@@ -190,18 +224,7 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
     from spurdyn.version import __version__
 
     attrs["spurdyn_version"] = __version__
-    coords = {"time": xr.Variable(t, np.asarray(result.time, float),
-                                  {"units": "s", "long_name": "time since the start of contact",
-                                   "standard_name": "time"})}
-    if "back_pair_force" in data_vars:
-        coords["back_pair"] = xr.Variable(("back_pair",), np.asarray(result.info["back_pair_teeth"], np.int32), {
-            "units": "1", "long_name": "the driver's tooth of the pair of back flanks (the driven "
-            "gear's is -k+1)"})
-    if "pair_force" in data_vars and "pair_teeth" in result.info:
-        coords["pair"] = xr.Variable(("pair",), np.asarray(result.info["pair_teeth"], np.int32), {
-            "units": "1", "long_name": "the driver's tooth of the pair (the driven gear's is its "
-            "negative; 0 enters the path at the start, negative ones later)"})
-    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+    return attrs
 
 
 def write_netcdf(ds: xr.Dataset, path: Path) -> None:

@@ -17,8 +17,7 @@
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import Any
+from spurdyn.lazy import lazy_facade
 
 #: Public names and the module each comes from, imported when first asked for
 #: (the package's modules import one another, so an eager facade would make circles).
@@ -32,8 +31,5 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name: str) -> Any:
-    """Serve a public name from its module, importing the module when first asked."""
-    if name in _EXPORTS:
-        return getattr(import_module(f"spurdyn.solvers.{_EXPORTS[name]}"), name)
-    raise AttributeError(f"module 'spurdyn.solvers' has no attribute {name!r}")
+# served lazily (spurdyn.lazy); an unknown name is an AttributeError
+__getattr__, __dir__ = lazy_facade(__name__, _EXPORTS, globals())

@@ -21,8 +21,7 @@ natural-frequency estimate), :mod:`~spurdyn.sweep.plot` (``dynamic_factor.png``)
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import Any
+from spurdyn.lazy import lazy_facade
 
 #: Public names and the module each comes from (imported when first asked for, so that
 #: ``spurdyn --help`` does not pay for xarray and Matplotlib).
@@ -40,7 +39,5 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        return getattr(import_module(f"spurdyn.sweep.{_EXPORTS[name]}"), name)
-    raise AttributeError(f"module 'spurdyn.sweep' has no attribute {name!r}")
+# served lazily (spurdyn.lazy); an unknown name is an AttributeError
+__getattr__, __dir__ = lazy_facade(__name__, _EXPORTS, globals())

@@ -5,43 +5,74 @@ own gears A and B."""
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.geometry.pair import GearPair
 from spurdyn.result import Result
-from spurdyn.settings import DEFAULT_RAMP_CYCLES, RunSettings
-from spurdyn.solvers.sector.system import REACH, GearBlock
+from spurdyn.settings import DEFAULT_RAMP_CYCLES
+from spurdyn.solvers.sector.system import REACH
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
+if TYPE_CHECKING:  # annotations only: the model's module is moving to spurdyn.sector
+    from spurdyn.solvers.sector.model import SectorModel
+    from spurdyn.solvers.sector.stepper import SectorRecord
 
-def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: tuple[GearBlock, GearBlock],
-            cycle: Any, teeth: NDArray[np.intp], n_kept: int, t: NDArray[np.float64],
-            theta: NDArray[np.float64], omega: NDArray[np.float64], forces: NDArray[np.float64],
-            gap: NDArray[np.float64], en: NDArray[np.float64] | None, per_cycle: int, cycles: int,
-            max_cycles: int, h: float, torques: NDArray[np.float64], c_table: NDArray[np.float64], status: str, reason: str,
-            wall: float, load: float,
-            back: tuple[NDArray[np.intp], NDArray[np.float64]] | None = None,
-            info: dict[str, Any] | None = None) -> Result:
-    """The run as a :class:`~spurdyn.result.Result` in the pair's own A and B; ``torques`` the
-    hubs' at each step (driver first), ``back`` the back flanks' driver teeth and forces where
-    they are contacts, ``info`` what the integrator adds to the result's record."""
-    ra, rb = dp.gear_a.base_radius, dp.gear_b.base_radius
+
+def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, status: str, reason: str,
+                  wall: float, most: int, keep: NDArray[np.bool_] | None = None,
+                  back_keep: NDArray[np.bool_] | None = None, info: dict[str, Any] | None = None) -> Result:
+    """The run of ``model`` written in ``record`` as a :class:`~spurdyn.result.Result` in the
+    pair's own A and B.
+
+    Parameters
+    ----------
+    model, record
+        The run's model and its samples (the hubs' torques at each step, driver first).
+    n_kept
+        The rows of ``record`` the result keeps (those written).
+    status, reason
+        The run's status and why it stopped where it is incomplete.
+    wall
+        The run's wall time (s).
+    most
+        The most cycles the run could go on to (the settled test's limit).
+    keep
+        Which of the model's drive-flank teeth the result keeps (those of the cycles run);
+        ``None`` keeps every contact column of the record.
+    back_keep
+        Which of the back flanks' driver teeth the result keeps; ``None`` where the run has
+        no back flanks.
+    info
+        What the integrator adds to the result's record.
+
+    Returns
+    -------
+    Result
+        The run, its ``info`` the model's record (:func:`sector_record`) and ``info``.
+    """
+    teeth, forces = model.teeth, record.force
+    if keep is not None:
+        teeth, forces = teeth[keep], forces[:, :model.teeth.size][:, keep]
+    back = None
+    if back_keep is not None:
+        back = (model.back_k[back_keep], record.force[:, model.teeth.size:][:, back_keep])
+    dp, pair, h, per_cycle = model.dp, model.pair, model.h, model.per_cycle
+    t = np.arange(record.theta.shape[0]) * h
     sel = slice(0, n_kept)
-    t, theta, omega, forces, gap = t[sel], theta[sel], omega[sel], forces[sel], gap[sel]
+    t, theta, omega, forces, gap = t[sel], record.theta[sel], record.omega[sel], forces[sel], record.gap[sel]
     n = t.size
     mesh = forces.sum(axis=1)
-    te = ra * theta[:, 0] - rb * theta[:, 1]
-    most = forces.max(axis=1) if teeth.size else np.zeros(n)
+    te = model.ra * theta[:, 0] - model.rb * theta[:, 1]
+    most_force = forces.max(axis=1) if teeth.size else np.zeros(n)
     pitch = 2.0 * math.pi / dp.gear_a.teeth
     rolls = dp.start_roll_a + theta[:, :1] + teeth[None, :] * pitch
     top = np.argmax(forces, axis=1)
     roll_a = rolls[np.arange(n), top]
     roll = np.column_stack([roll_a, np.asarray(dp.roll_b_from_roll_a(roll_a))])
-    torque = torques[sel]
-    fig = cycle_figures(t, mesh, te, per_cycle, cycles, max_cycles)
+    torque = record.torque[sel]
+    fig = cycle_figures(t, mesh, te, per_cycle, model.cycles, most)
     swap = pair.driver == "b"
 
     def ab(x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -49,7 +80,34 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
 
     reach = REACH * pitch
     on = (rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach)
-    record: dict[str, Any] = {
+    out = sector_record(model, teeth, back is not None, float(theta[-1, 0]) if n else 0.0,
+                        steady_record(fig, per_cycle * h, float(model.cycle.force.max()), model.cycle.stiffness_mean))
+    back_force = None
+    if back is not None:
+        back_force = back[1][sel]
+        out["back_pair_teeth"] = back[0].tolist()
+    en = record.energy
+    if en is not None:
+        out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
+        out["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
+                         "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
+    return Result(
+        time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most_force, gap=gap,
+        roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
+        residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
+        corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
+        frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
+        info={**out, **(info or {})}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
+        back_force=back_force, transmission_error=te)
+
+
+def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle_end: float,
+                  steady: dict[str, Any]) -> dict[str, Any]:
+    """The result's record of a run of ``model``: the model, its pair and loading, its bodies,
+    the mesh damper, the step, the drive flanks' ``teeth`` kept, whether ``back`` flanks are
+    contacts, the driver's turn at the end and the settled test's ``steady`` record."""
+    pair, settings, blocks, c_table = model.pair, model.settings, model.blocks, model.c_table
+    return {
         "model": "sector",
         "integrator": "implicit",
         "contact": "hertz",
@@ -59,7 +117,7 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         "driver": pair.driver,
         "theta_s": pair.theta_s,
         "theta_2": pair.theta_2,
-        "static_force": load,
+        "static_force": model.load,
         "single_zone": (pair.theta_2, pair.theta_s - pair.theta_2),
         "teeth_per_gear": [b.count for b in blocks],
         "whole_gears": [b.whole for b in blocks],
@@ -70,33 +128,17 @@ def sector_result(pair: GearPair, dp: GearPair, settings: RunSettings, blocks: t
         "mesh_damper_N_s_per_m": float(c_table[:-1].mean()),
         "mesh_damper_range_N_s_per_m": [float(c_table.min()), float(c_table.max())],
         "damping_ratio": settings.damping_ratio,
-        "dt_s": h,
-        "steps_per_cycle": per_cycle,
+        "dt_s": model.h,
+        "steps_per_cycle": model.per_cycle,
         "pair_teeth": teeth.tolist(),
-        "back_flanks": back is not None,
-        "backlash_normal_m": dp.backlash_normal,
+        "back_flanks": back,
+        "backlash_normal_m": model.dp.backlash_normal,
         "start": settings.start,
         "ramp_cycles": (settings.ramp_cycles or DEFAULT_RAMP_CYCLES) if settings.start == "rest" else None,
         "torque_history": None if settings.torque_history is None else (settings.torque_history.source or "table"),
-        "angle_end": float(theta[-1, 0]) if n else 0.0,
-        "steady": steady_record(fig, per_cycle * h, float(cycle.force.max()), cycle.stiffness_mean),
+        "angle_end": angle_end,
+        "steady": steady,
     }
-    back_force = None
-    if back is not None:
-        back_force = back[1][sel]
-        record["back_pair_teeth"] = back[0].tolist()
-    if en is not None:
-        record["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
-        record["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
-                          "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
-    return Result(
-        time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most, gap=gap,
-        roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
-        residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
-        corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
-        frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
-        info={**record, **(info or {})}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
-        back_force=back_force, transmission_error=te)
 
 
-__all__ = ["sector_result"]
+__all__ = ["sector_record", "sector_result"]

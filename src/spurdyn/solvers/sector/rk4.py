@@ -215,10 +215,8 @@ def simulate_sector_rk4(pair: GearPair, settings: RunSettings, dt: float = PAPER
     n_kept = stepper.reached + 1 if reason.startswith("interrupted") else stepper.index + 1
     extra = dict(integrator="rk4", loop_s=loop_s, rayleigh=list(model.rayleigh), bodies="modal",
                  modes=[g.n - 1 for g in model.gears], coordinates=model.n, tooth_offset=0, rk4_backend=backend)
-    return sector_result(pair, model.dp, settings, model.blocks, model.cycle, model.teeth, n_kept,
-                         np.arange(n_steps + 1) * h, record.theta, record.omega, record.force, record.gap, None,
-                         per_cycle, cycles, cycles, h, record.torque, model.c_table, status, reason,
-                         _time.perf_counter() - wall0, model.load, info=extra)
+    return sector_result(model, record, n_kept=n_kept, status=status, reason=reason,
+                         wall=_time.perf_counter() - wall0, most=cycles, info=extra)
 
 
 def highest_frequency(pair: GearPair, settings: RunSettings, dt: float = PAPER_STEP) -> dict[str, float]:

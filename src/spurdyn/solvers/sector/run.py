@@ -117,13 +117,8 @@ def _result(model: SectorModel, stepper: SectorStepper, record: SectorRecord, st
                 bodies="modal" if model.modes else "full",
                 modes=[g.n - 1 for g in model.gears] if model.modes else None, coordinates=model.n,
                 backend=backend)
-    n_drive = teeth.size
-    return sector_result(model.pair, dp, settings, model.blocks, model.cycle, teeth[keep], n_kept,
-                         np.arange(record.theta.shape[0]) * model.h, record.theta, record.omega,
-                         record.force[:, :n_drive][:, keep], record.gap, record.energy, model.per_cycle,
-                         model.cycles, model.most, model.h, record.torque, model.c_table, status, reason, wall,
-                         model.load, back=(back_k[back_keep], record.force[:, n_drive:][:, back_keep])
-                         if model.back else None, info=info)
+    return sector_result(model, record, n_kept=n_kept, status=status, reason=reason, wall=wall, most=model.most,
+                         keep=keep, back_keep=back_keep if model.back else None, info=info)
 
 
 def end_state(model: SectorModel, stepper: Any) -> tuple[float, ...]:

@@ -23,10 +23,10 @@ from spurdyn.contact.hertz import effective_modulus, strip_quadrature
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
+from spurdyn.model.alpha import GeneralizedAlpha
 from spurdyn.model.loading import check_history, hub_torques, static_force
 from spurdyn.sector.statics import contact_law, driving_pair, mesh_cycle, pairs_in_path, solve_position
 from spurdyn.settings import RunSettings, refuse_sector_row_grading
-from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
 from spurdyn.solvers.layout import SectorConfig, SectorContacts
 from spurdyn.solvers.sector.bodies import FullBody, ModalBody
 from spurdyn.solvers.sector.cache import cached

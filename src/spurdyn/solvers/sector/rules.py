@@ -8,8 +8,8 @@ from __future__ import annotations
 import math
 
 from spurdyn.geometry.pair import GearPair
+from spurdyn.model.alpha import KEEP_FREQUENCY, STEPS_PER_KEPT_PERIOD
 from spurdyn.settings import RunSettings
-from spurdyn.solvers.implicit.alpha import KEEP_FREQUENCY, STEPS_PER_KEPT_PERIOD
 from spurdyn.solvers.sector.system import WHOLE_FROM_CYCLES
 
 # The sector model keeps what the paper model's implicit step keeps (docs/implicit.md,

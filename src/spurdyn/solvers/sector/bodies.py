@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 from scipy.linalg import cho_factor, cho_solve
 
 from spurdyn.fem.factor import factor_spd
-from spurdyn.solvers.layout import ModalGear
+from spurdyn.sector.packs import ModalGear
 from spurdyn.solvers.sector.reduced import ReducedGear
 from spurdyn.solvers.sector.system import GearBlock
 
@@ -167,7 +167,7 @@ class ModalBody:
         return self.inv @ x
 
     def compiled(self) -> ModalGear:
-        """The body's twin for the compiled loops (:data:`~spurdyn.solvers.layout.ModalGear`):
+        """The body's twin for the compiled loops (:data:`~spurdyn.sector.packs.ModalGear`):
         ``S^-1`` (or ``M^-1``), the modes' damping and ``omega^2``, the modes in each tooth's
         frame, the static blocks, the flank's geometry, the body's first tooth and count."""
         blk = self.block

@@ -25,9 +25,9 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.alpha import GeneralizedAlpha
 from spurdyn.model.loading import check_history, hub_torques, static_force
+from spurdyn.sector.packs import SectorConfig, SectorContacts
 from spurdyn.sector.statics import contact_law, driving_pair, mesh_cycle, pairs_in_path, solve_position
 from spurdyn.settings import RunSettings, refuse_sector_row_grading
-from spurdyn.solvers.layout import SectorConfig, SectorContacts
 from spurdyn.solvers.sector.bodies import FullBody, ModalBody
 from spurdyn.solvers.sector.cache import cached
 from spurdyn.solvers.sector.damper import mesh_damper_table
@@ -305,7 +305,7 @@ class SectorModel:
     # -- the compiled loops' packs ---------------------------------------------------------
     def packs(self, offset: int = 0) -> tuple[Any, ...]:
         """``(gear A, gear B, contacts, gap table, config)``: the typed packs of
-        :mod:`spurdyn.solvers.layout` the compiled loops read (modal bodies of whole gears)."""
+        :mod:`spurdyn.sector.packs` the compiled loops read (modal bodies of whole gears)."""
         xq, wq = strip_quadrature()
         contacts = SectorContacts(np.asarray(self.c_teeth, np.int64), np.asarray(self.c_side, np.int64),
                                   int(offset), xq, wq, self.c_table)

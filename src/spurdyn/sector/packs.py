@@ -1,9 +1,9 @@
 """The typed packs the sector model fills for its compiled loops, each defined once.
 
 The model's data as the compiled loops of :mod:`spurdyn.solvers.sector` read it: a modal
-gear (:meth:`spurdyn.solvers.sector.bodies.ModalBody.compiled`), the rigid gap's table
-(:meth:`spurdyn.solvers.sector.system.GapTable.compiled`), the contacts and the run's scalars
-(:meth:`spurdyn.solvers.sector.model.SectorModel.packs`). Numba takes namedtuples of arrays and
+gear (:meth:`spurdyn.sector.bodies.ModalBody.compiled`), the rigid gap's table
+(:meth:`spurdyn.sector.system.GapTable.compiled`), the contacts and the run's scalars
+(:meth:`spurdyn.sector.model.SectorModel.packs`). Numba takes namedtuples of arrays and
 scalars; they are plain descriptions of data, with no Numba here, so they sit with the
 model that fills them (the loops' states, changed in place, stay in
 :mod:`spurdyn.solvers.layout`). Nothing here imports spurdyn.
@@ -28,7 +28,7 @@ GapArrays = namedtuple("GapArrays", ["rho", "gap", "slope", "r_a", "r_b"])
 #: The contacts of a sector run: contact ``i`` is the driver's tooth ``teeth[i]`` on its
 #: flank ``sides[i]`` (0 drive, 1 back), ``offset`` the driver's body tooth of pair 0 (a
 #: continuation runs on); ``xq``, ``wq`` the strip's quadrature; ``c_table`` the mesh
-#: damper's coefficient over a pitch (:func:`~spurdyn.solvers.sector.damper.mesh_damper_table`).
+#: damper's coefficient over a pitch (:func:`~spurdyn.sector.damper.mesh_damper_table`).
 SectorContacts = namedtuple("SectorContacts", ["teeth", "sides", "offset", "xq", "wq", "c_table"])
 
 #: The scalars of a sector run (SI units): the path's rolls ``roll_0``, ``roll_1`` and the

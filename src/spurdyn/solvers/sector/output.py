@@ -12,8 +12,8 @@ from numpy.typing import NDArray
 
 from spurdyn.geometry.pair import GearPair
 from spurdyn.result import Result
+from spurdyn.sector.system import REACH, GearBlock
 from spurdyn.settings import DEFAULT_RAMP_CYCLES, RunSettings
-from spurdyn.solvers.sector.system import REACH, GearBlock
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
 

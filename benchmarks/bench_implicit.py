@@ -20,8 +20,8 @@ CASES = ("paper-fig8", "paper-fig9", "paper-fig10", "paper-fig11")
 CHILD = r"""
 import json, sys
 from spurdyn.case import preset_case
+from spurdyn.model.alpha import accuracy_step
 from spurdyn.solvers.check import round_down
-from spurdyn.solvers.implicit.alpha import accuracy_step
 from spurdyn.solvers.loop import simulate
 name, integrator, contact = sys.argv[1], sys.argv[2], sys.argv[3]
 case = preset_case(name)

@@ -74,8 +74,8 @@ def paper_steps() -> None:
     for integrator in ("rk4", "implicit"):
         run = case.run.with_(integrator=integrator, angle=case.pair.theta_s * 0.3)
         if integrator == "implicit":
+            from spurdyn.model.alpha import accuracy_step
             from spurdyn.solvers.check import round_down
-            from spurdyn.solvers.implicit.alpha import accuracy_step
 
             run = run.with_(dt=round_down(accuracy_step(run.speed_a, case.pair.gear_a.teeth), 2))
         simulate(case.pair, run.with_(angle=run.dt * run.speed_a * 50))     # compile, warm

@@ -11,10 +11,10 @@ import pytest
 
 from spurdyn.case import preset_case
 from spurdyn.geometry import paper_pair
+from spurdyn.model.alpha import GeneralizedAlpha, accuracy_step
 from spurdyn.model.system import build_system
 from spurdyn.results.headline import averaged_peak, moving_average
 from spurdyn.settings import RPM, RunSettings
-from spurdyn.solvers.implicit.alpha import GeneralizedAlpha, accuracy_step
 from spurdyn.solvers.implicit.damping import rayleigh_forces, rayleigh_from_ratio
 from spurdyn.solvers.implicit.step_numpy import ImplicitMethod
 from spurdyn.solvers.implicit.stepper import ImplicitStepper

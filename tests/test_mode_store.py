@@ -12,9 +12,9 @@ import pytest
 
 from spurdyn import store
 from spurdyn.geometry.presets import paper_pair
-from spurdyn.solvers.sector import reduced
-from spurdyn.solvers.sector.reduced import reduce_gear
-from spurdyn.solvers.sector.system import gear_block
+from spurdyn.sector import reduced
+from spurdyn.sector.reduced import reduce_gear
+from spurdyn.sector.system import gear_block
 
 #: Three teeth of the paper's gear on a coarse mesh (a few seconds a reduction: the tests
 #: that reduce one are slow).

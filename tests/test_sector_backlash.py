@@ -17,15 +17,15 @@ import xarray as xr
 from spurdyn.geometry.corner import _tangent_point
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.sector.statics import driving_pair
-from spurdyn.settings import RPM
-from spurdyn.solvers.check import run_settings
-from spurdyn.solvers.sector.run import back_flanks_on, simulate_sector
-from spurdyn.solvers.sector.system import (
+from spurdyn.sector.system import (
     back_roll_sum,
     gear_block,
     rigid_gap,
     teeth_for,
 )
+from spurdyn.settings import RPM
+from spurdyn.solvers.check import run_settings
+from spurdyn.solvers.sector.run import back_flanks_on, simulate_sector
 
 PAIR = paper_pair()
 MESH = dict(nx=2, ny=8)
@@ -118,8 +118,8 @@ def test_a_back_flanks_rows_and_columns_are_their_matrices():
     """Rows on drive and back flanks together, on whole and modal bodies, against the
     matrices written out: ``E x``, ``S^-1 E^T``, and the modal bodies' residual compliance
     ``b_i^T (K^-1 - Phi Omega^-2 Phi^T) b_j`` flank by flank, round the ring too."""
-    from spurdyn.solvers.sector.bodies import FullBody, ModalBody
-    from spurdyn.solvers.sector.reduced import reduce_gear
+    from spurdyn.sector.bodies import FullBody, ModalBody
+    from spurdyn.sector.reduced import reduce_gear
 
     (fa, ca), _ = teeth_for(PAIR, 40.0)
     blk = gear_block(PAIR.gear_a, 1.0, fa, ca, **MESH, grading=1.0)
@@ -161,7 +161,7 @@ def test_the_back_flanks_are_contacts_where_the_pair_has_backlash():
     # the bodies hold every tooth a back pair needs: the driver's k and the driven gear's -k + 1
     (fa, ca), (fb, cb) = teeth_for(LOOSE, 1.0, back=True)
     assert ca < LOOSE.gear_a.teeth
-    from spurdyn.solvers.sector.system import REACH, back_teeth
+    from spurdyn.sector.system import REACH, back_teeth
 
     lo, hi = back_teeth(LOOSE, 1.0, REACH * 2 * math.pi / LOOSE.gear_a.teeth)
     assert fa <= lo and hi <= fa + ca - 1 and fb <= -hi + 1 and -lo + 1 <= fb + cb - 1

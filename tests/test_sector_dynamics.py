@@ -12,10 +12,10 @@ import pytest
 from spurdyn.geometry.corner import corner_contact
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.sector.statics import driving_pair, mesh_cycle
+from spurdyn.sector.system import gear_block, rigid_gap, teeth_for
 from spurdyn.settings import RPM
 from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.sector.run import simulate_sector
-from spurdyn.solvers.sector.system import gear_block, rigid_gap, teeth_for
 
 PAIR = paper_pair()
 MESH = dict(nx=2, ny=8)
@@ -212,7 +212,7 @@ def test_the_ring_decays_at_the_ratio_asked():
     at the default step (which resolves 150 kHz since revision 5) the teeth's own modes ring on
     top of the raw force (a misfit of 0.073 against 0.019 averaged; the ratio 0.0506 either way)."""
     from spurdyn.iso6336.dynamics import reduced_mass
-    from spurdyn.solvers.sector.ring import damped_ring, single_contact_window
+    from spurdyn.results.ring import damped_ring, single_contact_window
 
     from spurdyn.results.headline import moving_average
 
@@ -241,7 +241,7 @@ def test_the_whole_rings_flexibility_is_the_same_under_a_turn_by_a_pitch():
     """On a whole gear the residual flexibility between two teeth's flanks comes from one
     tooth's static response turned round the ring; it equals each tooth's own (to the
     factor's round-off)."""
-    from spurdyn.solvers.sector.reduced import reduce_gear
+    from spurdyn.sector.reduced import reduce_gear
 
     (fa, ca), _ = teeth_for(PAIR, 40.0)
     blk = gear_block(PAIR.gear_a, 1.0, fa, ca, **MESH, grading=1.0)
@@ -329,7 +329,7 @@ def test_the_gap_table_follows_the_rigid_gap():
     import dataclasses
 
     from spurdyn.geometry.presets import nasa_like_relief
-    from spurdyn.solvers.sector.system import REACH, gap_table
+    from spurdyn.sector.system import REACH, gap_table
 
     relieved = dataclasses.replace(PAIR, gear_a=nasa_like_relief(PAIR.gear_a, PAIR.gear_b),
                                    gear_b=nasa_like_relief(PAIR.gear_b, PAIR.gear_a))
@@ -364,8 +364,8 @@ def test_the_bodies_rows_and_columns_are_their_matrices():
     ``E x`` against the turned loads at the flank DOFs (or ``Phi^T`` of them), ``S^-1 E^T``
     against a solve, and on a whole modal gear the residual against
     :meth:`ReducedGear.residual` tooth pair by tooth pair (round the ring too)."""
-    from spurdyn.solvers.sector.bodies import FullBody, ModalBody
-    from spurdyn.solvers.sector.reduced import reduce_gear
+    from spurdyn.sector.bodies import FullBody, ModalBody
+    from spurdyn.sector.reduced import reduce_gear
 
     (fa, ca), _ = teeth_for(PAIR, 40.0)
     blk = gear_block(PAIR.gear_a, 1.0, fa, ca, **MESH, grading=1.0)

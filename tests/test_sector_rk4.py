@@ -12,10 +12,10 @@ import pytest
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
+from spurdyn.sector.rules import steps_per_cycle
 from spurdyn.settings import RPM
 from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.sector.rk4 import highest_frequency, simulate_sector_rk4
-from spurdyn.solvers.sector.rules import steps_per_cycle
 from spurdyn.solvers.sector.run import simulate_sector
 
 PAIR = paper_pair()

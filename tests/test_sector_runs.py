@@ -118,7 +118,7 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
     it through its corner contacts: 0.094 % of the largest force where a pair enters and 9e-5
     of the transmission error measured, asserted within 0.2 % and 2e-4); and at twice the
     speed the continued run starts with the end state's shape, its rates scaled."""
-    from spurdyn.solvers.sector.state import unpack_state
+    from spurdyn.sector.state import unpack_state
 
     s3 = run_settings(PAIR, 4000 * RPM, 22.25, model="sector", cycles=3, max_cycles=3, damping_ratio=0.05, **MESH)
     first = simulate_sector(PAIR, s3)
@@ -151,7 +151,7 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
     # an end whose gears turn 2 % too fast together (a chain's points carried such errors on):
     # the run turns at its own speed all the same, its three cycles three pitches to within
     # the transmission error (2 % would be 0.06 pitch), and its end is numbered on by three
-    from spurdyn.solvers.sector.state import pack_state
+    from spurdyn.sector.state import pack_state
 
     st = unpack_state(end, fast.info["coordinates"])
     dq = st.dq.copy()

@@ -10,14 +10,14 @@ import pytest
 from spurdyn.contact.hertz import half_width, involute_curvature_radius
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
+from spurdyn.sector.damper import damper_at
+from spurdyn.sector.lcp import lcp
+from spurdyn.sector.model import SectorModel
 from spurdyn.settings import RPM
 from spurdyn.solvers.base import Failure
 from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, OK, SectorOut, SectorStepState
-from spurdyn.solvers.sector.damper import damper_at
 from spurdyn.solvers.sector.implicit_numpy import implicit_step
-from spurdyn.solvers.sector.lcp import lcp
-from spurdyn.solvers.sector.model import SectorModel
 from spurdyn.solvers.sector.stepper import STEPPERS, SectorRecord, make_stepper
 
 PAIR = paper_pair()

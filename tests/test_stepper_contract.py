@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.model.system import build_system
 from spurdyn.result import Result
+from spurdyn.sector.model import SectorModel
 from spurdyn.settings import RPM, RunSettings
 from spurdyn.signals import Interrupts
 from spurdyn.solvers.base import Failure, Stepper
@@ -46,7 +47,6 @@ from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.layout import FAIL_NAN, NCOL
 from spurdyn.solvers.loop import STEPPERS, make_stepper, simulate
 from spurdyn.solvers.sector import stepper as sector
-from spurdyn.solvers.sector.model import SectorModel
 from spurdyn.solvers.sector.rk4 import PAPER_STEP, simulate_sector_rk4
 from spurdyn.solvers.sector.run import simulate_sector
 

@@ -22,10 +22,10 @@ from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.lumped.steady import simulate_steady
 from spurdyn.model.loading import history_at, hub_torques, torque_amplitudes
+from spurdyn.sector.system import teeth_for
 from spurdyn.settings import RPM, TorqueHistory
 from spurdyn.solvers.check import run_settings
 from spurdyn.solvers.sector.run import simulate_sector
-from spurdyn.solvers.sector.system import teeth_for
 from spurdyn.case import history_from_table, history_to_table, read_history_csv
 
 PAIR = paper_pair()

@@ -21,10 +21,10 @@ from typing import Sequence
 import numpy as np
 
 from spurdyn.case import preset_case
+from spurdyn.model.alpha import accuracy_step
 from spurdyn.results.headline import averaged_peak, moving_average
 from spurdyn.simulators import MODELS
 from spurdyn.solvers.check import round_down
-from spurdyn.solvers.implicit.alpha import accuracy_step
 from spurdyn.solvers.loop import simulate
 from validation.common import DOCS, match_impacts, touches, write_page
 

@@ -19,10 +19,10 @@ import numpy as np
 
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.iso6336.dynamics import reduced_mass
+from spurdyn.sector.rules import BODY_DAMPING_FREQUENCY, BODY_DAMPING_RATIO
 from spurdyn.sector.statics import driving_pair, mesh_cycle
 from spurdyn.settings import RPM, SETTLE_CYCLES_FACTOR
 from spurdyn.solvers.check import run_settings
-from spurdyn.solvers.sector.rules import BODY_DAMPING_FREQUENCY, BODY_DAMPING_RATIO
 from spurdyn.solvers.sector.run import simulate_sector
 from validation.common import DOCS, load_figures, save_figures, timed, write_page
 from validation.sector_rattle import UNDAMPED, rattle, rattle_lines
@@ -71,7 +71,7 @@ def _energy_run(mesh: dict, rho: float, dt: float | None, frozen: bool) -> dict:
     energy, the strips' ``c_H F^2/2`` and the torques' work. ``frozen`` spreads the strips at
     the static force throughout (a diagnostic: the run's own half-widths follow the forces of
     the step before), by swapping the model module's half-width function for the run."""
-    import spurdyn.solvers.sector.model as sector_model
+    import spurdyn.sector.model as sector_model
     from spurdyn.model.loading import static_force
 
     s = run_settings(PAIR, 1000 * RPM, TORQUE, cycles=1, rho_inf=rho, **mesh, **UNDAMPED)
@@ -108,9 +108,9 @@ def ring(mesh: dict, zeta: float) -> dict:
     """After the exit of a pair at 300 rpm the pair rings alone over the stretch of single
     contact (about seven periods), where the quasi-static mesh force is ``W`` itself: the
     ring's frequency and damping ratio from a damped cosine fitted to the 10-us-averaged mesh force over the
-    steps where one pair alone touches (:mod:`spurdyn.solvers.sector.ring`; docs/sector.md,
+    steps where one pair alone touches (:mod:`spurdyn.results.ring`; docs/sector.md,
     6.5, says why not zero crossings and peaks)."""
-    from spurdyn.solvers.sector.ring import damped_ring, single_contact_window
+    from spurdyn.results.ring import damped_ring, single_contact_window
 
     from spurdyn.results.headline import moving_average
 

@@ -16,6 +16,9 @@ from typing import Any, Callable, Mapping
 
 __all__ = ["lazy_facade"]
 
+#: The top-level package: a module named from it is named whole.
+ROOT = __name__.split(".")[0]
+
 
 def lazy_facade(package: str, exports: Mapping[str, str],
                 namespace: Mapping[str, Any]) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
@@ -27,7 +30,8 @@ def lazy_facade(package: str, exports: Mapping[str, str],
         The package's full name (the facade's ``__name__``).
     exports
         Each public name and the module it comes from, relative to ``package``
-        (``"check"`` for ``package.check``, ``"solvers.check"`` from ``spurdyn``).
+        (``"check"`` for ``package.check``, ``"solvers.check"`` from ``spurdyn``), or whole
+        (``"spurdyn.model.alpha"``) for a module outside the package.
     namespace
         The facade's own globals, listed by ``__dir__`` with the exported names.
 
@@ -42,7 +46,9 @@ def lazy_facade(package: str, exports: Mapping[str, str],
     def __getattr__(name: str) -> Any:
         """Serve a public name from its module, importing the module when first asked."""
         if name in exports:
-            return getattr(import_module(f"{package}.{exports[name]}"), name)
+            home = exports[name]
+            whole = home.startswith(f"{ROOT}.")
+            return getattr(import_module(home if whole else f"{package}.{home}"), name)
         raise AttributeError(f"module {package!r} has no attribute {name!r}")
 
     def __dir__() -> list[str]:

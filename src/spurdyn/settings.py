@@ -275,14 +275,14 @@ class RunSettings:
         factor refer to. A run under a history lasts its ``cycles`` (no settled test).
     teeth
         The sector model's teeth per gear: ``None`` those the run meets and a neighbour on
-        each side (:func:`spurdyn.solvers.sector.system.teeth_for`); the gear's number of
+        each side (:func:`spurdyn.sector.system.teeth_for`); the gear's number of
         teeth or more, the whole gear.
     start_state
         Where a steady-state run starts instead of the static compression: the
         transmission error ``delta`` (m) and its slope ``d delta / d phi_A`` (m/rad) at the
         start of a mesh cycle, as another run ended (``info["steady"]["end_state"]``); what a
         sweep with continuation passes from one speed to the next. The sector model's is its
-        whole state per angle (:func:`spurdyn.solvers.sector.state.pack_state`,
+        whole state per angle (:func:`spurdyn.sector.state.pack_state`,
         ``info["sector_end_state"]``).
     rayleigh_mass, rayleigh_stiffness
         Rayleigh damping ``C = a M + b K`` of the elastic teeth (``a`` in 1/s, ``b`` in

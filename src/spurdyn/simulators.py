@@ -235,9 +235,9 @@ class SectorEntry(ModelEntry):
         """Given the ``pair``, fewer ``teeth`` than the run meets."""
         if pair is None or settings.teeth is None:
             return
+        from spurdyn.sector.rules import back_flanks_on, cover_cycles
         from spurdyn.sector.statics import driving_pair
-        from spurdyn.solvers.sector.rules import back_flanks_on, cover_cycles
-        from spurdyn.solvers.sector.system import teeth_for
+        from spurdyn.sector.system import teeth_for
 
         dp = driving_pair(pair)
         try:
@@ -247,8 +247,8 @@ class SectorEntry(ModelEntry):
 
     def default_step(self, settings: RunSettings, pair: GearPair) -> float:
         """Its own step of accuracy: a whole number of steps per mesh cycle of the driver
-        (:func:`~spurdyn.solvers.sector.rules.steps_per_cycle`)."""
-        from spurdyn.solvers.sector.rules import steps_per_cycle
+        (:func:`~spurdyn.sector.rules.steps_per_cycle`)."""
+        from spurdyn.sector.rules import steps_per_cycle
 
         speed, teeth = self._driver(settings, pair)
         return 2.0 * math.pi / (teeth * speed) / steps_per_cycle(speed, teeth)
@@ -256,7 +256,7 @@ class SectorEntry(ModelEntry):
     def size(self, case: Any) -> Size:
         """Every step of the most cycles it may go on to, one sample each."""
         from spurdyn.solvers.limits import BYTES_PER_SAMPLE
-        from spurdyn.solvers.sector.rules import cycles_limit, steps_per_cycle
+        from spurdyn.sector.rules import cycles_limit, steps_per_cycle
 
         speed, teeth = self._driver(case.run, case.pair)
         steps = steps_per_cycle(speed, teeth) * cycles_limit(case.run)
@@ -265,7 +265,7 @@ class SectorEntry(ModelEntry):
     def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
         """Its revision, and its defaults where the case gives nothing: the bodies' damping,
         the most cycles."""
-        from spurdyn.solvers.sector.rules import SECTOR_REVISION, body_rayleigh, cycles_limit
+        from spurdyn.sector.rules import SECTOR_REVISION, body_rayleigh, cycles_limit
 
         extras: dict[str, Any] = {"sector_revision": SECTOR_REVISION}
         if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
@@ -282,7 +282,7 @@ class SectorEntry(ModelEntry):
 
     def refuse_continuation(self, case: Any) -> None:
         """Its continuation carries whole gears from one speed to the next."""
-        from spurdyn.solvers.sector.system import WHOLE_FROM_CYCLES
+        from spurdyn.sector.system import WHOLE_FROM_CYCLES
 
         if case.run.cycles < WHOLE_FROM_CYCLES:
             raise InputError("--continuation", "carries the sector model's whole gears from one "

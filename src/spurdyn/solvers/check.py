@@ -15,9 +15,9 @@ from typing import Any, Callable
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY
+from spurdyn.model.alpha import accuracy_step
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.settings import DEFAULT_MODEL, RunSettings, settings_read_by
-from spurdyn.solvers.implicit.alpha import accuracy_step
 from spurdyn.solvers.limits import check_run_bounds, check_sampling, steps_for
 
 #: How far beyond the angle of action ``theta_s`` (as a fraction of it) a run may go:
@@ -71,7 +71,7 @@ def default_dt(stable_dt: float) -> float:
 def default_step(settings: RunSettings, pair: GearPair, system: PairSystem | None = None) -> float:
     """The time step (s) of a one-engagement run that gives none (the FE model's, and the
     lumped model's samples): for the implicit integrator a step of accuracy
-    (:func:`~spurdyn.solvers.implicit.alpha.accuracy_step`, two digits), else
+    (:func:`~spurdyn.model.alpha.accuracy_step`, two digits), else
     :func:`default_dt` of the stable step of the run's tooth meshes (``system`` if built)."""
     if settings.integrator == "implicit":   # a step of accuracy, not stability
         return round_down(accuracy_step(settings.speed_a, pair.gear_a.teeth), 2)

@@ -8,16 +8,17 @@ damped; its generalised forces are ``-(dw/dq)^T C w_dot``:
 
 The mesh damper is a dashpot along the line of action between the two base circles,
 ``F_d = c_m (r_bA theta_dot_A - r_bB theta_dot_B)``, acting while the teeth are in contact,
-with ``c_m = 2 zeta sqrt(k m_e)`` for a damping ratio ``zeta`` of the pair's torsional mode.
+with ``c_m = 2 zeta sqrt(k m_e)`` for a damping ratio ``zeta`` of the pair's torsional mode
+(:func:`~spurdyn.model.damper.mesh_damper_coefficient`, which the sector model's damper
+reads too).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from spurdyn.geometry.involute import rot
 from spurdyn.model.system import GearBody
@@ -38,13 +39,6 @@ def rayleigh_forces(gb: GearBody, theta: float, omega: float, u: NDArray[np.floa
     f = -(d2 @ r.T).ravel()
     q = gb.sense * float(np.sum(wy[:, 0] * d2[:, 1] - wy[:, 1] * d2[:, 0]))
     return q, f
-
-
-def mesh_damper_coefficient(zeta: float, stiffness: ArrayLike, reduced_mass: float) -> Any:
-    """``c_m = 2 zeta sqrt(k m_e)`` (N s/m) of a torsional mode ``k``, ``m_e`` (a float for a
-    float ``k``, an array for an array of them)."""
-    c = 2.0 * zeta * np.sqrt(np.asarray(stiffness, dtype=float) * reduced_mass)
-    return float(c) if c.ndim == 0 else c
 
 
 def rayleigh_from_ratio(zeta: float, f1: float, f2: float) -> tuple[float, float]:

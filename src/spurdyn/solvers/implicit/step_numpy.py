@@ -35,13 +35,14 @@ from spurdyn.contact.hertz import strip_compliance
 from spurdyn.contact.search_numpy import ContactPair
 from spurdyn.geometry.involute import rot
 from spurdyn.iso6336.dynamics import reduced_mass
+from spurdyn.model.alpha import GeneralizedAlpha
+from spurdyn.model.damper import mesh_damper_coefficient
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.layout import FAIL_NAN, FAIL_NEWTON, FAIL_STRIP, OK
 from spurdyn.solvers.paper.constants import MAX_RELOCATE, RELOCATE
-from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
-from spurdyn.solvers.implicit.damping import mesh_damper_coefficient, rayleigh_forces
+from spurdyn.solvers.implicit.damping import rayleigh_forces
 from spurdyn.solvers.paper.dynamics_numpy import (
     blocks, contact_at, elastic, jacobian, root_phi, strip_law, torques,
 )

@@ -2,13 +2,10 @@
 elastic rims, their hubs rigid disks with inertia, every tooth pair on the path of contact a
 unilateral contact, stepped by the generalized-alpha scheme (and an RK4 reference).
 
-``system``, ``reduced``, ``bodies``, ``state``, ``lcp``, ``damper``
-    The model's pieces: the two bodies' matrices in the hubs' frames and the teeth they hold,
-    a tooth pair's rigid gap and its strip; a body on its modes; a gear as the loops see it
-    (whole or modal, behind one small interface, with its compiled twin); a continuation's
-    state; the pairs' complementarity problem; the mesh damper.
-``model``
-    :class:`~spurdyn.solvers.sector.model.SectorModel`: all of them for one run, built once.
+This package holds the stepping only; the model it steps, built once a run
+(:class:`~spurdyn.sector.model.SectorModel` with its bodies, contacts, mesh damper, start
+state and rules), is the model data of :mod:`spurdyn.sector`, a floor below.
+
 ``stepper``
     The steppers' registry (``STEPPERS``, by integrator and backend) on the
     :class:`~spurdyn.solvers.base.Stepper` contract, the record they write and the
@@ -22,25 +19,19 @@ unilateral contact, stepped by the generalized-alpha scheme (and an RK4 referenc
     The run as a :class:`~spurdyn.result.Result` with the pairs' forces, the transmission
     error and the settled test.
 
-It sits above :mod:`spurdyn.sector` (the bodies and the quasi-static mesh cycle it starts
-from) and beside :mod:`spurdyn.solvers.implicit`, whose coefficients it steps with.
+``SectorModel`` is served here too, from :mod:`spurdyn.sector.model`.
 """
 
-__all__ = ["simulate_sector", "simulate_sector_rk4", "SectorModel", "STEPPERS"]
+from spurdyn.lazy import lazy_facade
 
+#: Public names and the module each comes from, imported when first asked for (the
+#: package imports lightly).
+_EXPORTS = {
+    "simulate_sector": "run", "simulate_sector_rk4": "rk4", "STEPPERS": "stepper",
+    "SectorModel": "spurdyn.sector.model",
+}
 
-def __getattr__(name: str):  # type: ignore[no-untyped-def]
-    """The facade's names, imported when first asked for (the package imports lightly)."""
-    if name == "simulate_sector":
-        from spurdyn.solvers.sector.run import simulate_sector
-        return simulate_sector
-    if name == "simulate_sector_rk4":
-        from spurdyn.solvers.sector.rk4 import simulate_sector_rk4
-        return simulate_sector_rk4
-    if name == "SectorModel":
-        from spurdyn.solvers.sector.model import SectorModel
-        return SectorModel
-    if name == "STEPPERS":
-        from spurdyn.solvers.sector.stepper import STEPPERS
-        return STEPPERS
-    raise AttributeError(name)
+__all__ = sorted(_EXPORTS)
+
+# served lazily (spurdyn.lazy); an unknown name is an AttributeError
+__getattr__, __dir__ = lazy_facade(__name__, _EXPORTS, globals())

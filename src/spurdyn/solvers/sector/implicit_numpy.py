@@ -24,10 +24,10 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from spurdyn.sector.damper import damper_at
+from spurdyn.sector.lcp import Rows, lcp
+from spurdyn.sector.model import SectorModel
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK, SectorStepState
-from spurdyn.solvers.sector.damper import damper_at
-from spurdyn.solvers.sector.lcp import Rows, lcp
-from spurdyn.solvers.sector.model import SectorModel
 from spurdyn.solvers.sector.stepper import SectorRecord, SectorStepper
 
 

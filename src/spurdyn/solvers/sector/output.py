@@ -11,12 +11,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.result import Result
+from spurdyn.sector.system import REACH
 from spurdyn.settings import DEFAULT_RAMP_CYCLES
-from spurdyn.solvers.sector.system import REACH
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
-if TYPE_CHECKING:  # annotations only: the model's module is moving to spurdyn.sector
-    from spurdyn.solvers.sector.model import SectorModel
+if TYPE_CHECKING:  # annotations only
+    from spurdyn.sector.model import SectorModel
     from spurdyn.solvers.sector.stepper import SectorRecord
 
 

@@ -22,12 +22,12 @@ mesh cycle), each stage with its own rows at its own driver's turn (the rigid ga
 and the contact radii from the run's gap table), its own forces and its own mesh damper.
 
 The pieces are the implicit loop's: the same model
-(:class:`~spurdyn.solvers.sector.model.SectorModel`, built for RK4), the same bodies
-(:class:`~spurdyn.solvers.sector.bodies.ModalBody` with ``gamma' = beta' = 0``, so that its
+(:class:`~spurdyn.sector.model.SectorModel`, built for RK4), the same bodies
+(:class:`~spurdyn.sector.bodies.ModalBody` with ``gamma' = beta' = 0``, so that its
 ``S`` is ``M`` and its solve ``M^-1``), the same rows (the gap table, the strips' unit loads,
 the modal rows, the residual compliance), the same complementarity solver
-(:func:`~spurdyn.solvers.sector.lcp.lcp`), the same mesh damper table
-(:func:`~spurdyn.solvers.sector.damper.mesh_damper_table`, read by ``damper_at``), the same
+(:func:`~spurdyn.sector.lcp.lcp`), the same mesh damper table
+(:func:`~spurdyn.sector.damper.mesh_damper_table`, read by ``damper_at``), the same
 torques (:func:`~spurdyn.model.loading.hub_torques`), the same static start and the same
 result (:func:`~spurdyn.solvers.sector.output.sector_result`), whose settled figures and
 dynamic factor are computed as the implicit run's. What differs, because an explicit
@@ -61,14 +61,14 @@ from threadpoolctl import threadpool_limits
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.result import Result
+from spurdyn.sector.damper import damper_at
+from spurdyn.sector.lcp import lcp
+from spurdyn.sector.model import SectorModel
+from spurdyn.sector.rules import back_flanks_on
 from spurdyn.sector.statics import driving_pair
 from spurdyn.settings import RunSettings, refuse_sector_row_grading
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK, SectorRk4State
-from spurdyn.solvers.sector.damper import damper_at
-from spurdyn.solvers.sector.lcp import lcp
-from spurdyn.solvers.sector.model import SectorModel
 from spurdyn.solvers.sector.output import sector_result
-from spurdyn.solvers.sector.rules import back_flanks_on
 from spurdyn.solvers.sector.stepper import SectorRecord, SectorStepper, drive, make_stepper
 
 #: The paper's RK4 step (s): the reference's default.

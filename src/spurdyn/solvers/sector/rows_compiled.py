@@ -4,15 +4,15 @@
 load, the bodies' free accelerations, the pairs' contact rows and residual compliance, the
 mesh damper's coefficient, and the complementarity problem by active sets.
 
-Each has its NumPy twin: :meth:`~spurdyn.solvers.sector.system.GapTable.at`,
-:meth:`~spurdyn.solvers.sector.system.GearBlock.flank_loads`,
-:meth:`~spurdyn.solvers.sector.bodies.ModalBody.forces` and ``solve``,
-:meth:`~spurdyn.solvers.sector.model.SectorModel.rows_at` with the bodies' ``rows`` and
-``residual``, :func:`~spurdyn.solvers.sector.damper.damper_at`, and
-:func:`~spurdyn.solvers.sector.lcp.lcp`. The gears are :data:`~spurdyn.solvers.layout.ModalGear`
-packs, the table a :data:`~spurdyn.solvers.layout.GapArrays`, the contacts a
-:data:`~spurdyn.solvers.layout.SectorContacts` and the run's scalars a
-:data:`~spurdyn.solvers.layout.SectorConfig`.
+Each has its NumPy twin: :meth:`~spurdyn.sector.system.GapTable.at`,
+:meth:`~spurdyn.sector.system.GearBlock.flank_loads`,
+:meth:`~spurdyn.sector.bodies.ModalBody.forces` and ``solve``,
+:meth:`~spurdyn.sector.model.SectorModel.rows_at` with the bodies' ``rows`` and
+``residual``, :func:`~spurdyn.sector.damper.damper_at`, and
+:func:`~spurdyn.sector.lcp.lcp`. The gears are :data:`~spurdyn.sector.packs.ModalGear`
+packs, the table a :data:`~spurdyn.sector.packs.GapArrays`, the contacts a
+:data:`~spurdyn.sector.packs.SectorContacts` and the run's scalars a
+:data:`~spurdyn.sector.packs.SectorConfig`.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """A dynamic run of the sector model (docs/sector.md, section 6; varying torques, 6.8).
 
-The run builds the :class:`~spurdyn.solvers.sector.model.SectorModel` of the pair and the
+The run builds the :class:`~spurdyn.sector.model.SectorModel` of the pair and the
 settings once (the bodies, the contacts, the mesh damper, the loading), starts from the
 static equilibrium of the loaded pair at the first position of a mesh cycle (the
 quasi-static analysis of :mod:`spurdyn.sector.statics` on the same bodies), or from rest, or
@@ -22,10 +22,8 @@ from threadpoolctl import threadpool_limits
 
 from spurdyn.geometry.pair import GearPair
 from spurdyn.result import Result
-from spurdyn.settings import RunSettings
-from spurdyn.solvers.sector.model import SectorModel
-from spurdyn.solvers.sector.output import sector_result
-from spurdyn.solvers.sector.rules import (
+from spurdyn.sector.model import SectorModel
+from spurdyn.sector.rules import (
     BACKLASH_FLOOR,
     BODY_DAMPING_FREQUENCY,
     BODY_DAMPING_RATIO,
@@ -37,9 +35,11 @@ from spurdyn.solvers.sector.rules import (
     cycles_limit,
     steps_per_cycle,
 )
-from spurdyn.solvers.sector.state import SectorState, pack_state
+from spurdyn.sector.state import SectorState, pack_state
+from spurdyn.sector.system import REACH, back_teeth
+from spurdyn.settings import RunSettings
+from spurdyn.solvers.sector.output import sector_result
 from spurdyn.solvers.sector.stepper import SectorRecord, SectorStepper, make_stepper, settle
-from spurdyn.solvers.sector.system import REACH, back_teeth
 
 
 def sector_backend(model: SectorModel, settings: RunSettings, energy: bool) -> str:
@@ -73,7 +73,7 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         strip, the torques' work, J), and the hubs' momenta with the pairs' torques on
         them in ``info["momentum"]``.
     modes
-        Reduce each body to its modes (:mod:`spurdyn.solvers.sector.reduced`): ``True``
+        Reduce each body to its modes (:mod:`spurdyn.sector.reduced`): ``True``
         keeps those below :data:`KEEP_FREQUENCY`, a number those below it (Hz); ``False`` steps the whole
         finite-element bodies; ``None`` as ``settings.bodies`` says.
 

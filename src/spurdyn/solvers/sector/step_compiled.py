@@ -5,10 +5,10 @@ Woodbury, the complementarity problem by active sets with the step before's firs
 generalized-alpha update).
 
 It reads typed packs (:mod:`spurdyn.solvers.layout`): per gear a
-:data:`~spurdyn.solvers.layout.ModalGear` (its body's twin), the contacts
-(:data:`~spurdyn.solvers.layout.SectorContacts`), the rigid gap's table
-(:data:`~spurdyn.solvers.layout.GapArrays`) and the run's scalars
-(:data:`~spurdyn.solvers.layout.SectorConfig`); the rows and the other pieces it shares with
+:data:`~spurdyn.sector.packs.ModalGear` (its body's twin), the contacts
+(:data:`~spurdyn.sector.packs.SectorContacts`), the rigid gap's table
+(:data:`~spurdyn.sector.packs.GapArrays`) and the run's scalars
+(:data:`~spurdyn.sector.packs.SectorConfig`); the rows and the other pieces it shares with
 the RK4 reference are those of :mod:`spurdyn.solvers.sector.rows_compiled`. It runs
 ``steps`` steps from the state it is given (changed in place) and writes the saved columns.
 """

@@ -2,7 +2,7 @@
 their registry, and the control that drives them.
 
 :data:`STEPPERS` maps a time integrator and a backend to the stepper that steps a
-:class:`~spurdyn.solvers.sector.model.SectorModel`: the implicit generalized-alpha loop in
+:class:`~spurdyn.sector.model.SectorModel`: the implicit generalized-alpha loop in
 NumPy (:class:`~spurdyn.solvers.sector.implicit_numpy.ImplicitStepper`) and compiled
 (:class:`~spurdyn.solvers.sector.stepper_compiled.CompiledImplicitStepper`), the RK4
 reference in both (:mod:`spurdyn.solvers.sector.rk4`,
@@ -22,9 +22,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
+from spurdyn.sector.model import SectorModel
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_NAN, SectorOut
-from spurdyn.solvers.sector.model import SectorModel
 from spurdyn.solvers.steady import settled_after
 
 Progress = Callable[[int, float, float], None]

@@ -1,7 +1,7 @@
 """The sector model's compiled steppers: the implicit loop
 (:func:`~spurdyn.solvers.sector.step_compiled.run_steps`) and the RK4 reference
 (:func:`~spurdyn.solvers.sector.rk4_compiled.run_rk4`) on the model's typed packs
-(:meth:`~spurdyn.solvers.sector.model.SectorModel.packs`), a chunk of steps a call so that
+(:meth:`~spurdyn.sector.model.SectorModel.packs`), a chunk of steps a call so that
 progress shows and an interrupt stops them between chunks. Both step modal bodies of whole
 gears (the packs index the teeth round the ring) and refuse any other model."""
 
@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from spurdyn.errors import InputError
+from spurdyn.sector.model import SectorModel
 from spurdyn.solvers.layout import OK, SectorRk4State
 from spurdyn.solvers.sector.implicit_numpy import ImplicitStepper
-from spurdyn.solvers.sector.model import SectorModel
 from spurdyn.solvers.sector.stepper import SectorRecord, SectorStepper
 
 

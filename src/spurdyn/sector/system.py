@@ -45,8 +45,8 @@ from spurdyn.geometry.corner import corner_contact
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
 from spurdyn.sector.body import SectorBody, sector_body
+from spurdyn.sector.packs import GapArrays
 from spurdyn.sector.statics import pairs_in_path
-from spurdyn.solvers.layout import GapArrays
 
 
 def rotation_field(nodes: NDArray[np.float64], sense: float) -> NDArray[np.float64]:
@@ -407,7 +407,7 @@ class GapTable:
         return gap, slope, r_a, r_b
 
     def compiled(self) -> GapArrays:
-        """The table's twin for the compiled loops (:data:`~spurdyn.solvers.layout.GapArrays`)."""
+        """The table's twin for the compiled loops (:data:`~spurdyn.sector.packs.GapArrays`)."""
         return GapArrays(self.rho, self.gap, self.slope, self.r_a, self.r_b)
 
 

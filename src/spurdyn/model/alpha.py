@@ -1,6 +1,10 @@
 """The generalized-alpha scheme's coefficients and the implicit integrator's default step.
 
-Pure functions of numbers (docs/implicit.md, sections 1 and 4).
+Pure functions of numbers (docs/implicit.md, sections 1 and 4). They are data of a run's
+settings, not of a step, so they sit below both their readers: the implicit integrator's
+step (:mod:`spurdyn.solvers.implicit`) and the sector model, whose bodies are factorised
+for the scheme's ``beta'`` and ``gamma'`` and whose step and modal cutoff resolve
+:data:`KEEP_FREQUENCY` (:mod:`spurdyn.sector.model`, :mod:`spurdyn.sector.rules`).
 """
 
 from __future__ import annotations

@@ -23,17 +23,15 @@ from spurdyn.contact.hertz import effective_modulus, strip_quadrature
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
+from spurdyn.model.alpha import GeneralizedAlpha
 from spurdyn.model.loading import check_history, hub_torques, static_force
-from spurdyn.sector.statics import contact_law, driving_pair, mesh_cycle, pairs_in_path, solve_position
-from spurdyn.settings import RunSettings, refuse_sector_row_grading
-from spurdyn.solvers.implicit.alpha import GeneralizedAlpha
-from spurdyn.solvers.layout import SectorConfig, SectorContacts
-from spurdyn.solvers.sector.bodies import FullBody, ModalBody
-from spurdyn.solvers.sector.cache import cached
-from spurdyn.solvers.sector.damper import mesh_damper_table
-from spurdyn.solvers.sector.lcp import Rows
-from spurdyn.solvers.sector.reduced import reduce_gear
-from spurdyn.solvers.sector.rules import (
+from spurdyn.sector.bodies import FullBody, ModalBody
+from spurdyn.sector.cache import cached
+from spurdyn.sector.damper import mesh_damper_table
+from spurdyn.sector.lcp import Rows
+from spurdyn.sector.packs import SectorConfig, SectorContacts
+from spurdyn.sector.reduced import reduce_gear
+from spurdyn.sector.rules import (
     CYCLE_POSITIONS,
     KEEP_FREQUENCY,
     back_flanks_on,
@@ -42,8 +40,9 @@ from spurdyn.solvers.sector.rules import (
     cycles_limit,
     steps_per_cycle,
 )
-from spurdyn.solvers.sector.state import common_rotation, unpack_state
-from spurdyn.solvers.sector.system import (
+from spurdyn.sector.state import common_rotation, unpack_state
+from spurdyn.sector.statics import contact_law, driving_pair, mesh_cycle, pairs_in_path, solve_position
+from spurdyn.sector.system import (
     REACH,
     WHOLE_FROM_CYCLES,
     back_roll_sum,
@@ -56,6 +55,7 @@ from spurdyn.solvers.sector.system import (
     half_widths_at,
     teeth_for,
 )
+from spurdyn.settings import RunSettings, refuse_sector_row_grading
 
 
 @dataclass(frozen=True)
@@ -161,7 +161,7 @@ class SectorModel:
               dt: float | None = None, modes: bool | float | None = None) -> SectorModel:
         """The model of a run of ``integrator`` (``"implicit"``: bodies for generalized-alpha at
         ``settings.rho_inf``; ``"rk4"``: bodies for ``M^-1``) at the step ``dt`` (by default
-        :func:`~spurdyn.solvers.sector.rules.steps_per_cycle`'s; shortened to a whole number
+        :func:`~spurdyn.sector.rules.steps_per_cycle`'s; shortened to a whole number
         a mesh cycle); ``modes`` as :func:`~spurdyn.solvers.sector.run.simulate_sector` reads it."""
         refuse_sector_row_grading(settings.row_grading)
         check_history(pair, settings)
@@ -241,7 +241,7 @@ class SectorModel:
         ``c_teeth``, the constant part of their gaps, and per gear the rows' coefficients on
         the hub and their elastic parts (the bodies' ``rows``), the strips' half-widths those
         of the forces ``f``. A back flank's roll is ``Sigma - rho``
-        (:func:`~spurdyn.solvers.sector.system.back_roll_sum`), running backwards as the
+        (:func:`~spurdyn.sector.system.back_roll_sum`), running backwards as the
         driver turns, and its gap the mirror image's plus the backlash (docs/sector.md, 6.7);
         ``offset`` the driver's body tooth of pair 0 (a continuation runs on)."""
         c_teeth, c_side, pitch, ra, rb = self.c_teeth, self.c_side, self.pitch, self.ra, self.rb
@@ -305,7 +305,7 @@ class SectorModel:
     # -- the compiled loops' packs ---------------------------------------------------------
     def packs(self, offset: int = 0) -> tuple[Any, ...]:
         """``(gear A, gear B, contacts, gap table, config)``: the typed packs of
-        :mod:`spurdyn.solvers.layout` the compiled loops read (modal bodies of whole gears)."""
+        :mod:`spurdyn.sector.packs` the compiled loops read (modal bodies of whole gears)."""
         xq, wq = strip_quadrature()
         contacts = SectorContacts(np.asarray(self.c_teeth, np.int64), np.asarray(self.c_side, np.int64),
                                   int(offset), xq, wq, self.c_table)

@@ -8,9 +8,9 @@ from __future__ import annotations
 import math
 
 from spurdyn.geometry.pair import GearPair
+from spurdyn.model.alpha import KEEP_FREQUENCY, STEPS_PER_KEPT_PERIOD
+from spurdyn.sector.system import WHOLE_FROM_CYCLES
 from spurdyn.settings import RunSettings
-from spurdyn.solvers.implicit.alpha import KEEP_FREQUENCY, STEPS_PER_KEPT_PERIOD
-from spurdyn.solvers.sector.system import WHOLE_FROM_CYCLES
 
 # The sector model keeps what the paper model's implicit step keeps (docs/implicit.md,
 # section 4): the modal bodies every mode below KEEP_FREQUENCY (150 kHz: the teeth's

@@ -35,7 +35,7 @@ from scipy.sparse.linalg import eigsh
 
 from spurdyn import store
 from spurdyn.fem.factor import factor_spd
-from spurdyn.solvers.sector.system import GearBlock
+from spurdyn.sector.system import GearBlock
 
 #: Static shapes added to the basis per tooth: the response to a unit normal load at this
 #: many radii along its flank, so that the teeth's deflection under a contact is mostly in
@@ -57,7 +57,7 @@ class ReducedGear:
     Attributes
     ----------
     block
-        The full gear (:class:`~spurdyn.solvers.sector.system.GearBlock`).
+        The full gear (:class:`~spurdyn.sector.system.GearBlock`).
     phi
         ``(n, m)`` M-orthonormal modes of the held body (free DOFs).
     omega2

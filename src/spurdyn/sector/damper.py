@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.solvers.implicit.damping import mesh_damper_coefficient
+from spurdyn.model.damper import mesh_damper_coefficient
 
 #: Phases over a mesh cycle at which the mesh damper's coefficient is tabulated.
 DAMPER_SAMPLES = 512

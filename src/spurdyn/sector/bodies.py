@@ -7,7 +7,7 @@ Both give the loop the same few things for a step's matrix ``S = M + gamma' C + 
 - :meth:`solve`: ``S^-1 x``;
 - :meth:`forces`: ``C v + K q``;
 - :meth:`rows`: the pairs' rows ``E`` on the gear's elastic coordinates from their unit
-  strip loads (in tooth 0's frame, :meth:`~spurdyn.solvers.sector.system.GearBlock.flank_loads`)
+  strip loads (in tooth 0's frame, :meth:`~spurdyn.sector.system.GearBlock.flank_loads`)
   on teeth ``k``, on their right (drive) or left (back) flanks: the flank DOFs and the loads
   turned (and mirrored) there, or ``Phi^T`` of them;
 - :meth:`elastic`: ``E x`` (``x`` one vector of the gear's coordinates or columns of them);
@@ -27,9 +27,9 @@ from numpy.typing import NDArray
 from scipy.linalg import cho_factor, cho_solve
 
 from spurdyn.fem.factor import factor_spd
-from spurdyn.solvers.layout import ModalGear
-from spurdyn.solvers.sector.reduced import ReducedGear
-from spurdyn.solvers.sector.system import GearBlock
+from spurdyn.sector.packs import ModalGear
+from spurdyn.sector.reduced import ReducedGear
+from spurdyn.sector.system import GearBlock
 
 
 class FullRows(NamedTuple):
@@ -141,7 +141,7 @@ class FullBody:
 
 
 class ModalBody:
-    """The body on its modes: ``(theta, eta)`` (:mod:`spurdyn.solvers.sector.reduced`);
+    """The body on its modes: ``(theta, eta)`` (:mod:`spurdyn.sector.reduced`);
     ``sides`` 2 makes the left (back) flanks contacts too (:func:`_tooth_frames`)."""
 
     def __init__(self, reduced: ReducedGear, gp: float, bp: float, rayleigh: tuple[float, float],
@@ -167,7 +167,7 @@ class ModalBody:
         return self.inv @ x
 
     def compiled(self) -> ModalGear:
-        """The body's twin for the compiled loops (:data:`~spurdyn.solvers.layout.ModalGear`):
+        """The body's twin for the compiled loops (:data:`~spurdyn.sector.packs.ModalGear`):
         ``S^-1`` (or ``M^-1``), the modes' damping and ``omega^2``, the modes in each tooth's
         frame, the static blocks, the flank's geometry, the body's first tooth and count."""
         blk = self.block

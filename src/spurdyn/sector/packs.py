@@ -1,0 +1,45 @@
+"""The typed packs the sector model fills for its compiled loops, each defined once.
+
+The model's data as the compiled loops of :mod:`spurdyn.solvers.sector` read it: a modal
+gear (:meth:`spurdyn.sector.bodies.ModalBody.compiled`), the rigid gap's table
+(:meth:`spurdyn.sector.system.GapTable.compiled`), the contacts and the run's scalars
+(:meth:`spurdyn.sector.model.SectorModel.packs`). Numba takes namedtuples of arrays and
+scalars; they are plain descriptions of data, with no Numba here, so they sit with the
+model that fills them (the loops' states, changed in place, stay in
+:mod:`spurdyn.solvers.layout`). Nothing here imports spurdyn.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+#: One modal gear as the sector's compiled loops read it (its body's twin,
+#: ``ModalBody.compiled``): ``inv`` the inverse of ``S = M + gamma' C + beta' K`` (``M^-1``
+#: for the RK4 reference), ``damp`` and ``omega2`` the modes' damping and ``omega^2``,
+#: ``modes`` ``(count, sides, f, m)`` the modes at each flank in its own frame, ``flex``
+#: ``(count, sides, sides, f, f)`` the static flexibility between two flanks by the teeth's
+#: distance round the ring, ``geo`` the flank's ``(r0, r_tip, ny, r_b, half base angle)``,
+#: ``first`` and ``count`` the body's teeth.
+ModalGear = namedtuple("ModalGear", ["inv", "damp", "omega2", "modes", "flex", "geo", "first", "count"])
+
+#: The rigid gap's table (``GapTable.compiled``): rolls, gaps, slopes and contact radii.
+GapArrays = namedtuple("GapArrays", ["rho", "gap", "slope", "r_a", "r_b"])
+
+#: The contacts of a sector run: contact ``i`` is the driver's tooth ``teeth[i]`` on its
+#: flank ``sides[i]`` (0 drive, 1 back), ``offset`` the driver's body tooth of pair 0 (a
+#: continuation runs on); ``xq``, ``wq`` the strip's quadrature; ``c_table`` the mesh
+#: damper's coefficient over a pitch (:func:`~spurdyn.sector.damper.mesh_damper_table`).
+SectorContacts = namedtuple("SectorContacts", ["teeth", "sides", "offset", "xq", "wq", "c_table"])
+
+#: The scalars of a sector run (SI units): the path's rolls ``roll_0``, ``roll_1`` and the
+#: ``reach`` beyond them, the ``pitch``, the base radii ``ra``, ``rb``, Hertz's ``estar``, the
+#: face ``width``, the strip compliance ``c_h``, the generalized-alpha coefficients ``am``,
+#: ``af``, ``beta``, ``gamma``, ``bp = beta'``, ``gp = gamma'`` (zeros for the RK4
+#: reference), the step ``h``, the back flanks' roll sum ``sigma`` and backlash ``jn``, and
+#: the driver's turns ``theta_lo .. theta_hi`` the contacts cover.
+SectorConfig = namedtuple("SectorConfig", [
+    "roll_0", "roll_1", "reach", "pitch", "ra", "rb", "estar", "width", "c_h",
+    "am", "af", "beta", "gamma", "h", "bp", "gp", "sigma", "jn", "theta_lo", "theta_hi",
+])
+
+__all__ = ["GapArrays", "ModalGear", "SectorConfig", "SectorContacts"]

@@ -240,16 +240,23 @@ def test_the_ring_decays_at_the_ratio_asked():
     assert freq == pytest.approx(math.sqrt(k_s / m_e) / (2 * math.pi), rel=0.1)
 
 
-@pytest.mark.slow
-def test_the_whole_rings_flexibility_is_the_same_under_a_turn_by_a_pitch():
-    """On a whole gear the residual flexibility between two teeth's flanks comes from one
-    tooth's static response turned round the ring; it equals each tooth's own (to the
-    factor's round-off)."""
+@pytest.fixture(scope="module")
+def whole_gear():
+    """The driver's whole gear on 2 x 8 teeth meshes and its modes below 60 kHz (one
+    eigen-solve for the two tests below)."""
     from spurdyn.solvers.sector.reduced import reduce_gear
 
     (fa, ca), _ = teeth_for(PAIR, 40.0)
     blk = gear_block(PAIR.gear_a, 1.0, fa, ca, **MESH, grading=1.0)
-    red = reduce_gear(blk, 60e3)
+    return blk, reduce_gear(blk, 60e3)
+
+
+@pytest.mark.slow
+def test_the_whole_rings_flexibility_is_the_same_under_a_turn_by_a_pitch(whole_gear):
+    """On a whole gear the residual flexibility between two teeth's flanks comes from one
+    tooth's static response turned round the ring; it equals each tooth's own (to the
+    factor's round-off)."""
+    blk, red = whole_gear
     for i, j in ((3, 3), (4, 3), (-7, -8), (10, 12)):
         fast = red.residual(i, j)
         direct = red.static_response(j)[blk.flank_dofs(i)] - (red.modes_at(i) / red.omega2) @ red.modes_at(j).T
@@ -363,17 +370,14 @@ def test_the_gap_table_follows_the_rigid_gap():
 
 
 @pytest.mark.slow
-def test_the_bodies_rows_and_columns_are_their_matrices():
+def test_the_bodies_rows_and_columns_are_their_matrices(whole_gear):
     """Both bodies' rows, columns and residual compliance against the matrices written out:
     ``E x`` against the turned loads at the flank DOFs (or ``Phi^T`` of them), ``S^-1 E^T``
     against a solve, and on a whole modal gear the residual against
     :meth:`ReducedGear.residual` tooth pair by tooth pair (round the ring too)."""
     from spurdyn.solvers.sector.bodies import FullBody, ModalBody
-    from spurdyn.solvers.sector.reduced import reduce_gear
 
-    (fa, ca), _ = teeth_for(PAIR, 40.0)
-    blk = gear_block(PAIR.gear_a, 1.0, fa, ca, **MESH, grading=1.0)
-    red = reduce_gear(blk, 60e3)
+    blk, red = whole_gear
     ks = np.array([3, 4, -7, 10 + blk.count])
     r = np.linspace(blk.body.flank.r0 + 1e-4, PAIR.gear_a.tip_radius - 1e-4, ks.size)
     b = np.array([90e-6, 0.0, 120e-6, 60e-6])

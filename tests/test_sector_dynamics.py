@@ -184,13 +184,15 @@ def test_the_mesh_damper_takes_energy_out_and_the_ring_down():
     With rho_inf = 1 (no numerical dissipation) the undamped run keeps its energy to the
     model's own balance error; the mesh damper takes out far more than that error, and the
     ring shrinks as the damping ratio grows (docs/sector_dynamics_validation.md measures its
-    decrement)."""
+    decrement). At 800 steps a cycle, not the default 3,215 (the ring 0.24, 0.117, 0.018 of the
+    load for zeta 0, 0.1, 0.5 against 0.265, 0.129, 0.040; the energy taken out 29 and 89 times
+    the balance error against 24 and 72)."""
     pitch = 2 * math.pi / PAIR.gear_a.teeth
     ring, lost = {}, {}
     for zeta in (0.0, 0.1, 0.5):
         s = run_settings(PAIR, 1000 * RPM, 60.0, model="sector", cycles=1, damping_ratio=zeta, rho_inf=1.0, **MESH,
                          **UNDAMPED)
-        run = simulate_sector(PAIR, s, energy=True)
+        run = simulate_sector(PAIR, s, energy=True, dt=pitch / s.speed_a / 800)
         e = run.info["energy"]
         total = np.array(e["kinetic_J"]) + np.array(e["strain_J"]) + np.array(e["strip_J"]) - np.array(e["work_J"])
         lost[zeta] = total[0] - total[-1]

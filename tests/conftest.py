@@ -1,10 +1,23 @@
-"""Fixtures shared by several test files, and where pytest-xdist runs each test."""
+"""Fixtures shared by several test files, where pytest-xdist runs each test, and BLAS on one
+thread."""
 
 import inspect
 import os
 import shutil
 import tempfile
 from pathlib import Path
+
+# BLAS on one thread in the test processes (and the processes they start), unless the caller
+# says otherwise: under `make test` two workers share the two cores, and OpenBLAS's own two
+# threads each (spinning while they wait) made the sector model's eigen-solves five to six
+# times slower on a loaded machine (tests/test_torque_history.py's idling run 57-68 s with two
+# threads, 10-13 s with one, a load of 3.6). The sector runs' time loops already step on one
+# thread (spurdyn.solvers.sector.run); their models' eigen-solves come before that limit.
+if not any(os.environ.get(k) for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")):
+    os.environ["OPENBLAS_NUM_THREADS"] = "1"
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")   # numpy may be loaded already (a plugin)
 
 import pytest
 

@@ -345,6 +345,13 @@ class RunSettings:
     back_flanks: bool | None = _setting(None, "sector")
 
     def __post_init__(self) -> None:
+        """Refuse a setting out of its range, naming its key, in the order of the fields' checks."""
+        self._check_numbers()
+        self._check_cycles_and_stepper()
+        self._check_steady_state()
+
+    def _check_numbers(self) -> None:
+        """Refuse a speed, step, torque, angle, whole number, grading or damping out of range."""
         for key in ("speed_a", "speed_b", "dt", "tol_disp"):
             v = getattr(self, key)
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v <= 0:
@@ -379,6 +386,9 @@ class RunSettings:
                 continue
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v < 0:
                 raise InputError(key, f"must be a number >= 0 (got {v!r})")
+
+    def _check_cycles_and_stepper(self) -> None:
+        """Refuse bad ``cycles``/``max_cycles`` and an unknown stepper, contact or backend."""
         n = self.cycles
         if n is not None and (not isinstance(n, int) or isinstance(n, bool) or not 1 <= n <= MAX_CYCLES):
             raise InputError("cycles", f"must be a whole number from 1 to {MAX_CYCLES:,} (got {n!r})")
@@ -406,6 +416,9 @@ class RunSettings:
                              f"(got {self.integrator!r})")
         if self.back_flanks is not None and not isinstance(self.back_flanks, bool):
             raise InputError("back_flanks", f"must be true or false (got {self.back_flanks!r})")
+
+    def _check_steady_state(self) -> None:
+        """Refuse a start, ramp, torque history, body or stiffness model the run cannot take."""
         k = self.teeth
         if k is not None and (not isinstance(k, int) or isinstance(k, bool) or k < 1):
             raise InputError("teeth", f"must be a whole number >= 1 (got {k!r})")

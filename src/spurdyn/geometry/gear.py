@@ -114,25 +114,9 @@ class Gear:
     blank: Blank | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.teeth, int) or isinstance(self.teeth, bool):
-            raise InputError("teeth", f"must be a whole number (got {self.teeth!r})")
-        if self.teeth < 8:
-            raise InputError("teeth", f"must be at least 8 (got {self.teeth})")
-        if self.teeth > MAX_TEETH:
-            raise InputError("teeth", f"must be at most {MAX_TEETH} (got {self.teeth})")
-        for name in ("module", "pressure_angle", "face_width"):
-            require_positive(name, getattr(self, name))
-        deg = math.degrees(self.pressure_angle)
-        if not 12.0 <= deg <= 35.0:
-            raise InputError("pressure_angle", f"must lie between 12 and 35 degrees (got {deg:.4g})")
-        x, allowance = self.profile_shift, self.thickness_allowance
-        if isinstance(x, bool) or not isinstance(x, (int, float)) or not abs(x) <= MAX_SHIFT:
-            raise InputError("profile_shift", f"must be a number from -{MAX_SHIFT:g} to "
-                             f"{MAX_SHIFT:g} (got {x!r})")
-        if isinstance(allowance, bool) or not isinstance(allowance, (int, float)) \
-                or not 0.0 <= allowance <= 0.5 * self.module:
-            raise InputError("thickness_allowance", f"must be a number of metres from 0 to "
-                             f"half the module, {0.5 * self.module:g} m (got {allowance!r})")
+        """Check the figures given, make those left out from the rack, check the tooth cut."""
+        self._check_given()
+        x = self.profile_shift
         rack = self.basic_rack if self.basic_rack is not None else default_rack(self.pressure_angle)
         if not isinstance(rack, BasicRack):
             raise InputError("basic_rack", "must be a BasicRack")
@@ -170,6 +154,35 @@ class Gear:
                                  f"{math.floor((x_max - 1e-6) * 1000) / 1000:.3f} with this rack")
             raise InputError("cutter_tip_radius", "is too large for the dedendum; "
                              "lower cutter_tip_radius or deepen the root")
+        self._check_proportions(derived_top)
+        self._resolve_inertia()
+
+    def _check_given(self) -> None:
+        """Refuse a tooth count, module, angle, face width, shift or allowance out of range."""
+        if not isinstance(self.teeth, int) or isinstance(self.teeth, bool):
+            raise InputError("teeth", f"must be a whole number (got {self.teeth!r})")
+        if self.teeth < 8:
+            raise InputError("teeth", f"must be at least 8 (got {self.teeth})")
+        if self.teeth > MAX_TEETH:
+            raise InputError("teeth", f"must be at most {MAX_TEETH} (got {self.teeth})")
+        for name in ("module", "pressure_angle", "face_width"):
+            require_positive(name, getattr(self, name))
+        deg = math.degrees(self.pressure_angle)
+        if not 12.0 <= deg <= 35.0:
+            raise InputError("pressure_angle", f"must lie between 12 and 35 degrees (got {deg:.4g})")
+        x, allowance = self.profile_shift, self.thickness_allowance
+        if isinstance(x, bool) or not isinstance(x, (int, float)) or not abs(x) <= MAX_SHIFT:
+            raise InputError("profile_shift", f"must be a number from -{MAX_SHIFT:g} to "
+                             f"{MAX_SHIFT:g} (got {x!r})")
+        if isinstance(allowance, bool) or not isinstance(allowance, (int, float)) \
+                or not 0.0 <= allowance <= 0.5 * self.module:
+            raise InputError("thickness_allowance", f"must be a number of metres from 0 to "
+                             f"half the module, {0.5 * self.module:g} m (got {allowance!r})")
+
+    def _check_proportions(self, derived_top: bool) -> None:
+        """Refuse lengths in millimetres, a tip too high or pointed, a cutter that cannot cut the
+        gear, an undercut tooth or a bad relief (``derived_top``: the addendum is the rack's)."""
+        x = self.profile_shift
         if self.module > MAX_MODULE:
             raise InputError("module", f"{self.module:g} m is beyond any gear (at most "
                              f"{MAX_MODULE:g} m); lengths are in metres, not millimetres")
@@ -196,7 +209,6 @@ class Gear:
                          tip_roll=float(self.roll_angle_at(self.tip_radius)),
                          base_radius=self.base_radius, module=self.module,
                          tip_land=float(self.thickness_at(self.tip_radius)))
-        self._resolve_inertia()
 
     def _check_cutter(self) -> None:
         """Refuse a generating rack that cannot exist or cannot cut this gear."""

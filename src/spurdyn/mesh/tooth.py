@@ -180,6 +180,156 @@ def _polar(r: NDArray[np.float64], chi: NDArray[np.float64]) -> NDArray[np.float
     return np.stack([r * np.sin(chi), r * np.cos(chi)], axis=-1)
 
 
+def _check_mesh_args(gear: Gear, nx: int, ny: int, cut_angle: float, grading: float,
+                     row_grading: float) -> None:
+    """Refuse a mesh density, grading or fillet cut angle out of range, naming its key.
+
+    Parameters
+    ----------
+    gear
+        The gear meshed (its fillet end angle bounds ``cut_angle``).
+    nx, ny, cut_angle, grading, row_grading
+        As :func:`tooth_mesh` takes them.
+
+    Raises
+    ------
+    InputError
+        For the first value out of range, in the order of the parameters.
+    """
+    for name, n, lo, hi in (("mesh.nx", nx, 1, 64), ("mesh.ny", ny, 2, 256)):
+        if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or not lo <= n <= hi:
+            raise InputError(name, f"must be a whole number from {lo} to {hi} (got {n!r})")
+    if (isinstance(grading, bool) or not isinstance(grading, (int, float, np.floating))
+            or not DEFAULT_GRADING <= grading <= MAX_GRADING):
+        raise InputError("mesh.grading", f"must be a number from 1 (even) to {MAX_GRADING:g} "
+                         f"(got {grading!r})")
+    if (isinstance(row_grading, bool) or not isinstance(row_grading, (int, float, np.floating))
+            or not DEFAULT_ROW_GRADING <= row_grading <= MAX_ROW_GRADING):
+        raise InputError("mesh.row_grading", f"must be a number from 1 (even rows) to "
+                         f"{MAX_ROW_GRADING:g} (got {row_grading!r})")
+    if not 0.0 < cut_angle < gear.fillet_end_angle:
+        raise InputError("mesh.fillet_cut_angle", "must lie between 0 and 90 deg - pressure angle")
+
+
+def _side_outlines(gear: Gear, ny: int, cut_angle: float, row_grading: float
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
+    """The right and left outlines' grid points, root to tip, and the rows' blend parameter.
+
+    Right outline, from the cut point on the fillet to the tip corner. With a tip relief
+    the rows are evenly spaced in the radius of the unmodified involute point, up to the
+    one whose relieved point lies on the tip circle (``flank_end_radius``).
+
+    Parameters
+    ----------
+    gear
+        The gear meshed.
+    ny, cut_angle, row_grading
+        As :func:`tooth_mesh` takes them (checked).
+
+    Returns
+    -------
+    right, left
+        The ``2 ny + 1`` points of each outline, shape ``(2 ny + 1, 2)``.
+    t
+        The rows' blend parameter, 0 at the cut point to 1 at the tip corner.
+    fillet_rows
+        The fillet's rows (:func:`row_radii`; 0 for even rows).
+    """
+    cut = gear.fillet_points(np.asarray(cut_angle))
+    r_cut = float(np.hypot(*cut))
+    radii, fillet_rows = row_radii(r_cut, float(gear.form_radius), float(gear.flank_end_radius),
+                                   ny, float(row_grading))
+    t = (radii - r_cut) / (gear.flank_end_radius - r_cut)   # the rows' blend parameter
+    if not fillet_rows:
+        t = np.linspace(0.0, 1.0, 2 * ny + 1)               # the even grid, bit for bit
+    right = np.array([cut] + [gear.right_side_point(r) for r in radii[1:]])
+    left = right * np.array([-1.0, 1.0])
+    return right, left, t, fillet_rows
+
+
+def _end_outlines(gear: Gear, s: NDArray[np.float64], right: NDArray[np.float64]
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The bottom and top curves' grid points, left to right.
+
+    Parameters
+    ----------
+    gear
+        The gear meshed.
+    s
+        The columns' spacing across the tooth (:func:`thickness_spacing`).
+    right
+        The right outline (:func:`_side_outlines`): its first point is the cut point, its
+        last the tip corner.
+
+    Returns
+    -------
+    bottom, top
+        The bottom curve, from the root circle under the tooth up to the cut points, and
+        the tip circle's arc; shape ``(2 nx + 1, 2)`` each.
+    """
+    cut = right[0]
+    r_cut = float(np.hypot(*cut))
+    chi_cut = float(np.arctan2(cut[0], cut[1]))
+    u = 2.0 * s - 1.0
+    bottom = _polar(gear.root_radius + (r_cut - gear.root_radius) * u**2, chi_cut * u)
+    chi_tip = float(np.arctan2(right[-1, 0], right[-1, 1]))
+    top = _polar(np.full_like(u, gear.tip_radius), chi_tip * u)
+    return bottom, top
+
+
+def _coons_grid(bottom: NDArray[np.float64], top: NDArray[np.float64], left: NDArray[np.float64],
+                right: NDArray[np.float64], s: NDArray[np.float64], t: NDArray[np.float64]
+                ) -> NDArray[np.float64]:
+    """The Coons patch of the four curves: blend them, remove the doubly counted corners.
+
+    Parameters
+    ----------
+    bottom, top
+        The end curves, ``(2 nx + 1, 2)`` each (:func:`_end_outlines`).
+    left, right
+        The outlines, ``(2 ny + 1, 2)`` each (:func:`_side_outlines`).
+    s, t
+        The blend parameters across and along the tooth.
+
+    Returns
+    -------
+    NDArray
+        The grid's points, shape ``(2 nx + 1, 2 ny + 1, 2)``.
+    """
+    S, T = s[:, None, None], t[None, :, None]
+    return ((1 - T) * bottom[:, None, :] + T * top[:, None, :]
+            + (1 - S) * left[None, :, :] + S * right[None, :, :]
+            - ((1 - S) * (1 - T) * left[0] + S * (1 - T) * right[0]
+               + (1 - S) * T * left[-1] + S * T * right[-1]))
+
+
+def _q8_elements(index: NDArray[np.intp], nx: int, ny: int) -> NDArray[np.intp]:
+    """The ``nx ny`` Q8 elements' node numbers, row by row from the root.
+
+    Parameters
+    ----------
+    index
+        The node number of each grid point, -1 for the elements' centres (:func:`_grid_index`).
+    nx, ny
+        Elements across and along the tooth.
+
+    Returns
+    -------
+    NDArray
+        Shape ``(nx ny, 8)``: the four corners counter-clockwise from the bottom left, then
+        the four mid-side nodes from the bottom one.
+    """
+    elements = np.empty((nx * ny, 8), dtype=np.intp)
+    for ey in range(ny):
+        for ex in range(nx):
+            i, j = 2 * ex, 2 * ey
+            elements[ey * nx + ex] = [
+                index[i, j], index[i + 2, j], index[i + 2, j + 2], index[i, j + 2],
+                index[i + 1, j], index[i + 2, j + 1], index[i + 1, j + 2], index[i, j + 1],
+            ]
+    return elements
+
+
 def tooth_mesh(
     gear: Gear,
     nx: int = DEFAULT_NX,
@@ -198,60 +348,17 @@ def tooth_mesh(
         If the density is not a pair of whole numbers in range, or the mesh would hold
         an element with a non-positive Jacobian.
     """
-    for name, n, lo, hi in (("mesh.nx", nx, 1, 64), ("mesh.ny", ny, 2, 256)):
-        if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or not lo <= n <= hi:
-            raise InputError(name, f"must be a whole number from {lo} to {hi} (got {n!r})")
-    if (isinstance(grading, bool) or not isinstance(grading, (int, float, np.floating))
-            or not DEFAULT_GRADING <= grading <= MAX_GRADING):
-        raise InputError("mesh.grading", f"must be a number from 1 (even) to {MAX_GRADING:g} "
-                         f"(got {grading!r})")
-    if (isinstance(row_grading, bool) or not isinstance(row_grading, (int, float, np.floating))
-            or not DEFAULT_ROW_GRADING <= row_grading <= MAX_ROW_GRADING):
-        raise InputError("mesh.row_grading", f"must be a number from 1 (even rows) to "
-                         f"{MAX_ROW_GRADING:g} (got {row_grading!r})")
-    if not 0.0 < cut_angle < gear.fillet_end_angle:
-        raise InputError("mesh.fillet_cut_angle", "must lie between 0 and 90 deg - pressure angle")
-
-    # Right outline, from the cut point on the fillet to the tip corner. With a tip
-    # relief the rows are evenly spaced in the radius of the unmodified involute point,
-    # up to the one whose relieved point lies on the tip circle (flank_end_radius).
-    cut = gear.fillet_points(np.asarray(cut_angle))
-    r_cut = float(np.hypot(*cut))
-    radii, fillet_rows = row_radii(r_cut, float(gear.form_radius), float(gear.flank_end_radius),
-                                   ny, float(row_grading))
-    t = (radii - r_cut) / (gear.flank_end_radius - r_cut)   # the rows' blend parameter
-    if not fillet_rows:
-        t = np.linspace(0.0, 1.0, 2 * ny + 1)               # the even grid, bit for bit
-    right = np.array([cut] + [gear.right_side_point(r) for r in radii[1:]])
-    left = right * np.array([-1.0, 1.0])
-
+    _check_mesh_args(gear, nx, ny, cut_angle, grading, row_grading)
+    right, left, t, fillet_rows = _side_outlines(gear, ny, cut_angle, row_grading)
     s = thickness_spacing(nx, float(grading))
-    chi_cut = float(np.arctan2(cut[0], cut[1]))
-    u = 2.0 * s - 1.0
-    bottom = _polar(gear.root_radius + (r_cut - gear.root_radius) * u**2, chi_cut * u)
-    chi_tip = float(np.arctan2(right[-1, 0], right[-1, 1]))
-    top = _polar(np.full_like(u, gear.tip_radius), chi_tip * u)
-
-    # Coons patch: blend the four curves, remove the doubly counted corners.
-    S, T = s[:, None, None], t[None, :, None]
-    grid = ((1 - T) * bottom[:, None, :] + T * top[:, None, :]
-            + (1 - S) * left[None, :, :] + S * right[None, :, :]
-            - ((1 - S) * (1 - T) * left[0] + S * (1 - T) * right[0]
-               + (1 - S) * T * left[-1] + S * T * right[-1]))
+    bottom, top = _end_outlines(gear, s, right)
+    grid = _coons_grid(bottom, top, left, right, s, t)
 
     index = _grid_index(nx, ny)
     keep = index >= 0
     nodes = np.empty((int(keep.sum()), 2))
     nodes[index[keep]] = grid[keep]
-
-    elements = np.empty((nx * ny, 8), dtype=np.intp)
-    for ey in range(ny):
-        for ex in range(nx):
-            i, j = 2 * ex, 2 * ey
-            elements[ey * nx + ex] = [
-                index[i, j], index[i + 2, j], index[i + 2, j + 2], index[i, j + 2],
-                index[i + 1, j], index[i + 2, j + 1], index[i + 1, j + 2], index[i, j + 1],
-            ]
+    elements = _q8_elements(index, nx, ny)
 
     det = jacobian_determinants(nodes, elements)
     if not np.all(det > 0.0):

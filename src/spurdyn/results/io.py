@@ -314,6 +314,64 @@ def _max_or_none(ds: xr.Dataset, name: str) -> float | None:
     return float(np.nanmax(v)) if np.isfinite(v).any() else None
 
 
+def _run_record(ds: xr.Dataset, case: dict[str, Any], time: NDArray[np.float64],
+                angle: NDArray[np.float64], zone: NDArray[np.float64]) -> dict[str, Any]:
+    """The summary's first figures, in its order: what ran (``case`` to ``single_zone_deg``)."""
+    return {
+        "case": ds.attrs["case_name"],
+        "status": ds.attrs["status"],
+        "reason": ds.attrs.get("reason", ""),
+        "steps": int(ds.attrs["steps"]),
+        "samples": int(len(time)),
+        "frames": int(ds.sizes.get("frame", 0)),
+        "dt_s": float(ds.attrs["dt_s"]),
+        "wall_s": float(ds.attrs["wall_s"]),
+        "n_dof": int(ds.attrs["n_dof"]),
+        "speed_a_rpm": case["run"]["speed_a_rpm"],
+        "speed_b_rpm": case["run"]["speed_b_rpm"],
+        "torque_Nm": case["run"]["torque"],
+        "time_s": float(time[-1]) if len(time) else 0.0,
+        "angle_deg": float(angle[-1]) if len(angle) else 0.0,
+        "angle_target_deg": float(ds.attrs["angle_target_deg"]),
+        "theta_s_deg": float(ds.attrs["theta_s_deg"]),
+        "single_zone_deg": [float(zone[0]), float(zone[1])],
+    }
+
+
+def _stage_figures(ds: xr.Dataset, time: NDArray[np.float64]
+                   ) -> tuple[dict[str, float | None], dict[str, float | None]]:
+    """Per stage, the mean iterations over the steps (the first sample left out when there
+    are more) and the largest finite residual (``None`` if none)."""
+    steps_rows = slice(1, None) if len(time) > 1 else slice(0, None)
+    iterations = {s: float(np.nanmean(ds[f"iterations_{s}"].values[steps_rows]))
+                  if len(time) else None for s in STAGES}
+    residual = {}
+    for s in STAGES:
+        r = ds[f"residual_{s}"].values.astype(float)
+        residual[s] = float(np.nanmax(r)) if np.isfinite(r).any() else None
+    return iterations, residual
+
+
+def _add_info_figures(summary: dict[str, Any], ds: xr.Dataset, info: dict[str, Any],
+                      time: NDArray[np.float64], force: NDArray[np.float64], complete: bool) -> None:
+    """Add to ``summary`` the figures a model's ``info`` asks for: the steady state, the
+    model, the start and torques, the back flanks and the bodies' damping."""
+    if "steady" in info:
+        summary.update(steady_figures(time, force, info["steady"], complete))
+    model = info.get("model")
+    if model and model != DEFAULT_MODEL:  # say which model made it (the default's is implied)
+        summary["model"] = model
+    if "start" in info:         # a run of mesh cycles: how it started, what torques it carried
+        summary["start"] = info["start"]
+        summary["torque_history"] = info.get("torque_history")
+    if "back_flanks" in info:   # the sector model: whether the back flanks were contacts
+        summary["back_flanks"] = back_flank_figures(ds, info)
+    if "rayleigh" in info:      # the bodies' damping the model ran with, and whose it was
+        a, b = info["rayleigh"]
+        summary["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
+                                   "source": "model default" if info.get("rayleigh_default") else "run"}
+
+
 def summarize(ds: xr.Dataset) -> dict[str, Any]:
     """The figures of ``summary.json``, all computed from the dataset.
 
@@ -348,31 +406,9 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     first = time[np.argmax(contact)] if contact.any() else None
     case = json.loads(ds.attrs["case"])
     info = json.loads(ds.attrs.get("info", "{}") or "{}")
-    steps_rows = slice(1, None) if len(time) > 1 else slice(0, None)
-    iterations = {s: float(np.nanmean(ds[f"iterations_{s}"].values[steps_rows]))
-                  if len(time) else None for s in STAGES}
-    residual = {}
-    for s in STAGES:
-        r = ds[f"residual_{s}"].values.astype(float)
-        residual[s] = float(np.nanmax(r)) if np.isfinite(r).any() else None
+    iterations, residual = _stage_figures(ds, time)
     summary = {
-        "case": ds.attrs["case_name"],
-        "status": ds.attrs["status"],
-        "reason": ds.attrs.get("reason", ""),
-        "steps": int(ds.attrs["steps"]),
-        "samples": int(len(time)),
-        "frames": int(ds.sizes.get("frame", 0)),
-        "dt_s": float(ds.attrs["dt_s"]),
-        "wall_s": float(ds.attrs["wall_s"]),
-        "n_dof": int(ds.attrs["n_dof"]),
-        "speed_a_rpm": case["run"]["speed_a_rpm"],
-        "speed_b_rpm": case["run"]["speed_b_rpm"],
-        "torque_Nm": case["run"]["torque"],
-        "time_s": float(time[-1]) if len(time) else 0.0,
-        "angle_deg": float(angle[-1]) if len(angle) else 0.0,
-        "angle_target_deg": float(ds.attrs["angle_target_deg"]),
-        "theta_s_deg": float(ds.attrs["theta_s_deg"]),
-        "single_zone_deg": [float(zone[0]), float(zone[1])],
+        **_run_record(ds, case, time, angle, zone),
         "peak_force_N": head.peak_force,
         "peak_angle_deg": head.peak_angle_deg,
         "peak_force_raw_N": head.peak_force_raw,
@@ -398,20 +434,7 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     }
     # root stress along the fillets (runs with tooth frames) and ISO's nominal stresses
     summary.update(stress_summary(ds, case_from_run(ds)))
-    if "steady" in info:
-        summary.update(steady_figures(time, force, info["steady"], complete))
-    model = info.get("model")
-    if model and model != DEFAULT_MODEL:  # say which model made it (the default's is implied)
-        summary["model"] = model
-    if "start" in info:         # a run of mesh cycles: how it started, what torques it carried
-        summary["start"] = info["start"]
-        summary["torque_history"] = info.get("torque_history")
-    if "back_flanks" in info:   # the sector model: whether the back flanks were contacts
-        summary["back_flanks"] = back_flank_figures(ds, info)
-    if "rayleigh" in info:      # the bodies' damping the model ran with, and whose it was
-        a, b = info["rayleigh"]
-        summary["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
-                                   "source": "model default" if info.get("rayleigh_default") else "run"}
+    _add_info_figures(summary, ds, info, time, force, complete)
     return _jsonable(summary)
 
 

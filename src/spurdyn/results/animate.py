@@ -87,6 +87,125 @@ def auto_magnify(frames: ToothFrames) -> float:
     return AUTO_MAGNIFY_FRACTION * height / biggest if biggest > 0 else 1.0
 
 
+def _frame_pictures(frames: ToothFrames, picks: np.ndarray, magnify: float,
+                    progress: Callable[[int, int], None] | None
+                    ) -> tuple[list[list[np.ndarray]], list[list[np.ndarray]]]:
+    """The element outlines (mm) and von Mises stresses (MPa) of both teeth in each picked frame.
+
+    Parameters
+    ----------
+    frames
+        The run's tooth frames.
+    picks
+        The frames to draw.
+    magnify
+        Magnification of the elastic displacements.
+    progress
+        Called as ``progress(i, 2 * len(picks))`` before frame ``i``, if given.
+
+    Returns
+    -------
+    polys, stress
+        Per picked frame, per gear: the outlines ``(elements, 8, 2)`` and the stresses.
+    """
+    meshes = frames.meshes
+    polys: list[list[np.ndarray]] = []
+    stress: list[list[np.ndarray]] = []
+    for i, k in enumerate(picks):
+        if progress is not None:
+            progress(i, 2 * len(picks))
+        polys.append([frames.positions(g, k, magnify)[meshes[g].elements[:, _OUTLINE]] * 1e3
+                      for g in (0, 1)])
+        stress.append([frames.von_mises(g, k) / 1e6 for g in (0, 1)])
+    return polys, stress
+
+
+def _fillet_stress_scale(frames: ToothFrames, stress: list[list[np.ndarray]]) -> float:
+    """Top of the colour scale (MPa) from the fillet elements of both teeth (:func:`stress_scale`).
+
+    Parameters
+    ----------
+    frames
+        The run's tooth frames (their meshes and gears).
+    stress
+        Per picked frame, per gear, the elements' stresses.
+
+    Returns
+    -------
+    float
+        The scale's top.
+    """
+    meshes = frames.meshes
+    gears = (frames.case.pair.gear_a, frames.case.pair.gear_b)
+    fillets = [fillet_elements(meshes[g].nodes, meshes[g].elements,
+                               np.concatenate([meshes[g].right_side, meshes[g].left_side]),
+                               gears[g].form_radius) for g in (0, 1)]
+    return stress_scale(stress, fillets)
+
+
+def _tooth_axes(fig: plt.Figure, ax_t: plt.Axes, polys: list[np.ndarray], stress: list[np.ndarray],
+                vmax: float) -> tuple[list[PolyCollection], plt.Text]:
+    """Draw the first frame's teeth on ``ax_t`` with a colour bar.
+
+    Parameters
+    ----------
+    fig, ax_t
+        The figure and its axes for the teeth.
+    polys, stress
+        The first frame's outlines and stresses, per gear.
+    vmax
+        Top of the colour scale.
+
+    Returns
+    -------
+    coll, stamp
+        The two gears' element collections and the axes' title (the time stamp).
+    """
+    coll = []
+    for g in (0, 1):
+        c = PolyCollection(polys[g], array=stress[g], cmap="viridis", clim=(0.0, vmax),
+                           edgecolor="k", linewidth=0.2)
+        ax_t.add_collection(c)
+        coll.append(c)
+    fig.colorbar(coll[0], ax=ax_t, label="von Mises stress (MPa)", shrink=0.8, extend="max")
+    xlim, ylim = frame_view(polys)
+    ax_t.set_xlim(*xlim)
+    ax_t.set_ylim(*ylim)
+    ax_t.set_aspect("equal", adjustable="datalim")
+    ax_t.set_xlabel("x (mm)")
+    ax_t.set_ylabel("y (mm)")
+    return coll, ax_t.set_title("")
+
+
+def _save_gif(fig: plt.Figure, anim: FuncAnimation, gif: Path, fps: int, n: int,
+              progress: Callable[[int, int], None] | None) -> None:
+    """Write the animation beside ``gif`` under a hidden name and rename it when whole.
+
+    Parameters
+    ----------
+    fig
+        The animation's figure, closed at the end (written or not).
+    anim
+        The animation.
+    gif
+        File to write.
+    fps
+        Frames per second.
+    n
+        The number of frames: ``progress(n + i, 2 n)`` reports frame ``i`` written.
+    progress
+        Called as the frames are written, if given.
+    """
+    tmp = gif.with_name(f".{gif.stem}.partial-{os.getpid()}{gif.suffix}")
+    try:
+        anim.save(tmp, writer=PillowWriter(fps=fps), progress_callback=None if progress is None
+                  else (lambda i, total: progress(n + i, 2 * n)))
+        tmp.replace(gif)
+    finally:
+        plt.close(fig)
+        tmp.unlink(missing_ok=True)
+
+
 def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None,
                 fps: int = 15, max_frames: int = 150,
                 progress: Callable[[int, int], None] | None = None) -> Path:
@@ -116,41 +235,16 @@ def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None
         magnify = auto_magnify(frames)
     picks = np.unique(np.linspace(0, frames.n_frames - 1, min(max_frames, frames.n_frames))
                       .round().astype(int))
-    meshes = frames.meshes
 
     # Stresses and outlines of every picked frame, and one colour scale for all.
-    polys: list[list[np.ndarray]] = []
-    stress: list[list[np.ndarray]] = []
-    for i, k in enumerate(picks):
-        if progress is not None:
-            progress(i, 2 * len(picks))
-        polys.append([frames.positions(g, k, magnify)[meshes[g].elements[:, _OUTLINE]] * 1e3
-                      for g in (0, 1)])
-        stress.append([frames.von_mises(g, k) / 1e6 for g in (0, 1)])
-    gears = (frames.case.pair.gear_a, frames.case.pair.gear_b)
-    fillets = [fillet_elements(meshes[g].nodes, meshes[g].elements,
-                               np.concatenate([meshes[g].right_side, meshes[g].left_side]),
-                               gears[g].form_radius) for g in (0, 1)]
-    vmax = stress_scale(stress, fillets)
+    polys, stress = _frame_pictures(frames, picks, magnify, progress)
+    vmax = _fillet_stress_scale(frames, stress)
     if not any(np.isfinite(p).all(axis=-1).any() for pair_ in polys for p in pair_):
         raise InputError("frame_u", "holds no finite displacements to draw")
 
     fig, (ax_t, ax_f) = plt.subplots(1, 2, figsize=(11, 5), dpi=90,
                                      gridspec_kw={"width_ratios": [1, 1.3]})
-    coll = []
-    for g in (0, 1):
-        c = PolyCollection(polys[0][g], array=stress[0][g], cmap="viridis", clim=(0.0, vmax),
-                           edgecolor="k", linewidth=0.2)
-        ax_t.add_collection(c)
-        coll.append(c)
-    fig.colorbar(coll[0], ax=ax_t, label="von Mises stress (MPa)", shrink=0.8, extend="max")
-    xlim, ylim = frame_view(polys[0])
-    ax_t.set_xlim(*xlim)
-    ax_t.set_ylim(*ylim)
-    ax_t.set_aspect("equal", adjustable="datalim")
-    ax_t.set_xlabel("x (mm)")
-    ax_t.set_ylabel("y (mm)")
-    stamp = ax_t.set_title("")
+    coll, stamp = _tooth_axes(fig, ax_t, polys[0], stress[0], vmax)
 
     draw_contact_force(ax_f, [ds], legend=False)
     ax_f.set_title(f"{ds.attrs['case_name']}: {speeds_label(ds)}, displacements x {magnify:.3g}",
@@ -175,15 +269,8 @@ def animate_run(ds: xr.Dataset, gif: str | Path, *, magnify: float | None = None
 
     anim = FuncAnimation(fig, draw, frames=len(picks), blit=False)
     gif = Path(gif)
-    tmp = gif.with_name(f".{gif.stem}.partial-{os.getpid()}{gif.suffix}")
     n = len(picks)
-    try:
-        anim.save(tmp, writer=PillowWriter(fps=fps), progress_callback=None if progress is None
-                  else (lambda i, total: progress(n + i, 2 * n)))
-        tmp.replace(gif)
-    finally:
-        plt.close(fig)
-        tmp.unlink(missing_ok=True)
+    _save_gif(fig, anim, gif, fps, n, progress)
     if progress is not None:
         progress(2 * n, 2 * n)
     return gif

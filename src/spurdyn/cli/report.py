@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Callable, Sequence
 
 from spurdyn.model.stiffness import iso_6336_stiffness, pair_stiffness
 from spurdyn.model.tooth import build_tooth
@@ -14,20 +14,38 @@ from spurdyn.solvers.check import DT_FRACTION, default_dt, stable_step
 from spurdyn.solvers.paper.statics import static_stiffness
 
 
-def pair_info(case: MeshedPair, contact: str = "point", force: float | None = None) -> dict[str, Any]:
-    """Collect the figures of ``spurdyn info`` as one JSON-ready dictionary.
+def _per(f: Callable[[str], Any]) -> dict[str, Any]:
+    """``f`` of each gear, ``{"a": f("a"), "b": f("b")}``."""
+    return {k: f(k) for k in ("a", "b")}
 
-    The pair stiffness is the one of the ``contact`` model; the Hertzian strip's depends on
-    the normal ``force`` (N) it spreads (required for ``"hertz"``).
+
+def _single_pair_stiffness(case: MeshedPair, teeth: dict[str, Any], rolls: list[float],
+                           contact: str, force: float | None
+                           ) -> tuple[Sequence[float], dict[str, float]]:
+    """The static single-pair stiffness at each of ``rolls``, and the Hertzian strip's figures.
+
+    Parameters
+    ----------
+    case
+        The meshed pair.
+    teeth
+        The two teeth (:func:`~spurdyn.model.tooth.build_tooth`), by gear.
+    rolls
+        Roll angles of A: start, single-contact start and end, end, pitch point.
+    contact
+        ``"point"`` or ``"hertz"``.
+    force
+        The normal force (N) the Hertzian strip spreads (required for ``"hertz"``).
+
+    Returns
+    -------
+    stiff
+        The stiffness (N/m) at each roll angle.
+    strip
+        The force and the strip's half-width and compliance at the pitch point (``"hertz"``),
+        or nothing.
     """
     pair = case.pair
-    teeth = {"a": build_tooth(pair.gear_a, case.nx, case.ny, case.grading, case.row_grading),
-             "b": build_tooth(pair.gear_b, case.nx, case.ny, case.grading, case.row_grading)}
-    steps = {k: t.stable_step() for k, t in teeth.items()}
-    # the stable step a run checks against and takes its default from (the run's system)
-    stable = stable_step(system_for(pair, case.nx, case.ny, RunSettings.n_spline, case.grading,
-                                    case.row_grading))
-    rolls = [pair.start_roll_a, *pair.single_contact_roll_a, pair.end_roll_a, pair.pitch_roll_a]
     if contact == "hertz":
         if force is None:
             raise ValueError("the Hertzian strip's stiffness needs the normal force")
@@ -40,32 +58,34 @@ def pair_info(case: MeshedPair, contact: str = "point", force: float | None = No
     else:
         stiff = pair_stiffness(pair, teeth["a"], teeth["b"], rolls).stiffness
         strip = {}
+    return stiff, strip
+
+
+def _geometry_figures(case: MeshedPair) -> dict[str, Any]:
+    """The pair's geometry for :func:`pair_info`: ``case`` to ``roll_angle_a_deg``."""
+    pair = case.pair
     gears = {"a": pair.gear_a, "b": pair.gear_b}
-    per = lambda f: {k: f(k) for k in ("a", "b")}  # noqa: E731
-    ka = pair.gear_a.face_width
-    iso = iso_6336_stiffness(pair)
-    iso_single, iso_mesh = iso.per_face_width(min(pair.gear_a.face_width, pair.gear_b.face_width))
     return {
         "case": case.name,
         "centre_distance_m": pair.centre_distance,
         "driver": pair.driver,
-        "teeth": per(lambda k: gears[k].teeth),
+        "teeth": _per(lambda k: gears[k].teeth),
         "module_m": pair.gear_a.module,
         "pressure_angle_deg": math.degrees(pair.gear_a.pressure_angle),
         "working_pressure_angle_deg": math.degrees(pair.working_pressure_angle),
-        "pitch_radius_m": per(lambda k: gears[k].pitch_radius),
-        "base_radius_m": per(lambda k: gears[k].base_radius),
-        "tip_radius_m": per(lambda k: gears[k].tip_radius),
-        "root_radius_m": per(lambda k: gears[k].root_radius),
-        "form_radius_m": per(lambda k: gears[k].form_radius),
-        "tip_thickness_m": per(lambda k: gears[k].tip_thickness),
-        "profile_shift": per(lambda k: gears[k].profile_shift),
-        "thickness_allowance_m": per(lambda k: gears[k].thickness_allowance),
-        "basic_rack": per(lambda k: gears[k].basic_rack.name),
-        "cutter_tip_radius_m": per(lambda k: gears[k].cutter_tip_radius),
+        "pitch_radius_m": _per(lambda k: gears[k].pitch_radius),
+        "base_radius_m": _per(lambda k: gears[k].base_radius),
+        "tip_radius_m": _per(lambda k: gears[k].tip_radius),
+        "root_radius_m": _per(lambda k: gears[k].root_radius),
+        "form_radius_m": _per(lambda k: gears[k].form_radius),
+        "tip_thickness_m": _per(lambda k: gears[k].tip_thickness),
+        "profile_shift": _per(lambda k: gears[k].profile_shift),
+        "thickness_allowance_m": _per(lambda k: gears[k].thickness_allowance),
+        "basic_rack": _per(lambda k: gears[k].basic_rack.name),
+        "cutter_tip_radius_m": _per(lambda k: gears[k].cutter_tip_radius),
         "working_pitch_radius_m": dict(zip("ab", pair.working_pitch_radii)),
-        "disk_inertia_kg_m2": per(lambda k: gears[k].disk_inertia),
-        "disk_inertia_source": per(lambda k: gears[k].inertia_source),
+        "disk_inertia_kg_m2": _per(lambda k: gears[k].disk_inertia),
+        "disk_inertia_source": _per(lambda k: gears[k].inertia_source),
         # For the sector model's back-flank contact (a later issue) and the designer.
         "backlash_circumferential_m": pair.backlash_circumferential,
         "backlash_normal_m": pair.backlash_normal,
@@ -83,15 +103,38 @@ def pair_info(case: MeshedPair, contact: str = "point", force: float | None = No
             "single_contact_end": math.degrees(pair.single_contact_roll_a[1]),
             "end_of_contact": math.degrees(pair.end_roll_a),
         },
+    }
+
+
+def pair_info(case: MeshedPair, contact: str = "point", force: float | None = None) -> dict[str, Any]:
+    """Collect the figures of ``spurdyn info`` as one JSON-ready dictionary.
+
+    The pair stiffness is the one of the ``contact`` model; the Hertzian strip's depends on
+    the normal ``force`` (N) it spreads (required for ``"hertz"``).
+    """
+    pair = case.pair
+    teeth = {"a": build_tooth(pair.gear_a, case.nx, case.ny, case.grading, case.row_grading),
+             "b": build_tooth(pair.gear_b, case.nx, case.ny, case.grading, case.row_grading)}
+    steps = {k: t.stable_step() for k, t in teeth.items()}
+    # the stable step a run checks against and takes its default from (the run's system)
+    stable = stable_step(system_for(pair, case.nx, case.ny, RunSettings.n_spline, case.grading,
+                                    case.row_grading))
+    rolls = [pair.start_roll_a, *pair.single_contact_roll_a, pair.end_roll_a, pair.pitch_roll_a]
+    stiff, strip = _single_pair_stiffness(case, teeth, rolls, contact, force)
+    ka = pair.gear_a.face_width
+    iso = iso_6336_stiffness(pair)
+    iso_single, iso_mesh = iso.per_face_width(min(pair.gear_a.face_width, pair.gear_b.face_width))
+    return {
+        **_geometry_figures(case),
         "mesh": {"nx": case.nx, "ny": case.ny, "grading": case.grading,
                  "row_grading": case.row_grading,
-                 "fillet_rows": per(lambda k: teeth[k].mesh.fillet_rows),
-                 "nodes": per(lambda k: teeth[k].mesh.n_nodes),
-                 "elements": per(lambda k: teeth[k].mesh.n_elements)},
+                 "fillet_rows": _per(lambda k: teeth[k].mesh.fillet_rows),
+                 "nodes": _per(lambda k: teeth[k].mesh.n_nodes),
+                 "elements": _per(lambda k: teeth[k].mesh.n_elements)},
         # A gear's degrees of freedom: its disk's rotation and two per tooth node.
-        "n_dof": per(lambda k: teeth[k].mesh.n_dof + 1),
-        "tooth_mass_kg": per(lambda k: teeth[k].tooth_mass),
-        "omega_max_rad_s": per(lambda k: steps[k].omega_max),
+        "n_dof": _per(lambda k: teeth[k].mesh.n_dof + 1),
+        "tooth_mass_kg": _per(lambda k: teeth[k].tooth_mass),
+        "omega_max_rad_s": _per(lambda k: steps[k].omega_max),
         "stable_dt_s": stable,
         "stable_dt_central_s": min(s.dt_central for s in steps.values()),
         "paper_dt_stable": stable >= PAPER_DT,

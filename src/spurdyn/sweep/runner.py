@@ -163,6 +163,115 @@ def points_to_compute(plan: SweepPlan) -> list[PointKey]:
     return _stored_and_todo(plan)[1]
 
 
+def _point_stream(plan: SweepPlan, backend: Backend, tasks: list[PointTask],
+                  records: dict[PointKey, dict[str, Any]], fn: PointFn
+                  ) -> Iterator[tuple[PointTask, PointOutcome | None, str]]:
+    """The points' outcomes as they finish: a continuation's chains in this process
+    (:func:`_chain`), the others on ``backend`` (nothing when there are no tasks)."""
+    if plan.continuation is not None:
+        return _chain(plan, tasks, records, fn)
+    return backend.run(tasks, fn) if tasks else iter(())
+
+
+def _take_points(stream_: Iterator[tuple[PointTask, PointOutcome | None, str]], backend: Backend,
+                 out: Path, settings: dict[str, Any], cost: dict[PointKey, int], bar: SweepProgress,
+                 signals_before: int, records: dict[PointKey, dict[str, Any]]
+                 ) -> tuple[set[PointKey], dict[PointKey, str], bool, str]:
+    """Write each point the moment it finishes, until the stream ends or the sweep stops.
+
+    Parameters
+    ----------
+    stream_
+        The points' outcomes (:func:`_point_stream`); closed at the end.
+    backend
+        Cancelled if the sweep stops early.
+    out
+        The sweep's folder.
+    settings
+        The case's settings stored with each point.
+    cost
+        Each point's expected steps (the bar's weights).
+    bar
+        The progress bar, closed at the end.
+    signals_before
+        :attr:`Interrupts.count` before the points started.
+    records
+        The points' records, by key: each point written is added.
+
+    Returns
+    -------
+    finished
+        The points written.
+    missing
+        The points that did not run, with why (as the stream said).
+    interrupted
+        Ctrl-C (or a stop signal) stopped the sweep.
+    stopped
+        Why the sweep stopped otherwise ("" if it did not).
+    """
+    finished: set[PointKey] = set()
+    missing: dict[PointKey, str] = {}
+    interrupted, stopped = False, ""
+    try:
+        for task, outcome, note in stream_:
+            if outcome is None:
+                missing[task.key] = note or "not run"
+                continue
+            with Interrupts.held():
+                write_point(out, outcome, settings)
+                if outcome.result is not None:
+                    write_run_folder(out, task.key, task.case, outcome.result)
+                records[task.key] = point_record(_without_result(outcome))
+                finished.add(task.key)
+            bar.update(cost[task.key], outcome.status == COMPLETE)
+            if outcome.status != COMPLETE:
+                bar.write(f"spurdyn: {_describe(task.key)}: {outcome.status}: {outcome.reason}")
+            if Interrupts.count != signals_before:  # a stop signal came while writing
+                raise KeyboardInterrupt
+    except KeyboardInterrupt:
+        interrupted = True
+        backend.cancel()
+    except (Exception, asyncio.CancelledError) as err:  # noqa: BLE001 - the cluster failed
+        stopped = short_error(err)
+        backend.cancel()
+    finally:
+        bar.close()
+        close = getattr(stream_, "close", None)
+        if close is not None:
+            close()
+    return finished, missing, interrupted, stopped
+
+
+def _mark_missing(tasks: list[PointTask], finished: set[PointKey], missing: dict[PointKey, str],
+                  records: dict[PointKey, dict[str, Any]], interrupted: bool, stopped: str) -> None:
+    """Mark each task neither finished nor missing yet as missing, with why the sweep
+    stopped, and drop the old unfinished records of the missing points (they give way to
+    ``not_run``); ``missing`` and ``records`` are changed in place."""
+    for task in tasks:
+        if task.key not in finished and task.key not in missing:
+            missing[task.key] = (Interrupts.stopped() if interrupted else
+                                 f"sweep stopped: {stopped}" if stopped else "not run")
+    for key in missing:  # an old failed record gives way to "not run"
+        if key in records and records[key]["status"] not in FINAL:
+            del records[key]
+
+
+def _write_results(plan: SweepPlan, records: dict[PointKey, dict[str, Any]],
+                   missing: dict[PointKey, str], resonance: ResonanceEstimate
+                   ) -> tuple[xr.Dataset, tuple[Path, Path, Path]]:
+    """Assemble and write ``sweep_<model>.nc``, ``sweep.nc`` and the picture, held against
+    Ctrl-C; the dataset and the three files."""
+    out = plan.out
+    with Interrupts.held():
+        ds = sweep_dataset(plan, records, missing, extra_attrs=resonance.attrs())
+        own, combined = write_sweep_files(out, ds)
+        png = out / PNG_FILE
+        from spurdyn.sweep.plot import plot_sweep_folder
+
+        plot_sweep_folder(out, png, resonance)
+    return ds, (own, combined, png)
+
+
 def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate | None = None,
               progress: bool = True, point_fn: PointFn | None = None,
               stream: TextIO | None = None) -> SweepReport:
@@ -204,59 +313,15 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
 
     bar = SweepProgress(f"{plan.model} sweep", sum(cost.values()), len(tasks),
                         enabled=progress, stream=stream)
-    finished: set[PointKey] = set()
-    missing: dict[PointKey, str] = {}
-    interrupted, stopped = False, ""
     signals_before = Interrupts.count
-    if plan.continuation is not None:
-        stream_ = _chain(plan, tasks, records, fn)
-    else:
-        stream_ = backend.run(tasks, fn) if tasks else iter(())
-    try:
-        for task, outcome, note in stream_:
-            if outcome is None:
-                missing[task.key] = note or "not run"
-                continue
-            with Interrupts.held():
-                write_point(out, outcome, settings)
-                if outcome.result is not None:
-                    write_run_folder(out, task.key, task.case, outcome.result)
-                records[task.key] = point_record(_without_result(outcome))
-                finished.add(task.key)
-            bar.update(cost[task.key], outcome.status == COMPLETE)
-            if outcome.status != COMPLETE:
-                bar.write(f"spurdyn: {_describe(task.key)}: {outcome.status}: {outcome.reason}")
-            if Interrupts.count != signals_before:  # a stop signal came while writing
-                raise KeyboardInterrupt
-    except KeyboardInterrupt:
-        interrupted = True
-        backend.cancel()
-    except (Exception, asyncio.CancelledError) as err:  # noqa: BLE001 - the cluster failed
-        stopped = short_error(err)
-        backend.cancel()
-    finally:
-        bar.close()
-        close = getattr(stream_, "close", None)
-        if close is not None:
-            close()
-    for task in tasks:
-        if task.key not in finished and task.key not in missing:
-            missing[task.key] = (Interrupts.stopped() if interrupted else
-                                 f"sweep stopped: {stopped}" if stopped else "not run")
-    for key in missing:  # an old failed record gives way to "not run"
-        if key in records and records[key]["status"] not in FINAL:
-            del records[key]
-
-    with Interrupts.held():
-        ds = sweep_dataset(plan, records, missing, extra_attrs=resonance.attrs())
-        own, combined = write_sweep_files(out, ds)
-        png = out / PNG_FILE
-        from spurdyn.sweep.plot import plot_sweep_folder
-
-        plot_sweep_folder(out, png, resonance)
+    stream_ = _point_stream(plan, backend, tasks, records, fn)
+    finished, missing, interrupted, stopped = _take_points(
+        stream_, backend, out, settings, cost, bar, signals_before, records)
+    _mark_missing(tasks, finished, missing, records, interrupted, stopped)
+    ds, files = _write_results(plan, records, missing, resonance)
     return SweepReport(plan=plan, dataset=ds, computed=len(finished),
                        reused=len(keys) - len(tasks), counts=statuses(ds),
-                       interrupted=interrupted, stopped=stopped, files=(own, combined, png),
+                       interrupted=interrupted, stopped=stopped, files=files,
                        wall_s=time.perf_counter() - t0)
 
 

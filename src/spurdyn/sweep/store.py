@@ -162,6 +162,91 @@ def _status_attrs() -> dict[str, Any]:
             "flag_meanings": " ".join(STATUS_CODES), "legend": STATUS_LEGEND}
 
 
+def _point_grids(plan: SweepPlan, records: Mapping[PointKey, Mapping[str, Any]],
+                 missing_reason: Mapping[PointKey, str]
+                 ) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
+    """The points' figures, status codes and reasons on the ``(rpm, torque)`` grid.
+
+    Parameters
+    ----------
+    plan
+        The sweep (its grids).
+    records
+        Point records by key.
+    missing_reason
+        Why a point without a record was not run.
+
+    Returns
+    -------
+    values
+        Each of :data:`FIGURES`, NaN where a point has none.
+    status
+        The int8 codes (:data:`STATUS_CODES`), ``not_run`` where a point has no record.
+    reason
+        Why a point is not complete ("" when it is), as objects.
+    """
+    shape = (len(plan.rpms), len(plan.torque_values))
+    values = {name: np.full(shape, np.nan) for name in FIGURES}
+    status = np.full(shape, STATUS_CODES[NOT_RUN], np.int8)
+    reason = np.full(shape, "", dtype=object)
+    for key in plan.keys():
+        i, j = plan.rpms.index(key.rpm), plan.torque_values.index(key.torque)
+        record = records.get(key)
+        if record is None:
+            reason[i, j] = missing_reason.get(key, "not computed yet")
+            continue
+        status[i, j] = STATUS_CODES[record["status"]]
+        reason[i, j] = record.get("reason") or ""
+        for name in FIGURES:
+            v = record.get(name)
+            if v is not None:
+                values[name][i, j] = float(v)
+    return values, status, reason
+
+
+def _figure_variables(values: dict[str, np.ndarray], status: np.ndarray, reason: np.ndarray
+                      ) -> dict[str, Any]:
+    """The data set's variables of :data:`FIGURES` (whole numbers -1 where a point has no
+    result), ``status`` and ``reason``, over ``("rpm", "torque")``."""
+    separations = np.where(np.isfinite(values["separations"]), values["separations"], -1)
+    data_vars: dict[str, Any] = {}
+    for name, (units, long_name) in FIGURES.items():
+        data = separations.astype(np.int32) if name == "separations" else \
+            (np.where(np.isfinite(values["steps"]), values["steps"], -1).astype(np.int64)
+             if name == "steps" else values[name])
+        attrs = {"units": units, "long_name": long_name}
+        if name in ("separations", "steps"):
+            attrs["missing_value_note"] = "-1 where the point has no result"
+        data_vars[name] = (("rpm", "torque"), data, attrs)
+    data_vars["status"] = (("rpm", "torque"), status, _status_attrs())
+    data_vars["reason"] = (("rpm", "torque"), reason.astype(str),
+                           {"long_name": "why the point is not complete (empty when it is)"})
+    return data_vars
+
+
+def _sweep_attrs(plan: SweepPlan, points: int, teeth_a: int) -> dict[str, Any]:
+    """The data set's global attributes: the case, the model, its settings and hash, the
+    headline's note, the version and the time made (UTC); ``points`` on the grid."""
+    from spurdyn.version import __version__
+
+    return {
+        "title": f"spurdyn speed sweep: {plan.case.name} ({plan.model})",
+        "source": "spurdyn (Lee & Jang dynamic contact analysis of spur gears)",
+        "case_name": plan.case.name,
+        "model": plan.model,
+        "settings_hash": plan.settings,
+        "settings": json.dumps(_clean(settings_dict(plan.case)), sort_keys=True),
+        "speed_ratio_b_to_a": float(plan.case.run.speed_b / plan.case.run.speed_a),
+        "teeth_a": teeth_a,
+        "torque_dimension": int(plan.torques is not None),
+        "points": points,
+        "status_legend": STATUS_LEGEND,
+        **headline_attrs(),
+        "spurdyn_version": __version__,
+        "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+    }
+
+
 def sweep_dataset(plan: SweepPlan, records: Mapping[PointKey, Mapping[str, Any]],
                   missing_reason: Mapping[PointKey, str] | None = None,
                   extra_attrs: Mapping[str, Any] | None = None) -> xr.Dataset:
@@ -189,35 +274,8 @@ def sweep_dataset(plan: SweepPlan, records: Mapping[PointKey, Mapping[str, Any]]
     """
     missing_reason = missing_reason or {}
     rpms, torques = np.asarray(plan.rpms, float), np.asarray(plan.torque_values, float)
-    shape = (rpms.size, torques.size)
-    values = {name: np.full(shape, np.nan) for name in FIGURES}
-    status = np.full(shape, STATUS_CODES[NOT_RUN], np.int8)
-    reason = np.full(shape, "", dtype=object)
-    for key in plan.keys():
-        i, j = plan.rpms.index(key.rpm), plan.torque_values.index(key.torque)
-        record = records.get(key)
-        if record is None:
-            reason[i, j] = missing_reason.get(key, "not computed yet")
-            continue
-        status[i, j] = STATUS_CODES[record["status"]]
-        reason[i, j] = record.get("reason") or ""
-        for name in FIGURES:
-            v = record.get(name)
-            if v is not None:
-                values[name][i, j] = float(v)
-    separations = np.where(np.isfinite(values["separations"]), values["separations"], -1)
-    data_vars: dict[str, Any] = {}
-    for name, (units, long_name) in FIGURES.items():
-        data = separations.astype(np.int32) if name == "separations" else \
-            (np.where(np.isfinite(values["steps"]), values["steps"], -1).astype(np.int64)
-             if name == "steps" else values[name])
-        attrs = {"units": units, "long_name": long_name}
-        if name in ("separations", "steps"):
-            attrs["missing_value_note"] = "-1 where the point has no result"
-        data_vars[name] = (("rpm", "torque"), data, attrs)
-    data_vars["status"] = (("rpm", "torque"), status, _status_attrs())
-    data_vars["reason"] = (("rpm", "torque"), reason.astype(str),
-                           {"long_name": "why the point is not complete (empty when it is)"})
+    values, status, reason = _point_grids(plan, records, missing_reason)
+    data_vars = _figure_variables(values, status, reason)
     from spurdyn.sweep.resonance import iso_kv_grid
 
     kv = iso_kv_grid(plan.case, rpms, torques)
@@ -232,24 +290,7 @@ def sweep_dataset(plan: SweepPlan, records: Mapping[PointKey, Mapping[str, Any]]
         "mesh_frequency": ("rpm", teeth_a * rpms / 60.0,
                            {"units": "Hz", "long_name": "tooth mesh frequency z_a rpm / 60"}),
     }
-    from spurdyn.version import __version__
-
-    attrs: dict[str, Any] = {
-        "title": f"spurdyn speed sweep: {plan.case.name} ({plan.model})",
-        "source": "spurdyn (Lee & Jang dynamic contact analysis of spur gears)",
-        "case_name": plan.case.name,
-        "model": plan.model,
-        "settings_hash": plan.settings,
-        "settings": json.dumps(_clean(settings_dict(plan.case)), sort_keys=True),
-        "speed_ratio_b_to_a": float(plan.case.run.speed_b / plan.case.run.speed_a),
-        "teeth_a": teeth_a,
-        "torque_dimension": int(plan.torques is not None),
-        "points": int(rpms.size * torques.size),
-        "status_legend": STATUS_LEGEND,
-        **headline_attrs(),
-        "spurdyn_version": __version__,
-        "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
-    }
+    attrs = _sweep_attrs(plan, int(rpms.size * torques.size), teeth_a)
     attrs.update(extra_attrs or {})
     ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
     if plan.torques is None:

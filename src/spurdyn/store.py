@@ -91,13 +91,19 @@ def load(key: str) -> dict[str, NDArray[Any]] | None:
     try:
         with np.load(path, allow_pickle=False) as entry:
             arrays = {name: entry[name] for name in entry.files}
-        os.utime(path)
-        return arrays
     except FileNotFoundError:
         return None
     except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
-        path.unlink(missing_ok=True)
+        try:
+            path.unlink(missing_ok=True)
+        except OSError:
+            pass                        # a store this process may read but not change
         return None
+    try:
+        os.utime(path)                  # read now: dropped last
+    except OSError:
+        pass
+    return arrays
 
 
 def save(key: str, **arrays: NDArray[Any]) -> None:

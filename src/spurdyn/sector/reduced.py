@@ -83,14 +83,20 @@ class ReducedGear:
         return self.phi[self.block.flank_dofs(k, side)]
 
     def static_response(self, k: int, side: int = 0) -> NDArray[np.float64]:
-        """``K^-1 E_k``: the held body's response to unit loads on tooth ``k``'s flank DOFs."""
+        """``K^-1 E_k``: the held body's response to unit loads on tooth ``k``'s flank DOFs
+        (from the mode store when a run before solved for it)."""
         key = (self.block.tooth(k), side)
         if key not in self._resp:
             blk = self.block
             dofs = blk.flank_dofs(k, side)
-            rhs = np.zeros((blk.mass.size, dofs.size))
-            rhs[dofs, np.arange(dofs.size)] = 1.0
-            self._resp[key] = blk.body.solve_free(rhs)
+            name = store.digest("static", _revision(blk), blk.stiffness, dofs)
+            found = store.load(name)
+            if found is None:
+                rhs = np.zeros((blk.mass.size, dofs.size))
+                rhs[dofs, np.arange(dofs.size)] = 1.0
+                found = {"response": blk.body.solve_free(rhs)}
+                store.save(name, **found)
+            self._resp[key] = found["response"]
         return self._resp[key]
 
     def residual(self, i: int, j: int) -> NDArray[np.float64]:

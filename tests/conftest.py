@@ -37,8 +37,9 @@ def loaded():
     return st
 
 
-#: Where the run's mode store is (the controller's stash).
-_STORE = pytest.StashKey[str]()
+#: Where the run's mode store is, and the variables it set as they were (the controller's stash).
+_STORE = pytest.StashKey[tuple]()
+_STORE_VARIABLES = ("SPURDYN_MODE_CACHE", "SPURDYN_MODE_CACHE_SIZE")
 
 
 def pytest_configure(config):
@@ -48,14 +49,24 @@ def pytest_configure(config):
     if hasattr(config, "workerinput"):
         return
     folder = tempfile.mkdtemp(prefix="spurdyn-modes-")
-    config.stash[_STORE] = folder
+    config.stash[_STORE] = (folder, {k: os.environ.get(k) for k in _STORE_VARIABLES})
     os.environ["SPURDYN_MODE_CACHE"] = folder
+    # a run's modes take a few hundred MB; /tmp may be memory
+    os.environ["SPURDYN_MODE_CACHE_SIZE"] = "1000"
 
 
 def pytest_unconfigure(config):
-    folder = config.stash.get(_STORE, None)
-    if folder is not None:
-        shutil.rmtree(folder, ignore_errors=True)
+    """The run's store removed, the variables as they were (pytest run in-process)."""
+    found = config.stash.get(_STORE, None)
+    if found is None:
+        return
+    folder, before = found
+    shutil.rmtree(folder, ignore_errors=True)
+    for k, value in before.items():
+        if value is None:
+            os.environ.pop(k, None)
+        else:
+            os.environ[k] = value
 
 
 def _shares_a_fixture(item: pytest.Item) -> bool:

@@ -134,3 +134,44 @@ def test_a_flanks_static_response_read_back_is_the_solved_one(folder, block, mon
     monkeypatch.setattr(type(block.body), "solve_free", lambda self, rhs: pytest.fail("solved again"))
     again = read.static_response(1, 1)
     assert again.dtype == solved.dtype and np.array_equal(again, solved)
+
+
+@pytest.mark.parametrize("variable, value", [("SPURDYN_MODE_CACHE_SIZE", "abc"),
+                                             ("SPURDYN_MODE_CACHE_SIZE", "-1"),
+                                             ("SPURDYN_MODE_CACHE_SIZE", "inf")])
+def test_a_bad_store_size_is_refused_in_one_line(folder, monkeypatch, capsys, variable, value):
+    from spurdyn.cli.main import main
+
+    monkeypatch.setenv(variable, value)
+    assert main(["cache"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and variable in err[0] and "Traceback" not in err[0]
+
+
+def test_a_store_that_is_a_file_is_refused_in_one_line(tmp_path, monkeypatch, capsys):
+    from spurdyn.cli.main import main
+
+    path = tmp_path / "modes"
+    path.write_text("not a folder")
+    monkeypatch.setenv("SPURDYN_MODE_CACHE", str(path))
+    assert main(["cache"]) == 2
+    (err,) = capsys.readouterr().err.strip().splitlines()
+    assert "SPURDYN_MODE_CACHE" in err and "not a folder" in err
+
+
+def test_a_write_that_fails_leaves_nothing_behind(folder, monkeypatch):
+    def full_disk(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", full_disk)
+    store.save("k", x=np.zeros(10))
+    assert list(folder.iterdir()) == []
+
+
+def test_an_entry_is_readable_by_whoever_may_read_the_folder(folder):
+    old = os.umask(0o022)
+    try:
+        store.save("k", x=np.zeros(10))
+    finally:
+        os.umask(old)
+    assert (folder / "k.npz").stat().st_mode & 0o777 == 0o644

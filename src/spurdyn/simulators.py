@@ -232,7 +232,11 @@ class SectorEntry(ModelEntry):
     for ``settings.cycles`` mesh cycles (:func:`spurdyn.solvers.sector.run.simulate_sector`)."""
 
     def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
-        """Given the ``pair``, fewer ``teeth`` than the run meets."""
+        """A mode store the environment describes wrongly (:func:`spurdyn.store.check`);
+        given the ``pair``, fewer ``teeth`` than the run meets."""
+        from spurdyn import store
+
+        store.check()
         if pair is None or settings.teeth is None:
             return
         from spurdyn.sector.rules import back_flanks_on, cover_cycles

@@ -17,7 +17,10 @@ its size in MB (default :data:`DEFAULT_SIZE_MB`).
 from __future__ import annotations
 
 import hashlib
+import inspect
+import math
 import os
+import platform
 import sys
 import tempfile
 import time
@@ -28,6 +31,9 @@ from typing import Any
 import numpy as np
 import scipy
 from numpy.typing import NDArray
+from threadpoolctl import threadpool_info
+
+from spurdyn.errors import InputError
 
 #: The store's default size (MB): the modes of the paper's whole gear on its default mesh
 #: take about 50 MB, a 19/53 design pair's a few hundred.
@@ -38,20 +44,50 @@ OFF = "off"
 
 def cache_base() -> Path:
     """spurdyn's cache folder: ``SPURDYN_CACHE_DIR`` or ``~/.cache/spurdyn``."""
-    return Path(os.environ.get("SPURDYN_CACHE_DIR") or Path.home() / ".cache" / "spurdyn")
+    return Path(os.environ.get("SPURDYN_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "spurdyn"))
 
 
 def store_folder() -> Path | None:
-    """The mode store's folder (module docstring), None when it is off."""
+    """The mode store's folder (module docstring), None when it is off.
+
+    Raises
+    ------
+    InputError
+        ``SPURDYN_MODE_CACHE`` names something that is not a folder.
+    """
     chosen = os.environ.get("SPURDYN_MODE_CACHE", "")
     if chosen.strip().lower() == OFF:
         return None
-    return Path(chosen) if chosen else cache_base() / "modes"
+    folder = Path(chosen) if chosen else cache_base() / "modes"
+    if folder.exists() and not folder.is_dir():
+        raise InputError("SPURDYN_MODE_CACHE", f"{folder} is not a folder: name a folder, or "
+                         f"'{OFF}' to keep no modes on disk")
+    return folder
 
 
 def store_size() -> int:
-    """The store's size in bytes (``SPURDYN_MODE_CACHE_SIZE`` MB)."""
-    return int(float(os.environ.get("SPURDYN_MODE_CACHE_SIZE") or DEFAULT_SIZE_MB) * 1e6)
+    """The store's size in bytes (``SPURDYN_MODE_CACHE_SIZE`` MB).
+
+    Raises
+    ------
+    InputError
+        ``SPURDYN_MODE_CACHE_SIZE`` is not a number of MB, 0 or more.
+    """
+    given = os.environ.get("SPURDYN_MODE_CACHE_SIZE") or str(DEFAULT_SIZE_MB)
+    try:
+        size = float(given)
+    except ValueError:
+        size = math.nan
+    if not (math.isfinite(size) and size >= 0.0):
+        raise InputError("SPURDYN_MODE_CACHE_SIZE", f"must be a number of MB, 0 or more (got {given!r})")
+    return int(size * 1e6)
+
+
+def check() -> None:
+    """Refuse a store the environment describes wrongly (:func:`store_folder`,
+    :func:`store_size`), before a run computes anything."""
+    if store_folder() is not None:
+        store_size()
 
 
 def digest(*parts: Any) -> str:
@@ -73,11 +109,18 @@ def digest(*parts: Any) -> str:
 
 
 def code_revision(*modules: str) -> str:
-    """A digest of the sources of the named modules and of NumPy's and SciPy's versions:
-    what decides an entry's last bits besides its inputs."""
-    h = hashlib.sha256(f"numpy {np.__version__} scipy {scipy.__version__}".encode())
+    """A digest of the sources of the named modules, NumPy's and SciPy's versions, the BLAS
+    libraries and the machine's architecture: what decides an entry's last bits besides its
+    inputs."""
+    h = hashlib.sha256(f"numpy {np.__version__} scipy {scipy.__version__} {platform.machine()}".encode())
+    for lib in threadpool_info():
+        h.update(repr([lib.get(k) for k in ("internal_api", "version", "architecture", "num_threads")]).encode())
     for name in modules:
-        h.update(Path(sys.modules[name].__file__ or "").read_bytes())
+        module = sys.modules[name]
+        try:
+            h.update(Path(module.__file__ or "").read_bytes())
+        except OSError:
+            h.update(inspect.getsource(module).encode())
     return h.hexdigest()
 
 
@@ -91,9 +134,9 @@ def load(key: str) -> dict[str, NDArray[Any]] | None:
     try:
         with np.load(path, allow_pickle=False) as entry:
             arrays = {name: entry[name] for name in entry.files}
-    except FileNotFoundError:
-        return None
-    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+    except OSError:
+        return None                     # absent, or not ours to read: leave it
+    except (ValueError, EOFError, KeyError, zipfile.BadZipFile):
         try:
             path.unlink(missing_ok=True)
         except OSError:
@@ -112,15 +155,36 @@ def save(key: str, **arrays: NDArray[Any]) -> None:
     folder = store_folder()
     if folder is None:
         return
+    size = store_size()
     try:
         folder.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=folder, suffix=".part")
-        with os.fdopen(fd, "wb") as out:
-            np.savez(out, **arrays)
-        os.replace(tmp, folder / f"{key}.npz")
     except OSError:
         return
-    prune(folder, store_size())
+    try:
+        with os.fdopen(fd, "wb") as out:
+            np.savez(out, **arrays)
+        # readable by whoever may read the folder, as a file written with open() would be
+        os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, folder / f"{key}.npz")
+    except BaseException as err:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        if isinstance(err, OSError):
+            return                      # a full disk or a folder not ours: keep computing
+        raise
+    try:
+        prune(folder, size)
+    except OSError:
+        pass                            # another process's entries: its own prune keeps them
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def entries(folder: Path) -> list[Path]:
@@ -147,10 +211,14 @@ def prune(folder: Path, size: int) -> None:
                 part.unlink(missing_ok=True)
         except FileNotFoundError:
             pass
-    listed = entries(folder)
-    sizes = [p.stat().st_size if p.exists() else 0 for p in listed]
-    total = sum(sizes)
-    for path, bytes_ in zip(listed, sizes):
+    listed = []
+    for path in entries(folder):
+        try:
+            listed.append((path, path.stat().st_size))
+        except FileNotFoundError:
+            pass                        # dropped by another process meanwhile
+    total = sum(bytes_ for _, bytes_ in listed)
+    for path, bytes_ in listed:
         if total <= size:
             break
         path.unlink(missing_ok=True)
@@ -162,11 +230,15 @@ def clear() -> int:
     folder = store_folder()
     if folder is None or not folder.is_dir():
         return 0
-    listed = entries(folder)
-    for path in listed:
-        path.unlink(missing_ok=True)
-    return len(listed)
+    removed = 0
+    for path in entries(folder):
+        try:
+            path.unlink()
+            removed += 1
+        except OSError:
+            pass                        # gone meanwhile, or not ours to remove
+    return removed
 
 
-__all__ = ["DEFAULT_SIZE_MB", "OFF", "cache_base", "clear", "code_revision", "digest", "entries",
+__all__ = ["DEFAULT_SIZE_MB", "OFF", "cache_base", "check", "clear", "code_revision", "digest", "entries",
            "load", "prune", "save", "store_folder", "store_size"]

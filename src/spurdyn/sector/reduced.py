@@ -174,8 +174,8 @@ def _reduce(block: GearBlock, target: float, loads: NDArray[np.float64]) -> dict
     return {"phi": phi, "omega2": w2r, "coupling": phi.T @ (block.mass * block.rot)}
 
 
-#: The held bodies' modes the last runs of this process computed, by a digest of the body:
-#: the two gears of a pair of equal gears share theirs.
+#: The held body's modes this process computed last, by a digest of the body: the two gears
+#: of a pair of equal gears share theirs.
 _HELD: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
 
 
@@ -183,8 +183,7 @@ def _held_modes(block: GearBlock, target: float) -> tuple[NDArray[np.float64], N
     """The held body's ``omega^2`` below ``target`` and their modes (shift-invert Lanczos)."""
     key = store.digest("held", _revision(block), block.stiffness, block.mass, target)
     if key not in _HELD:
-        if len(_HELD) >= 2:
-            _HELD.pop(next(iter(_HELD)))
+        _HELD.clear()                   # one body's at a time: a few hundred MB on a design pair
         _HELD[key] = _lanczos(block, target)
     return _HELD[key]
 

@@ -24,27 +24,10 @@ from spurdyn.cli import run as runner
 from spurdyn.signals import Interrupts
 from spurdyn.settings import MAX_ACCEL_LEVELS
 from spurdyn.solvers.paper.iteration_numpy import coefficients
-from cli_helpers import check_run_folder, leftovers, run
+from cli_helpers import check_run_folder, fake, here, leftovers, run  # noqa: F401 (fixtures)
 from run_helpers import fake_simulate
 
 SHORT = ["--angle", "0.3"]
-
-
-@pytest.fixture
-def fake(monkeypatch):
-    options: dict = {}
-
-    def simulate(pair, case, progress=None):
-        return fake_simulate(pair, case, progress, **options)
-
-    monkeypatch.setattr(runner, "load_simulate", lambda model="fe": simulate)
-    return options
-
-
-@pytest.fixture
-def here(tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
 
 
 # -- signals -----------------------------------------------------------------------------

@@ -95,6 +95,7 @@ def breakdown(reps: int) -> dict[str, float]:
     from spurdyn.contact import search_compiled as sc_
     from spurdyn.solvers.paper import dynamics_compiled as k
     from spurdyn.solvers.paper import response_compiled as rc
+    from spurdyn.solvers.layout import SparseWork
     from spurdyn.solvers.paper import step_compiled as fs
     from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
     from spurdyn.settings import RPM, RunSettings
@@ -129,13 +130,14 @@ def breakdown(reps: int) -> dict[str, float]:
         tch, nz = np.empty(n // 2, dtype=np.int64), np.empty(n // 2, dtype=np.int64)
         zu, a3, a4 = np.zeros(n), np.zeros(n), np.zeros(n)
         for _ in range(N):
-            rc.response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, 0, m, Wq, Wv, sc, mk, tch, nz, zu, a3, a4)
+            rc.response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, S.gth, 0, m, Wq, Wv,
+                                SparseWork(sc, mk, tch, nz, zu, a3, a4))
 
     @njit
     def t_superpose(N, P, S, h):
         pred = rc.predict(P, S, h)
         for _ in range(N):
-            rc.superpose(P, S, h, pred, S.x, S.cn, S.cw, S.normal, True)
+            rc.superpose(P, S, h, pred, S.x, S.cn, S.cw, S.normal, S.gth, True)
 
     @njit
     def t_search(N, P, S, nd):

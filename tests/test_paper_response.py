@@ -9,6 +9,7 @@ import numpy as np
 from spurdyn.solvers.paper import dynamics_compiled as dyn_c
 from spurdyn.solvers.paper import response_compiled as resp_c
 from spurdyn.solvers.paper import dynamics_numpy as dyn_np
+from spurdyn.solvers.layout import SparseWork
 
 from twin_helpers import (  # noqa: F401
     EPS, JZ, Loaded, elastic_np, tangent_np, q_bound, node_size, cross_size, worst, rigid_plus_noise, _synthetic_contact, _gram_ref, ROLLING,
@@ -87,8 +88,8 @@ def test_z_and_response_columns_match_the_rk4_response_formula(loaded):
     Wq, Wv = np.zeros((R, m)), np.zeros((R, m))
     scratch, touched, acc3, acc4 = np.zeros(n), np.empty(nn, np.int64), np.zeros(n), np.zeros(n)
     zu = np.zeros(n)
-    resp_c.response_columns(P, h, pred, S.theta, cn, cw, c.normal, st.gth(c), 0, m, Wq, Wv, scratch, mark, touched,
-                       nz, zu, acc3, acc4)
+    resp_c.response_columns(P, h, pred, S.theta, cn, cw, c.normal, st.gth(c), 0, m, Wq, Wv,
+                            SparseWork(scratch, mark, touched, nz, zu, acc3, acc4))
     assert not (scratch.any() or mark.any() or zu.any() or acc3.any() or acc4.any())
     rows = np.concatenate([[0, 1], 2 + np.ravel(np.column_stack([2 * rel, 2 * rel + 1]))])
     mass = np.concatenate([[P.J[0], P.J[1]], P.mass])

@@ -80,6 +80,12 @@ CP = namedtuple("ContactColumns", ("alpha", "beta", "mode", "s", "p_held", "half
 Prediction = namedtuple("Prediction", ["qs_th", "qs_u", "vs_th", "vs_u", "q3th", "w3", "kw3",
                                        "q4th", "w4", "kw4", "sl3", "sl4"])
 
+#: The sparse response's workspace, made once a step and left clean by each use
+#: (:func:`~spurdyn.solvers.paper.response_compiled.response_columns`): ``scratch``, ``zu``,
+#: ``acc3``, ``acc4`` a vector of the teeth's DOFs each, ``mark`` a flag a node, ``touched``
+#: and ``nz_nodes`` lists of nodes.
+SparseWork = namedtuple("SparseWork", ["scratch", "mark", "touched", "nz_nodes", "zu", "acc3", "acc4"])
+
 #: What the compiled implicit step reads besides :class:`Packed` (docs/implicit.md):
 #: ``h``, the generalized-alpha coefficients ``am``, ``af``, ``beta``, ``gamma`` and
 #: ``bp = beta'``, ``gp = gamma'``; ``mq`` the masses of ``q = [theta, u]``; the teeth's

@@ -79,17 +79,19 @@ def sparse_tangent(P, th, w, kw, zu, nz_nodes, nnz, scratch, mark, touched, out_
 
 
 @njit
-def _response_full(P, th3, w3, kw3, th4, w4, kw4, sl3, sl4, zth, zu, nz_nodes, nnz, scratch,
-                   mark, touched, t3th, t3u, t4th, t4u, want4):
-    """``T3 Z`` (and ``T4 Z`` if ``want4``) as full vectors for ``Z = (zth, zu)``."""
+def _response_full(P, pred, zth, zu, nz_nodes, nnz, scratch, mark, touched, t3th, t3u, t4th, t4u,
+                   want4):
+    """``T3 Z`` (and ``T4 Z`` if ``want4``) as full vectors for ``Z = (zth, zu)``, the
+    tangents those of the prediction ``pred``."""
     t3u[:] = 0.0
     t4u[:] = 0.0
     for g in range(2):
-        t3th[g] = zth[g] * sl3[g]
-        t4th[g] = zth[g] * sl4[g]
-    sparse_tangent(P, th3, w3, kw3, zu, nz_nodes, nnz, scratch, mark, touched, t3th, t3u, 1.0)
+        t3th[g] = zth[g] * pred.sl3[g]
+        t4th[g] = zth[g] * pred.sl4[g]
+    sparse_tangent(P, pred.q3th, pred.w3, pred.kw3, zu, nz_nodes, nnz, scratch, mark, touched, t3th, t3u, 1.0)
     if want4:
-        sparse_tangent(P, th4, w4, kw4, zu, nz_nodes, nnz, scratch, mark, touched, t4th, t4u, 1.0)
+        sparse_tangent(P, pred.q4th, pred.w4, pred.kw4, zu, nz_nodes, nnz, scratch, mark, touched, t4th, t4u,
+                       1.0)
 
 
 @njit
@@ -216,9 +218,7 @@ def superpose(P, S, h, pred, x, cn, cw, normal, gth, want_v):
         if not dup:
             nz_nodes[total] = i
             total += 1
-    _response_full(P, pred.q3th, pred.w3, pred.kw3, pred.q4th, pred.w4, pred.kw4, pred.sl3,
-                   pred.sl4, zth, zu, nz_nodes, total, scratch,
-                   mark, touched, t3th, t3u, t4th, t4u, want_v)
+    _response_full(P, pred, zth, zu, nz_nodes, total, scratch, mark, touched, t3th, t3u, t4th, t4u, want_v)
     h2, h3, h4 = 0.5 * h * h, h ** 3 / 12.0, h ** 4 / 24.0
     th1 = np.empty(2)
     om1 = np.empty(2)
@@ -265,14 +265,16 @@ def _z_col(P, theta, cn, cw, normal, gth, j, zth, zu, nz_nodes):
 
 
 @njit
-def response_columns(P, h, pred, theta, cn, cw, normal, gth, j0, j1, Wq, Wv, scratch, mark, touched,
-             nz_nodes, zu, acc3, acc4):
+def response_columns(P, h, pred, theta, cn, cw, normal, gth, j0, j1, Wq, Wv, work):
     """Columns ``j0:j1`` of the responses of the relevant rows (positions ``Wq``, velocities
-    ``Wv``) to ``x = e_j``, the constraint directions at ``theta`` and the contact rows given.
+    ``Wv``) to ``x = e_j``, the constraint directions at ``theta`` and the contact rows given;
+    ``work`` the sparse workspace (:data:`~spurdyn.solvers.layout.SparseWork`), left clean.
 
     Everything here is sparse: ``Z = M^-1 G^T e_j`` lives on one node (a root multiplier) or
     the six contact nodes, and the tangents spread it one element further.
     """
+    scratch, mark, touched, nz_nodes = work.scratch, work.mark, work.touched, work.nz_nodes
+    zu, acc3, acc4 = work.zu, work.acc3, work.acc4
     h2, h3, h4 = 0.5 * h * h, h ** 3 / 12.0, h ** 4 / 24.0
     zth = np.empty(2)
     t3th = np.empty(2)

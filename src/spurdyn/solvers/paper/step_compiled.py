@@ -21,7 +21,7 @@ from spurdyn.contact.strip_compiled import (
 )
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import (
-    CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_STRIP, FAIL_VEL, OK, HistoryRow,
+    CP, FAIL_ACC, FAIL_DISP, FAIL_NAN, FAIL_STRIP, FAIL_VEL, OK, HistoryRow, SparseWork,
 )
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_compiled import (
@@ -73,8 +73,8 @@ def step(P, S, cfg):
     acc3 = np.zeros(n)
     acc4 = np.zeros(n)
     h2 = 0.5 * h * h
-    response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, S.gth, np.int64(0), m, Wq, Wv, scratch, mark,
-             touched, nz_nodes, zu, acc3, acc4)
+    sparse = SparseWork(scratch, mark, touched, nz_nodes, zu, acc3, acc4)
+    response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, S.gth, np.int64(0), m, Wq, Wv, sparse)
 
     # relevant rows of the free state
     qs_rel = np.empty(R)
@@ -188,8 +188,7 @@ def step(P, S, cfg):
             else:
                 contact_rows(P, a_c, b_c, cn_f, cw_f)
             n_f[0], n_f[1] = nxc, nyc
-            response_columns(P, h, pred, S.theta, cn_f, cw_f, n_f, g_f, m - 1, m, Wq, Wv, scratch, mark,
-                     touched, nz_nodes, zu, acc3, acc4)
+            response_columns(P, h, pred, S.theta, cn_f, cw_f, n_f, g_f, m - 1, m, Wq, Wv, sparse)
             gram_contact(P, S.theta, cn_f, cw_f, n_f, g_f, C)
         it += 1
     S.res[0] = res

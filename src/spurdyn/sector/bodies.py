@@ -28,7 +28,7 @@ from scipy.linalg import cho_factor, cho_solve
 
 from spurdyn.fem.factor import factor_spd
 from spurdyn.sector.packs import ModalGear
-from spurdyn.sector.reduced import ReducedGear
+from spurdyn.sector.reduction import Reduction
 from spurdyn.sector.system import GearBlock
 
 
@@ -52,7 +52,7 @@ class ModalRows(NamedTuple):
     modal: NDArray[np.float64]
 
 
-def _tooth_frames(reduced: ReducedGear, sides: int = 1) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _tooth_frames(reduced: Reduction, sides: int = 1) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The modes at each flank seen in its own frame, ``(count, sides, f, m)``
     (``Phi_k^T T_k b = (T_k^T Phi_k)^T b`` for a load ``b`` on tooth 0's right flank, ``T_k``
     the turn to tooth ``k``'s flank and, on a left flank, the mirror before it), and the
@@ -66,9 +66,9 @@ def _tooth_frames(reduced: ReducedGear, sides: int = 1) -> tuple[NDArray[np.floa
     turns = [[np.kron(np.eye(n_side), blk.turn_of(k, s)) for s in range(sides)] for k in teeth]
     modes = np.array([[q[s].T @ reduced.modes_at(k, s) for s in range(sides)] for q, k in zip(turns, teeth)])
     if blk.whole:
-        base = [reduced.static_response(teeth[0], t) for t in range(sides)]
-        flex = np.array([[[turns[d][s].T @ base[t][blk.flank_dofs(teeth[d], s)] @ turns[0][t]
-                           for t in range(sides)] for s in range(sides)] for d in range(blk.count)])
+        ring = {(s, t): reduced.flank_flex(s, t) for s in range(sides) for t in range(sides)}
+        flex = np.array([[[turns[d][s].T @ ring[s, t][d] @ turns[0][t] for t in range(sides)]
+                          for s in range(sides)] for d in range(blk.count)])
     else:
         flex = np.array([[[[turns[i][s].T @ reduced.static_response(teeth[j], t)[blk.flank_dofs(teeth[i], s)] @ turns[j][t]
                             for t in range(sides)] for j in range(blk.count)] for s in range(sides)]
@@ -144,7 +144,7 @@ class ModalBody:
     """The body on its modes: ``(theta, eta)`` (:mod:`spurdyn.sector.reduced`);
     ``sides`` 2 makes the left (back) flanks contacts too (:func:`_tooth_frames`)."""
 
-    def __init__(self, reduced: ReducedGear, gp: float, bp: float, rayleigh: tuple[float, float],
+    def __init__(self, reduced: Reduction, gp: float, bp: float, rayleigh: tuple[float, float],
                  sides: int = 1) -> None:
         self.reduced = reduced
         self.block = reduced.block
@@ -213,7 +213,7 @@ class ModalBody:
 
     def static(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
         # the modal part of K^-1 f; the rest is the residual flexibility's, held by the forces
-        return (self.reduced.phi.T @ loads) / self.reduced.omega2
+        return self.reduced.static_modal(loads) / self.reduced.omega2
 
     def momentum(self, v: NDArray[np.float64]) -> float:
         """The hub's generalised momentum ``(M v)_theta`` (kg m^2/s)."""

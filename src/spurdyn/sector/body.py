@@ -1,7 +1,7 @@
 """One gear of the sector model: K teeth on their rim, the hub held (docs/sector.md).
 
 The stiffness is assembled once over the sector mesh (:mod:`spurdyn.mesh.sector`) and
-factorised with the hub's DOFs removed; a contact's load is the unit normal force spread
+factorised (when first solved with) with the hub's DOFs removed; a contact's load is the unit normal force spread
 over its Hertzian strip on the right flank of tooth ``k`` through the same strip-averaged
 shape functions as the paper model's distributed contact
 (:func:`spurdyn.contact.strip_numpy.strip_rows`), so a tooth of the sector is loaded
@@ -11,6 +11,7 @@ exactly as the paper model's single tooth is.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -46,7 +47,17 @@ class SectorBody:
     stiffness: sp.csr_matrix
     flank: Flank
     _free: NDArray[np.intp] = field(repr=False)
-    _lu: object = field(repr=False)
+    _kff: sp.csr_matrix = field(repr=False)
+
+    @cached_property
+    def _lu(self) -> object:
+        # factorised when first solved with: a whole gear reduced by its harmonics never is
+        return factor_spd(self._kff)
+
+    @property
+    def free_stiffness(self) -> sp.csr_matrix:
+        """``(n, n)`` the stiffness of the free DOFs (:attr:`free_dofs`), hub held."""
+        return self._kff
 
     def flank_coordinate(self, r: float) -> float:
         """Flank coordinate ``t`` of the involute point of radius ``r``."""
@@ -91,7 +102,7 @@ class SectorBody:
 def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = None,
                 inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
                 full_rim: bool = True) -> SectorBody:
-    """Mesh, assemble and factorise ``teeth`` teeth of ``gear`` from tooth ``first`` (on the
+    """Mesh and assemble ``teeth`` teeth of ``gear`` from tooth ``first`` (on the
     full rim, or with the rim cut at free radial faces: :func:`spurdyn.mesh.sector.sector_mesh`).
     A webbed blank puts the hub at its ``hub_radius`` and a web of its width below its
     ``rim_radius``."""
@@ -107,10 +118,9 @@ def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = No
         k = k + assemble_stiffness(mesh.nodes, mesh.elements[sel], gear.material, float(width)).tocsr()
     hub = np.concatenate([2 * mesh.hub_nodes, 2 * mesh.hub_nodes + 1])
     free = np.setdiff1d(np.arange(mesh.n_dof), hub)
-    lu = factor_spd(k[free][:, free])
     tooth = mesh.tooth
     flank = make_flank(tooth, gear, tooth.nodes, np.zeros(2), 0.0, 5)
-    return SectorBody(gear=gear, mesh=mesh, stiffness=k, flank=flank, _free=free, _lu=lu)
+    return SectorBody(gear=gear, mesh=mesh, stiffness=k, flank=flank, _free=free, _kff=k[free][:, free].tocsr())
 
 
 __all__ = ["SectorBody", "sector_body"]

@@ -27,6 +27,7 @@ from spurdyn.model.alpha import GeneralizedAlpha
 from spurdyn.model.loading import check_history, hub_torques, static_force
 from spurdyn.sector.bodies import FullBody, ModalBody
 from spurdyn.sector.cache import cached
+from spurdyn.sector.cyclic import statics_body
 from spurdyn.sector.damper import mesh_damper_table
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
@@ -106,7 +107,6 @@ class SectorModel:
                    lambda gear=gear, sense=sense, first=first, count=count:
                    gear_block(gear, sense, first, count, *mesh_keys))
             for gear, sense, first, count in ((ga, 1.0, first_a, count_a), (gb, -1.0, first_b, count_b)))
-        bodies = (blocks[0].body, blocks[1].body)
         self.load = static_force(pair, settings.torque)
         self.estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young,
                                        gb.material.poisson)
@@ -135,6 +135,8 @@ class SectorModel:
                 for blk in blocks)
         else:
             self.gears = tuple(FullBody(blk, self.gp, self.bp, rayleigh) for blk in blocks)
+        # the quasi-static cycle's bodies: a cyclic reduction's flank flexibility, or the FE body
+        bodies = (statics_body(self.gears[0]), statics_body(self.gears[1]))
         self.na = na = self.gears[0].n
         self.n = n = na + self.gears[1].n
         self.parts = (slice(0, na), slice(na, n))

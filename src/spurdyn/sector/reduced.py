@@ -35,6 +35,8 @@ from scipy.sparse.linalg import eigsh
 
 from spurdyn import store
 from spurdyn.fem.factor import factor_spd
+from spurdyn.sector.cyclic import CyclicGear, cyclic_modes, ring_cell
+from spurdyn.sector.reduction import Reduction
 from spurdyn.sector.system import GearBlock
 
 #: Static shapes added to the basis per tooth: the response to a unit normal load at this
@@ -43,15 +45,8 @@ from spurdyn.sector.system import GearBlock
 FLANK_SHAPES = 5
 
 
-def _turn_block(angle: float, n_nodes: int) -> NDArray[np.float64]:
-    """``(2n, 2n)`` block rotation turning each node's vector clockwise by ``angle``
-    (:func:`spurdyn.mesh.sector.turn` as a matrix)."""
-    c, s = math.cos(angle), math.sin(angle)
-    return np.kron(np.eye(n_nodes), np.array([[c, s], [-s, c]]))
-
-
 @dataclass
-class ReducedGear:
+class ReducedGear(Reduction):
     """One gear's body on its modes (module docstring; SI units).
 
     Attributes
@@ -70,17 +65,10 @@ class ReducedGear:
     phi: NDArray[np.float64]
     omega2: NDArray[np.float64]
     coupling: NDArray[np.float64]
-    _flex: dict[tuple[int, int], NDArray[np.float64]] = field(default_factory=dict, repr=False)
     _resp: dict[tuple[int, int], NDArray[np.float64]] = field(default_factory=dict, repr=False)
 
-    @property
-    def m(self) -> int:
-        return self.omega2.size
-
-    def modes_at(self, k: int, side: int = 0) -> NDArray[np.float64]:
-        """``(2 (2 ny + 1), m)`` the modes at tooth ``k``'s flank DOFs (``side`` 0 the right
-        flank, 1 the left)."""
-        return self.phi[self.block.flank_dofs(k, side)]
+    def phi_rows(self, dofs: NDArray[np.intp]) -> NDArray[np.float64]:
+        return self.phi[dofs]
 
     def static_response(self, k: int, side: int = 0) -> NDArray[np.float64]:
         """``K^-1 E_k``: the held body's response to unit loads on tooth ``k``'s flank DOFs
@@ -99,38 +87,28 @@ class ReducedGear:
             self._resp[key] = found["response"]
         return self._resp[key]
 
-    def residual(self, i: int, j: int) -> NDArray[np.float64]:
-        """``E_i^T R E_j``: the residual flexibility between the flank DOFs of teeth ``i``
-        and ``j`` (m/N)."""
-        blk = self.block
-        key = (blk.tooth(i), blk.tooth(j))
-        if key not in self._flex:
-            if blk.whole:
-                # the ring is the same under a turn by a pitch: in the teeth's frames the block
-                # of teeth (i, j) is that of (i - j, 0)
-                z = blk.count
-                d = (i - j) % z
-                base = self.static_response(blk.first)
-                n_side = blk.body.flank.side_nodes.size
-                t_i = _turn_block(blk.body.mesh.tooth_angle(blk.tooth(i)), n_side)
-                t_j = _turn_block(blk.body.mesh.tooth_angle(blk.tooth(j)), n_side)
-                t_d = _turn_block(blk.body.mesh.tooth_angle(blk.tooth(blk.first + d)), n_side)
-                t_0 = _turn_block(blk.body.mesh.tooth_angle(blk.first), n_side)
-                local = t_d.T @ base[blk.flank_dofs(blk.first + d)] @ t_0
-                full = t_i @ local @ t_j.T
-            else:
-                full = self.static_response(j)[blk.flank_dofs(i)]
-            phi_i, phi_j = self.modes_at(i), self.modes_at(j)
-            self._flex[key] = full - (phi_i / self.omega2) @ phi_j.T
-        return self._flex[key]
 
-
-def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
+def reduce_gear(block: GearBlock, max_frequency: float, method: str = "auto") -> Reduction:
     """The modes of ``block``'s held body below ``max_frequency`` (Hz), Ritz-augmented by
     the static response to a unit hub acceleration's inertial load and to unit loads on the
     flanks (module docstring); read from the mode store (:mod:`spurdyn.store`) when a run
-    before computed them for the same body, code and libraries."""
+    before computed them for the same body, code and libraries. ``method`` ``"auto"``
+    solves a whole ring of identical cells harmonic by harmonic
+    (:mod:`spurdyn.sector.cyclic`) and any other body whole; ``"ring"`` solves every body
+    whole (the reference the harmonics are compared with)."""
+    if method not in ("auto", "ring"):
+        raise ValueError(f"method must be 'auto' or 'ring' (got {method!r})")
     target = (2.0 * math.pi * max_frequency) ** 2
+    cell = ring_cell(block.body) if method == "auto" and block.whole else None
+    if cell is not None:
+        loads = _first_flank_loads(block)
+        key = store.digest("cyclic", _revision(block), cell.stiffness, cell.mass, block.rot, loads, target)
+        found = store.load(key)
+        if found is None:
+            found = cyclic_modes(block, cell, target, loads)
+            store.save(key, **found)
+        return CyclicGear(block, cell, found["y"], found["harm"], found["omega2"], found["coupling"],
+                          found["flex"])
     loads = _flank_loads(block)
     key = store.digest("reduced", _revision(block), block.stiffness, block.mass, block.rot, loads, target)
     found = store.load(key)
@@ -143,18 +121,27 @@ def reduce_gear(block: GearBlock, max_frequency: float) -> ReducedGear:
 def _revision(block: GearBlock) -> str:
     """What decides the modes' last bits besides the body: this module's code, the body's
     factor's and the libraries' versions."""
-    return store.code_revision(__name__, type(block.body).__module__, factor_spd.__module__)
+    return store.code_revision(__name__, type(block.body).__module__, factor_spd.__module__, cyclic_modes.__module__)
+
+
+def _radii(block: GearBlock) -> NDArray[np.float64]:
+    """The :data:`FLANK_SHAPES` radii of the static shapes' loads, evenly inside the flank."""
+    flank = block.body.flank
+    return np.linspace(flank.r0, flank.r_tip, FLANK_SHAPES + 2)[1:-1]
+
+
+def _first_flank_loads(block: GearBlock) -> NDArray[np.float64]:
+    """``(f, FLANK_SHAPES)`` the unit normal loads at :func:`_radii` of the first tooth's
+    drive flank on its flank DOFs, a column each (every tooth's are these turned)."""
+    return np.column_stack([block.flank_load(block.first, float(r), 0.0) for r in _radii(block)])
 
 
 def _flank_loads(block: GearBlock) -> NDArray[np.float64]:
-    """The unit normal loads at :data:`FLANK_SHAPES` radii of every tooth's drive flank, a
-    column each."""
-    flank = block.body.flank
-    radii = np.linspace(flank.r0, flank.r_tip, FLANK_SHAPES + 2)[1:-1]
+    """The unit normal loads at :func:`_radii` of every tooth's drive flank, a column each."""
     loads = np.zeros((block.mass.size, block.count * FLANK_SHAPES))
     for t in range(block.count):
         tooth = block.first + t
-        for i, r in enumerate(radii):
+        for i, r in enumerate(_radii(block)):
             loads[block.flank_dofs(tooth), t * FLANK_SHAPES + i] = block.flank_load(tooth, float(r), 0.0)
     return loads
 

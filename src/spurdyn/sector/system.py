@@ -63,7 +63,7 @@ class GearBlock:
     Attributes
     ----------
     body
-        The meshed, factorised body (:class:`~spurdyn.sector.body.SectorBody`).
+        The meshed body (factorised when first solved with) (:class:`~spurdyn.sector.body.SectorBody`).
     sense
         +1 for the driver, -1 for the driven gear (:func:`rotation_field`).
     first, count
@@ -275,7 +275,7 @@ def teeth_for(pair: GearPair, cycles: float, back: bool = False,
 
 def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: int,
                grading: float) -> GearBlock:
-    """Mesh, assemble and factorise the gear's body of ``count`` teeth from tooth ``first``
+    """Mesh and assemble the gear's body of ``count`` teeth from tooth ``first``
     (all of them if ``count`` is the gear's number of teeth) and build its block."""
     count = min(count, gear.teeth)
     body = sector_body(gear, count, nx, ny, first=first, grading=grading)
@@ -297,7 +297,7 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
     side_of[body.flank.side_nodes] = np.arange(body.flank.side_nodes.size)
     return GearBlock(body=body, sense=sense, first=first, count=count, mass=m_full[free],
                      rot=s_full[free], inertia=j_hub + j_body, hub_inertia=j_hub,
-                     body_inertia=j_body, stiffness=body.stiffness[free][:, free].tocsr(),
+                     body_inertia=j_body, stiffness=body.free_stiffness,
                      _free_of=free_of, _side_of=side_of,
                      _left=mirror_nodes(mesh.tooth.nodes, body.flank.side_nodes))
 

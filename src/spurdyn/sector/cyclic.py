@@ -322,11 +322,22 @@ def _harmonic_ritz(k: sp.csc_matrix, m: NDArray[np.float64], target: float, rhs:
     solve = _solver(a)
     vec = d[:, None] * _lowest(a, solve, target)
     shapes = d[:, None] * solve(d[:, None] * np.column_stack([rhs, unit]))
-    basis = np.column_stack([vec, shapes[:, :rhs.shape[1]]])
+    basis = np.column_stack([vec, _orthonormal(shapes[:, :rhs.shape[1]], vec, m)])
     kr = basis.conj().T @ (k @ basis)
-    mr = basis.conj().T @ (m[:, None] * basis)
-    w2, v = eigh(0.5 * (kr + kr.conj().T), 0.5 * (mr + mr.conj().T))
+    w2, v = eigh(0.5 * (kr + kr.conj().T))
     return w2, basis @ v, shapes[:, rhs.shape[1]:]
+
+
+def _orthonormal(shapes: NDArray, modes: NDArray, m: NDArray[np.float64]) -> NDArray:
+    """The static ``shapes`` M-orthonormalised, against the M-orthonormal ``modes`` and among
+    themselves (twice, for round-off): the same span as the shapes beside the modes, but a
+    basis whose Ritz problem loses no digits (the flank shapes lie close to each other and
+    to the modes: their Gram matrix's condition is some 1e10)."""
+    for _ in range(2):
+        shapes = shapes - modes @ (modes.conj().T @ (m[:, None] * shapes))
+        lam, u = np.linalg.eigh(shapes.conj().T @ (m[:, None] * shapes))
+        shapes = (shapes @ u) / np.sqrt(lam)
+    return shapes
 
 
 def _solver(a: sp.spmatrix):

@@ -121,7 +121,7 @@ def reduce_gear(block: GearBlock, max_frequency: float, method: str = "auto") ->
 def _revision(block: GearBlock) -> str:
     """What decides the modes' last bits besides the body: this module's code, the body's
     factor's and the libraries' versions."""
-    return store.code_revision(__name__, type(block.body).__module__, factor_spd.__module__, cyclic_modes.__module__)
+    return store.code_revision(__name__, type(block.body).__module__, factor_spd.__module__, CyclicGear.__module__)
 
 
 def _radii(block: GearBlock) -> NDArray[np.float64]:

@@ -1,0 +1,133 @@
+"""A whole gear's modes by its cyclic symmetry (:mod:`spurdyn.sector.cyclic`, docs/sector.md
+6.9): one cell's harmonics hold the ring's energies, the modes found harmonic by harmonic
+are the whole-ring eigen-solve's (:func:`~spurdyn.sector.reduced.reduce_gear` with
+``method="ring"``), and so are the flank flexibility, the statics and a run on them."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from spurdyn import store
+from spurdyn.geometry.presets import paper_pair
+from spurdyn.sector import cyclic, reduced
+from spurdyn.sector.cyclic import FlankStatics, ring_cell
+from spurdyn.sector.reduced import reduce_gear
+from spurdyn.sector.system import gear_block
+
+#: The paper's gear with 18 teeth (an even count: harmonic z / 2 is real) and 19 (odd), on
+#: a coarse mesh; modes below 80 kHz (26 eigenmodes, 117 with the flank shapes).
+GEAR = paper_pair().gear_a
+TOP = 80e3
+
+
+def _block(z: int, first: int | None = None, count: int | None = None):
+    gear = dataclasses.replace(GEAR, teeth=z)
+    return gear_block(gear, 1.0, -(z // 2) if first is None else first, count or z, 2, 4, 1.0)
+
+
+@pytest.fixture(scope="module")
+def even():
+    return _block(18)
+
+
+@pytest.fixture(scope="module")
+def both(even):
+    """The even gear reduced both ways (the ring's solve takes some seconds)."""
+    return even, reduce_gear(even, TOP), reduce_gear(even, TOP, method="ring")
+
+
+@pytest.mark.parametrize("z", [18, 19])
+def test_a_cells_harmonics_hold_the_rings_energies(z):
+    """A field of harmonic ``h`` spread round the ring has ``z`` times the harmonic's
+    strain and kinetic energies, is zero on the hub and continuous across the cells' edges
+    (the ring's stiffness sees every edge)."""
+    blk = _block(z)
+    cell = ring_cell(blk.body)
+    rng = np.random.default_rng(3)
+    everything = np.arange(blk.body.mesh.n_dof)
+    held = np.setdiff1d(everything, blk.body.free_dofs)
+    for h in sorted({0, 1, 4, z // 2}):
+        k, m, t = cell.harmonic(h)
+        x = rng.standard_normal(cell.n_ind) + (1j * rng.standard_normal(cell.n_ind) if k.dtype == complex else 0)
+        ring = cell.at(everything, (t @ x)[:, None], h)[:, 0]
+        assert np.abs(ring[held]).max() == 0.0
+        u = ring[blk.body.free_dofs]
+        strain, kinetic = np.vdot(u, blk.stiffness @ u).real, np.vdot(u, blk.mass * u).real
+        assert strain == pytest.approx(z * np.vdot(x, k @ x).real, rel=1e-12)
+        assert kinetic == pytest.approx(z * np.vdot(x, m * x).real, rel=1e-12)
+
+
+def test_only_a_whole_ring_of_equal_cells_is_cyclic():
+    assert ring_cell(_block(18, first=-2, count=5).body) is None
+
+
+@pytest.mark.parametrize("z", [18, 19])
+def test_the_cyclic_modes_are_modes_of_the_ring(z):
+    """Without the ring's solve: the modes are M-orthonormal and diagonalise K over the whole
+    ring, those below the top frequency are its eigenmodes, and the turning inertia's share
+    is ``Phi^T M s``."""
+    blk = _block(z)
+    red = reduce_gear(blk, TOP)
+    phi = red.phi_rows(np.arange(blk.mass.size))
+    np.testing.assert_allclose(phi.T @ (blk.mass[:, None] * phi), np.eye(red.m), rtol=0, atol=1e-12)
+    kphi = blk.stiffness @ phi
+    np.testing.assert_allclose(phi.T @ kphi, np.diag(red.omega2), rtol=0, atol=1e-11 * red.omega2.max())
+    below = red.omega2 < (2 * math.pi * TOP) ** 2
+    resid = kphi[:, below] - (blk.mass[:, None] * phi[:, below]) * red.omega2[below]
+    assert np.abs(resid).max() <= 1e-8 * np.abs(kphi[:, below]).max()
+    np.testing.assert_allclose(red.coupling, phi.T @ (blk.mass * blk.rot), rtol=0, atol=1e-12 * np.abs(red.coupling).max())
+
+
+@pytest.mark.slow
+def test_the_cyclic_reduction_is_the_whole_rings(both):
+    """Against the whole-ring solve: the eigenmodes' frequencies to 1e-11, every kept
+    frequency to 1e-8 (the ring's Ritz step on its ill-conditioned basis is good to some
+    5e-9 above the top: docs/sector.md 6.9), the modes' flexibility at the flanks, the
+    static flexibility and the residual to round-off (the ring's
+    factor and the harmonics' solve the same statics to some 1e-11 of the largest entry)."""
+    blk, cyc, ring = both
+    assert cyc.m == ring.m
+    below = ring.omega2 < (2 * math.pi * TOP) ** 2
+    np.testing.assert_allclose(cyc.omega2[below], ring.omega2[below], rtol=1e-11)
+    np.testing.assert_allclose(cyc.omega2, ring.omega2, rtol=1e-8)
+    for k in (blk.first, blk.first + 5):
+        for side in (0, 1):
+            a, b = cyc.modes_at(k, side), ring.modes_at(k, side)
+            np.testing.assert_allclose((a / cyc.omega2) @ a.T, (b / ring.omega2) @ b.T, rtol=0,
+                                       atol=1e-10 * np.abs(b).max() ** 2 / ring.omega2.min())
+    for s in (0, 1):
+        for t in (0, 1):
+            want = ring.flank_flex(s, t)
+            np.testing.assert_allclose(cyc.flank_flex(s, t), want, rtol=0, atol=1e-10 * np.abs(want).max())
+    want = ring.static_response(blk.first + 3, 1)
+    np.testing.assert_allclose(cyc.static_response(blk.first + 3, 1), want, rtol=0, atol=1e-10 * np.abs(want).max())
+    want = ring.residual(blk.first + 4, blk.first + 2)
+    np.testing.assert_allclose(cyc.residual(blk.first + 4, blk.first + 2), want, rtol=0, atol=1e-9 * np.abs(want).max())
+
+
+def test_the_statics_read_the_flank_flexibility(even):
+    """:class:`FlankStatics` gives the ring factor's compliance between drive-flank loads,
+    and solves for loads anywhere else."""
+    statics = FlankStatics(reduce_gear(even, TOP))
+    body = even.body
+    r = 0.5 * (body.flank.r0 + body.flank.r_tip)
+    loads = np.column_stack([body.load(k, r, 1e-4) for k in (0, 1, -8, 8)])
+    want = body.compliance(loads)
+    np.testing.assert_allclose(statics.compliance(loads), want, rtol=0, atol=1e-10 * np.abs(want).max())
+    loads[body.free_dofs[-1]] = 1.0                                  # on the rim: solved
+    np.testing.assert_allclose(statics.compliance(loads), body.compliance(loads), rtol=1e-12)
+
+
+def test_the_store_gives_the_cyclic_modes_back_bit_for_bit(even, tmp_path, monkeypatch):
+    monkeypatch.setenv("SPURDYN_MODE_CACHE", str(tmp_path))
+    first = reduce_gear(even, TOP)
+    assert len(store.entries(tmp_path)) == 1
+    monkeypatch.setattr(reduced, "cyclic_modes", lambda *a: pytest.fail("the store's entry was not used"))
+    again = reduce_gear(even, TOP)
+    for name in ("y", "harm", "omega2", "coupling", "flex"):
+        assert np.array_equal(getattr(first, name), getattr(again, name)), name
+    assert isinstance(again, cyclic.CyclicGear)

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from spurdyn.geometry.corner import _tangent_point
+from spurdyn.geometry.corner import _tangent_points
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.sector.statics import driving_pair
 from spurdyn.sector.system import (
@@ -40,7 +40,7 @@ def _left_flank(gear, centre, phi0, rho, n=20000):
     centre line (polar angle ``phi0 - rho + psi_b / 2``)."""
     rb = gear.base_radius
     s = np.linspace(0.0, math.sqrt(gear.tip_radius**2 - rb * rb) / rb, n)
-    pts = np.array([_tangent_point(si, rho, centre, rb, phi0) for si in s]) - centre
+    pts = np.column_stack(_tangent_points(s, rho, (float(centre[0]), float(centre[1])), rb, phi0)) - centre
     c = phi0 - rho + gear.half_angle_base
     ang, rad = 2 * c - np.arctan2(pts[:, 1], pts[:, 0]), np.hypot(pts[:, 0], pts[:, 1])
     return centre + np.column_stack([rad * np.cos(ang), rad * np.sin(ang)])

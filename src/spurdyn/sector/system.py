@@ -35,13 +35,13 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from spurdyn.contact.hertz import half_width, involute_curvature_radius
 from spurdyn.contact.strip_numpy import strip_weights
 from spurdyn.errors import InputError
 from spurdyn.fem.assembly import assemble_lumped_mass
-from spurdyn.geometry.corner import corner_contact
+from spurdyn.geometry.corner import corner_contacts
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
 from spurdyn.sector.body import SectorBody, sector_body
@@ -326,10 +326,44 @@ REACH = 0.25
 SLOPE_STEP = 1e-6
 
 
-def _total_gap(dp: GearPair, rho: float) -> tuple[float, float, float]:
-    """``(g, r_a, r_b)``: the corner's gap and the two tip reliefs at the contact radii."""
-    g, r_a, r_b = corner_contact(dp, rho)
-    return g + float(dp.gear_a.relief_depth(r_a) + dp.gear_b.relief_depth(r_b)), r_a, r_b
+def total_gaps(dp: GearPair, rho: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+    """``(g, r_a, r_b)`` at the driver's rolls ``rho``: the corners' gaps
+    (:func:`~spurdyn.geometry.corner.corner_contacts`) and the two tip reliefs at the contact
+    radii, and those radii (m), each an array of ``rho``'s shape."""
+    g, r_a, r_b = corner_contacts(dp, rho)
+    return g + (dp.gear_a.relief_depth(r_a) + dp.gear_b.relief_depth(r_b)), r_a, r_b
+
+
+def rigid_gaps(dp: GearPair, rho: ArrayLike, side: ArrayLike = 0) -> tuple[NDArray[np.float64], ...]:
+    """``(g, dg/drho, r_a, r_b)`` at the driver's rolls ``rho`` (1-D): :func:`rigid_gap` at
+    each roll, with ``side`` (a number, or one a roll) choosing each slope's difference.
+
+    Parameters
+    ----------
+    dp
+        The pair, the driver as gear A.
+    rho
+        ``(n,)`` the driver's rolls (rad).
+    side
+        0 for a central difference, +1/-1 for one to the right/left.
+
+    Returns
+    -------
+    g, slope, r_a, r_b
+        ``(n,)`` the gaps (m), their slopes (m/rad) and the contact radii (m).
+    """
+    rho = np.atleast_1d(np.asarray(rho, dtype=float))
+    side = np.broadcast_to(np.asarray(side), rho.shape)
+    right, left = side >= 0, side <= 0
+    # one evaluation at the rolls and at the steps either side that the slopes ask
+    every = np.concatenate([rho, rho[right] + SLOPE_STEP, rho[left] - SLOPE_STEP])
+    total, r_a, r_b = total_gaps(dp, every)
+    n, n_right = rho.size, int(np.count_nonzero(right))
+    g = total[:n]
+    hi, lo = g.copy(), g.copy()
+    hi[right], lo[left] = total[n:n + n_right], total[n + n_right:]
+    slope = (hi - lo) / (np.where(side == 0, 2.0, 1.0) * SLOPE_STEP)
+    return g, slope, r_a[:n], r_b[:n]
 
 
 def rigid_gap(dp: GearPair, rho: float, side: int = 0) -> tuple[float, float, float, float]:
@@ -338,11 +372,9 @@ def rigid_gap(dp: GearPair, rho: float, side: int = 0) -> tuple[float, float, fl
     plus the two tip reliefs at the contact radii), its slope, and the contact radii. The
     slope enters the pair's row, so that the force does the work the gap's change asks; it
     is a central difference, or with ``side`` +1/-1 one to the right/left (where the slope
-    jumps: the path's ends, a relief's start)."""
-    g, r_a, r_b = _total_gap(dp, rho)
-    hi = _total_gap(dp, rho + SLOPE_STEP)[0] if side >= 0 else g
-    lo = _total_gap(dp, rho - SLOPE_STEP)[0] if side <= 0 else g
-    return g, (hi - lo) / ((2 if side == 0 else 1) * SLOPE_STEP), r_a, r_b
+    jumps: the path's ends, a relief's start). One roll of :func:`rigid_gaps`."""
+    g, slope, r_a, r_b = rigid_gaps(dp, np.array([float(rho)]), side)
+    return float(g[0]), float(slope[0]), float(r_a[0]), float(r_b[0])
 
 
 def contact_radii(dp: GearPair, rolls: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -423,17 +455,19 @@ def gap_table(dp: GearPair, reach: float) -> GapTable:
         breaks.add((dp.line_of_centres_length - dp.gear_b.tip_relief_start_roll * dp.gear_b.base_radius)
                    / dp.gear_a.base_radius)
     edges = [lo, *sorted(b for b in breaks if lo < b < hi), hi]
-    rows = []
-    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+    rolls, sides = [], []
+    for a, b in zip(edges[:-1], edges[1:]):
         xs = np.linspace(a, b, max(int(math.ceil((b - a) * GAP_TABLE_DENSITY)), 1) + 1)
-        for j, x in enumerate(xs):
-            # a segment's ends take the slope from inside it (the table's own ends too)
-            side = 1 if j == 0 else -1 if j == xs.size - 1 else 0
-            rows.append((float(x), *rigid_gap(dp, float(x), side)))
-    vals = np.array(rows)
-    return GapTable(rho=vals[:, 0], gap=vals[:, 1], slope=vals[:, 2], r_a=vals[:, 3], r_b=vals[:, 4])
+        # a segment's ends take the slope from inside it (the table's own ends too)
+        side = np.zeros(xs.size, dtype=np.intp)
+        side[0], side[-1] = 1, -1
+        rolls.append(xs)
+        sides.append(side)
+    rho = np.concatenate(rolls)
+    gap, slope, r_a, r_b = rigid_gaps(dp, rho, np.concatenate(sides))
+    return GapTable(rho=rho, gap=gap, slope=slope, r_a=r_a, r_b=r_b)
 
 
 __all__ = ["GAP_TABLE_DENSITY", "GapTable", "GearBlock", "REACH", "SLOPE_STEP", "back_roll_sum", "back_teeth", "contact_radii", "covered_turns",
            "gap_table", "gear_block", "half_widths", "half_widths_at",
-           "mirror_nodes", "rigid_gap", "rotation_field", "teeth_for"]
+           "mirror_nodes", "rigid_gap", "rigid_gaps", "total_gaps", "rotation_field", "teeth_for"]

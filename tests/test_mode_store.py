@@ -175,3 +175,15 @@ def test_an_entry_is_readable_by_whoever_may_read_the_folder(folder):
     finally:
         os.umask(old)
     assert (folder / "k.npz").stat().st_mode & 0o777 == 0o644
+
+
+def test_the_code_revision_does_not_hang_on_the_order_the_blas_libraries_loaded(monkeypatch):
+    """threadpoolctl lists the libraries in the order a process loaded them (NumPy's and
+    SciPy's OpenBLAS come either way round): the key must not see it."""
+    libs = [{"internal_api": "openblas", "version": v, "architecture": "x", "num_threads": 2} for v in ("1", "2")]
+    monkeypatch.setattr(store, "threadpool_info", lambda: libs)
+    first = store.code_revision(__name__)
+    monkeypatch.setattr(store, "threadpool_info", lambda: libs[::-1])
+    assert store.code_revision(__name__) == first
+    monkeypatch.setattr(store, "threadpool_info", lambda: libs[:1])
+    assert store.code_revision(__name__) != first

@@ -113,8 +113,11 @@ def code_revision(*modules: str) -> str:
     libraries and the machine's architecture: what decides an entry's last bits besides its
     inputs."""
     h = hashlib.sha256(f"numpy {np.__version__} scipy {scipy.__version__} {platform.machine()}".encode())
-    for lib in threadpool_info():
-        h.update(repr([lib.get(k) for k in ("internal_api", "version", "architecture", "num_threads")]).encode())
+    # sorted: threadpoolctl lists the libraries in the order the process happened to load them
+    libs = sorted(repr([lib.get(k) for k in ("internal_api", "version", "architecture", "num_threads")])
+                  for lib in threadpool_info())
+    for lib in libs:
+        h.update(lib.encode())
     for name in modules:
         module = sys.modules[name]
         try:

@@ -39,3 +39,13 @@ def test_a_thread_still_running_is_waited_for() -> None:
     done = _command(prelude, "cases")
     assert done.returncode == 0
     assert "thread done" in done.stdout
+
+
+def test_a_run_keeps_dask_out_and_other_commands_leave_it() -> None:
+    """``spurdyn run`` takes Dask for not installed (xarray then imports none of it); the
+    other commands, and a process that loaded Dask already, keep it."""
+    probe = ("atexit.register(lambda: print('dask blocked', sys.modules.get('dask', 0) is None))")
+    assert "dask blocked True" in _command(f"import atexit\n{probe}", "run", "x.toml").stdout
+    assert "dask blocked False" in _command(f"import atexit\n{probe}", "cases").stdout
+    loaded = _command(f"import atexit, dask\n{probe}", "run", "x.toml").stdout
+    assert "dask blocked False" in loaded

@@ -26,6 +26,7 @@ from typing import NoReturn
 
 def entry() -> NoReturn:
     """Run the command line (``sys.argv``) and exit with its status."""
+    keep_out_dask(sys.argv[1:])
     gc.disable()
     try:
         from spurdyn.cli.main import main
@@ -35,6 +36,26 @@ def entry() -> NoReturn:
     code = main()
     gc.freeze()
     leave(code)
+
+
+def keep_out_dask(args: list[str]) -> None:
+    """Keep Dask out of a ``spurdyn run`` process.
+
+    xarray probes for Dask when it makes its first variable, and asks for Dask's scheduler
+    when it writes a NetCDF file: that imports ``dask``, ``dask.array`` and
+    ``distributed`` (~170 modules, ~37 MB of the process's memory) in a process that never
+    makes a Dask array. A ``None`` in :data:`sys.modules` makes ``import dask`` fail, so
+    xarray takes Dask for not installed. Only in the console command's own process, and
+    only for ``run``: ``spurdyn sweep`` runs on Dask, and a Python session that calls
+    :func:`spurdyn.cli.main.main` keeps its Dask.
+
+    Parameters
+    ----------
+    args
+        The command line after the program's name.
+    """
+    if args[:1] == ["run"] and "dask" not in sys.modules:
+        sys.modules["dask"] = None  # type: ignore[assignment]
 
 
 def leave(code: int) -> NoReturn:
@@ -59,4 +80,4 @@ def leave(code: int) -> NoReturn:
     os._exit(code)
 
 
-__all__ = ["entry", "leave"]
+__all__ = ["entry", "keep_out_dask", "leave"]

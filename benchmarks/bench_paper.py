@@ -11,8 +11,14 @@ Then the two figures a user meets first: ``spurdyn run paper-fig8`` from the com
 a machine with an empty compile cache (a fresh ``SPURDYN_CACHE_DIR``), which compiles the
 kernels before it runs.
 
+The Fig. 8 loop against the bare-RK4 floor (issue 34): in one process, ``simulate`` of
+Fig. 8 and a bare compiled RK4 of the same two teeth over as many steps (four force
+evaluations a step, the same compiled ``accelerations`` the step calls, no constraint),
+taken in turns ``--floor-reps`` times; the best of each and their ratio.
+
 Options: ``--ref-steps N`` (reference steps per case, default 40), ``--quick`` (only
-fig9, fewer repetitions), ``--no-cli``, ``--no-compile``.
+fig9, fewer repetitions), ``--no-cli``, ``--no-compile``, ``--floor-reps N`` (default 3;
+0 skips it), ``--floor-only``.
 """
 
 from __future__ import annotations
@@ -66,6 +72,91 @@ r = simulate(paper_pair(), case)
 t3 = time.perf_counter()
 print(json.dumps({"import": t1 - t0, "first": t2 - t1, "second": t3 - t2, "status": r.status}))
 """
+
+
+FLOOR = r"""
+import json, sys, time
+import numpy as np
+from numba import njit
+from spurdyn.geometry.presets import paper_pair, PAPER_TORQUE
+from spurdyn.model.system import build_system
+from spurdyn.settings import RunSettings, RPM
+from spurdyn.solvers.loop import simulate
+from spurdyn.solvers.paper.dynamics_compiled import accelerations
+from spurdyn.solvers.paper.stepper_compiled import CompiledStepper
+
+
+@njit
+def axpy(out_t, out_u, t, u, c, dt, du):
+    for i in range(2):
+        out_t[i] = t[i] + c * dt[i]
+    for i in range(u.size):
+        out_u[i] = u[i] + c * du[i]
+
+
+@njit
+def bare_rk4(P, th, om, u, v, h, steps):
+    n = u.size
+    w, kw, el, q, f_u, f_t = np.empty(n), np.empty(n), np.empty(n), np.empty(2), np.zeros(n), np.zeros(2)
+    at, au = np.empty((4, 2)), np.empty((4, n))      # the stages' accelerations
+    vt, vu = np.empty((4, 2)), np.empty((4, n))      # and velocities
+    qt, qu = np.empty(2), np.empty(n)
+    c = (0.5 * h, 0.5 * h, h)
+    for _ in range(steps):
+        vt[0], vu[0] = om, v
+        accelerations(th, u, f_t, f_u, P, w, kw, el, q, at[0], au[0])
+        for k in range(3):
+            axpy(qt, qu, th, u, c[k], vt[k], vu[k])
+            axpy(vt[k + 1], vu[k + 1], om, v, c[k], at[k], au[k])
+            accelerations(qt, qu, f_t, f_u, P, w, kw, el, q, at[k + 1], au[k + 1])
+        for i in range(2):
+            th[i] += h / 6.0 * (vt[0, i] + 2.0 * vt[1, i] + 2.0 * vt[2, i] + vt[3, i])
+            om[i] += h / 6.0 * (at[0, i] + 2.0 * at[1, i] + 2.0 * at[2, i] + at[3, i])
+        for i in range(n):
+            u[i] += h / 6.0 * (vu[0, i] + 2.0 * vu[1, i] + 2.0 * vu[2, i] + vu[3, i])
+            v[i] += h / 6.0 * (au[0, i] + 2.0 * au[1, i] + 2.0 * au[2, i] + au[3, i])
+
+
+pair = paper_pair()
+case = RunSettings(contact="point", speed_a=4000 * RPM, speed_b=4000 * RPM, torque=PAPER_TORQUE)
+simulate(pair, case.with_(angle=20 * case.dt * case.speed_a))   # load the compiled code
+S0 = CompiledStepper(build_system(pair, case), case).S
+P = CompiledStepper(build_system(pair, case), case).P
+
+
+def floor(steps):
+    th, om, u, v = S0.theta.copy(), S0.omega.copy(), S0.u.copy(), S0.v.copy()
+    t = time.perf_counter()
+    bare_rk4(P, th, om, u, v, case.dt, steps)
+    return time.perf_counter() - t
+
+
+floor(10)
+loops, floors, steps = [], [], 0
+for _ in range(int(sys.argv[1])):
+    t = time.perf_counter()
+    steps = simulate(pair, case).steps
+    loops.append(time.perf_counter() - t)
+    floors.append(floor(steps))
+print(json.dumps({"steps": steps, "loops": loops, "floors": floors}))
+"""
+
+
+def loop_and_floor(reps: int) -> dict:
+    """The Fig. 8 loop and the bare-RK4 floor over as many steps, ``reps`` times each in
+    turn in one fresh process."""
+    out = subprocess.run([sys.executable, "-c", FLOOR, str(reps)], capture_output=True, text=True,
+                         check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def print_floor(reps: int) -> None:
+    """Print the Fig. 8 loop against the bare-RK4 floor (best of ``reps`` each)."""
+    f = loop_and_floor(reps)
+    loop, bare = min(f["loops"]), min(f["floors"])
+    print(f"paper-fig8 loop against the bare-RK4 floor ({f['steps']} steps, best of {reps}, "
+          f"load {os.getloadavg()[0]:.2f}): loop {loop:.2f} s ({loop / f['steps'] * 1e6:.1f} us/step), "
+          f"floor {bare:.2f} s ({bare / f['steps'] * 1e6:.1f} us/step) -> {loop / bare:.2f} x")
 
 
 def child(a: float, b: float, backend: str, steps: int) -> dict:
@@ -174,7 +265,12 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--no-cli", action="store_true")
     ap.add_argument("--no-compile", action="store_true")
+    ap.add_argument("--floor-reps", type=int, default=3)
+    ap.add_argument("--floor-only", action="store_true")
     args = ap.parse_args()
+    if args.floor_only:
+        print_floor(max(args.floor_reps, 1))
+        return
     cases = {"paper-fig9": CASES["paper-fig9"]} if args.quick else CASES
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
           f"Python {platform.python_version()}, load {os.getloadavg()[0]:.2f}")
@@ -192,6 +288,8 @@ def main() -> None:
               f"peak memory {fast['maxrss_mb']:6.0f} MB  reference {ref_per_step * 1e3:7.1f} ms/step "
               f"-> speed-up {ref_per_step * fast['steps'] / fast['wall']:5.0f}x")
     print(f"all {len(rows)} cases: {total:.1f} s of simulation")
+    if args.floor_reps > 0 and not args.quick:
+        print_floor(args.floor_reps)
     if not args.no_cli and not args.quick:
         with tempfile.TemporaryDirectory() as tmp:
             t = time.perf_counter()

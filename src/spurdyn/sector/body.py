@@ -36,28 +36,35 @@ class SectorBody:
         The gear.
     mesh
         Its sector mesh.
-    stiffness
-        ``(2N, 2N)`` plane-stress stiffness (N/m).
     flank
         The right flank of the single-tooth mesh in the tooth's own frame (strip rows).
     """
 
     gear: Gear
     mesh: SectorMesh
-    stiffness: sp.csr_matrix
     flank: Flank
     _free: NDArray[np.intp] = field(repr=False)
-    _kff: sp.csr_matrix = field(repr=False)
+
+    # Assembled and factorised when first asked for: a whole gear reduced by its harmonics
+    # (spurdyn.sector.cyclic) never is, which saves the ring's assembly and its memory.
+    @cached_property
+    def stiffness(self) -> sp.csr_matrix:
+        """``(2N, 2N)`` plane-stress stiffness (N/m)."""
+        mesh = self.mesh
+        k = sp.csr_matrix((mesh.n_dof, mesh.n_dof))
+        for width in np.unique(mesh.width):
+            sel = mesh.width == width
+            k = k + assemble_stiffness(mesh.nodes, mesh.elements[sel], self.gear.material, float(width)).tocsr()
+        return k
+
+    @cached_property
+    def free_stiffness(self) -> sp.csr_matrix:
+        """``(n, n)`` the stiffness of the free DOFs (:attr:`free_dofs`), hub held."""
+        return self.stiffness[self._free][:, self._free].tocsr()
 
     @cached_property
     def _lu(self) -> object:
-        # factorised when first solved with: a whole gear reduced by its harmonics never is
-        return factor_spd(self._kff)
-
-    @property
-    def free_stiffness(self) -> sp.csr_matrix:
-        """``(n, n)`` the stiffness of the free DOFs (:attr:`free_dofs`), hub held."""
-        return self._kff
+        return factor_spd(self.free_stiffness)
 
     def flank_coordinate(self, r: float) -> float:
         """Flank coordinate ``t`` of the involute point of radius ``r``."""
@@ -112,15 +119,11 @@ def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = No
         inner_radius = blank.hub_radius
     mesh = sector_mesh(gear, teeth, nx, ny, inner_radius, grading, first=first, web=web,
                        full_rim=full_rim)
-    k = sp.csr_matrix((mesh.n_dof, mesh.n_dof))
-    for width in np.unique(mesh.width):
-        sel = mesh.width == width
-        k = k + assemble_stiffness(mesh.nodes, mesh.elements[sel], gear.material, float(width)).tocsr()
     hub = np.concatenate([2 * mesh.hub_nodes, 2 * mesh.hub_nodes + 1])
     free = np.setdiff1d(np.arange(mesh.n_dof), hub)
     tooth = mesh.tooth
     flank = make_flank(tooth, gear, tooth.nodes, np.zeros(2), 0.0, 5)
-    return SectorBody(gear=gear, mesh=mesh, stiffness=k, flank=flank, _free=free, _kff=k[free][:, free].tocsr())
+    return SectorBody(gear=gear, mesh=mesh, flank=flank, _free=free)
 
 
 __all__ = ["SectorBody", "sector_body"]

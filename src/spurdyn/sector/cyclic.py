@@ -409,25 +409,28 @@ class FlankStatics:
     def __init__(self, gear: CyclicGear) -> None:
         blk = gear.block
         self.body, self.mesh, self.gear = blk.body, blk.body.mesh, blk.gear
-        z, flex = blk.count, gear.flank_flex(0, 0)
-        f = flex.shape[1]
-        turns = np.array([np.kron(np.eye(f // 2), turn_matrix(o * gear.cell.pitch)) for o in range(z)])
-        d = (np.arange(z)[:, None] - np.arange(z)[None, :]) % z
-        # block (i, j): B_j F_{i - j} B_j^T
-        g = turns[None] @ flex[d] @ turns[None].transpose(0, 1, 3, 2)
-        self._g = g.transpose(0, 2, 1, 3).reshape(z * f, z * f)
-        self._rows = blk.body.free_dofs[np.concatenate([blk.flank_dofs(blk.first + o) for o in range(z)])]
+        self._flex, self._pitch = gear.flank_flex(0, 0), gear.cell.pitch
+        self._rows = blk.body.free_dofs[np.concatenate([blk.flank_dofs(blk.first + o) for o in range(blk.count)])]
 
     def load(self, k: int, r: float, b: float) -> NDArray[np.float64]:
         return self.body.load(k, r, b)
+
+    def _block(self, i: int, j: int) -> NDArray[np.float64]:
+        """``E_i^T K^-1 E_j`` of the body's teeth ``first + i`` and ``first + j``."""
+        f = self._flex.shape[1]
+        turn = np.kron(np.eye(f // 2), turn_matrix(j * self._pitch))
+        return turn @ self._flex[(i - j) % self._flex.shape[0]] @ turn.T
 
     def compliance(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
         """``C = F^T K^-1 F`` for load columns ``F`` on the drive flanks (any others: solved)."""
         sub = loads[self._rows]
         if np.count_nonzero(sub) != np.count_nonzero(loads):
             return self.body.compliance(loads)
-        on = np.flatnonzero(np.any(sub != 0.0, axis=1))
-        return sub[on].T @ (self._g[np.ix_(on, on)] @ sub[on])
+        f = self._flex.shape[1]
+        teeth = np.unique(np.flatnonzero(np.any(sub != 0.0, axis=1)) // f)
+        part = [sub[t * f:(t + 1) * f] for t in teeth]
+        return sum(part[a].T @ self._block(int(i), int(j)) @ part[b]
+                   for a, i in enumerate(teeth) for b, j in enumerate(teeth))
 
 
 def statics_body(gear: object) -> object:

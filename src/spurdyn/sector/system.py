@@ -77,8 +77,6 @@ class GearBlock:
         ``J_hub + s^T M s`` over all nodes (kg m^2).
     hub_inertia, body_inertia
         The hub's part and the meshed body's (kg m^2).
-    stiffness
-        ``(n, n)`` stiffness of the free DOFs (N/m).
     """
 
     body: SectorBody
@@ -90,7 +88,6 @@ class GearBlock:
     inertia: float
     hub_inertia: float
     body_inertia: float
-    stiffness: sp.csr_matrix
     _free_of: NDArray[np.intp] = field(repr=False)
     _side_of: NDArray[np.intp] = field(repr=False)
     _left: NDArray[np.intp] = field(repr=False)
@@ -98,6 +95,11 @@ class GearBlock:
     @property
     def gear(self) -> Gear:
         return self.body.gear
+
+    @property
+    def stiffness(self) -> sp.csr_matrix:
+        """``(n, n)`` stiffness of the free DOFs (N/m), assembled when first asked for."""
+        return self.body.free_stiffness
 
     @property
     def n(self) -> int:
@@ -297,7 +299,7 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
     side_of[body.flank.side_nodes] = np.arange(body.flank.side_nodes.size)
     return GearBlock(body=body, sense=sense, first=first, count=count, mass=m_full[free],
                      rot=s_full[free], inertia=j_hub + j_body, hub_inertia=j_hub,
-                     body_inertia=j_body, stiffness=body.free_stiffness,
+                     body_inertia=j_body,
                      _free_of=free_of, _side_of=side_of,
                      _left=mirror_nodes(mesh.tooth.nodes, body.flank.side_nodes))
 

@@ -25,6 +25,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg import cho_factor, cho_solve
+from threadpoolctl import threadpool_limits
 
 from spurdyn.fem.factor import factor_spd
 from spurdyn.sector.packs import ModalGear
@@ -159,7 +160,8 @@ class ModalBody:
         self.mass = mat.copy()
         mat[1:, 1:] += np.diag(gp * self.damp + bp * reduced.omega2)
         # S is small and constant: its inverse makes a solve one product
-        inv = cho_solve(cho_factor(mat), np.eye(self.n))
+        with threadpool_limits(limits=1):           # small: BLAS's threads cost more than they give
+            inv = cho_solve(cho_factor(mat), np.eye(self.n))
         self.inv = 0.5 * (inv + inv.T)
         self._modes, self._flex = _tooth_frames(reduced, sides)
 

@@ -32,6 +32,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse.linalg import eigsh
+from threadpoolctl import threadpool_limits
 
 from spurdyn import store
 from spurdyn.fem.factor import factor_spd
@@ -98,6 +99,15 @@ def reduce_gear(block: GearBlock, max_frequency: float, method: str = "auto") ->
     whole (the reference the harmonics are compared with)."""
     if method not in ("auto", "ring"):
         raise ValueError(f"method must be 'auto' or 'ring' (got {method!r})")
+    # one BLAS thread: the dense work is small, where OpenBLAS's threads cost more than they
+    # give (the 53-tooth gear's harmonics: 3.9 s against 10.3 s on two busy cores); the
+    # store's key is taken inside, so it names the thread count the entry was computed with
+    with threadpool_limits(limits=1):
+        return _reduce_gear(block, max_frequency, method)
+
+
+def _reduce_gear(block: GearBlock, max_frequency: float, method: str) -> Reduction:
+    """:func:`reduce_gear` on the threads it set."""
     target = (2.0 * math.pi * max_frequency) ** 2
     cell = ring_cell(block.body) if method == "auto" and block.whole else None
     if cell is not None:

@@ -25,7 +25,8 @@ from spurdyn.solvers.layout import (
 )
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_compiled import (
-    accelerations, constraint_force, gram, gram_contact, max_abs, root_phi_theta, rotation, torque,
+    accelerations, assign, constraint_force, gram, gram_contact, max_abs, root_phi_theta, rotation,
+    torque,
 )
 from spurdyn.solvers.paper.iteration_compiled import accelerated_update, band_value
 from spurdyn.solvers.paper.response_compiled import response_columns, predict, superpose
@@ -183,8 +184,8 @@ def step(P, S, cfg, strip):
             moves += 1
             loc_f[0], loc_f[1] = a_c, b_c
             if hertz:
-                cn_f[:] = cn_t
-                cw_f[:] = cw_t
+                assign(cn_f, cn_t)
+                assign(cw_f, cw_t)
                 # the strip's pair rolls with the disks: its row's theta entries (11.3)
                 _, _, g_f[0], g_f[1] = roll_entries(
                     P, th_try, u_try, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hw_t, d_t[0:2], d_t[2:4])
@@ -207,8 +208,8 @@ def step(P, S, cfg, strip):
     cn1 = np.empty(2 * ns, dtype=np.int64)
     cw1 = np.empty(2 * ns)
     if hertz:
-        cn1[:] = cn_t
-        cw1[:] = cw_t
+        assign(cn1, cn_t)
+        assign(cw1, cw_t)
     else:
         contact_rows(P, a_c, b_c, cn1, cw1)
     strip1 = hw_t > 0.0          # hw_t stays 0 for the point contact
@@ -353,15 +354,15 @@ def step(P, S, cfg, strip):
         S.alpha_n[g] = al_free[g] + fth[g] / P.J[g]
     for i in range(n):
         S.a_n[i] = a_free[i] + fu[i] / P.mass[i]
-    th[:] = th1
-    om[:] = om1
-    u[:] = u1
-    v[:] = v1
-    S.x[:] = x
-    S.cn[:] = cn1
-    S.cw[:] = cw1
-    S.normal[:] = n1
-    S.gth[:] = g1
+    assign(th, th1)
+    assign(om, om1)
+    assign(u, u1)
+    assign(v, v1)
+    assign(S.x, x)
+    assign(S.cn, cn1)
+    assign(S.cw, cw1)
+    assign(S.normal, n1)
+    assign(S.gth, g1)
     # the gap the constraint holds: for the strip, its mean deformed gap s_bar - c_H |p|
     S.cpar[CP.alpha], S.cpar[CP.beta], S.cpar[CP.mode], S.cpar[CP.s] = a_c, b_c, mode, sc + c_h * p_bar
     if hertz:
@@ -395,7 +396,7 @@ def advance(P, S, cfg, strip, n_steps, angle_end, save_every, rows, frames_every
             frames[nf, 0] = S.t[0]
             frames[nf, 1] = S.theta[0]
             frames[nf, 2] = S.theta[1]
-            frames[nf, 3:] = S.u
+            assign(frames[nf, 3:], S.u)
             nf += 1
     return n_steps, nr, nf, 0
 

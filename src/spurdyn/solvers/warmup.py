@@ -23,9 +23,9 @@ COMPILE_SECONDS: dict[tuple[str, str], float] = {
 }
 
 
-def _kernel(settings: RunSettings) -> Any:
-    """The compiled function a run of ``settings`` calls first (its dispatcher)."""
-    if settings.integrator == "implicit":
+def _kernel(integrator: str) -> Any:
+    """The compiled function a run of ``integrator`` calls first (its dispatcher)."""
+    if integrator == "implicit":
         from spurdyn.solvers.implicit import step_compiled as implicit
 
         return implicit.step
@@ -34,27 +34,28 @@ def _kernel(settings: RunSettings) -> Any:
     return step_compiled.advance
 
 
-def _ours(signature: tuple[Any, ...], settings: RunSettings) -> bool:
-    """Whether a compiled signature is the one ``settings`` calls: the paper's loop has
-    one for the point contact (its ``strip`` argument None) and one for the strip."""
-    if settings.integrator == "implicit":
+def _ours(signature: tuple[Any, ...], integrator: str, contact: str) -> bool:
+    """Whether a compiled signature is the one a run calls: the paper's loop has one for
+    the point contact (its ``strip`` argument None) and one for the strip."""
+    if integrator == "implicit":
         return True
-    return (str(signature[3]) == "none") == (settings.contact != "hertz")
+    return (str(signature[3]) == "none") == (contact != "hertz")
 
 
 def needs_compiling(settings: RunSettings | None = None) -> bool:
     """True when neither this process nor the on-disk cache holds the compiled kernel of
     a run of ``settings`` (the paper's RK4 with the point contact when None)."""
-    settings = settings or RunSettings()
-    kernel = _kernel(settings)
-    if any(_ours(sig, settings) for sig in kernel.overloads):  # compiled in this process
+    integrator, contact = ("rk4", "point") if settings is None else (settings.integrator,
+                                                                      settings.contact)
+    kernel = _kernel(integrator)
+    if any(_ours(sig, integrator, contact) for sig in kernel.overloads):  # in this process
         return False
     try:
         index = kernel._cache._cache_file._load_index()  # Numba's cache index (private)
         keys = [key[0] for key in index]
     except Exception:  # noqa: BLE001 - another Numba version: say nothing
         return False
-    return not any(_ours(sig, settings) for sig in keys)
+    return not any(_ours(sig, integrator, contact) for sig in keys)
 
 
 def compile_seconds(settings: RunSettings) -> float:

@@ -181,7 +181,7 @@ class ModelEntry:
         return False
 
     def compile_seconds(self, settings: RunSettings) -> float:
-        """About how long that compiling takes on a quiet machine (seconds)."""
+        """About how long that compiling takes (seconds, measured on this project's machine)."""
         return 0.0
 
 

@@ -154,8 +154,8 @@ def _compiling_note(plan: RunPlan, simulate: Simulate, quiet: bool) -> None:
     compiles = getattr(simulate, "compiles", None)   # a registry entry's (a stand-in has none)
     if not quiet and compiles is not None and compiles(plan.case.run):
         seconds = simulate.compile_seconds(plan.case.run)
-        print(f"spurdyn: compiling the solver (first run only, about {seconds:.0f} s on a quiet "
-              "machine)...", file=sys.stderr, flush=True)
+        print(f"spurdyn: compiling the solver (first run only, about {seconds:.0f} s on a "
+              "2-core machine)...", file=sys.stderr, flush=True)
 
 
 def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,

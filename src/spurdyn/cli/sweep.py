@@ -237,7 +237,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if todo and not args.quiet and entry.compiles(plan.case.run):
         seconds = entry.compile_seconds(plan.case.run)
         print(f"spurdyn: the workers compile the solver first (first run only, about "
-              f"{seconds:.0f} s on a quiet machine)...", file=sys.stderr, flush=True)
+              f"{seconds:.0f} s on a 2-core machine)...", file=sys.stderr, flush=True)
     with backend_cm as backend:
         report = run_sweep(plan, backend, resonance=resonance, progress=not args.quiet)
     _report(report, resonance, where, args.quiet)

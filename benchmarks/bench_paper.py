@@ -203,7 +203,7 @@ def breakdown(reps: int) -> dict[str, float]:
     @njit
     def t_step(N, P, S, cfg):
         for _ in range(N):
-            fs.step(P, S, cfg)
+            fs.step(P, S, cfg, None)
 
     @njit
     def t_predict(N, P, S, h):

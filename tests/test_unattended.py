@@ -307,7 +307,7 @@ def test_compiling_is_announced(tmp_path, capsys, monkeypatch):
     from spurdyn.simulators import MODELS
 
     plan = runner.plan_runs(resolve_cases("paper-fig9", {}, {}), str(tmp_path / "o"), False)[0]
-    monkeypatch.setattr(warmup, "needs_compiling", lambda: True)
+    monkeypatch.setattr(warmup, "needs_compiling", lambda settings=None: True)
     runner._compiling_note(plan, MODELS["fe"], quiet=False)
     assert "compiling the solver (first run only" in capsys.readouterr().err
     runner._compiling_note(plan, MODELS["lumped"], quiet=False)

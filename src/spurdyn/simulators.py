@@ -180,6 +180,10 @@ class ModelEntry:
         """Whether a first run would compile the solver first (worth a word beforehand)."""
         return False
 
+    def compile_seconds(self, settings: RunSettings) -> float:
+        """About how long that compiling takes (seconds, measured on this project's machine)."""
+        return 0.0
+
 
 @dataclass(frozen=True)
 class FEEntry(ModelEntry):
@@ -200,7 +204,12 @@ class FEEntry(ModelEntry):
             return False
         from spurdyn.solvers.warmup import needs_compiling
 
-        return bool(needs_compiling())
+        return bool(needs_compiling(settings))
+
+    def compile_seconds(self, settings: RunSettings) -> float:
+        from spurdyn.solvers.warmup import compile_seconds
+
+        return compile_seconds(settings)
 
 
 @dataclass(frozen=True)

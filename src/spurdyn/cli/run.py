@@ -149,11 +149,13 @@ class ProgressBar:
 # -- one run ---------------------------------------------------------------------------
 
 def _compiling_note(plan: RunPlan, simulate: Simulate, quiet: bool) -> None:
-    """Say so before a first run compiles the solver (a minute without a word otherwise)."""
+    """Say so, and for about how long, before a first run compiles the solver (nothing
+    to show otherwise while it compiles)."""
     compiles = getattr(simulate, "compiles", None)   # a registry entry's (a stand-in has none)
     if not quiet and compiles is not None and compiles(plan.case.run):
-        print("spurdyn: compiling the solver (first run only, up to a minute)...",
-              file=sys.stderr, flush=True)
+        seconds = simulate.compile_seconds(plan.case.run)
+        print(f"spurdyn: compiling the solver (first run only, about {seconds:.0f} s on a "
+              "2-core machine)...", file=sys.stderr, flush=True)
 
 
 def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,

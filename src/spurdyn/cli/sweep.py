@@ -235,8 +235,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         backend_cm = local_backend(jobs)
         where = f"{jobs} local worker{'s' if jobs > 1 else ''}"
     if todo and not args.quiet and entry.compiles(plan.case.run):
-        print("spurdyn: the workers compile the solver first (first run only, up to a "
-              "minute)...", file=sys.stderr, flush=True)
+        seconds = entry.compile_seconds(plan.case.run)
+        print(f"spurdyn: the workers compile the solver first (first run only, about "
+              f"{seconds:.0f} s on a 2-core machine)...", file=sys.stderr, flush=True)
     with backend_cm as backend:
         report = run_sweep(plan, backend, resonance=resonance, progress=not args.quiet)
     _report(report, resonance, where, args.quiet)

@@ -11,12 +11,13 @@ import math
 import numpy as np
 
 from spurdyn.jit import njit
+from spurdyn.solvers.paper.dynamics_compiled import assign
 
 
 @njit
 def apply_c(C1, b, k, v, out):
     if k == 1:
-        out[:] = C1 @ v
+        assign(out, C1 @ v)
         return
     w = np.empty_like(v)
     apply_c(C1, b, k - 1, v, w)
@@ -27,13 +28,13 @@ def apply_c(C1, b, k, v, out):
 @njit
 def apply_a(C1, b, n, e, out):
     if n == 1:
-        out[:] = e
+        assign(out, e)
         return
     z = np.empty_like(e)
     apply_a(C1, b, n - 1, e, z)
     w = np.empty_like(e)
     apply_c(C1, b, n - 1, z, w)
-    out[:] = b[n] * z - w
+    assign(out, b[n] * z - w)
 
 
 @njit

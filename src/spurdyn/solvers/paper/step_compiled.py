@@ -25,17 +25,21 @@ from spurdyn.solvers.layout import (
 )
 from spurdyn.solvers.paper.constants import BAND_MARGIN, MAX_RELOCATE, RELOCATE
 from spurdyn.solvers.paper.dynamics_compiled import (
-    accelerations, constraint_force, gram, gram_contact, max_abs, root_phi_theta, rotation, torque,
+    accelerations, assign, constraint_force, gram, gram_contact, max_abs, root_phi_theta, rotation,
+    torque,
 )
 from spurdyn.solvers.paper.iteration_compiled import accelerated_update, band_value
 from spurdyn.solvers.paper.response_compiled import response_columns, predict, superpose
 
 
 @njit
-def step(P, S, cfg):
+def step(P, S, cfg, strip):
     """Advance the state ``S`` by one step of the paper's method; returns a status code.
 
-    ``cfg`` is a :class:`~spurdyn.solvers.layout.Config`.
+    ``cfg`` is a :class:`~spurdyn.solvers.layout.Config`; ``strip`` is ``True`` for the
+    distributed contact and ``None`` for the point contact. Numba removes a branch on an
+    argument that is None before it compiles, so the point contact's kernel leaves the
+    strip's code (:mod:`spurdyn.contact.strip_compiled`) out and compiles in less time.
     """
     h = cfg.dt
     tol1, tol2, tol3 = cfg.tol_disp, cfg.tol_vel, cfg.tol_acc
@@ -43,7 +47,7 @@ def step(P, S, cfg):
     nlev = cfg.levels
     eps_root = cfg.eps_root
     # The distributed contact (cfg.estar > 0): strips of the force at t, compliance c_H.
-    hertz = cfg.estar > 0.0
+    hertz = strip is not None
     c_h = cfg.c_h
     no_add = 0.0
     ns = S.cn.size // 2
@@ -180,8 +184,8 @@ def step(P, S, cfg):
             moves += 1
             loc_f[0], loc_f[1] = a_c, b_c
             if hertz:
-                cn_f[:] = cn_t
-                cw_f[:] = cw_t
+                assign(cn_f, cn_t)
+                assign(cw_f, cw_t)
                 # the strip's pair rolls with the disks: its row's theta entries (11.3)
                 _, _, g_f[0], g_f[1] = roll_entries(
                     P, th_try, u_try, a_c, b_c, mode, nxc, nyc, va, vb, Ma, Mb, hw_t, d_t[0:2], d_t[2:4])
@@ -204,11 +208,11 @@ def step(P, S, cfg):
     cn1 = np.empty(2 * ns, dtype=np.int64)
     cw1 = np.empty(2 * ns)
     if hertz:
-        cn1[:] = cn_t
-        cw1[:] = cw_t
+        assign(cn1, cn_t)
+        assign(cw1, cw_t)
     else:
         contact_rows(P, a_c, b_c, cn1, cw1)
-    strip1 = hertz and hw_t > 0.0
+    strip1 = hw_t > 0.0          # hw_t stays 0 for the point contact
     n1 = np.array([nxc, nyc])
     g1 = g_t.copy()
 
@@ -229,7 +233,7 @@ def step(P, S, cfg):
             px, py = root_phi_theta(P, th1, k)
             e[2 * k] = -(v_try[2 * i] + px * om_try[g])
             e[2 * k + 1] = -(v_try[2 * i + 1] + py * om_try[g])
-        if strip1:
+        if hertz and strip1:
             pax, pay = virtual_point(P, np.int64(0), cn1, cw1, np.int64(0), ns, d_t[0], d_t[1],
                                      th1[0], v_try, np.int64(1), om_try[0], 0.0)
             pbx, pby = virtual_point(P, np.int64(1), cn1, cw1, ns, ns, d_t[2], d_t[3],
@@ -293,7 +297,7 @@ def step(P, S, cfg):
             i = cn1[j]
             a_try[2 * i] = a_free[2 * i] + fu[2 * i] / P.mass[2 * i]
             a_try[2 * i + 1] = a_free[2 * i + 1] + fu[2 * i + 1] / P.mass[2 * i + 1]
-        if strip1:
+        if hertz and strip1:
             pax, pay = virtual_point(P, np.int64(0), cn1, cw1, np.int64(0), ns, d_t[0], d_t[1],
                                      th1[0], a_try, np.int64(2), om1[0], al_try[0])
             pbx, pby = virtual_point(P, np.int64(1), cn1, cw1, ns, ns, d_t[2], d_t[3],
@@ -350,15 +354,15 @@ def step(P, S, cfg):
         S.alpha_n[g] = al_free[g] + fth[g] / P.J[g]
     for i in range(n):
         S.a_n[i] = a_free[i] + fu[i] / P.mass[i]
-    th[:] = th1
-    om[:] = om1
-    u[:] = u1
-    v[:] = v1
-    S.x[:] = x
-    S.cn[:] = cn1
-    S.cw[:] = cw1
-    S.normal[:] = n1
-    S.gth[:] = g1
+    assign(th, th1)
+    assign(om, om1)
+    assign(u, u1)
+    assign(v, v1)
+    assign(S.x, x)
+    assign(S.cn, cn1)
+    assign(S.cw, cw1)
+    assign(S.normal, n1)
+    assign(S.gth, g1)
     # the gap the constraint holds: for the strip, its mean deformed gap s_bar - c_H |p|
     S.cpar[CP.alpha], S.cpar[CP.beta], S.cpar[CP.mode], S.cpar[CP.s] = a_c, b_c, mode, sc + c_h * p_bar
     if hertz:
@@ -370,8 +374,9 @@ def step(P, S, cfg):
 
 
 @njit
-def advance(P, S, cfg, n_steps, angle_end, save_every, rows, frames_every, frames, index0):
-    """Up to ``n_steps`` steps; stops when gear A has turned ``angle_end`` or a step fails.
+def advance(P, S, cfg, strip, n_steps, angle_end, save_every, rows, frames_every, frames, index0):
+    """Up to ``n_steps`` steps; stops when gear A has turned ``angle_end`` or a step fails
+    (``strip`` as for :func:`step`).
 
     Returns ``(steps, rows_written, frames_written, status)``.
     """
@@ -380,7 +385,7 @@ def advance(P, S, cfg, n_steps, angle_end, save_every, rows, frames_every, frame
     for k in range(n_steps):
         if S.theta[0] >= angle_end:
             return k, nr, nf, 0
-        status = step(P, S, cfg)
+        status = step(P, S, cfg, strip)
         if status != OK:
             return k, nr, nf, status
         idx = index0 + k + 1
@@ -391,7 +396,7 @@ def advance(P, S, cfg, n_steps, angle_end, save_every, rows, frames_every, frame
             frames[nf, 0] = S.t[0]
             frames[nf, 1] = S.theta[0]
             frames[nf, 2] = S.theta[1]
-            frames[nf, 3:] = S.u
+            assign(frames[nf, 3:], S.u)
             nf += 1
     return n_steps, nr, nf, 0
 

@@ -159,6 +159,8 @@ class CompiledStepper(Stepper):
         start = initial_state(system, settings)
         self.S = compiled_start(system, settings, start)
         self.cfg = config(settings, root_eigenvalue(system, start), system)
+        # None leaves the strip's code out of the point contact's kernel (step_compiled.step)
+        self.strip = True if settings.contact == "hertz" else None
         self.residual = self.S.res
         self.iterations = self.S.its
         self._row = np.empty((1, NCOL))
@@ -173,7 +175,7 @@ class CompiledStepper(Stepper):
 
     def step(self) -> int:
         """One step (for tests); returns the kernel's status."""
-        status = self._kernel.step(self.P, self.S, self.cfg)
+        status = self._kernel.step(self.P, self.S, self.cfg, self.strip)
         self.index += 1
         return int(status)
 
@@ -181,8 +183,9 @@ class CompiledStepper(Stepper):
                  frames_every: int, frames: Frames) -> tuple[int, int, int]:
         nf_max = n // frames_every + 1 if frames_every else 0
         fr = np.empty((nf_max, 3 + self.S.u.size))
-        done, nr, nf, status = self._kernel.advance(self.P, self.S, self.cfg, n, angle_end,
-                                                    save_every, rows, frames_every, fr, self.index)
+        done, nr, nf, status = self._kernel.advance(self.P, self.S, self.cfg, self.strip, n,
+                                                    angle_end, save_every, rows, frames_every, fr,
+                                                    self.index)
         for i in range(int(nf)):
             frames.append((float(fr[i, 0]), fr[i, 1:3].copy(), fr[i, 3:].copy()))
         return int(done), int(nr), int(status)

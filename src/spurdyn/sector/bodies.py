@@ -24,8 +24,6 @@ from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import cho_factor, cho_solve
-from threadpoolctl import threadpool_limits
 
 from spurdyn.fem.factor import factor_spd
 from spurdyn.sector.packs import ModalGear
@@ -75,6 +73,19 @@ def _tooth_frames(reduced: Reduction, sides: int = 1) -> tuple[NDArray[np.float6
                             for t in range(sides)] for j in range(blk.count)] for s in range(sides)]
                          for i in range(blk.count)])
     return modes, flex
+
+
+def arrow_solve(u: NDArray[np.float64], dinv: NDArray[np.float64], schur: float,
+                x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``S^-1 x`` (``x`` a vector or columns) for the arrow ``S = [[J, c^T], [c, diag(d)]]``
+    given by ``u = c / d``, ``1 / d`` and ``schur = J - c^T u``: the hub's part
+    ``(x_0 - u^T x_e) / schur``, then each mode's ``x_j / d_j - u_j`` times it (block
+    elimination of the modes; twin of :func:`spurdyn.solvers.sector.rows_compiled.arrow`)."""
+    x = np.asarray(x, dtype=float)
+    y = np.empty_like(x)
+    y[0] = (x[0] - u @ x[1:]) / schur
+    y[1:] = (dinv * x[1:].T).T - np.multiply.outer(u, y[0])
+    return y
 
 
 class FullBody:
@@ -157,27 +168,28 @@ class ModalBody:
         mat[0, 0] = self.block.inertia
         mat[0, 1:] = mat[1:, 0] = reduced.coupling
         mat[1:, 1:] = np.eye(m)
-        self.mass = mat.copy()
-        mat[1:, 1:] += np.diag(gp * self.damp + bp * reduced.omega2)
-        # S is small and constant: its inverse makes a solve one product
-        with threadpool_limits(limits=1):           # small: BLAS's threads cost more than they give
-            inv = cho_solve(cho_factor(mat), np.eye(self.n))
-        self.inv = 0.5 * (inv + inv.T)
+        self.mass = mat
+        # S is an arrow (the hub's row and column beside a diagonal): solved in O(n)
+        d = 1.0 + gp * self.damp + bp * reduced.omega2
+        self.u = reduced.coupling / d
+        self.dinv = 1.0 / d
+        self.schur = float(self.block.inertia - reduced.coupling @ self.u)
         self._modes, self._flex = _tooth_frames(reduced, sides)
 
     def solve(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return self.inv @ x
+        return arrow_solve(self.u, self.dinv, self.schur, x)
 
     def compiled(self) -> ModalGear:
         """The body's twin for the compiled loops (:data:`~spurdyn.sector.packs.ModalGear`):
-        ``S^-1`` (or ``M^-1``), the modes' damping and ``omega^2``, the modes in each tooth's
+        ``S`` (or ``M``) as :func:`arrow_solve` reads it, the modes' damping and ``omega^2``, the modes in each tooth's
         frame, the static blocks, the flank's geometry, the body's first tooth and count."""
         blk = self.block
         fl = blk.body.flank
         geo = np.array([fl.r0, fl.r_tip, float(fl.ny), fl.base_radius, blk.gear.half_angle_base])
-        return ModalGear(np.ascontiguousarray(self.inv), np.ascontiguousarray(self.damp),
-                         np.ascontiguousarray(self.reduced.omega2), np.ascontiguousarray(self._modes),
-                         np.ascontiguousarray(self._flex), geo, blk.first, blk.count)
+        return ModalGear(np.ascontiguousarray(self.u), np.ascontiguousarray(self.dinv), self.schur,
+                         np.ascontiguousarray(self.damp), np.ascontiguousarray(self.reduced.omega2),
+                         np.ascontiguousarray(self._modes), np.ascontiguousarray(self._flex), geo,
+                         blk.first, blk.count)
 
     def forces(self, q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.zeros_like(q)
@@ -199,7 +211,7 @@ class ModalBody:
         return rows.modal @ x[1:]
 
     def columns(self, rows: ModalRows) -> NDArray[np.float64]:
-        return self.inv[:, 1:] @ rows.modal.T
+        return self.solve(np.vstack([np.zeros((1, rows.modal.shape[0])), rows.modal.T]))
 
     def residual(self, rows: ModalRows) -> NDArray[np.float64]:
         """``b_i^T R b_j`` of the pairs' loads: the static flexibility in the teeth's frames
@@ -228,4 +240,4 @@ class ModalBody:
         return 0.5 * float(q[1:] @ (self.reduced.omega2 * q[1:]))
 
 
-__all__ = ["FullBody", "FullRows", "ModalBody", "ModalRows"]
+__all__ = ["FullBody", "FullRows", "ModalBody", "ModalRows", "arrow_solve"]

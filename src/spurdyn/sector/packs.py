@@ -14,13 +14,16 @@ from __future__ import annotations
 from collections import namedtuple
 
 #: One modal gear as the sector's compiled loops read it (its body's twin,
-#: ``ModalBody.compiled``): ``inv`` the inverse of ``S = M + gamma' C + beta' K`` (``M^-1``
-#: for the RK4 reference), ``damp`` and ``omega2`` the modes' damping and ``omega^2``,
+#: ``ModalBody.compiled``): ``S = M + gamma' C + beta' K`` (``M`` for the RK4 reference) is
+#: an arrow, the hub's row and column ``(J, c^T)`` beside a diagonal ``d``, so ``S^-1 x`` takes
+#: ``u = c / d``, ``1 / d`` and the Schur complement ``schur = J - c^T u``
+#: (:func:`spurdyn.sector.bodies.arrow_solve`); ``damp`` and ``omega2`` the modes' damping and ``omega^2``,
 #: ``modes`` ``(count, sides, f, m)`` the modes at each flank in its own frame, ``flex``
 #: ``(count, sides, sides, f, f)`` the static flexibility between two flanks by the teeth's
 #: distance round the ring, ``geo`` the flank's ``(r0, r_tip, ny, r_b, half base angle)``,
 #: ``first`` and ``count`` the body's teeth.
-ModalGear = namedtuple("ModalGear", ["inv", "damp", "omega2", "modes", "flex", "geo", "first", "count"])
+ModalGear = namedtuple("ModalGear", ["u", "dinv", "schur", "damp", "omega2", "modes", "flex", "geo", "first",
+                                     "count"])
 
 #: The rigid gap's table (``GapTable.compiled``): rolls, gaps, slopes and contact radii.
 GapArrays = namedtuple("GapArrays", ["rho", "gap", "slope", "r_a", "r_b"])

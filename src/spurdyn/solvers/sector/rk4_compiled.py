@@ -16,6 +16,7 @@ import numpy as np
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK
 from spurdyn.solvers.sector.rows_compiled import (
+    arrow,
     contact_rows,
     damper_coefficient,
     lcp_ordered,
@@ -30,8 +31,8 @@ def stage(tq0, tq1, q, v, held, gear0, gear1, con, table, cfg, orders, force):
     ``tq0, tq1``, the pairs' forces written into ``force`` (twin of ``rk4.Rk4Model.stage``):
     the strips' half-widths of ``held``, whose active set is tried first, the mesh damper
     shared by the stage's forces."""
-    na = gear0.inv.shape[0]
-    nb = gear1.inv.shape[0]
+    na = gear0.omega2.size + 1
+    nb = gear1.omega2.size + 1
     acc = modal_free(tq0, tq1, q, v, gear0, gear1)
     theta = q[0]
     force[:] = 0.0
@@ -65,8 +66,8 @@ def stage(tq0, tq1, q, v, held, gear0, gear1, con, table, cfg, orders, force):
     gen1[0] = coef1 @ push
     gen0[1:] = rows0.T @ lam
     gen1[1:] = rows1.T @ lam
-    acc[:na] += gear0.inv @ gen0
-    acc[na:] += gear1.inv @ gen1
+    acc[:na] += arrow(gear0, gen0)
+    acc[na:] += arrow(gear1, gen1)
     out = gaps + cs @ lam
     for a in range(p):
         force[on[a]] = lam[a]
@@ -94,7 +95,7 @@ def run_rk4(first_step, steps, st, gear0, gear1, con, table, cfg, tq_half, out):
     ``FAIL_LCP`` or ``FAIL_BEYOND`` (the driver left ``theta_lo .. theta_hi``)."""
     q, v, force, held = st.q, st.v, st.force, st.held
     h = cfg.h
-    na = gear0.inv.shape[0]
+    na = gear0.omega2.size + 1
     orders = mask_orders()
     f_tmp = np.empty_like(force)
     s = first_step

@@ -83,9 +83,9 @@ def flank_load(geo, r, b, xq, wq, out):
 def modal_free(tq0, tq1, q, v, gear0, gear1):
     """The bodies' accelerations without the contacts' forces: the hubs' torques ``tq0``,
     ``tq1`` less each mode's damping and stiffness at ``(q, v)``, through each gear's
-    ``inv`` (``S^-1`` of the implicit loop, ``M^-1`` of the RK4 reference)."""
-    na = gear0.inv.shape[0]
-    n = na + gear1.inv.shape[0]
+    :func:`arrow` (``S^-1`` of the implicit loop, ``M^-1`` of the RK4 reference)."""
+    na = gear0.omega2.size + 1
+    n = na + gear1.omega2.size + 1
     r = np.zeros(n)
     r[0] = tq0
     r[na] = tq1
@@ -94,9 +94,34 @@ def modal_free(tq0, tq1, q, v, gear0, gear1):
     for j in range(gear1.omega2.size):
         r[na + 1 + j] -= gear1.damp[j] * v[na + 1 + j] + gear1.omega2[j] * q[na + 1 + j]
     out = np.empty(n)
-    out[:na] = gear0.inv @ r[:na]
-    out[na:] = gear1.inv @ r[na:]
+    out[:na] = arrow(gear0, r[:na])
+    out[na:] = arrow(gear1, r[na:])
     return out
+
+
+@njit
+def arrow(gear, x):
+    """``S^-1 x`` of the gear's arrow ``S`` (:data:`~spurdyn.sector.packs.ModalGear`; twin
+    of :func:`spurdyn.sector.bodies.arrow_solve`): O(n), not a dense inverse's O(n^2)."""
+    u, dinv = gear.u, gear.dinv
+    m = u.size
+    hub = x[0]
+    for j in range(m):
+        hub -= u[j] * x[1 + j]
+    hub /= gear.schur
+    y = np.empty(m + 1)
+    y[0] = hub
+    for j in range(m):
+        y[1 + j] = dinv[j] * x[1 + j] - u[j] * hub
+    return y
+
+
+@njit
+def hub_column(gear):
+    """``z = S^-1 e_0``: the gear's response to a unit hub torque."""
+    e = np.zeros(gear.u.size + 1)
+    e[0] = 1.0
+    return arrow(gear, e)
 
 
 @njit

@@ -24,6 +24,7 @@ from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK
 from spurdyn.solvers.sector.rows_compiled import (
     contact_rows,
     damper_coefficient,
+    hub_column,
     lcp_ordered,
     mask_orders,
     modal_free,
@@ -36,16 +37,19 @@ def _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols,
     contact: ``(qdd, F, found)``. ``x0`` the accelerations without them (changed by the mesh
     damper), ``last`` the forces of the step before (the damper's shares, the active set
     tried first), ``hub_cols`` per gear ``S^-1`` of a unit hub torque ``z`` and
-    ``elastic_cols`` ``S^-1`` on its modes, ``c_mesh`` the damper's coefficient."""
+    ``elastic_cols`` its arrow's ``(u, 1 / d)``, ``c_mesh`` the damper's coefficient."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     z0, z1 = hub_cols
-    inv0_e, inv1_e = elastic_cols
+    (u0, dinv0), (u1, dinv1) = elastic_cols
     bp, gp = cfg.bp, cfg.gp
     p = on.size
     na = z0.size
-    # couplings (docs/sector.md 6.3): per gear S^-1 G^T = z c^T + S^-1 E^T
-    full0 = np.outer(z0, coef0) + inv0_e @ rows0.T
-    full1 = np.outer(z1, coef1) + inv1_e @ rows1.T
+    # couplings (docs/sector.md 6.3): per gear S^-1 G^T = z c^T + S^-1 E^T, the arrow's
+    # S^-1 [0; r] = [0; r / d] - (u . r) z
+    full0 = np.outer(z0, coef0 - rows0 @ u0)
+    full0[1:] += (rows0 * dinv0).T
+    full1 = np.outer(z1, coef1 - rows1 @ u1)
+    full1[1:] += (rows1 * dinv1).T
     w0 = (np.outer(coef0, full0[0]) + rows0 @ full0[1:]
           + np.outer(coef1, full1[0]) + rows1 @ full1[1:])
     w_gd = (np.outer(coef0 * z0[0] + rows0 @ z0[1:], coef0)
@@ -127,10 +131,10 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out):
     at the step's end)."""
     q, v, acc, qdd, force = st.q, st.v, st.acc, st.qdd, st.force
     am, af, beta, gamma, h, bp, gp = cfg.am, cfg.af, cfg.beta, cfg.gamma, cfg.h, cfg.bp, cfg.gp
-    na = gear0.inv.shape[0]
-    n = na + gear1.inv.shape[0]
-    hub_cols = (gear0.inv[:, 0].copy(), gear1.inv[:, 0].copy())
-    elastic_cols = (gear0.inv[:, 1:].copy(), gear1.inv[:, 1:].copy())
+    na = gear0.omega2.size + 1
+    n = na + gear1.omega2.size + 1
+    hub_cols = (hub_column(gear0), hub_column(gear1))
+    elastic_cols = ((gear0.u, gear0.dinv), (gear1.u, gear1.dinv))
     orders = mask_orders()
     for step in range(first_step + 1, first_step + steps + 1):
         a_part = (af * qdd - am * acc) / (1.0 - am)

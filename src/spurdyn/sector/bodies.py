@@ -63,7 +63,11 @@ def _tooth_frames(reduced: Reduction, sides: int = 1) -> tuple[NDArray[np.float6
     teeth = [blk.first + t for t in range(blk.count)]
     n_side = blk.flank_dofs(teeth[0]).size // 2
     turns = [[np.kron(np.eye(n_side), blk.turn_of(k, s)) for s in range(sides)] for k in teeth]
-    modes = np.array([[q[s].T @ reduced.modes_at(k, s) for s in range(sides)] for q, k in zip(turns, teeth)])
+    # every flank's modes at once, each node's vector turned back by its flank's Q (Q^T v)
+    dofs = np.concatenate([blk.flank_dofs(k, s) for k in teeth for s in range(sides)])
+    phi = reduced.phi_rows(dofs).reshape(len(teeth), sides, n_side, 2, reduced.m)
+    q = np.array([[blk.turn_of(k, s) for s in range(sides)] for k in teeth])
+    modes = np.einsum("tsba,tsnbm->tsnam", q, phi).reshape(len(teeth), sides, 2 * n_side, reduced.m)
     if blk.whole:
         ring = {(s, t): reduced.flank_flex(s, t) for s in range(sides) for t in range(sides)}
         flex = np.array([[[turns[d][s].T @ ring[s, t][d] @ turns[0][t] for t in range(sides)]

@@ -185,20 +185,66 @@ def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
         at1[a] = (-k + sd[a] - gear1.first) % gear1.count
         flank_load(gear0.geo, r_a, hw, con.xq, con.wq, loads0[a])
         flank_load(gear1.geo, r_b, hw, con.xq, con.wq, loads1[a])
-    rows0 = np.empty((p, gear0.omega2.size))
-    rows1 = np.empty((p, gear1.omega2.size))
+    # a strip's load touches a few of the flank's nodes: the products run over those alone
+    idx0, cnt0 = _nonzeros(loads0)
+    idx1, cnt1 = _nonzeros(loads1)
+    rows0 = _modal_rows(loads0, idx0, cnt0, gear0.modes, at0, sd)
+    rows1 = _modal_rows(loads1, idx1, cnt1, gear1.modes, at1, sd)
+    res = (_static_pairs(loads0, idx0, cnt0, gear0.flex, at0, sd, gear0.count)
+           + _static_pairs(loads1, idx1, cnt1, gear1.flex, at1, sd, gear1.count))
+    res -= (rows0 / gear0.omega2) @ rows0.T + (rows1 / gear1.omega2) @ rows1.T
+    return on, const, coef0, coef1, rows0, rows1, res
+
+
+@njit
+def _nonzeros(loads):
+    """Per row of ``loads`` ``(p, f)`` the columns that are not zero: ``(idx, count)``."""
+    p, nf = loads.shape
+    idx = np.empty((p, nf), np.int64)
+    cnt = np.zeros(p, np.int64)
     for a in range(p):
-        rows0[a] = loads0[a] @ gear0.modes[at0[a], sd[a]]
-        rows1[a] = loads1[a] @ gear1.modes[at1[a], sd[a]]
+        for i in range(nf):
+            if loads[a, i] != 0.0:
+                idx[a, cnt[a]] = i
+                cnt[a] += 1
+    return idx, cnt
+
+
+@njit
+def _modal_rows(loads, idx, cnt, modes, at, sd):
+    """``(p, m)`` the pairs' modal rows ``Phi_k^T b``: each load on its tooth ``at`` and
+    flank ``sd`` (``modes`` of :data:`~spurdyn.sector.packs.ModalGear`), over its nonzeros."""
+    p, m = loads.shape[0], modes.shape[3]
+    rows = np.zeros((p, m))
+    for a in range(p):
+        md = modes[at[a], sd[a]]
+        for t in range(cnt[a]):
+            i = idx[a, t]
+            w = loads[a, i]
+            for j in range(m):
+                rows[a, j] += w * md[i, j]
+    return rows
+
+
+@njit
+def _static_pairs(loads, idx, cnt, flex, at, sd, count):
+    """``(p, p)`` ``b_a^T E^T K^-1 E b_c`` of the pairs' loads through the static blocks
+    ``flex`` by the teeth's distance round the ring, over the loads' nonzeros."""
+    p = loads.shape[0]
     res = np.zeros((p, p))
     for a in range(p):
         for c in range(p):
-            d0 = (at0[a] - at0[c]) % gear0.count
-            d1 = (at1[a] - at1[c]) % gear1.count
-            res[a, c] = (loads0[a] @ (gear0.flex[d0, sd[a], sd[c]] @ loads0[c])
-                         + loads1[a] @ (gear1.flex[d1, sd[a], sd[c]] @ loads1[c]))
-    res -= (rows0 / gear0.omega2) @ rows0.T + (rows1 / gear1.omega2) @ rows1.T
-    return on, const, coef0, coef1, rows0, rows1, res
+            fl = flex[(at[a] - at[c]) % count, sd[a], sd[c]]
+            acc = 0.0
+            for t in range(cnt[a]):
+                i = idx[a, t]
+                row = 0.0
+                for u in range(cnt[c]):
+                    j = idx[c, u]
+                    row += fl[i, j] * loads[c, j]
+                acc += loads[a, i] * row
+            res[a, c] = acc
+    return res
 
 
 @njit

@@ -194,7 +194,7 @@ def contact(P, I, theta, u, guess, load, cn, cw, d, buf):
     return a, b, mode, nx, ny, s, hw, True
 
 
-@njit
+@njit(entry=True)
 def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     """One implicit step in place (state at ``t`` in, at ``t + h`` out); returns the status.
 

@@ -13,19 +13,22 @@ imported lazily by the compiled stepper.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import re
+import types
 from pathlib import Path
 from typing import Any, Callable
 
 import numba
+from numba.core.typing.typeof import typeof_impl
 
 from spurdyn.store import cache_base
 
 PACKAGE = Path(__file__).resolve().parent
 
-__all__ = ["njit", "cache_folder", "compiled_sources", "imported_modules"]
+__all__ = ["Kernel", "njit", "cache_folder", "compiled_sources", "imported_modules"]
 
 
 def _module_file(name: str) -> Path | None:
@@ -107,11 +110,77 @@ if _folder is not None:
     numba.config.CACHE_DIR = _folder
 
 
-def njit(fn: Callable[..., Any]) -> Callable[..., Any]:
+_OPTIONS = {"cache": True, "nogil": True}
+
+
+def _renamed(fn: Callable[..., Any], suffix: str) -> Callable[..., Any]:
+    """A copy of ``fn`` whose qualified name ends in ``suffix``: Numba names a function's
+    disk cache by its qualified name, so two builds of one function need two names."""
+    copy = types.FunctionType(fn.__code__, fn.__globals__, fn.__name__, fn.__defaults__,
+                              fn.__closure__)
+    functools.update_wrapper(copy, fn)
+    copy.__qualname__ = fn.__qualname__ + suffix
+    del copy.__wrapped__
+    return copy
+
+
+class Kernel:
+    """A compiled function in two builds: one for the kernels that call it, one for Python.
+
+    Numba gives every compiled function a CPython wrapper (unboxing each argument, the
+    packed model's twenty arrays among them) and a C wrapper, optimised and emitted to
+    machine code with it, and the function once more in each kernel that calls it. A
+    kernel that only other kernels call needs neither: the build they link
+    (:attr:`internal`) has none, which takes a fifth off a first run's compile
+    (docs/performance.md, "The first run's compile"). A call from Python (the tests of the
+    NumPy twins, a stepper's single step) compiles :attr:`public`, the same code with its
+    wrappers, on its first call; attributes not found here are that build's (``overloads``,
+    ``signatures``).
+    """
+
+    def __init__(self, fn: Callable[..., Any]) -> None:
+        self.py_func = fn
+        self.internal = numba.njit(no_cpython_wrapper=True, no_cfunc_wrapper=True,
+                                   **_OPTIONS)(_renamed(fn, "__internal"))
+        self._public: Any = None
+        functools.update_wrapper(self, fn)
+
+    @property
+    def public(self) -> Any:
+        """The build called from Python (its dispatcher, made on first use)."""
+        if self._public is None:
+            self._public = numba.njit(**_OPTIONS)(self.py_func)
+        return self._public
+
+    def __call__(self, *args: Any) -> Any:
+        return self.public(*args)
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return getattr(self.public, name)
+
+
+@typeof_impl.register(Kernel)
+def _typeof_kernel(value: Kernel, context: Any) -> Any:
+    """A kernel seen from another kernel is its wrapper-less build."""
+    return numba.types.Dispatcher(value.internal)
+
+
+def njit(fn: Callable[..., Any] | None = None, *, entry: bool = False) -> Any:
     """Compile ``fn`` in nopython mode, cached on disk, releasing the GIL while it runs.
 
     The kernels touch no Python object, so the GIL is not needed; releasing it lets a
     thread of the command (loading the output writers, :mod:`spurdyn.results.prefetch`)
     use the second core while the time loop runs.
+
+    A :class:`Kernel` (other kernels link a build without Python's wrappers), or with
+    ``entry=True`` (as ``@njit(entry=True)``) one Numba dispatcher: for the functions a
+    solver calls from Python (its time loop), which would otherwise compile twice when
+    kernels call them too.
     """
-    return numba.njit(cache=True, nogil=True)(fn)
+    if fn is None:
+        return lambda f: njit(f, entry=entry)
+    if entry:
+        return numba.njit(**_OPTIONS)(fn)
+    return Kernel(fn)

@@ -172,36 +172,41 @@ def forces(P, I, theta, omega, u, v, touching, out, w, kw, el, q, wd, cwd):
 
 
 @njit
-def contact(P, I, theta, u, guess, load, cn, cw, d, buf):
+def contact(P, I, strip, theta, u, guess, load, cn, cw, d, buf):
     """The contact pair at ``(theta, u)``: ``(alpha, beta, mode, nx, ny, s, half_width, ok)``
     with its rows written into ``cn``, ``cw`` and their offsets ``delta`` into ``d`` (the
-    strip of ``load`` for the distributed contact)."""
+    strip of ``load`` for the distributed contact, ``strip`` True; None for the point
+    contact, whose kernel Numba then compiles without the strip's code)."""
     ns = I.ns
-    a, b, mode, nx, ny, s = search(P, theta, u, guess, buf[0], buf[1], buf[2], buf[3], I.estar > 0.0)
+    hertz = strip is not None
+    a, b, mode, nx, ny, s = search(P, theta, u, guess, buf[0], buf[1], buf[2], buf[3], hertz)
     hw = 0.0
-    if I.estar > 0.0 and mode == FLANK:
-        hw = strip_half_width(P, a, b, load, I.estar, I.face)
-    if hw > 0.0:
-        dax, day, ok_a = strip_rows(P, np.int64(0), a, hw, cn, cw, np.int64(0), ns)
-        dbx, dby, ok_b = strip_rows(P, np.int64(1), b, hw, cn, cw, ns, ns)
-        if not (ok_a and ok_b):
-            return a, b, mode, nx, ny, s, hw, False
-        s = strip_gap(P, cn, cw, ns, dax, day, dbx, dby, theta, u, nx, ny)
-        d[0], d[1], d[2], d[3] = dax, day, dbx, dby
-    else:
-        contact_rows(P, a, b, cn, cw)
-        point_offsets(P, a, b, d)
+    if hertz:
+        if mode == FLANK:
+            hw = strip_half_width(P, a, b, load, I.estar, I.face)
+        if hw > 0.0:
+            dax, day, ok_a = strip_rows(P, np.int64(0), a, hw, cn, cw, np.int64(0), ns)
+            dbx, dby, ok_b = strip_rows(P, np.int64(1), b, hw, cn, cw, ns, ns)
+            if not (ok_a and ok_b):
+                return a, b, mode, nx, ny, s, hw, False
+            s = strip_gap(P, cn, cw, ns, dax, day, dbx, dby, theta, u, nx, ny)
+            d[0], d[1], d[2], d[3] = dax, day, dbx, dby
+            return a, b, mode, nx, ny, s, hw, True
+    contact_rows(P, a, b, cn, cw)
+    point_offsets(P, a, b, d)
     return a, b, mode, nx, ny, s, hw, True
 
 
-@njit
-def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
+@njit(entry=True)
+def step(P, I, strip, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     """One implicit step in place (state at ``t`` in, at ``t + h`` out); returns the status.
 
     ``cpar`` (columns :data:`~spurdyn.solvers.layout.CP`) holds the contact pair; ``cn``,
     ``cw``, ``normal`` its rows; ``res[0]``, ``its[0]`` receive the Newton iteration's last
-    residual (m) and iterations.
+    residual (m) and iterations. ``strip`` is True for the distributed contact and None for
+    the point contact (Numba leaves the strip's branches out of the point contact's kernel).
     """
+    hertz = strip is not None
     n_u = u.size
     n_q = 2 + n_u
     nr2 = 2 * P.rnode.size
@@ -219,7 +224,7 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     q += h * qd + h * h * ((0.5 - beta) * acc + beta * a1)
     qd += h * ((1.0 - gamma) * acc + gamma * a1)
     xs = x.copy()
-    load = abs(x[nx_ - 1]) if I.estar > 0.0 else 0.0
+    load = abs(x[nx_ - 1]) if hertz else 0.0
     guess = np.array([cpar[CP.alpha], cpar[CP.beta]])
     radius = 0.0
     for i in range(P.Y.size):
@@ -255,7 +260,8 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     while True:
         th = q[:2]
         uu = q[2:]
-        a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, th, uu, guess, load, cn_c, cw_c, d_c, buf)
+        a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, strip, th, uu, guess, load, cn_c, cw_c,
+                                                       d_c, buf)
         if not ok:
             its[0] = it
             return FAIL_STRIP
@@ -267,7 +273,7 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
             cn_f[:] = cn_c
             cw_f[:] = cw_c
             nrm_f[0], nrm_f[1] = nxc, nyc
-            if I.estar > 0.0:
+            if hertz:
                 # the strip's pair rolls with the disks: its row's theta entries (solver.md
                 # 11.3), from the rigid flanks' splines the search just left in buf
                 _, _, g_f[0], g_f[1] = roll_entries(P, th, uu, a_c, b_c, mode, nxc, nyc, buf[0], buf[1],
@@ -380,11 +386,11 @@ def step(P, I, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
     u[:] = q[2:]
     v[:] = qd[2:]
     x[:] = xs
-    if I.estar > 0.0:
+    if hertz:
         # the next step's strip is the one of the force now; the gap kept is the one the
         # constraint holds, the strip's mean deformed gap s_bar - c_H |p|
-        a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, theta, u, guess, abs(x[nx_ - 1]),
-                                                       cn_c, cw_c, d_c, buf)
+        a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, strip, theta, u, guess,
+                                                       abs(x[nx_ - 1]), cn_c, cw_c, d_c, buf)
         if not ok:
             return FAIL_STRIP
         sc += I.c_h * x[nx_ - 1]

@@ -155,6 +155,8 @@ class CompiledImplicitStepper(_Implicit):
         from spurdyn.solvers.implicit.step_compiled import step
 
         self._step = step
+        # None leaves the strip's code out of the point contact's kernel (step_compiled.step)
+        self.strip = True if self.I.estar > 0.0 else None
         self.state = _View(self)
 
     def contact_columns(self) -> tuple[float, float, float, float, float]:
@@ -163,9 +165,9 @@ class CompiledImplicitStepper(_Implicit):
 
     def _one(self) -> int:
         a = self.arrays
-        status = self._step(self.P, self.I, a["theta"], a["omega"], a["u"], a["v"], a["x"],
-                            a["qdd"], a["acc"], a["cpar"], a["cn"], a["cw"], a["normal"],
-                            self._res, self._its)
+        status = self._step(self.P, self.I, self.strip, a["theta"], a["omega"], a["u"], a["v"],
+                            a["x"], a["qdd"], a["acc"], a["cpar"], a["cn"], a["cw"],
+                            a["normal"], self._res, self._its)
         self.residual[0], self.iterations[0] = self._res[0], self._its[0]
         if status == OK:
             self.time += self.settings.dt

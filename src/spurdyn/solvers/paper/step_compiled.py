@@ -373,7 +373,7 @@ def step(P, S, cfg, strip):
     return OK
 
 
-@njit
+@njit(entry=True)
 def advance(P, S, cfg, strip, n_steps, angle_end, save_every, rows, frames_every, frames, index0):
     """Up to ``n_steps`` steps; stops when gear A has turned ``angle_end`` or a step fails
     (``strip`` as for :func:`step`).
@@ -401,7 +401,7 @@ def advance(P, S, cfg, strip, n_steps, angle_end, save_every, rows, frames_every
     return n_steps, nr, nf, 0
 
 
-@njit
+@njit(entry=True)
 def write_row(P, S, row):
     """The history row of the state ``S``: a :class:`~spurdyn.solvers.layout.HistoryRow`
     (every column named, all floats) copied into ``row`` in field order."""

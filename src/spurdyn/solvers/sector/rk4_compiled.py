@@ -85,7 +85,7 @@ def _write(out, i, q, v, force, gap, na):
     out.gap[i] = gap
 
 
-@njit
+@njit(entry=True)
 def run_rk4(first_step, steps, st, gear0, gear1, con, table, cfg, tq_half, out):
     """``steps`` RK4 steps from ``first_step`` of the state ``st`` (a
     :data:`~spurdyn.solvers.layout.SectorRk4State`: ``q, v`` and the forces at the step's

@@ -118,7 +118,7 @@ def _save(out, step, q, v, force, rows, c_h, na):
         out.gap[step] = gaps.min()
 
 
-@njit
+@njit(entry=True)
 def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out):
     """``steps`` steps from ``first_step`` of the state ``st`` (a
     :data:`~spurdyn.solvers.layout.SectorStepState`, changed in place), the saved columns

@@ -217,7 +217,7 @@ class CyclicGear(Reduction):
         self._scale = np.where(real[self._col], 1.0 / math.sqrt(z), math.sqrt(2.0 / z))
         self.omega2 = w2[self._col]
         self.coupling = coupling[self._col] * (self._part == 0)
-        self._lu: dict[int, tuple[object, sp.csr_matrix]] = {}
+        self._lu: dict[int, tuple[_RealForm, sp.csr_matrix]] = {}
         self._resp: dict[tuple[int, int], NDArray[np.float64]] = {}
 
     def phi_rows(self, dofs: NDArray[np.intp]) -> NDArray[np.float64]:
@@ -241,7 +241,7 @@ class CyclicGear(Reduction):
         for h in range(cell.z // 2 + 1):
             if h not in self._lu:
                 k, _, t = cell.harmonic(h)
-                self._lu[h] = (_solver(k), t)
+                self._lu[h] = (_RealForm(k), t)
             solve, t = self._lu[h]
             y = t @ solve(loads)
             v = cell.at(rows, y, h, shift)
@@ -319,7 +319,7 @@ def _harmonic_ritz(k: sp.csc_matrix, m: NDArray[np.float64], target: float, rhs:
     M_h-orthonormal Ritz vectors of their span and their ``omega^2``; and ``K_h^-1 unit``."""
     d = 1.0 / np.sqrt(m)
     a = sp.diags(d) @ k @ sp.diags(d)
-    solve = _solver(a)
+    solve = _RealForm(a)
     vec = d[:, None] * _lowest(a, solve, target)
     shapes = d[:, None] * solve(d[:, None] * np.column_stack([rhs, unit]))
     basis = np.column_stack([vec, _orthonormal(shapes[:, :rhs.shape[1]], vec, m)])
@@ -340,33 +340,34 @@ def _orthonormal(shapes: NDArray, modes: NDArray, m: NDArray[np.float64]) -> NDA
     return shapes
 
 
-def _solver(a: sp.spmatrix):
-    """``x -> a^-1 x`` for a Hermitian ``a``, through the real form ``[[a_r, -a_i], [a_i,
-    a_r]]`` when it is complex (the form :func:`_lowest` iterates on); ``solve.real`` the
-    real form's own solve."""
-    cplx = np.iscomplexobj(a.data)
-    lu = splu((sp.bmat([[a.real, -a.imag], [a.imag, a.real]]) if cplx else a).tocsc())
+class _RealForm:
+    """``a^-1`` for a Hermitian ``a`` through the real form ``[[a_r, -a_i], [a_i, a_r]]``
+    when it is complex (the form :func:`_lowest` iterates on), one factor for both."""
 
-    def columns(b: NDArray[np.float64]) -> NDArray[np.float64]:
-        # column by column: SuperLU's solve of many columns at once is several times slower
+    def __init__(self, a: sp.spmatrix) -> None:
+        self.n = a.shape[0]
+        self.complex = np.iscomplexobj(a.data)
+        form = sp.bmat([[a.real, -a.imag], [a.imag, a.real]]) if self.complex else a
+        self._lu = splu(form.tocsc())
+
+    def real(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The real form's solve, column by column (SuperLU's solve of many columns at once
+        is several times slower)."""
         b = np.asarray(b, dtype=float)
         if b.ndim == 1:
-            return lu.solve(b)
-        return np.column_stack([lu.solve(np.ascontiguousarray(b[:, i])) for i in range(b.shape[1])])
+            return self._lu.solve(b)
+        return np.column_stack([self._lu.solve(np.ascontiguousarray(b[:, i])) for i in range(b.shape[1])])
 
-    def solve(x: NDArray) -> NDArray:
+    def __call__(self, x: NDArray) -> NDArray:
+        """``a^-1 x``."""
         x = np.asarray(x)
-        if not cplx:
-            return columns(x.real)
-        y = columns(np.concatenate([x.real, x.imag]))
-        return y[:a.shape[0]] + 1j * y[a.shape[0]:]
-
-    solve.real = lambda x: lu.solve(np.asarray(x, dtype=float))
-    solve.size = lu.shape[0]
-    return solve
+        if not self.complex:
+            return self.real(x.real)
+        y = self.real(np.concatenate([x.real, x.imag]))
+        return y[:self.n] + 1j * y[self.n:]
 
 
-def _lowest(a: sp.spmatrix, solve, target: float) -> NDArray:
+def _lowest(a: sp.spmatrix, solve: _RealForm, target: float) -> NDArray:
     """Orthonormal eigenvectors spanning the eigenspaces of ``a`` (Hermitian, positive)
     below ``target``: shift-invert Lanczos about 0 (ARPACK's symmetric one: a complex
     ``a = a_r + i a_i`` as the real ``[[a_r, -a_i], [a_i, a_r]]``, whose eigenvalues are

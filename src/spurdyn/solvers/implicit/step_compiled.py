@@ -198,12 +198,12 @@ def contact(P, I, strip, theta, u, guess, load, cn, cw, d, buf):
 
 
 @njit(entry=True)
-def step(P, I, strip, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res, its):
+def step(P, I, strip, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res):
     """One implicit step in place (state at ``t`` in, at ``t + h`` out); returns the status.
 
     ``cpar`` (columns :data:`~spurdyn.solvers.layout.CP`) holds the contact pair; ``cn``,
-    ``cw``, ``normal`` its rows; ``res[0]``, ``its[0]`` receive the Newton iteration's last
-    residual (m) and iterations. ``strip`` is True for the distributed contact and None for
+    ``cw``, ``normal`` its rows; ``res[0]``, ``res[1]`` receive the Newton iteration's last
+    residual (m) and its iterations. ``strip`` is True for the distributed contact and None for
     the point contact (Numba leaves the strip's branches out of the point contact's kernel).
     """
     hertz = strip is not None
@@ -263,7 +263,7 @@ def step(P, I, strip, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res
         a_c, b_c, mode, nxc, nyc, sc, hw, ok = contact(P, I, strip, th, uu, guess, load, cn_c, cw_c,
                                                        d_c, buf)
         if not ok:
-            its[0] = it
+            res[1] = it
             return FAIL_STRIP
         guess[0], guess[1] = a_c, b_c
         if it == 0 or (abs(a_c - a_f) + abs(b_c - b_f) > RELOCATE and moves < MAX_RELOCATE):
@@ -335,13 +335,13 @@ def step(P, I, strip, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res
         if not touching:
             residual = max(residual, abs(xs[nx_ - 1]) / kappa)
         if residual != residual:
-            its[0] = it
+            res[1] = it
             res[0] = residual
             return FAIL_NAN
         if residual <= I.tol and (1 if touching else 0) == was:
             break
         if it == I.max_iter:
-            its[0] = it
+            res[1] = it
             res[0] = residual
             return FAIL_NEWTON
         if touching and was == 1 and predicted == predicted and abs(predicted) > 1e-18:
@@ -358,7 +358,7 @@ def step(P, I, strip, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res
         if touching:
             cmat[rows - 1, rows - 1] += I.c_h
         if not (np.isfinite(cmat).all() and np.isfinite(rhs).all()):
-            its[0] = it
+            res[1] = it
             res[0] = math.nan
             return FAIL_NAN
         dx = np.linalg.solve(cmat, rhs)
@@ -378,7 +378,7 @@ def step(P, I, strip, theta, omega, u, v, x, qdd, acc, cpar, cn, cw, normal, res
         qd += dq * (gp / bp)
         it += 1
     res[0] = residual
-    its[0] = it
+    res[1] = it
     acc[:] = ((1.0 - af) * qdd1 + af * qdd - am * acc) / (1.0 - am)
     qdd[:] = qdd1
     theta[0], theta[1] = q[0], q[1]

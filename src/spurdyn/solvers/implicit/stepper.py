@@ -150,8 +150,7 @@ class CompiledImplicitStepper(_Implicit):
             cpar=np.array([c.alpha, c.beta, float(c.mode), c.s, 0.0, c.half_width, 0.0]),
             cn=cn, cw=cw, normal=c.normal.copy())
         self.time = st.t
-        self._res = np.zeros(1)
-        self._its = np.zeros(1, dtype=np.int64)
+        self._res = np.zeros(2)         # the last residual and the iterations
         from spurdyn.solvers.implicit.step_compiled import step
 
         self._step = step
@@ -167,8 +166,8 @@ class CompiledImplicitStepper(_Implicit):
         a = self.arrays
         status = self._step(self.P, self.I, self.strip, a["theta"], a["omega"], a["u"], a["v"],
                             a["x"], a["qdd"], a["acc"], a["cpar"], a["cn"], a["cw"],
-                            a["normal"], self._res, self._its)
-        self.residual[0], self.iterations[0] = self._res[0], self._its[0]
+                            a["normal"], self._res)
+        self.residual[0], self.iterations[0] = self._res[0], int(self._res[1])
         if status == OK:
             self.time += self.settings.dt
         return int(status)

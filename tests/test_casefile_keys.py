@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import json
 import math
 import re
 from pathlib import Path
@@ -15,6 +16,7 @@ from spurdyn.errors import InputError
 from spurdyn.case import (BLANK_KEYS, GEAR_KEYS, MATERIAL_KEYS, MESH_KEYS, PAIR_KEYS,
                           RACK_KEYS, RUN_KEYS, TOP_KEYS, case_from_dict, load_case,
                           pair_from_dict)
+from spurdyn.sector.rules import MESH_DAMPING_RATIO
 from spurdyn.solvers.check import DT_FRACTION, run_settings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -63,8 +65,8 @@ def test_the_designer_pair_needs_nothing_else():
     assert case.run.dt == info["default_dt_s"]
     assert 0.7 * stable < case.run.dt <= DT_FRACTION * stable
     assert "solid disk" in info["disk_inertia_source"]["a"]
-    # The API's defaults are the command line's.
-    api = run_settings(pair, case.run.speed_a, 50.0)
+    # The API's defaults are the command line's (the step: the FE model's, which reads one).
+    api = run_settings(pair, case.run.speed_a, 50.0, model="fe")
     assert api.speed_b == pytest.approx(case.run.speed_b, rel=1e-15)
     assert api.dt == case.run.dt
 
@@ -130,10 +132,13 @@ def test_the_23_47_example_runs_at_first_try(tmp_path, capsys):
     assert keys == {"teeth", "module", "pressure_angle_deg", "face_width", "young", "poisson",
                     "density", "speed_a_rpm", "torque"}
     assert load_case(EXAMPLE).run.dt > 0.0
-    code = main(["run", str(EXAMPLE), "--angle", "0.3", "--out", str(tmp_path / "out"),
-                 "--quiet"])
+    code = main(["run", str(EXAMPLE), "--out", str(tmp_path / "out"), "--quiet"])
     assert code == 0
     assert (tmp_path / "out" / "result.nc").exists()
+    # by default the sector model, damped so that it settles, and saying whose damping it was
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["model"] == "sector" and summary["settled"]
+    assert summary["mesh_damping"] == {"ratio": MESH_DAMPING_RATIO, "source": "model default"}
 
 
 def test_a_shifted_backlashed_pair_runs(tmp_path):
@@ -146,7 +151,7 @@ def test_a_shifted_backlashed_pair_runs(tmp_path):
     path.write_text(data)
     case = load_case(path)
     assert case.pair.gear_a.profile_shift == 0.35 and case.pair.backlash_normal > 40e-6
-    assert main(["run", str(path), "--angle", "0.3", "--out", str(tmp_path / "out"),
+    assert main(["run", str(path), "--model", "fe", "--angle", "0.3", "--out", str(tmp_path / "out"),
                  "--quiet"]) == 0
 
 

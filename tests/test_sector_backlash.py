@@ -172,7 +172,7 @@ def rattle():
     """2 N m at 11,000 rpm (the main resonance) on 0.34 um of backlash, undamped, six
     cycles: the pair's ring grows until the drive flanks separate and the back flanks meet."""
     s = run_settings(LOOSE, 11000 * RPM, 2.0, model="sector", cycles=6, max_cycles=6, rho_inf=1.0, **MESH,
-                     rayleigh_mass=0.0, rayleigh_stiffness=0.0)
+                     rayleigh_mass=0.0, rayleigh_stiffness=0.0, damping_ratio=0.0)
     return s, simulate_sector(LOOSE, s), simulate_sector(LOOSE, s.with_(backend="numpy"), energy=True)
 
 
@@ -223,6 +223,7 @@ def test_spurdyn_run_writes_both_flanks_forces(tmp_path, capsys):
         "[gear_a.material]\nyoung = 210e9\npoisson = 0.3\ndensity = 7800.0\n"
         f"[pair]\ncentre_distance = {LOOSE.centre_distance!r}\n[mesh]\nnx = 2\nny = 8\n"
         "[run]\nspeed_a_rpm = 11000\nspeed_b_rpm = 11000\ntorque = 2.0\ncycles = 6\nmax_cycles = 6\n"
+        "damping_ratio = 0.0\n"
         "[model]\nkind = \"sector\"\n")
     assert main(["run", str(case), "--out", str(tmp_path / "on")]) == 0
     line = capsys.readouterr().out

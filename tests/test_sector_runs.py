@@ -76,6 +76,9 @@ def test_the_bodies_damping_is_the_models_default_unless_given_and_zero_is_none(
 
     assert settings_hash(case, None, "sector") != settings_hash(case)
     assert settings_hash(case, None, "lumped") == settings_hash(case)
+    # the mesh damper's default is in a sector point's hash: 0 given is another point
+    zero = dataclasses.replace(case, run=case.run.with_(damping_ratio=0.0))
+    assert settings_hash(zero, None, "sector") != settings_hash(case, None, "sector")
     for run in (case.run, case.run.with_(**UNDAMPED)):
         back = case_from_dict(case_to_dict(dataclasses.replace(case, run=run)))
         assert (back.run.rayleigh_mass, back.run.rayleigh_stiffness) == (run.rayleigh_mass, run.rayleigh_stiffness)
@@ -107,6 +110,30 @@ def test_a_case_file_asks_for_its_model_and_the_flag_overrides_it(tmp_path):
     path.write_text(text + '\n[model]\nkind = "rigid"\n')
     assert main(["run", str(path), "--out", str(tmp_path / "no")]) == 2
     assert not (tmp_path / "no").exists()
+
+
+def test_a_bare_case_runs_the_sector_model_and_the_presets_the_papers():
+    """Issue 35: a case file (or a Python run) that names no model gets the sector model with
+    its cycles and mesh damper; the paper's presets keep the paper's model; a case's model
+    survives its round trip whichever it is; 0 damping given is not the default."""
+    from spurdyn.case import case_from_dict, case_to_dict, load_case, preset_case
+    from spurdyn.sector.rules import DEFAULT_CYCLES, MESH_DAMPING_RATIO, mesh_damping
+    from spurdyn.simulators import MODELS
+
+    root = Path(__file__).resolve().parents[1] / "examples"
+    bare, paper = load_case(root / "pinion_23_47.toml"), preset_case("paper-fig8")
+    assert (bare.model, paper.model, load_case(root / "paper_fig8.toml").model) == ("sector", "fe", "fe")
+    for case in (bare, paper):
+        assert case_from_dict(case_to_dict(case)).model == case.model
+    assert bare.run.damping_ratio is None and bare.run.cycles is None
+    run = MODELS["sector"].with_defaults(bare.run)
+    assert run.cycles == DEFAULT_CYCLES and MODELS["fe"].with_defaults(paper.run) == paper.run
+    assert mesh_damping(run) == (MESH_DAMPING_RATIO, "model default")
+    assert mesh_damping(run.with_(damping_ratio=0.0)) == (0.0, "run")
+    assert run.mesh_damping == 0.0 and not run.damped   # the FE and lumped models': none
+    assert case_from_dict(case_to_dict(bare)).run.damping_ratio is None
+    zero = bare.run.with_(damping_ratio=0.0)
+    assert case_from_dict(case_to_dict(dataclasses.replace(bare, run=zero))).run.damping_ratio == 0.0
 
 
 @pytest.mark.slow

@@ -26,7 +26,7 @@ def simulate(pair: Any, settings: Any, progress: Callable[[int, float, float], N
              *, model: str | None = None) -> Any:
     """Simulate ``pair`` with the run ``settings`` by ``model`` (one of
     :data:`spurdyn.simulators.MODELS`: ``"fe"``, ``"lumped"``, ``"sector"``; by default
-    :data:`spurdyn.settings.DEFAULT_MODEL`, the FE model) and return its
+    :data:`spurdyn.settings.DEFAULT_MODEL`, the sector model) and return its
     :class:`~spurdyn.result.Result`.
 
     The model's entry first refuses, naming the field, a setting it does not read that

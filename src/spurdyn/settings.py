@@ -39,8 +39,12 @@ INTEGRATORS = ("rk4", "implicit")
 #: model, the lumped two-disk model and the sector model of several teeth on their rims
 #: (:data:`spurdyn.simulators.MODELS` holds their simulate functions, in this order).
 MODEL_NAMES = ("fe", "lumped", "sector")
-#: The model of a case that names none (``[model]`` left out, no ``--model``).
-DEFAULT_MODEL = MODEL_NAMES[0]
+#: The model of a case file or a Python run that names none (``[model]`` left out, no
+#: ``--model``, ``simulate(..., model=None)``): the sector model, whose several elastic teeth
+#: on elastic rims carry the load sharing and the stresses an engineer asks for (issue 35).
+DEFAULT_MODEL = "sector"
+#: The model of the paper's presets (``paper-fig8`` ...), which reproduce the paper.
+PAPER_MODEL = "fe"
 #: Where the lumped model's mesh stiffness comes from: the paper model's root-clamped tooth
 #: pair, or the sector model's quasi-static mesh cycle (docs/sector.md).
 STIFFNESSES = ("tooth", "sector")
@@ -240,14 +244,17 @@ class RunSettings:
         The time integrator, one of :data:`INTEGRATORS`.
     damping_ratio
         Viscous damping ratio of the pair's torsional mode, by a mesh damper along the
-        line of action acting in contact (0: undamped, the paper's). The FE model takes
+        line of action acting in contact. ``None`` (not given): the model's default, none
+        for the FE and the lumped model (the paper's undamped pair), the sector model's
+        :data:`spurdyn.sector.rules.MESH_DAMPING_RATIO`; give 0 for none. The FE model takes
         it with the implicit integrator only (:data:`spurdyn.simulators.FE_DAMPING_REASON`).
     rho_inf
         Spectral radius at infinite frequency of the implicit integrator (1: no
         numerical dissipation, 0: the most), :data:`DEFAULT_RHO_INF`.
     cycles
-        Mesh cycles of a steady-state run under constant torques (``None``: the paper's one
-        engagement with its torque ramps). The lumped and the sector model.
+        Mesh cycles of a steady-state run under constant torques (``None``: the lumped
+        model's one engagement with the paper's torque ramps; the sector model's
+        :data:`spurdyn.sector.rules.DEFAULT_CYCLES`). The lumped and the sector model.
     max_cycles
         Most mesh cycles of a steady-state run: one that has not settled after ``cycles``
         goes on, cycle by cycle, until it settles or has run these (``None``: the model's
@@ -307,7 +314,7 @@ class RunSettings:
     nx: int = _setting(DEFAULT_NX, keys=("mesh.nx",))
     ny: int = _setting(DEFAULT_NY, keys=("mesh.ny",))
     grading: float = _setting(DEFAULT_GRADING, keys=("mesh.grading",))
-    damping_ratio: float = _setting(0.0)
+    damping_ratio: float | None = _setting(None)
     name: str = _setting("run", keys=())
     # One engagement along a time step: the FE model, and the lumped model's.
     dt: float = _setting(PAPER_DT, "fe", "lumped")
@@ -377,7 +384,7 @@ class RunSettings:
             raise InputError("row_grading", f"must be a number from 1 (even rows) to "
                              f"{MAX_ROW_GRADING:g} (got {g!r})")
         z = self.damping_ratio
-        if (not isinstance(z, (int, float)) or isinstance(z, bool) or not math.isfinite(z)
+        if z is not None and (not isinstance(z, (int, float)) or isinstance(z, bool) or not math.isfinite(z)
                 or not 0.0 <= z < 1.0):
             raise InputError("damping_ratio", f"must be a number from 0 to below 1 (got {z!r})")
         for key in ("rayleigh_mass", "rayleigh_stiffness"):
@@ -466,7 +473,13 @@ class RunSettings:
     @property
     def damped(self) -> bool:
         """Whether any damping is asked for (the mesh damper or Rayleigh's)."""
-        return self.damping_ratio > 0.0 or any(v > 0.0 for v in self.rayleigh)
+        return self.mesh_damping > 0.0 or any(v > 0.0 for v in self.rayleigh)
+
+    @property
+    def mesh_damping(self) -> float:
+        """The mesh damper's ratio as given, 0 if not given (the FE and the lumped model's
+        default; the sector model's is :func:`spurdyn.sector.rules.mesh_damping`)."""
+        return self.damping_ratio or 0.0
 
     @property
     def rayleigh(self) -> tuple[float, float]:

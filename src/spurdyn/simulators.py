@@ -121,10 +121,14 @@ class ModelEntry:
         return tuple(f.name for f in fields(RunSettings) if f.name not in reads)
 
     def __call__(self, pair: GearPair, settings: RunSettings, progress: Progress | None = None) -> Result:
-        """Refuse what the model cannot run, wherever it was given; run it."""
+        """Refuse what the model cannot run, wherever it was given; run it with its defaults."""
         self.refuse(settings, {}, pair)
         module, name = self.solver.split(":")
-        return getattr(importlib.import_module(module), name)(pair, settings, progress)
+        return getattr(importlib.import_module(module), name)(pair, self.with_defaults(settings), progress)
+
+    def with_defaults(self, settings: RunSettings) -> RunSettings:
+        """``settings`` with the model's own defaults where the run gives none (none here)."""
+        return settings
 
     def refuse(self, settings: RunSettings, labels: Labels = None, pair: GearPair | None = None) -> None:
         """Refuse, in one line naming the key the user wrote (``labels``) and the fix, a
@@ -192,7 +196,7 @@ class FEEntry(ModelEntry):
 
     def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
         if settings.damped and settings.integrator == "rk4":
-            name = ("damping_ratio" if settings.damping_ratio > 0.0 else "rayleigh_mass"
+            name = ("damping_ratio" if settings.mesh_damping > 0.0 else "rayleigh_mass"
                     if settings.rayleigh[0] > 0.0 else "rayleigh_stiffness")
             raise InputError(label(name, labels), FE_DAMPING_REASON)
 
@@ -258,6 +262,12 @@ class SectorEntry(ModelEntry):
         except InputError as err:
             raise InputError(label("teeth", labels), err.reason) from None
 
+    def with_defaults(self, settings: RunSettings) -> RunSettings:
+        """Its mesh cycles where the run gives none (:func:`~spurdyn.sector.rules.with_defaults`)."""
+        from spurdyn.sector.rules import with_defaults
+
+        return with_defaults(settings)
+
     def default_step(self, settings: RunSettings, pair: GearPair) -> float:
         """Its own step of accuracy: a whole number of steps per mesh cycle of the driver
         (:func:`~spurdyn.sector.rules.steps_per_cycle`)."""
@@ -277,12 +287,16 @@ class SectorEntry(ModelEntry):
 
     def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
         """Its revision, and its defaults where the case gives nothing: the bodies' damping,
-        the most cycles."""
-        from spurdyn.sector.rules import SECTOR_REVISION, body_rayleigh, cycles_limit
+        the mesh damper's, the cycles and the most cycles."""
+        from spurdyn.sector.rules import SECTOR_REVISION, body_rayleigh, cycles_limit, mesh_damping, with_defaults
 
         extras: dict[str, Any] = {"sector_revision": SECTOR_REVISION}
         if settings.rayleigh_mass is None and settings.rayleigh_stiffness is None:
             extras["sector_body_rayleigh"] = list(body_rayleigh(settings))
+        if settings.damping_ratio is None:
+            extras["sector_mesh_damping"] = mesh_damping(settings)[0]
+        if settings.cycles is None:
+            extras["sector_cycles"] = with_defaults(settings).cycles
         if settings.max_cycles is None:
             extras["cycles_limit"] = cycles_limit(settings)
         return extras
@@ -327,9 +341,9 @@ def simulate_lumped(pair: GearPair, settings: RunSettings,
     if settings.cycles is not None:
         from spurdyn.lumped.steady import simulate_steady
 
-        result = simulate_steady(pair, settings, stiffness, settings.damping_ratio, settings.cycles)
+        result = simulate_steady(pair, settings, stiffness, settings.mesh_damping, settings.cycles)
     else:        # one engagement: the tooth's table (the sector stiffness needs cycles)
-        result = lumped(pair, settings, table=stiffness, damping_ratio=settings.damping_ratio)
+        result = lumped(pair, settings, table=stiffness, damping_ratio=settings.mesh_damping)
     if progress is not None and len(result.angle):
         try:
             progress(result.steps, float(result.angle[-1]), float(result.angle[-1]))

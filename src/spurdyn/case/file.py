@@ -409,7 +409,8 @@ def case_from_dict(data: dict[str, Any], name: str = "case",
 
 
 def _model_kind(table: Any, overrides: Mapping[str, Any], labels: Mapping[str, str]) -> str:
-    """The ``[model]`` table's ``kind`` (``"fe"`` without one); ``--model`` replaces it."""
+    """The ``[model]`` table's ``kind`` (:data:`~spurdyn.settings.DEFAULT_MODEL` without
+    one); ``--model`` replaces it."""
     if "model.kind" in overrides:
         kind, name = overrides["model.kind"], labels.get("model.kind", "model.kind")
     else:
@@ -455,7 +456,7 @@ def case_to_dict(case: Case) -> dict[str, Any]:
     run_table.update({k: getattr(run, k) for k in (
         "n_spline", "tol_disp", "max_iter", "accel_levels", "method", "backend", "contact",
         "save_every", "frames_every", "keep_theta_term")})
-    if run.damping_ratio:
+    if run.damping_ratio is not None:   # 0 given is not the model's default
         run_table["damping_ratio"] = run.damping_ratio
     for key in ("rayleigh_mass", "rayleigh_stiffness"):
         if getattr(run, key) is not None:       # 0 given is not the model's default
@@ -476,4 +477,5 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         | {key: getattr(run, key) for key, default in _MESH_WRITTEN_IF_GIVEN
            if getattr(run, key) != default},
         "run": run_table,
-    } | ({} if case.model == DEFAULT_MODEL else {"model": {"kind": case.model}})
+        "model": {"kind": case.model},
+    }

@@ -13,7 +13,7 @@ faster gear, drives and strikes first. ``paper-all`` is the group of the four.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -22,7 +22,7 @@ from spurdyn.case.pair_tables import MeshedPair
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.settings import PAPER_DT
+from spurdyn.settings import PAPER_DT, PAPER_MODEL
 
 
 @dataclass(frozen=True)
@@ -93,9 +93,10 @@ def preset_case(name: str, overrides: Mapping[str, Any] | None = None,
     table = preset.run_table()
     if (overrides or {}).get("run.integrator") == "implicit" and "run.dt" not in (overrides or {}):
         del table["dt"]      # the paper's step is RK4's; the implicit one takes its own default
-    return case_from_pair(MeshedPair(pair=pair, name=name), table, name,
+    case = case_from_pair(MeshedPair(pair=pair, name=name), table, name,
                           overrides, labels, description=preset.description,
                           check_step=check_step)
+    return replace(case, model=PAPER_MODEL)     # the paper's cases run the paper's model
 
 
 def resolve_cases(spec: str, overrides: Mapping[str, Any] | None = None,

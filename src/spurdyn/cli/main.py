@@ -12,6 +12,7 @@ import argparse
 import json
 import sys
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, NoReturn, Sequence
 
@@ -21,7 +22,7 @@ from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import PAPER_TORQUE
 from spurdyn.simulators import MODELS
-from spurdyn.settings import BACKENDS, CONTACTS, METHODS
+from spurdyn.settings import BACKENDS, CONTACTS, DEFAULT_MODEL, METHODS
 
 EXIT_BAD_INPUT = 2
 #: Exit status when stdout was closed by the reader (128 + SIGPIPE).
@@ -118,14 +119,14 @@ def run_overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str
 
 def model_of(cases: Any, flag: str | None) -> str:
     """The model to run: ``--model``, else the one the cases' files ask for (``[model]
-    kind``, the FE model without one)."""
+    kind``, :data:`~spurdyn.settings.DEFAULT_MODEL` without one; the presets' the FE model)."""
     if flag is not None:
         return flag
     kinds = sorted({case.model for case in cases})
     if len(kinds) > 1:
         raise InputError("--model", f"the cases ask for different models ({', '.join(kinds)}); "
                          "give --model to run them with one")
-    return kinds[0] if kinds else "fe"
+    return kinds[0] if kinds else DEFAULT_MODEL
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -138,6 +139,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     cases = resolve_cases(args.case, overrides, labels)
     model = model_of(cases, args.model)
     entry = MODELS[model]
+    cases = [replace(case, run=entry.with_defaults(case.run)) for case in cases]
     if args.vtu:  # a ParaView series is made of tooth frames: refuse a run that keeps none
         if not entry.keeps_frames:
             raise InputError("--vtu", f"draws the FE teeth; the {model} model has none "

@@ -246,8 +246,19 @@ def report_line(summary: dict[str, Any]) -> str:
     back = summary.get("back_flanks") or {}
     back_s = (f", back flanks {back['peak_force_N']:,.1f} N at most ({back['steps_in_contact']:,} steps)"
               if back.get("steps_in_contact") else "")
-    return (f"{summary['case']}: complete, {steps} in {summary['wall_s']:.1f} s, {peak_s}, "
-            f"{summary['separations']} separation(s){back_s}")
+    return (f"{summary['case']}: complete{_settled_words(summary)}, {steps} in {summary['wall_s']:.1f} s, "
+            f"{peak_s}, {summary['separations']} separation(s){back_s}")
+
+
+def _settled_words(summary: dict[str, Any]) -> str:
+    """A steady state's settling in words: its cycles, and NOT SETTLED (its figures are the
+    last cycle's, not the steady state's) when it did not; nothing for one engagement."""
+    if "settled" not in summary:
+        return ""
+    done = f"{summary['cycles_done']} mesh cycles"
+    if summary["settled"]:
+        return f", settled in {done}"
+    return f" but NOT SETTLED after {done} (the figures are its last cycle's, not a steady state's)"
 
 
 def _report(summary: dict[str, Any], quiet: bool) -> None:

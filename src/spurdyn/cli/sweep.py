@@ -14,6 +14,7 @@ import argparse
 import os
 import sys
 from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Iterator
 
@@ -127,6 +128,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     model = args.model or case.model          # --model, else the case file's [model] kind
     entry = ENTRIES[model]
     entry.refuse(case.run, labels, case.pair)   # not ignored in silence
+    case = replace(case, run=entry.with_defaults(case.run))
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:
             raise InputError("--continuation", f"must be one of {', '.join(CONTINUATIONS)} "

@@ -257,7 +257,7 @@ def simulate_lumped(
         ``mesh_stiffness_table`` and the integration statistics.
     """
     if damping_ratio is None:
-        damping_ratio = settings.damping_ratio
+        damping_ratio = settings.mesh_damping
     if not math.isfinite(damping_ratio) or damping_ratio < 0.0:
         raise ValueError(f"damping_ratio must be >= 0 (got {damping_ratio!r})")
     wall0 = _time.perf_counter()

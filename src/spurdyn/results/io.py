@@ -42,7 +42,7 @@ from spurdyn.results.frames import (
 from spurdyn.results.headline import headline
 from spurdyn.results.pairs import pair_variables, back_flank_figures, steady_figures
 from spurdyn.results.stress import root_stress_variables, stress_summary
-from spurdyn.settings import DEFAULT_MODEL
+from spurdyn.settings import PAPER_MODEL
 
 RESULT_FILE = "result.nc"
 CSV_FILE = "contact_force.csv"
@@ -358,9 +358,8 @@ def _add_info_figures(summary: dict[str, Any], ds: xr.Dataset, info: dict[str, A
     model, the start and torques, the back flanks and the bodies' damping."""
     if "steady" in info:
         summary.update(steady_figures(time, force, info["steady"], complete))
-    model = info.get("model")
-    if model and model != DEFAULT_MODEL:  # say which model made it (the default's is implied)
-        summary["model"] = model
+    # which model made it: the FE model's info names none (it was the default until issue 35)
+    summary["model"] = info.get("model", PAPER_MODEL)
     if "start" in info:         # a run of mesh cycles: how it started, what torques it carried
         summary["start"] = info["start"]
         summary["torque_history"] = info.get("torque_history")
@@ -370,6 +369,8 @@ def _add_info_figures(summary: dict[str, Any], ds: xr.Dataset, info: dict[str, A
         a, b = info["rayleigh"]
         summary["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
                                    "source": "model default" if info.get("rayleigh_default") else "run"}
+    if "damping_ratio_source" in info:  # the mesh damper's ratio, and whose it was
+        summary["mesh_damping"] = {"ratio": info["damping_ratio"], "source": info["damping_ratio_source"]}
 
 
 def summarize(ds: xr.Dataset) -> dict[str, Any]:

@@ -39,7 +39,9 @@ from spurdyn.sector.rules import (
     body_rayleigh,
     cover_cycles,
     cycles_limit,
+    mesh_damping,
     steps_per_cycle,
+    with_defaults,
 )
 from spurdyn.sector.state import common_rotation, unpack_state
 from spurdyn.sector.statics import contact_law, driving_pair, mesh_cycle, pairs_in_path, solve_position
@@ -91,7 +93,7 @@ class SectorModel:
         self.pair, self.settings = pair, settings
         ga, gb = dp.gear_a, dp.gear_b
         self.ra, self.rb = ga.base_radius, gb.base_radius
-        self.cycles = int(settings.cycles or 1)
+        self.cycles = int(with_defaults(settings).cycles)
         self.most = cycles_limit(settings)
         self.speed = float(settings.speed_a if pair.driver == "a" else settings.speed_b)
         self.pitch = pitch = 2.0 * math.pi / ga.teeth
@@ -150,7 +152,7 @@ class SectorModel:
             e = np.zeros(self.gears[g].n)
             e[0] = 1.0
             self.z_theta.append(self.gears[g].solve(e))
-        self.c_table = mesh_damper_table(self.cycle, settings.damping_ratio,
+        self.c_table = mesh_damper_table(self.cycle, mesh_damping(settings)[0],
                                          reduced_mass(blocks[0].inertia, blocks[1].inertia, self.ra, self.rb), pitch)
         self.reach = reach = REACH * pitch
         self.theta_lo, self.theta_hi = covered_turns(dp, (int(teeth[0]), int(teeth[-1])),
@@ -166,6 +168,7 @@ class SectorModel:
         :func:`~spurdyn.sector.rules.steps_per_cycle`'s; shortened to a whole number
         a mesh cycle); ``modes`` as :func:`~spurdyn.solvers.sector.run.simulate_sector` reads it."""
         refuse_sector_row_grading(settings.row_grading)
+        settings = with_defaults(settings)
         check_history(pair, settings)
         speed = float(settings.speed_a if pair.driver == "a" else settings.speed_b)
         per_cycle = steps_per_cycle(speed, driving_pair(pair).gear_a.teeth, dt)

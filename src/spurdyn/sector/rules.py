@@ -42,6 +42,27 @@ SECTOR_REVISION = 5
 BODY_DAMPING_RATIO = 0.02
 #: The frequency (Hz) at which the bodies' default damping has :data:`BODY_DAMPING_RATIO`.
 BODY_DAMPING_FREQUENCY = 50e3
+#: The mesh damper's ratio when the run gives none (``damping_ratio`` left out): the middle
+#: of the ratios measured on spur pairs and used in practice (docs/sector.md, "The defaults
+#: an engineer gets"); give ``damping_ratio`` (0 for none) to set another.
+MESH_DAMPING_RATIO = 0.05
+#: Mesh cycles of a run that gives none (``cycles`` left out): enough for a damped pair
+#: started from its static equilibrium to settle (it goes on, if not, to
+#: :data:`~spurdyn.settings.SETTLE_CYCLES_FACTOR` times them).
+DEFAULT_CYCLES = 5
+
+
+def mesh_damping(settings: RunSettings) -> tuple[float, str]:
+    """The mesh damper's ratio of a sector run and where it came from: the run's, or if it
+    gives none :data:`MESH_DAMPING_RATIO` (``"model default"``)."""
+    if settings.damping_ratio is None:
+        return MESH_DAMPING_RATIO, "model default"
+    return float(settings.damping_ratio), "run"
+
+
+def with_defaults(settings: RunSettings) -> RunSettings:
+    """``settings`` with the sector model's :data:`DEFAULT_CYCLES` where it gives no ``cycles``."""
+    return settings if settings.cycles is not None else settings.with_(cycles=DEFAULT_CYCLES)
 
 
 def body_rayleigh(settings: RunSettings) -> tuple[float, float]:
@@ -70,7 +91,8 @@ def cycles_limit(settings: RunSettings) -> int:
     """Most mesh cycles a sector run may go on to if it has not settled (``max_cycles``; by
     default :data:`~spurdyn.settings.SETTLE_CYCLES_FACTOR` times its cycles on whole gears,
     and on a sector of teeth, which covers only the cycles asked, those)."""
-    cycles = int(settings.cycles or 1)
+    settings = with_defaults(settings)
+    cycles = int(settings.cycles)
     if settings.max_cycles is None and cycles < WHOLE_FROM_CYCLES:
         return cycles
     return int(settings.cycles_limit or cycles)
@@ -95,6 +117,7 @@ def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:
     return max(int(math.ceil(period / dt - 1e-9)), 1)
 
 
-__all__ = ["BACKLASH_FLOOR", "BODY_DAMPING_FREQUENCY", "BODY_DAMPING_RATIO", "CYCLE_POSITIONS", "KEEP_FREQUENCY", "SECTOR_REVISION",
-           "STEPS_PER_KEPT_PERIOD", "STEPS_PER_MESH_PERIOD", "back_flanks_on", "body_rayleigh", "cover_cycles", "cycles_limit",
-           "steps_per_cycle"]
+__all__ = ["BACKLASH_FLOOR", "BODY_DAMPING_FREQUENCY", "BODY_DAMPING_RATIO", "CYCLE_POSITIONS", "DEFAULT_CYCLES",
+           "KEEP_FREQUENCY", "MESH_DAMPING_RATIO", "SECTOR_REVISION", "STEPS_PER_KEPT_PERIOD", "STEPS_PER_MESH_PERIOD",
+           "back_flanks_on", "body_rayleigh", "cover_cycles", "cycles_limit", "mesh_damping", "steps_per_cycle",
+           "with_defaults"]

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from typing import Any
 
 from spurdyn.case.file import Case
-from spurdyn.settings import DEFAULT_MODEL
 from spurdyn.simulators import MODELS
 
 
@@ -102,7 +101,7 @@ def iso_kv_grid(case: Case, rpms: Any, torques: Any) -> Any:
     return out if np.isfinite(out).any() else None
 
 
-def resonance_estimate(case: Case, model: str = DEFAULT_MODEL) -> ResonanceEstimate:
+def resonance_estimate(case: Case, model: str | None = None) -> ResonanceEstimate:
     """The estimate for the pair and tooth mesh of ``case`` (a fraction of a second; the
     sector model's, whose stiffness is its quasi-static mesh cycle, a few seconds)."""
     from spurdyn.lumped import (equivalent_mass, mesh_stiffness_table,
@@ -110,7 +109,7 @@ def resonance_estimate(case: Case, model: str = DEFAULT_MODEL) -> ResonanceEstim
 
     pair = case.pair
     table = mesh_stiffness_table(pair, case.run.nx, case.run.ny)
-    entry = MODELS[model]
+    entry = MODELS[model or case.model]
     if not entry.steady(case.run):
         k = table.mean(float(table.roll_a[0]), float(table.roll_a[-1]))
     else:

@@ -22,7 +22,7 @@ from typing import Any
 from spurdyn.case.file import Case, case_to_dict
 from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as _MODELS
-from spurdyn.settings import DEFAULT_MODEL, RPM
+from spurdyn.settings import RPM
 
 #: Models a sweep can run.
 MODELS = tuple(_MODELS)
@@ -159,12 +159,12 @@ def settings_hash(case: Case, continuation: str | None = None, model: str | None
     """Twelve hex digits of the SHA-256 of :func:`settings_dict` (canonical JSON), with the
     sweep's ``continuation`` when it has one (its points start from another's end), and what
     a steady-state run takes by default where the case gives nothing (the most cycles it may
-    go on to; for the sector ``model`` the bodies' damping) and the sector model's revision,
+    go on to; for the sector ``model``, by default the case's, the bodies' damping) and the sector model's revision,
     so that points of a version before those defaults are not taken for its."""
     data = settings_dict(case)
     if continuation is not None:
         data["sweep"] = {"continuation": continuation}
-    data["run"].update(_MODELS[model or DEFAULT_MODEL].hash_extras(case.run))
+    data["run"].update(_MODELS[model or case.model].hash_extras(case.run))
     text = json.dumps(data, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]
 

@@ -89,14 +89,14 @@ def implicit_scheme(system: PairSystem, settings: RunSettings) -> ImplicitScheme
     law = strip_law(system) if settings.contact == "hertz" else None
     ra, rb = (g.base_radius for g in system.gears)
     c_mesh = 0.0
-    if settings.damping_ratio > 0.0:
+    if settings.mesh_damping > 0.0:
         from spurdyn.solvers.paper.statics import static_stiffness
 
         pair = system.pair
         k = static_stiffness(system, pair.pitch_roll_a, static_force(pair, settings.torque),
                              settings.contact).stiffness
         m_e = reduced_mass(system.gears[0].inertia, system.gears[1].inertia, ra, rb)
-        c_mesh = mesh_damper_coefficient(settings.damping_ratio, k, m_e)
+        c_mesh = mesh_damper_coefficient(settings.mesh_damping, k, m_e)
     return ImplicitScheme(
         coef=coef, bp=coef.beta_prime(h), gp=coef.gamma_prime(h), law=law,
         c_h=strip_compliance(*law) if law is not None else 0.0,

@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.result import Result
+from spurdyn.sector.rules import mesh_damping
 from spurdyn.sector.system import REACH
 from spurdyn.settings import DEFAULT_RAMP_CYCLES
 from spurdyn.solvers.steady import cycle_figures, steady_record
@@ -127,7 +128,8 @@ def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle
         # the mesh damper follows the cycle's stiffness: its mean and range over a cycle
         "mesh_damper_N_s_per_m": float(c_table[:-1].mean()),
         "mesh_damper_range_N_s_per_m": [float(c_table.min()), float(c_table.max())],
-        "damping_ratio": settings.damping_ratio,
+        "damping_ratio": mesh_damping(settings)[0],
+        "damping_ratio_source": mesh_damping(settings)[1],
         "dt_s": model.h,
         "steps_per_cycle": model.per_cycle,
         "pair_teeth": teeth.tolist(),

@@ -144,7 +144,9 @@ def _simulate_driven_by_b(pair: GearPair, settings: RunSettings, progress: Progr
                   residual=r.residual, iterations=r.iterations, corner=corner,
                   frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
                   frame_u=np.zeros((0, r.frame_u.shape[1])), status=r.status, reason=r.reason,
-                  steps=r.steps, wall_s=r.wall_s, info=info)
+                  steps=r.steps, wall_s=r.wall_s, info=info,
+                  # Hertz's strip is the same seen from either gear
+                  contact_half_width=r.contact_half_width, contact_pressure_max=r.contact_pressure_max)
 
 
 def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -15,6 +15,7 @@ import xarray as xr
 from spurdyn.cli import run as runner
 from spurdyn.cli.main import main
 from spurdyn.results.headline import AVERAGING_WINDOW_S, moving_average
+from spurdyn.results.keys import allowed, required, run_conditions
 from run_helpers import PNG_MAGIC, fake_simulate
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -64,7 +65,11 @@ def check_run_folder(d: Path) -> tuple[xr.Dataset, dict]:
     assert summary["case"] == ds.attrs["case_name"]
     assert summary["status"] == ds.attrs["status"] and summary["reason"] == ds.attrs["reason"]
     assert summary["steps"] == ds.attrs["steps"] and summary["samples"] == ds.sizes["time"]
-    assert summary["dt_s"] == ds.attrs["dt_s"] == json.loads(ds.attrs["case"])["run"]["dt"]
+    model = summary.get("model", "fe")
+    met = _conditions(ds, summary)
+    assert set(required(model, met)) <= set(summary) <= set(allowed(model, met))
+    if model != "lumped":    # the lumped model's integrator steps adaptively: no dt_s
+        assert summary["dt_s"] == ds.attrs["dt_s"] == json.loads(ds.attrs["case"])["run"]["dt"]
     assert summary["n_dof"] == ds.attrs["n_dof"] > 0
     if np.nanmax(force) > 0:  # the headline peak is the averaged force's, the raw one beside
         averaged = np.nanmax(moving_average(ds["time"].values, force))
@@ -86,7 +91,9 @@ def check_run_folder(d: Path) -> tuple[xr.Dataset, dict]:
         assert summary["dynamic_factor_note"].startswith("none:")
     assert summary["angle_deg"] == pytest.approx(ds["angle_deg"].values[-1])
     assert summary["time_s"] == pytest.approx(ds["time"].values[-1])
-    for stage in ("displacement", "velocity", "acceleration"):
+    stages = [s for s in ("displacement", "velocity", "acceleration") if f"residual_{s}" in ds]
+    assert list(summary.get("iterations_mean", {})) == list(summary.get("residual_max", {})) == stages
+    for stage in stages:
         assert summary["iterations_mean"][stage] == pytest.approx(
             ds[f"iterations_{stage}"].values[1:].mean())
         assert summary["residual_max"][stage] == pytest.approx(
@@ -98,6 +105,12 @@ def check_run_folder(d: Path) -> tuple[xr.Dataset, dict]:
     rows = (d / "contact_force.csv").read_text().splitlines()
     assert rows[0] == "angle_deg,time_s,contact_force_N" and len(rows) == ds.sizes["time"] + 1
     return ds, summary
+
+
+def _conditions(ds: xr.Dataset, summary: dict) -> frozenset[str]:
+    """The conditions of :mod:`spurdyn.results.keys` the run in ``ds`` meets."""
+    steady = "steady" in json.loads(ds.attrs["info"])
+    return run_conditions(summary.get("model", "fe"), steady, "root_stress" in ds, json.loads(ds.attrs["case"]))
 
 
 class _Terminal(io.StringIO):

@@ -62,6 +62,7 @@ def fake_simulate(pair: GearPair, case: RunSettings, progress=None, *, status: s
     it = np.tile([6, 4, 3], (len(t), 1)).astype(np.int64)
     it[0] = 0
     res = np.tile([1e-13, 1e-6, 1.0], (len(t), 1)) * (1.0 + np.arange(len(t)))[:, None]
+    half = 1e-5 * np.sqrt(force / static)
 
     mesh_a = tooth_mesh(pair.gear_a, case.nx, case.ny)
     mesh_b = tooth_mesh(pair.gear_b, case.nx, case.ny)
@@ -95,6 +96,9 @@ def fake_simulate(pair: GearPair, case: RunSettings, progress=None, *, status: s
         info={"n_dof": 2 * (mesh_a.n_nodes + mesh_b.n_nodes) + 2, "theta_s": pair.theta_s,
               "theta_2": pair.theta_2, "static_force": static,
               "single_zone": (pair.theta_2, pair.theta_s - pair.theta_2), "note": np.float64(1)},
+        # Hertz's strip as the FE model gives it: b ~ sqrt(F), p = 2 F / (pi b L)
+        contact_half_width=half, contact_pressure_max=np.where(
+            half > 0, 2.0 * force / (np.pi * np.where(half > 0, half, 1.0) * pair.gear_a.face_width), 0.0),
     )
 
 

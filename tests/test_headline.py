@@ -59,7 +59,9 @@ def _result(case, t: np.ndarray, force: np.ndarray, status: str = "complete",
                   residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), np.int64),
                   corner=np.zeros(n, np.int8), frame_time=np.zeros(0),
                   frame_theta=np.zeros((0, 2)), frame_u=np.zeros((0, 0)), status=status,
-                  reason=reason, steps=n - 1, wall_s=0.1)
+                  reason=reason, steps=n - 1, wall_s=0.1,
+                  # the FE model's Hertz strip (a fixed half-width will do here)
+                  contact_half_width=np.full(n, 1e-5), contact_pressure_max=force / 1e-7)
 
 
 @pytest.fixture(scope="module")

@@ -36,11 +36,6 @@ class Result:
         each along its own sense of rotation.
     torque
         External torques on the disks (N m) ``(n, 2)``, along each disk's sense.
-    residual, iterations
-        Final constraint error (max norm: m, m/s, m/s^2) and iterations of each stage
-        ``(n, 3)``, see :data:`STAGES`.
-    corner
-        Contact at a tip corner: 0 flank to flank, 1 A's tip corner, 2 B's tip corner.
     frame_time, frame_theta, frame_u
         Tooth frames: times ``(k,)``, rotations ``(k, 2)`` and absolute nodal
         displacements of both teeth ``(k, n_u)`` (A's DOFs first).
@@ -69,6 +64,14 @@ class Result:
     transmission_error
         ``(n,)`` ``r_b,driver theta_driver - r_b,driven theta_driven`` (m) less its rigid
         kinematic value: positive where the driver runs ahead; ``None`` where not computed.
+    residual, iterations
+        Final constraint error (max norm: m, m/s, m/s^2) and iterations ``(n, k)`` of each
+        of the integrator's ``k`` stages, the first ``k`` of :data:`STAGES` (the paper's
+        RK4: all three; the implicit integrator: its Newton iteration, one); ``None`` for a
+        model without a constraint iteration (the lumped and the sector model).
+    corner
+        Contact at a tip corner: 0 flank to flank, 1 A's tip corner, 2 B's tip corner;
+        ``None`` for a model without a contact point.
     """
 
     time: NDArray[np.float64]
@@ -79,9 +82,6 @@ class Result:
     theta: NDArray[np.float64]
     omega: NDArray[np.float64]
     torque: NDArray[np.float64]
-    residual: NDArray[np.float64]
-    iterations: NDArray[np.int64]
-    corner: NDArray[np.int8]
     frame_time: NDArray[np.float64]
     frame_theta: NDArray[np.float64]
     frame_u: NDArray[np.float64]
@@ -96,6 +96,9 @@ class Result:
     pair_roll: NDArray[np.float64] | None = None
     back_force: NDArray[np.float64] | None = None
     transmission_error: NDArray[np.float64] | None = None
+    residual: NDArray[np.float64] | None = None
+    iterations: NDArray[np.int64] | None = None
+    corner: NDArray[np.int8] | None = None
 
     @property
     def angle_deg(self) -> NDArray[np.float64]:

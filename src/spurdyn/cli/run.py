@@ -232,9 +232,10 @@ def report_line(summary: dict[str, Any]) -> str:
     """
     steps = f"{summary['steps']:,} steps"
     if summary["status"] != "complete":
+        target = summary.get("angle_target_deg")      # one engagement's (a steady state has none)
+        reached = f"{summary['angle_deg']:.3f}" + ("" if target is None else f" of {target:.3f}")
         return (f"{summary['case']} incomplete: {summary['reason'] or 'stopped'}; {steps} "
-                f"({summary['angle_deg']:.3f} of {summary['angle_target_deg']:.3f} deg); "
-                "stopped early: no dynamic factor")
+                f"({reached} deg); stopped early: no dynamic factor")
     peak, dyn = summary.get("peak_force_N"), summary.get("dynamic_factor")
     raw = summary.get("peak_force_raw_N")
     window = f"{summary.get('averaging_window_s', 10e-6) * 1e6:g}-us average"

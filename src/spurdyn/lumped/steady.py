@@ -281,7 +281,6 @@ def _steady_result(pair: GearPair, settings: RunSettings, t: NDArray[np.float64]
         roll=np.column_stack([roll_a, pair.roll_b_from_roll_a(roll_a)]),
         theta=np.column_stack([phi_a, phi_b]), omega=np.column_stack([w_a, w_b]),
         torque=hub_torques(pair, settings, t) if varying else np.column_stack([np.full(n, amp_a), np.full(n, amp_b)]),
-        residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
-        corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
+        frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=nfev,
         wall_s=_time.perf_counter() - wall0, info=info)

@@ -40,6 +40,7 @@ from spurdyn.results.frames import (
     tooth_frames,
 )
 from spurdyn.results.headline import headline
+from spurdyn.results.keys import run_conditions, select, settings_of
 from spurdyn.results.pairs import pair_variables, back_flank_figures, steady_figures
 from spurdyn.results.stress import root_stress_variables, stress_summary
 from spurdyn.settings import PAPER_MODEL
@@ -132,7 +133,7 @@ def _variable(data: Any, units: str, long_name: str, **extra: Any) -> xr.Variabl
 
 def _time_variables(result: Result, n: int) -> dict[str, Any]:
     """The dataset's variables along ``time``: the gears' motion, the contact, the pairs',
-    the stages' residuals and iterations and the contact point's corner flag."""
+    and the solver's own (:func:`_solver_variables`)."""
     var = _variable
     data_vars: dict[str, Any] = {
         "angle_deg": var(np.degrees(result.angle), "degree",
@@ -162,19 +163,28 @@ def _time_variables(result: Result, n: int) -> dict[str, Any]:
             result.contact_pressure_max, "Pa", "peak Hertzian contact pressure of the contact "
             "force (2 F / (pi b L))")
     data_vars.update(pair_variables(result, n))
-    for j, stage in enumerate(STAGES):
-        data_vars[f"residual_{stage}"] = var(
-            _column(result.residual, j, n), _STAGE_UNITS[stage],
-            f"final constraint error of the {stage} stage (max norm)")
-        data_vars[f"iterations_{stage}"] = var(
-            _column(result.iterations, j, n).astype(np.int32) if np.asarray(result.iterations).ndim == 2
-            else np.zeros(n, np.int32), "1", f"iterations of the {stage} stage")
-    corner = np.asarray(result.corner)
-    data_vars["corner"] = var(corner.astype(np.int8) if corner.shape == (n,) else np.zeros(n, np.int8),
-                              "1", "where the contact point is",
-                              flag_values=np.array([0, 1, 2], np.int8),
-                              flag_meanings="flank_to_flank tip_corner_of_a tip_corner_of_b")
+    data_vars.update(_solver_variables(result, n))
     return data_vars
+
+
+def _solver_variables(result: Result, n: int) -> dict[str, xr.Variable]:
+    """The constraint iteration's final error and iterations of each stage the integrator
+    has, and the contact point's corner flag: none for a model that has no such thing
+    (:class:`~spurdyn.result.Result`)."""
+    out: dict[str, xr.Variable] = {}
+    if result.residual is not None and result.iterations is not None:
+        residual, iterations = np.asarray(result.residual), np.asarray(result.iterations)
+        for j, stage in enumerate(STAGES[:residual.shape[1]]):
+            out[f"residual_{stage}"] = _variable(
+                _column(residual, j, n), _STAGE_UNITS[stage],
+                f"final constraint error of the {stage} stage (max norm)")
+            out[f"iterations_{stage}"] = _variable(
+                _column(iterations, j, n).astype(np.int32), "1", f"iterations of the {stage} stage")
+    if result.corner is not None:
+        out["corner"] = _variable(np.asarray(result.corner).astype(np.int8), "1",
+                                  "where the contact point is", flag_values=np.array([0, 1, 2], np.int8),
+                                  flag_meanings="flank_to_flank tip_corner_of_a tip_corner_of_b")
+    return out
 
 
 def _frame_variables(result: Result) -> dict[str, Any]:
@@ -211,7 +221,8 @@ def _dataset_attrs(result: Result, case: Case) -> dict[str, Any]:
         "steps": int(result.steps),
         "wall_s": float(result.wall_s),
         "dt_s": float(result.info.get("dt_s", case.run.dt)),   # a model's own step if it sets one
-        "angle_target_deg": math.degrees(case.angle),
+        # one engagement: the angle it set out to cover (a steady state covers cycles)
+        **({} if "steady" in result.info else {"angle_target_deg": math.degrees(case.angle)}),
         "n_dof": figures["n_dof"],
         "theta_s_deg": math.degrees(figures["theta_s"]),
         "theta_2_deg": math.degrees(figures["theta_2"]),
@@ -316,7 +327,9 @@ def _max_or_none(ds: xr.Dataset, name: str) -> float | None:
 
 def _run_record(ds: xr.Dataset, case: dict[str, Any], time: NDArray[np.float64],
                 angle: NDArray[np.float64], zone: NDArray[np.float64]) -> dict[str, Any]:
-    """The summary's first figures, in its order: what ran (``case`` to ``single_zone_deg``)."""
+    """The summary's first figures, in its order: what ran (``case`` to ``single_zone_deg``);
+    :func:`spurdyn.results.keys.select` keeps those of its model."""
+    target = ds.attrs.get("angle_target_deg")
     return {
         "case": ds.attrs["case_name"],
         "status": ds.attrs["status"],
@@ -332,32 +345,44 @@ def _run_record(ds: xr.Dataset, case: dict[str, Any], time: NDArray[np.float64],
         "torque_Nm": case["run"]["torque"],
         "time_s": float(time[-1]) if len(time) else 0.0,
         "angle_deg": float(angle[-1]) if len(angle) else 0.0,
-        "angle_target_deg": float(ds.attrs["angle_target_deg"]),
+        **({} if target is None else {"angle_target_deg": float(target)}),
         "theta_s_deg": float(ds.attrs["theta_s_deg"]),
         "single_zone_deg": [float(zone[0]), float(zone[1])],
     }
 
 
-def _stage_figures(ds: xr.Dataset, time: NDArray[np.float64]
-                   ) -> tuple[dict[str, float | None], dict[str, float | None]]:
-    """Per stage, the mean iterations over the steps (the first sample left out when there
-    are more) and the largest finite residual (``None`` if none)."""
+def _stage_figures(ds: xr.Dataset, time: NDArray[np.float64]) -> dict[str, Any]:
+    """``iterations_mean`` and ``residual_max``: per stage the dataset holds, the mean
+    iterations over the steps (the first sample left out when there are more) and the
+    largest finite residual (``None`` if none); nothing for a model without stages."""
+    stages = [s for s in STAGES if f"residual_{s}" in ds]
+    if not stages:
+        return {}
     steps_rows = slice(1, None) if len(time) > 1 else slice(0, None)
     iterations = {s: float(np.nanmean(ds[f"iterations_{s}"].values[steps_rows]))
-                  if len(time) else None for s in STAGES}
+                  if len(time) else None for s in stages}
     residual = {}
-    for s in STAGES:
+    for s in stages:
         r = ds[f"residual_{s}"].values.astype(float)
         residual[s] = float(np.nanmax(r)) if np.isfinite(r).any() else None
-    return iterations, residual
+    return {"iterations_mean": iterations, "residual_max": residual}
+
+
+def _contact_figures(ds: xr.Dataset) -> dict[str, float | None]:
+    """The largest peak pressure and half-width of the Hertzian strip, where the model
+    gives them (``None`` if never finite)."""
+    if "contact_pressure_max" not in ds:
+        return {}
+    return {"contact_pressure_max_Pa": _max_or_none(ds, "contact_pressure_max"),
+            "contact_half_width_max_m": _max_or_none(ds, "contact_half_width")}
 
 
 def _add_info_figures(summary: dict[str, Any], ds: xr.Dataset, info: dict[str, Any],
-                      time: NDArray[np.float64], force: NDArray[np.float64], complete: bool) -> None:
+                      complete: bool) -> None:
     """Add to ``summary`` the figures a model's ``info`` asks for: the steady state, the
     model, the start and torques, the back flanks and the bodies' damping."""
     if "steady" in info:
-        summary.update(steady_figures(time, force, info["steady"], complete))
+        summary.update(steady_figures(ds, info["steady"], complete))
     # which model made it: the FE model's info names none (it was the default until issue 35)
     summary["model"] = info.get("model", PAPER_MODEL)
     if "start" in info:         # a run of mesh cycles: how it started, what torques it carried
@@ -376,30 +401,21 @@ def _add_info_figures(summary: dict[str, Any], ds: xr.Dataset, info: dict[str, A
 def summarize(ds: xr.Dataset) -> dict[str, Any]:
     """The figures of ``summary.json``, all computed from the dataset.
 
-    Returns
-    -------
-    dict
-        ``case``, ``status``, ``reason``, ``steps``, ``dt_s``, ``wall_s``, ``n_dof``,
-        ``peak_force_N`` and ``peak_angle_deg`` (the peak of the contact force averaged
-        over a centred 10-us window, :mod:`spurdyn.results.headline`; ``None`` when the
-        teeth never touched), ``peak_force_raw_N`` and ``peak_angle_raw_deg`` (the largest
-        saved force), ``mean_force_single_zone_N`` (``None`` when the run never reached
-        the single-contact zone), ``static_force_N``, ``dynamic_factor`` (averaged peak /
-        static) and ``dynamic_factor_raw`` (raw peak / static), both ``None`` for an
-        incomplete run, whose largest force may be the spike that stopped it;
-        ``dynamic_factor_note`` (what the factor is, or why there is none),
-        ``averaging_window_s``, ``model`` (only for a model other than the FE one),
-        ``separations`` (how many times contact was lost after first being made, see
-        :func:`separation_times`) and ``separation_times_s``, ``iterations_mean`` and
-        ``residual_max`` per stage, and more.
+    Which keys a model's summary has, what each means and its unit is the list of
+    :mod:`spurdyn.results.keys` (docs/summary.md); the figures computed here pass through
+    its :func:`~spurdyn.results.keys.select`, so a key is absent where the model does not
+    compute it, never a zero. Among them: ``peak_force_N`` and ``peak_angle_deg`` (the peak
+    of the contact force averaged over a centred 10-us window,
+    :mod:`spurdyn.results.headline`; ``None`` when the teeth never touched),
+    ``dynamic_factor`` (``None`` for an incomplete run, whose largest force may be the spike
+    that stopped it) and ``separations`` (:func:`separation_times`).
     """
     force = ds["contact_force"].values.astype(float)
     angle = ds["angle_deg"].values.astype(float)
     time = ds["time"].values.astype(float)
-    finite = np.isfinite(force)
     complete = ds.attrs["status"] == "complete"
     zone = np.asarray(ds.attrs["single_zone_deg"], float).reshape(2)
-    in_zone = finite & (angle >= zone[0]) & (angle <= zone[1])
+    in_zone = np.isfinite(force) & (angle >= zone[0]) & (angle <= zone[1])
     static = float(ds.attrs["static_force_N"])
     head = headline(time, angle, force, static, complete, str(ds.attrs.get("reason", "")))
     seps = separation_times(ds)
@@ -407,7 +423,7 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     first = time[np.argmax(contact)] if contact.any() else None
     case = json.loads(ds.attrs["case"])
     info = json.loads(ds.attrs.get("info", "{}") or "{}")
-    iterations, residual = _stage_figures(ds, time)
+    model = str(info.get("model", PAPER_MODEL))
     summary = {
         **_run_record(ds, case, time, angle, zone),
         "peak_force_N": head.peak_force,
@@ -424,19 +440,18 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
         # a model that fixes these says so in its info (the sector model: strips, implicit)
         "contact": info.get("contact", case["run"].get("contact", "point")),
         "integrator": info.get("integrator", case["run"].get("integrator", "rk4")),
-        "contact_pressure_max_Pa": _max_or_none(ds, "contact_pressure_max"),
-        "contact_half_width_max_m": _max_or_none(ds, "contact_half_width"),
+        **_contact_figures(ds),
         "separations": int(len(seps)),
         "separation_times_s": [float(x) for x in seps],
-        "iterations_mean": iterations,
-        "residual_max": residual,
-        "settings": case,
+        **_stage_figures(ds, time),
+        "settings": settings_of(case, model),
         "spurdyn_version": ds.attrs.get("spurdyn_version", ""),
     }
     # root stress along the fillets (runs with tooth frames) and ISO's nominal stresses
     summary.update(stress_summary(ds, case_from_run(ds)))
-    _add_info_figures(summary, ds, info, time, force, complete)
-    return _jsonable(summary)
+    _add_info_figures(summary, ds, info, complete)
+    conditions = run_conditions(model, "steady" in info, "root_stress" in ds, case)
+    return _jsonable(select(summary, model, conditions))
 
 
 def write_csv(ds: xr.Dataset, path: Path) -> None:

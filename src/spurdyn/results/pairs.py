@@ -9,7 +9,6 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
-from numpy.typing import NDArray
 
 from spurdyn.result import Result
 from spurdyn.results.headline import averaged_peak
@@ -66,27 +65,33 @@ def back_flank_figures(ds: xr.Dataset, info: dict[str, Any]) -> dict[str, Any]:
     return back
 
 
-def steady_figures(time: NDArray[np.float64], force: NDArray[np.float64],
-                   steady: dict[str, Any], complete: bool) -> dict[str, Any]:
+def steady_figures(ds: xr.Dataset, steady: dict[str, Any], complete: bool) -> dict[str, Any]:
     """The settled figures of a steady-state run (docs/lumped.md): the dynamic factor of
     the most loaded tooth pair's 10-us-averaged force over the last cycles against the
-    largest pair force of a quasi-static cycle, the transmission error's RMS and
-    peak-to-peak there, and whether the run settled."""
+    largest pair force of a quasi-static cycle, where A had turned at that peak, the
+    transmission error's RMS and peak-to-peak there, and whether the run settled."""
+    time = ds["time"].values.astype(float)
+    force = ds["contact_force"].values.astype(float)
+    angle = ds["angle_deg"].values.astype(float)
     lo, _ = steady["window_s"]
     sel = time >= lo - 1e-15
     static = float(steady["static_pair_force_max_N"])
     peak = averaged_peak(time[sel], force[sel])
-    raw = float(np.nanmax(force[sel])) if sel.any() else None
+    touched = sel & np.isfinite(force)
+    raw_at = int(np.flatnonzero(touched)[np.argmax(force[touched])]) if touched.any() else None
+    raw = None if raw_at is None else float(force[raw_at])
     ok = complete and peak is not None and static > 0
     m = steady["last_cycles"]
     return {
+        "peak_force_N": None if peak is None else peak[0],
+        "peak_angle_deg": None if peak is None else float(np.interp(peak[1], time, angle)),
+        "peak_force_raw_N": raw,
+        "peak_angle_raw_deg": None if raw_at is None else float(angle[raw_at]),
         "cycles": steady["cycles"],
         "cycles_done": steady["cycles_done"],
         "max_cycles": steady.get("max_cycles"),
         "settled": bool(steady["settled"]) and complete,
         "settle_tolerance": steady["settle_tolerance"],
-        "peak_force_N": None if peak is None else peak[0],
-        "peak_force_raw_N": raw,
         "static_force_N": static,
         "dynamic_factor": peak[0] / static if ok else None,
         "dynamic_factor_raw": raw / static if ok and raw is not None else None,

@@ -26,7 +26,7 @@ from spurdyn.contact.hertz import half_width, peak_pressure
 from spurdyn.geometry.pair import GearPair
 from spurdyn.model.loading import static_force
 from spurdyn.model.system import PairSystem, build_system, solver_pair
-from spurdyn.result import Result
+from spurdyn.result import STAGES, Result
 from spurdyn.settings import RunSettings
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.check import check_run
@@ -144,7 +144,9 @@ def _simulate_driven_by_b(pair: GearPair, settings: RunSettings, progress: Progr
                   residual=r.residual, iterations=r.iterations, corner=corner,
                   frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
                   frame_u=np.zeros((0, r.frame_u.shape[1])), status=r.status, reason=r.reason,
-                  steps=r.steps, wall_s=r.wall_s, info=info)
+                  steps=r.steps, wall_s=r.wall_s, info=info,
+                  # Hertz's strip is the same seen from either gear
+                  contact_half_width=r.contact_half_width, contact_pressure_max=r.contact_pressure_max)
 
 
 def _roll(system: PairSystem, g: int, t: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -169,6 +171,8 @@ def _to_result(pair: GearPair, settings: RunSettings, system: PairSystem, rows: 
     single = pair.single_contact_roll_a
     roll = np.column_stack([_roll(system, 0, col["alpha"]), _roll(system, 1, col["beta"])])
     half, pressure = _hertz(system, -col["p"], roll)
+    # the implicit integrator's one stage, its Newton iteration (its history's first columns)
+    stages = 1 if settings.integrator == "implicit" else len(STAGES)
     return Result(
         time=col["t"].copy(),
         angle=col["theta_a"].copy(),
@@ -178,8 +182,8 @@ def _to_result(pair: GearPair, settings: RunSettings, system: PairSystem, rows: 
         theta=np.column_stack([col["theta_a"], col["theta_b"]]),
         omega=np.column_stack([col["omega_a"], col["omega_b"]]),
         torque=np.column_stack([col["tau_a"], col["tau_b"]]),
-        residual=np.column_stack([col["res1"], col["res2"], col["res3"]]),
-        iterations=np.column_stack([col["it1"], col["it2"], col["it3"]]).astype(np.int64),
+        residual=np.column_stack([col[f"res{j + 1}"] for j in range(stages)]),
+        iterations=np.column_stack([col[f"it{j + 1}"] for j in range(stages)]).astype(np.int64),
         corner=col["mode"].astype(np.int8),
         frame_time=ft, frame_theta=fth, frame_u=fu,
         status=status, reason=reason, steps=steps, wall_s=wall,

@@ -42,7 +42,8 @@ FIGURES: dict[str, tuple[str, str]] = {
                        "carries the ripple of local tooth modes)"),
     "dynamic_factor_raw": ("1", "peak_force_raw over the quasi-static force (NaN for a run "
                            "stopped early)"),
-    "mean_force_single_zone": ("N", "mean contact force in the single-contact zone"),
+    "mean_force_single_zone": ("N", "mean contact force in the single-contact zone (one "
+                               "engagement; NaN for a steady-state run)"),
     "rms_force": ("N", "root mean square of the contact force over the saved steps of the "
                   "engagement (contact-free steps count as zero)"),
     "separations": ("1", "times contact was lost after first being made and the gap opened "
@@ -157,7 +158,7 @@ def point_figures(result: Result, case: Case) -> dict[str, Any]:
         "dynamic_factor": s["dynamic_factor"],
         "peak_force_raw": s["peak_force_raw_N"],
         "dynamic_factor_raw": s["dynamic_factor_raw"],
-        "mean_force_single_zone": s["mean_force_single_zone_N"],
+        "mean_force_single_zone": s.get("mean_force_single_zone_N"),   # one engagement's
         "rms_force": rms,
         "separations": s["separations"],
         "static_force": s["static_force_N"],

@@ -95,8 +95,7 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     return Result(
         time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most_force, gap=gap,
         roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
-        residual=np.zeros((n, 3)), iterations=np.zeros((n, 3), dtype=np.int64),
-        corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
+        frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
         info={**out, **(info or {})}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
         back_force=back_force, transmission_error=te)

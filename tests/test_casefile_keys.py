@@ -127,10 +127,11 @@ def test_refusals_name_the_key_written(where, key, value, field, words):
 @pytest.mark.slow
 def test_the_23_47_example_runs_at_first_try(tmp_path, capsys):
     text = EXAMPLE.read_text()
-    # Only teeth, module, pressure angle, face width, material, speed and torque.
+    # Only teeth, module, pressure angle, face width, material (its ISO 6336-5 class too),
+    # speed and torque.
     keys = set(re.findall(r"^(\w+)\s*=", text, flags=re.M))
     assert keys == {"teeth", "module", "pressure_angle_deg", "face_width", "young", "poisson",
-                    "density", "speed_a_rpm", "torque"}
+                    "density", "material_class", "grade", "hardness_hv", "speed_a_rpm", "torque"}
     assert load_case(EXAMPLE).run.dt > 0.0
     code = main(["run", str(EXAMPLE), "--out", str(tmp_path / "out"), "--quiet"])
     assert code == 0
@@ -139,6 +140,7 @@ def test_the_23_47_example_runs_at_first_try(tmp_path, capsys):
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["model"] == "sector" and summary["settled"]
     assert summary["mesh_damping"] == {"ratio": MESH_DAMPING_RATIO, "source": "model default"}
+    assert all(s > 1.0 for s in summary["safety_root_iso"] + summary["safety_contact_iso"])
 
 
 def test_a_shifted_backlashed_pair_runs(tmp_path):

@@ -17,6 +17,8 @@ from typing import Any
 
 from spurdyn.errors import InputError
 from spurdyn.fem.material import STEEL, Material, check_plausible
+from spurdyn.iso6336 import materials as iso_materials
+from spurdyn.iso6336 import safety as iso_safety
 from spurdyn.geometry.blank import Blank
 from spurdyn.geometry.gear import MAX_MODULE, MAX_TEETH, Gear
 from spurdyn.geometry.pair import GearPair
@@ -33,7 +35,10 @@ RACK_KEYS = {"addendum", "dedendum", "fillet_radius"}
 BLANK_KEYS = {"bore_radius", "hub_radius", "rim_radius", "web_width"}
 #: Keys that only make sense with ``tip_relief`` in the same table.
 RELIEF_KEYS = ("tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape")
-MATERIAL_KEYS = {"young", "poisson", "density", "sigma_flim", "sigma_hlim"}
+MATERIAL_KEYS = {"young", "poisson", "density", "sigma_flim", "sigma_hlim", "sigma_fe",
+                 "material_class", "grade", "hardness_hv", "hardness_hbw"}
+#: The keys that give a material's ISO 6336-5 allowables as a class (the others as numbers).
+CLASS_KEYS = ("material_class", "grade", "hardness_hv", "hardness_hbw")
 PAIR_KEYS = {"centre_distance", "driver"}
 MESH_KEYS = {"nx", "ny", "grading", "row_grading"}
 TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run", "model"}
@@ -110,10 +115,8 @@ def material_from_table(table: dict[str, Any], where: str) -> Material:
         raise InputError(where, "must be a table with young, poisson and density")
     check_keys(table, MATERIAL_KEYS, where)
     values: dict[str, Any] = {k: _number(table, k, where) for k in ("young", "poisson", "density")}
-    for key in ("sigma_flim", "sigma_hlim"):      # ISO 6336-5 allowables, optional
-        if key in table:
-            values[key] = _number(table, key, where)
     try:
+        values.update(_allowables(table, where))
         material = Material(**values)
         check_plausible(material)
         return material
@@ -121,6 +124,55 @@ def material_from_table(table: dict[str, Any], where: str) -> Material:
         raise err.prefixed(where) from None
     except ValueError as err:
         raise InputError(where, str(err)) from None
+
+
+def _bare_number(table: dict[str, Any], key: str) -> float:
+    """``table[key]`` as a finite float; errors name the bare key."""
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(key, f"must be a finite number (got {value!r})")
+    return float(value)
+
+
+def _allowables(table: dict[str, Any], where: str) -> dict[str, Any]:
+    """The ISO 6336-5 allowables of a material table (Pa), optional: either numbers
+    (``sigma_hlim``, ``sigma_flim`` or ``sigma_fe = Y_ST sigma_flim``) or a class, grade
+    and hardness. Errors name the bare key; the caller prefixes the table."""
+    given = [k for k in CLASS_KEYS if k in table]
+    numbers = [k for k in ("sigma_hlim", "sigma_flim", "sigma_fe") if k in table]
+    if given and numbers:
+        raise InputError(numbers[0], f"give either the allowable stress numbers or an ISO "
+                         f"6336-5 material_class with grade and hardness, not both "
+                         f"(found {', '.join(given)})")
+    if "sigma_fe" in table and "sigma_flim" in table:
+        raise InputError("sigma_fe", "give either sigma_flim or sigma_fe (= 2 sigma_flim), "
+                         "not both")
+    if not given:
+        out = {}
+        for key in numbers:
+            value = _bare_number(table, key)
+            iso_materials.check_allowable(key, value)
+            out["sigma_flim" if key == "sigma_fe" else key] = \
+                value / iso_safety.Y_ST if key == "sigma_fe" else value
+        return out
+    for key in ("material_class", "grade"):
+        if key not in table:
+            raise InputError(key, "is missing: an ISO 6336-5 class needs material_class, "
+                             "grade and hardness, e.g. material_class = \"Eh\", grade = "
+                             "\"MQ\", hardness_hv = 700")
+    cls = iso_materials.material_class(table["material_class"])
+    key = iso_materials.HARDNESS_KEYS[cls.scale]
+    for other in iso_materials.HARDNESS_KEYS.values():
+        if other != key and other in table:
+            raise InputError(other, f"class {cls.name} is rated by its {cls.scale} hardness: "
+                             f"give {key}")
+    if key not in table:
+        raise InputError(key, f"is missing: class {cls.name} needs its surface hardness in "
+                         f"{cls.scale}")
+    hardness = _bare_number(table, key)
+    hlim, flim = iso_materials.allowable_stresses(cls.name, table["grade"], hardness)
+    return {"sigma_hlim": hlim, "sigma_flim": flim,
+            "iso_class": (cls.name, table["grade"], hardness)}
 
 
 def gear_from_table(table: dict[str, Any], where: str) -> Gear:
@@ -365,6 +417,16 @@ def read_toml(path: Path) -> dict[str, Any]:
         raise InputError(str(path), f"is not valid TOML ({err})") from None
 
 
+def _allowables_to_dict(material: Material) -> dict[str, Any]:
+    """The allowables as :func:`_allowables` reads them: the class if they came from one."""
+    if material.iso_class is not None:
+        name, grade, hardness = material.iso_class
+        key = iso_materials.HARDNESS_KEYS[iso_materials.LINES[name].scale]
+        return {"material_class": name, "grade": grade, key: hardness}
+    return {k: getattr(material, k) for k in ("sigma_flim", "sigma_hlim")
+            if getattr(material, k) is not None}
+
+
 def gear_to_dict(gear: Gear) -> dict[str, Any]:
     """A gear as its case-file table, the inverse of :func:`gear_from_table`.
 
@@ -385,8 +447,7 @@ def gear_to_dict(gear: Gear) -> dict[str, Any]:
         "cutter_tip_radius": gear.cutter_tip_radius,
         "material": {"young": gear.material.young, "poisson": gear.material.poisson,
                      "density": gear.material.density,
-                     **{k: getattr(gear.material, k) for k in ("sigma_flim", "sigma_hlim")
-                        if getattr(gear.material, k) is not None}},
+                     **_allowables_to_dict(gear.material)},
     }
     if gear.tip_relief > 0.0 or gear.tip_relief_start_roll is not None:
         table["tip_relief"] = gear.tip_relief

@@ -247,8 +247,10 @@ def report_line(summary: dict[str, Any]) -> str:
     back = summary.get("back_flanks") or {}
     back_s = (f", back flanks {back['peak_force_N']:,.1f} N at most ({back['steps_in_contact']:,} steps)"
               if back.get("steps_in_contact") else "")
+    from spurdyn.results.stress import safety_phrase  # S_F, S_H below 1, either way
+
     return (f"{summary['case']}: complete{_settled_words(summary)}, {steps} in {summary['wall_s']:.1f} s, "
-            f"{peak_s}, {summary['separations']} separation(s){back_s}")
+            f"{peak_s}, {summary['separations']} separation(s){back_s}{safety_phrase(summary)}")
 
 
 def _settled_words(summary: dict[str, Any]) -> str:

@@ -41,6 +41,11 @@ class Material:
     sigma_flim, sigma_hlim : float or None
         Optional allowable stress numbers of ISO 6336-5 [Pa]: bending ``sigma_Flim`` and
         contact ``sigma_Hlim``; when given, a run reports the safety factors S_F and S_H.
+    iso_class : tuple of (str, str, float) or None
+        The ISO 6336-5 material class, quality grade and surface hardness (in the class's
+        scale, HV or HBW) the allowable stress numbers were read from, kept so that a
+        stored case names them; ``None`` when they were given as numbers. Checked by the
+        case file (:mod:`spurdyn.iso6336.materials`), not here.
 
     Raises
     ------
@@ -55,6 +60,7 @@ class Material:
     density: float
     sigma_flim: float | None = None
     sigma_hlim: float | None = None
+    iso_class: tuple[str, str, float] | None = None
 
     def __post_init__(self) -> None:
         for name in ("young", "poisson", "density"):

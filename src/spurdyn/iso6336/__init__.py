@@ -9,7 +9,10 @@ Pure functions of numbers in SI units, one module per part of the standard:
 * :mod:`~spurdyn.iso6336.dynamics` - part 1: ``c'``, ``c_gamma_alpha``, ``m_red``, ``n_E1``,
   ``K_v`` (method B);
 * :mod:`~spurdyn.iso6336.safety` - ``sigma_F``, ``sigma_H``, ``S_F``, ``S_H`` (from ISO or a simulated peak);
-* :mod:`~spurdyn.iso6336.rating` - all of them for one pair and load.
+* :mod:`~spurdyn.iso6336.rating` - all of them for one pair and load;
+* :mod:`~spurdyn.iso6336.transverse` - part 1: ``K_Halpha``, ``K_Falpha``, ``y_alpha`` (method B);
+* :mod:`~spurdyn.iso6336.chain` - the whole method-B chain to ``S_H``, ``S_F`` of both gears;
+* :mod:`~spurdyn.iso6336.materials` - part 5 (2016): ``sigma_Hlim``, ``sigma_Flim`` of a material class.
 
 Formulas, assumptions and hand-worked examples: ``docs/iso6336.md``. Run
 ``python -m spurdyn.iso6336`` to print the figures of the two worked examples.

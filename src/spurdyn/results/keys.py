@@ -34,7 +34,7 @@ CONDITIONS = {
     ENGAGEMENT: "a run of one engagement (no cycles)",
     STEADY: "a steady-state run of mesh cycles",
     ROOT_STRESS: "the run kept tooth frames and their root stress was recovered",
-    STRENGTHS: "a gear's material gives sigma_flim or sigma_hlim",
+    STRENGTHS: "a gear's material gives sigma_flim or sigma_hlim, or an ISO 6336-5 class",
     OPTIONAL: "where the model computes it",
 }
 
@@ -197,7 +197,7 @@ def run_conditions(model: str, steady: bool, root_stress: bool, case: Mapping[st
     if root_stress:
         out.add(ROOT_STRESS)
     materials = (case.get(g, {}).get("material", {}) for g in ("gear_a", "gear_b"))
-    if any(m.get("sigma_flim") is not None or m.get("sigma_hlim") is not None for m in materials):
+    if any(m.get(k) is not None for m in materials for k in ("sigma_flim", "sigma_hlim", "material_class")):
         out.add(STRENGTHS)
     return frozenset(out)
 

@@ -83,48 +83,105 @@ def iso_figures(case: Case) -> dict[str, Any]:
 def safety_figures(case: Case, root_peaks: list[float | None] | None,
                    contact_peak: float | None) -> dict[str, Any]:
     """The safety factors of the gears whose materials give ISO 6336-5's allowable stress
-    numbers (``sigma_flim``, ``sigma_hlim``): ``S_F`` and ``S_H`` from the model's dynamic
-    peaks (root stress of each tooth; the strip's peak pressure) and from ISO's nominal
-    stresses with its ``K_v`` at the run's speed; all other load factors 1 and the life
-    and condition factors 1 (``spurdyn.iso6336.safety``). Empty without allowables."""
+    numbers (``sigma_flim``, ``sigma_hlim``), two ways side by side: ``safety_*_model``
+    from the model's dynamic peaks (root stress of each tooth; the strip's peak pressure),
+    which already hold the dynamics and the load sharing, so only ``K_A = K_beta = 1``
+    multiply them; ``safety_*_iso`` from ISO's own chain (method B, ``K_v`` at the run's
+    speed, ``K_alpha``), every factor of which is in ``rating_iso``. Life and condition
+    factors 1 (:data:`spurdyn.iso6336.chain.UNITY_NOTE`). Empty without allowables."""
     from spurdyn.iso6336 import safety
-    from spurdyn.iso6336.rating import dynamic_factor_at
 
     mats = (case.pair.gear_a.material, case.pair.gear_b.material)
     if all(m.sigma_flim is None and m.sigma_hlim is None for m in mats):
         return {}
     rating, why = _rating(case)
-    k_v = None if rating is None else float(dynamic_factor_at(rating, case.run.speed_a))
-    out: dict[str, Any] = {"iso6336_k_v": k_v}
-    root_model, root_iso, contact_model, contact_iso = [], [], [], []
+    chain = None if rating is None else _chain(case, rating)
+    out: dict[str, Any] = {"iso6336_k_v": None if chain is None else float(chain.k_v)}
+    root_model, contact_model = [], []
     for g, m in enumerate(mats):
-        if m.sigma_flim is None:
-            root_model.append(None)
-            root_iso.append(None)
-        else:
-            limit = safety.root_limit(m.sigma_flim)
-            peak = None if root_peaks is None else root_peaks[g]
-            root_model.append(None if not peak else
-                              safety.root_safety(safety.root_stress_from_peak(peak), limit))
-            root_iso.append(None if rating is None else safety.root_safety(
-                safety.root_stress(rating.sigma_f0[g], k_v=k_v), limit))
-        if m.sigma_hlim is None:
-            contact_model.append(None)
-            contact_iso.append(None)
-        else:
-            limit = safety.contact_limit(m.sigma_hlim)
-            contact_model.append(None if not contact_peak else safety.contact_safety(
-                safety.contact_stress_from_peak(contact_peak), limit))
-            contact_iso.append(None if rating is None else safety.contact_safety(
-                safety.contact_stress(rating.sigma_h0, k_v=k_v,
-                                      z_b=rating.z_b if g == 0 else rating.z_d), limit))
-    out.update({"safety_root_model": root_model, "safety_root_iso": root_iso,
-                "safety_contact_model": contact_model, "safety_contact_iso": contact_iso,
+        peak = None if root_peaks is None else root_peaks[g]
+        root_model.append(None if m.sigma_flim is None or not peak else safety.root_safety(
+            safety.root_stress_from_peak(peak), safety.root_limit(m.sigma_flim)))
+        contact_model.append(None if m.sigma_hlim is None or not contact_peak else
+                             safety.contact_safety(safety.contact_stress_from_peak(contact_peak),
+                                                   safety.contact_limit(m.sigma_hlim)))
+    none2 = [None, None]
+    out.update({"safety_root_model": root_model,
+                "safety_root_iso": none2 if chain is None else list(chain.s_f),
+                "safety_contact_model": contact_model,
+                "safety_contact_iso": none2 if chain is None else list(chain.s_h),
                 "safety_note": "S = allowable / stress; model: the run's dynamic peak root "
-                               "stress and strip pressure; ISO: sigma_F0 K_v and Z_B|D sigma_H0 "
-                               "sqrt(K_v); K_A = K_beta = K_alpha = 1, life and condition "
-                               "factors 1" + ("" if rating is not None else f"; ISO {why}")})
+                               "stress and strip pressure (K_A = K_beta = 1, no K_alpha: the "
+                               "model shares the load between pairs itself); ISO: method B "
+                               "chain, every factor in rating_iso" + (
+                                   "" if rating is not None else f"; ISO {why}"),
+                "rating_iso": None if chain is None else _chain_figures(rating, chain, mats)})
     return out
+
+
+def _chain(case: Case, rating: Any) -> Any:
+    """ISO's safety chain for the run: its pinion (gear A) speed and the materials'
+    allowables and running-in groups (none for allowables given as numbers)."""
+    from spurdyn.iso6336.chain import safety_chain
+    from spurdyn.iso6336.materials import LINES
+
+    pair = case.pair
+    mats = (pair.gear_a.material, pair.gear_b.material)
+    groups = tuple(None if m.iso_class is None else LINES[m.iso_class[0]].running_in
+                   for m in mats)
+    return safety_chain(rating, case.run.speed_a, (mats[0].sigma_hlim, mats[1].sigma_hlim),
+                        (mats[0].sigma_flim, mats[1].sigma_flim),
+                        pitch_speed=case.run.speed_a * pair.gear_a.pitch_radius,
+                        groups=groups)  # type: ignore[arg-type]
+
+
+def _chain_figures(rating: Any, chain: Any, mats: tuple[Any, Any]) -> dict[str, Any]:
+    """Every factor of ISO's chain under one key of ``summary.json`` (per gear: A, B)."""
+    from spurdyn.iso6336.chain import UNITY_NOTE
+    from spurdyn.iso6336.materials import LINES
+    from spurdyn.iso6336.safety import Y_ST
+
+    def num(values: Any) -> list[float | None]:
+        return [None if v is None else float(v) for v in values]
+
+    def source(m: Any) -> str | None:
+        if m.iso_class is None:
+            return None if m.sigma_hlim is None and m.sigma_flim is None else "given"
+        name, grade, hardness = m.iso_class
+        return f"ISO 6336-5 {name} {grade} {hardness:g} {LINES[name].scale}"
+
+    return {
+        "K_A": chain.k_a, "K_v": float(chain.k_v), "K_Hbeta": chain.k_hbeta,
+        "K_Fbeta": chain.k_fbeta, "K_Halpha": chain.k_halpha, "K_Falpha": chain.k_falpha,
+        "f_pb_m": 0.0, "y_alpha_m": chain.y_alpha, "eps_alpha": rating.eps_alpha,
+        "Z_H": rating.z_h, "Z_E_sqrtPa": rating.z_e, "Z_eps": rating.z_eps, "Z_beta": 1.0,
+        "Z_B": rating.z_b, "Z_D": rating.z_d, "Y_F": num(rating.y_f), "Y_S": num(rating.y_s),
+        "Y_beta": 1.0, "Y_B": 1.0, "Y_DT": 1.0, "Y_ST": Y_ST,
+        "F_t_N": rating.tangential_force, "sigma_H0_Pa": rating.sigma_h0,
+        "sigma_F0_Pa": num(rating.sigma_f0), "sigma_H_Pa": num(chain.sigma_h),
+        "sigma_F_Pa": num(chain.sigma_f),
+        "sigma_Hlim_Pa": num(m.sigma_hlim for m in mats),
+        "sigma_Flim_Pa": num(m.sigma_flim for m in mats),
+        "allowables": [source(m) for m in mats],
+        "sigma_HG_Pa": num(chain.sigma_hg), "sigma_FG_Pa": num(chain.sigma_fg),
+        "S_H": num(chain.s_h), "S_F": num(chain.s_f),
+        "note": "ISO 6336-2/-3 method B for the run's static torque at its speed; sigma_H "
+                "of A with Z_B, of B with Z_D. Taken as 1: " + UNITY_NOTE,
+    }
+
+
+def safety_phrase(summary: dict[str, Any]) -> str:
+    """The part of the command's line naming every safety factor below 1, e.g.
+    ``", S_F below 1: gear B 0.83 (ISO)"``, or ``""`` when none is (or none computed)."""
+    parts = []
+    for name, key in (("S_F", "safety_root"), ("S_H", "safety_contact")):
+        low = [f"gear {'AB'[g]} {s:.3g} ({way})"
+               for way, suffix in (("ISO", "_iso"), ("model", "_model"))
+               for g, s in enumerate(summary.get(key + suffix) or ())
+               if s is not None and s < 1.0]
+        if low:
+            parts.append(f"{name} below 1: " + ", ".join(low))
+    return "".join(f", {p}" for p in parts)
 
 
 def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
@@ -160,4 +217,4 @@ def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
 
 
 __all__ = ["ROOT_VARIABLES", "iso_figures", "root_stress_variables", "safety_figures",
-           "stress_summary"]
+           "safety_phrase", "stress_summary"]

@@ -160,7 +160,7 @@ def test_safety_phrase_names_each_gear_below_one_and_nothing_else():
 def test_run_line_names_a_gear_below_one(fake, here, capsys):  # noqa: F811
     case = here / "hot.toml"
     case.write_text(EXAMPLE.read_text().replace("torque = 50.0", "torque = 400.0"))
-    code, out, err = run(capsys, "run", case, "--angle", "0.3")
+    code, out, err = run(capsys, "run", case, "--model", "fe", "--angle", "0.3")
     assert code == 0, err
     assert "S_F below 1: gear A 0." in out and "(ISO)" in out and "S_H below 1: gear A" in out
     summary = json.loads((here / "out" / "hot" / "summary.json").read_text())

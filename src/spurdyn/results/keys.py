@@ -163,7 +163,7 @@ KEYS: tuple[Key, ...] = (
     _k("safety_contact_iso", "1", "[A, B] contact safety factor from ISO's nominal stress",
        _ALL, STRENGTHS),
     _k("safety_note", "-", "how the safety factors were found", _ALL, STRENGTHS),
-    _k("rating_iso", "-", "ISO 6336's rating of the pair", _ALL, OPTIONAL),
+    _k("rating_iso", "-", "ISO 6336's factor chain: every factor, the stresses, limits and safety factors", _ALL, STRENGTHS),
     _k("cycles", "1", "mesh cycles asked for", _STEADY_MODELS, *_S),
     _k("cycles_done", "1", "mesh cycles run", _STEADY_MODELS, *_S),
     _k("max_cycles", "1", "most cycles the run could go on to until it settled", _STEADY_MODELS, *_S),

@@ -218,8 +218,9 @@ def _dataset_attrs(result: Result, case: Case) -> dict[str, Any]:
         "single_zone_deg": np.degrees(np.array(figures["single_zone"])),
         "static_force_N": figures["static_force"],
         # the sector model's end state (its whole coordinates, for a continuation's next run)
-        # is kept in memory, not in the file
-        "info": json.dumps(_jsonable({k: v for k, v in result.info.items() if k != "sector_end_state"})),
+        # is kept in memory, not in the file; its quasi-static cycle is in variables
+        "info": json.dumps(_jsonable({k: v for k, v in result.info.items()
+                                             if k not in ("sector_end_state", "static_cycle")})),
     }
     from spurdyn.version import __version__
 

@@ -121,8 +121,8 @@ def _static_force_along_path(ds: xr.Dataset) -> tuple[NDArray[np.float64], NDArr
     return x, np.concatenate([force[:, j] for j in range(force.shape[1])])
 
 
-def plot_mesh_cycle(ds: xr.Dataset, png: str | Path) -> Path | None:
-    """Draw each pair's force over the last mesh cycle against its roll angle, the teeth
+def mesh_cycle_figure(ds: xr.Dataset) -> Figure | None:
+    """Each pair's force over the last mesh cycle against its roll angle, the teeth
     numbered, the quasi-static force dashed (module docstring); ``None`` (nothing drawn)
     without pair forces and rolls or a whole cycle."""
     sel = last_cycles(ds, 1)
@@ -155,6 +155,14 @@ def plot_mesh_cycle(ds: xr.Dataset, png: str | Path) -> Path | None:
     ax.legend(loc="upper center", fontsize=8, ncol=1, framealpha=0.9)
     ax.set_title(wrap_title(steady_title(ds, "tooth pair forces")), fontsize=9)
     fig.tight_layout()
+    return fig
+
+
+def plot_mesh_cycle(ds: xr.Dataset, png: str | Path) -> Path | None:
+    """Write :func:`mesh_cycle_figure` to ``png``; ``None`` (no file) where it draws nothing."""
+    fig = mesh_cycle_figure(ds)
+    if fig is None:
+        return None
     png = Path(png)
     fig.savefig(png)
     return png
@@ -178,8 +186,8 @@ def _te_spectra(ds: xr.Dataset) -> tuple[NDArray[np.float64], NDArray[np.float64
     return dyn, static, m, te.size
 
 
-def plot_transmission_error(ds: xr.Dataset, png: str | Path) -> Path | None:
-    """Draw the TE over the last mesh cycle beside the static one, and its harmonics'
+def transmission_error_figure(ds: xr.Dataset) -> Figure | None:
+    """The TE over the last mesh cycle beside the static one, and its harmonics'
     amplitudes (module docstring); ``None`` without a TE or a whole cycle."""
     sel = last_cycles(ds, 1)
     if sel is None or "transmission_error" not in ds:
@@ -215,11 +223,19 @@ def plot_transmission_error(ds: xr.Dataset, png: str | Path) -> Path | None:
     ax_h.legend(loc="upper right", fontsize=8)
     ax_t.set_title(wrap_title(steady_title(ds, "transmission error")), fontsize=9)
     fig.tight_layout()
+    return fig
+
+
+def plot_transmission_error(ds: xr.Dataset, png: str | Path) -> Path | None:
+    """Write :func:`transmission_error_figure` to ``png``; ``None`` (no file) where it draws nothing."""
+    fig = transmission_error_figure(ds)
+    if fig is None:
+        return None
     png = Path(png)
     fig.savefig(png)
     return png
 
 
 __all__ = ["HARMONICS", "MESH_CYCLE_PNG", "TE_PNG", "harmonic_amplitudes", "last_cycles",
-           "plot_mesh_cycle", "plot_transmission_error", "run_info", "steady_title",
+           "mesh_cycle_figure", "plot_mesh_cycle", "transmission_error_figure", "plot_transmission_error", "run_info", "steady_title",
            "tooth_colour"]

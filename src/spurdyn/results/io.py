@@ -470,10 +470,10 @@ def write_run(result: Result, case: Case, directory: str | Path, *, png: bool = 
         from spurdyn.results.plots import plot_contact_force
 
         plot_contact_force([ds], directory / PNG_FILE)
-        if "pair_force" in ds:       # a model of several pairs: their forces and the TE
-            from spurdyn.results.mesh_plot import MESH_PNG, plot_mesh
+        if "pair_force" in ds:       # a model of several pairs: their forces, the TE, the teeth
+            from spurdyn.results.mesh_plot import plot_pair_pictures
 
-            plot_mesh(ds, directory / MESH_PNG)
+            plot_pair_pictures(ds, directory)
 
     # The picture is drawn in a child process on the other core meanwhile (done when the
     # block ends; without a child, drawn here after the rest).

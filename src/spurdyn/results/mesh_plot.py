@@ -79,7 +79,8 @@ def mesh_figure(ds: xr.Dataset) -> Figure:
     ax_f.legend(fontsize=7, ncol=3, loc="upper right", framealpha=0.8)
     ax_s.set_ylabel("load share")
     ax_s.set_ylim(-0.05, 1.05)
-    ax_e.plot(angle, ds["transmission_error"].values * 1e6, color="C3", lw=1.0)
+    if "transmission_error" in ds:
+        ax_e.plot(angle, ds["transmission_error"].values * 1e6, color="C3", lw=1.0)
     ax_e.set_ylabel("transmission error (µm)")
     ax_e.set_xlabel("rotation of gear A (deg)")
     info = json.loads(ds.attrs.get("info", "{}") or "{}")

@@ -47,6 +47,14 @@ def test_spurdyn_run_model_sector_writes_the_pairs_and_the_transmission_error(tm
     assert summary["dt_s"] == pytest.approx(ds.time.values[1] - ds.time.values[0])
     assert summary["dynamic_factor"] is not None and summary["mesh_stiffness_mean_N_per_m"] > 0
     assert (out / "mesh.png").stat().st_size > 10_000       # the pairs' picture beside the force's
+    for name in ("mesh_cycle.png", "transmission_error.png"):     # the last mesh cycle's
+        assert (out / name).stat().st_size > 10_000
+    # the quasi-static cycle kept beside the run: the run starts in its first position's equilibrium
+    static = ds["static_pair_force"].values[0]
+    np.testing.assert_allclose(ds["pair_force"].sel(pair=list(range(static.size))).values[0], static,
+                               rtol=1e-6)
+    assert ds["static_transmission_error"].values[0] == pytest.approx(ds["transmission_error"].values[0],
+                                                                      rel=1e-6)
     # no Rayleigh damping given: the bodies' default, and the summary says whose it was
     from spurdyn.solvers.sector.run import BODY_DAMPING_FREQUENCY, BODY_DAMPING_RATIO
 

@@ -229,8 +229,9 @@ def _dataset_attrs(result: Result, case: Case) -> dict[str, Any]:
         "single_zone_deg": np.degrees(np.array(figures["single_zone"])),
         "static_force_N": figures["static_force"],
         # the sector model's end state (its whole coordinates, for a continuation's next run)
-        # is kept in memory, not in the file
-        "info": json.dumps(_jsonable({k: v for k, v in result.info.items() if k != "sector_end_state"})),
+        # is kept in memory, not in the file; its quasi-static cycle is in variables
+        "info": json.dumps(_jsonable({k: v for k, v in result.info.items()
+                                             if k not in ("sector_end_state", "static_cycle")})),
     }
     from spurdyn.version import __version__
 
@@ -485,10 +486,10 @@ def write_run(result: Result, case: Case, directory: str | Path, *, png: bool = 
         from spurdyn.results.plots import plot_contact_force
 
         plot_contact_force([ds], directory / PNG_FILE)
-        if "pair_force" in ds:       # a model of several pairs: their forces and the TE
-            from spurdyn.results.mesh_plot import MESH_PNG, plot_mesh
+        if "pair_force" in ds:       # a model of several pairs: their forces, the TE, the teeth
+            from spurdyn.results.mesh_plot import plot_pair_pictures
 
-            plot_mesh(ds, directory / MESH_PNG)
+            plot_pair_pictures(ds, directory)
 
     # The picture is drawn in a child process on the other core meanwhile (done when the
     # block ends; without a child, drawn here after the rest).

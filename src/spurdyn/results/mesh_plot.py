@@ -3,7 +3,8 @@
 Three panels against the rotation of gear A: each pair's force with the mesh force (and, where
 the back flanks are contacts, their forces below zero), each pair's share of the load, and the
 transmission error; the settled window of a steady-state run shaded; an incomplete run says so
-in the title.
+in the title. The pairs are told apart by their teeth's numbers on the curves, not by a
+legend entry each.
 """
 
 from __future__ import annotations
@@ -13,15 +14,41 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from numpy.typing import NDArray
 
 from spurdyn.results.frames import speeds_label
 
 MESH_PNG = "mesh.png"
 
 
-def plot_mesh(ds: xr.Dataset, png: str | Path) -> Path:
-    """Draw ``ds``'s pair forces, load shares and transmission error into ``png``.
+#: Most tooth numbers written on the force curves; a longer run has every k-th numbered.
+MAX_NUMBERS = 30
+
+
+def _draw_pairs(ax_f: Axes, ax_s: Axes, angle: NDArray[np.float64], force: NDArray[np.float64],
+                share: NDArray[np.float64], teeth: NDArray[np.int_]) -> None:
+    """Each pair's force and share in its tooth's colour, the tooth's number above the
+    middle of its contact (no legend entry a pair: a run of many cycles holds dozens)."""
+    from spurdyn.results.cycle_plot import tooth_colour
+
+    loaded = np.flatnonzero(np.nanmax(force, axis=0, initial=0.0) > 0.0)
+    every = max(1, -(-loaded.size // MAX_NUMBERS))
+    for n, j in enumerate(loaded):
+        colour = tooth_colour(teeth[j])
+        ax_f.plot(angle, force[:, j], lw=0.8, color=colour)
+        ax_s.plot(angle, share[:, j], lw=0.8, color=colour)
+        if n % every == 0:
+            on = angle[force[:, j] > 0.0]
+            # in a row above the curves (the mesh force would hide a number at the peak),
+            # over the middle of the pair's contact
+            ax_f.annotate(f"{int(teeth[j])}", (0.5 * (on[0] + on[-1]), 0.8), xycoords=("data", "axes fraction"),
+                          ha="center", va="bottom", fontsize=6, color=colour)
+
+
+def mesh_figure(ds: xr.Dataset) -> Figure:
+    """``ds``'s pair forces, load shares and transmission error.
 
     Raises
     ------
@@ -37,10 +64,7 @@ def plot_mesh(ds: xr.Dataset, png: str | Path) -> Path:
     fig = Figure(figsize=(8, 8.5), dpi=110)
     ax_f, ax_s, ax_e = fig.subplots(3, 1, sharex=True)
     static = float(ds.attrs.get("static_force_N", np.nan))
-    for j in range(force.shape[1]):
-        if np.nanmax(force[:, j], initial=0.0) > 0.0:
-            ax_f.plot(angle, force[:, j], lw=0.8, label=f"pair {int(teeth[j])}")
-            ax_s.plot(angle, share[:, j], lw=0.8)
+    _draw_pairs(ax_f, ax_s, angle, force, share, teeth)
     ax_f.plot(angle, ds["mesh_force"].values, color="k", lw=1.2, label="mesh force")
     if "back_pair_force" in ds:     # the back flanks' forces, drawn below zero
         back = ds["back_pair_force"].values
@@ -51,10 +75,12 @@ def plot_mesh(ds: xr.Dataset, png: str | Path) -> Path:
     if np.isfinite(static):
         ax_f.axhline(static, color="k", ls="--", lw=0.8, label=f"T/r_b = {static:,.0f} N")
     ax_f.set_ylabel("normal force (N)")
-    ax_f.legend(fontsize=7, ncol=4, loc="best", framealpha=0.8)
+    ax_f.set_ylim(top=1.3 * max(np.nanmax(ds["mesh_force"].values, initial=0.0), static if np.isfinite(static) else 0.0))
+    ax_f.legend(fontsize=7, ncol=3, loc="upper right", framealpha=0.8)
     ax_s.set_ylabel("load share")
     ax_s.set_ylim(-0.05, 1.05)
-    ax_e.plot(angle, ds["transmission_error"].values * 1e6, color="C3", lw=1.0)
+    if "transmission_error" in ds:
+        ax_e.plot(angle, ds["transmission_error"].values * 1e6, color="C3", lw=1.0)
     ax_e.set_ylabel("transmission error (µm)")
     ax_e.set_xlabel("rotation of gear A (deg)")
     info = json.loads(ds.attrs.get("info", "{}") or "{}")
@@ -64,18 +90,43 @@ def plot_mesh(ds: xr.Dataset, png: str | Path) -> Path:
         start = float(np.interp(lo, ds["time"].values, angle))
         for ax in (ax_f, ax_s, ax_e):
             ax.axvspan(start, angle[-1], color="0.9", zorder=0)
-    title = f"{ds.attrs['case_name']}: tooth pairs, {speeds_label(ds)}"
-    if steady:
-        title += f", last {steady['last_cycles']} of {steady['cycles']} cycles shaded"
     from spurdyn.results.plots import stopped_early, wrap_title
 
-    title += stopped_early(ds)
+    if steady:
+        from spurdyn.results.cycle_plot import steady_title
+
+        m = steady["last_cycles"]
+        title = steady_title(ds, "tooth pairs (numbered: the driver's tooth of each)")
+        title += "; the last " + (f"{m} cycles" if m > 1 else "cycle") + " shaded"
+    else:
+        title = f"{ds.attrs['case_name']}: tooth pairs, {speeds_label(ds)}" + stopped_early(ds)
 
     ax_f.set_title(wrap_title(title), fontsize=10)
     fig.tight_layout()
+    return fig
+
+
+def plot_mesh(ds: xr.Dataset, png: str | Path) -> Path:
+    """Write :func:`mesh_figure` to ``png``."""
     png = Path(png)
-    fig.savefig(png)
+    mesh_figure(ds).savefig(png)
     return png
 
 
-__all__ = ["MESH_PNG", "plot_mesh"]
+def plot_pair_pictures(ds: xr.Dataset, directory: str | Path) -> list[Path]:
+    """The pictures of a run of several tooth pairs written into ``directory``: ``mesh.png``
+    (the whole run), and where the run holds what they draw ``mesh_cycle.png`` and
+    ``transmission_error.png`` (the last settled mesh cycle,
+    :mod:`spurdyn.results.cycle_plot`) and ``root_stress.png`` (each tooth's root stress,
+    :mod:`spurdyn.results.teeth_stress_plot`). Returns the files written."""
+    from spurdyn.results.cycle_plot import MESH_CYCLE_PNG, TE_PNG, plot_mesh_cycle, plot_transmission_error
+    from spurdyn.results.teeth_stress_plot import ROOT_STRESS_PNG, plot_teeth_stress
+
+    directory = Path(directory)
+    drawn = [plot_mesh(ds, directory / MESH_PNG), plot_mesh_cycle(ds, directory / MESH_CYCLE_PNG),
+             plot_transmission_error(ds, directory / TE_PNG),
+             plot_teeth_stress(ds, directory / ROOT_STRESS_PNG)]
+    return [p for p in drawn if p is not None]
+
+
+__all__ = ["MESH_PNG", "mesh_figure", "plot_mesh", "plot_pair_pictures"]

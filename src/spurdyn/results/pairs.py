@@ -25,6 +25,7 @@ def pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
             "the driver runs ahead (the teeth yield)"})
     if result.pair_force is None:
         return out
+    out.update(static_cycle_variables(result.info.get("static_cycle")))
     force = np.asarray(result.pair_force, float).reshape(n, -1)
     mesh = force.sum(axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -49,6 +50,28 @@ def pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
             "units": "N", "long_name": "total normal force on the back flanks along the back line "
             "of action (the driver's torque from the mesh is r_b (mesh_force - back_mesh_force))"})
     return out
+
+
+def static_cycle_variables(cycle: dict[str, Any] | None) -> dict[str, xr.Variable]:
+    """The quasi-static mesh cycle a model ran beside (the sector model's ``info["static_cycle"]``,
+    :func:`spurdyn.solvers.sector.output.static_cycle`) along ``cycle_position``: the first
+    pair's roll, each pair's force along ``static_pair`` and the static transmission error;
+    none without one."""
+    if not cycle:
+        return {}
+    force = np.asarray(cycle["force"], float)
+    at = ("cycle_position",)
+    return {
+        "cycle_roll_deg": xr.Variable(at, np.degrees(np.asarray(cycle["roll"], float)), {
+            "units": "degree", "long_name": "driver's roll angle of the first pair's contact point "
+            "at each position of the quasi-static mesh cycle (one pitch, both ends included)"}),
+        "static_pair_force": xr.Variable(at + ("static_pair",), force, {
+            "units": "N", "long_name": "quasi-static normal force of the pairs on the path: pair j's "
+            "contact point is j pitches further along it than the first's (0 off the path)"}),
+        "static_transmission_error": xr.Variable(at, np.asarray(cycle["transmission_error"], float), {
+            "units": "m", "long_name": "loaded static transmission error along the line of action "
+            "over the quasi-static mesh cycle"}),
+    }
 
 
 def back_flank_figures(ds: xr.Dataset, info: dict[str, Any]) -> dict[str, Any]:
@@ -106,4 +129,4 @@ def steady_figures(ds: xr.Dataset, steady: dict[str, Any], complete: bool) -> di
     }
 
 
-__all__ = ["back_flank_figures", "steady_figures"]
+__all__ = ["back_flank_figures", "pair_variables", "static_cycle_variables", "steady_figures"]

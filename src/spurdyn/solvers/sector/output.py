@@ -97,8 +97,16 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
         frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
-        info={**out, **(info or {})}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
+        info={**out, **(info or {}), "static_cycle": static_cycle(model)}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
         back_force=back_force, transmission_error=te)
+
+
+def static_cycle(model: SectorModel) -> dict[str, NDArray[np.float64]]:
+    """The run's quasi-static mesh cycle (``model.cycle``) as the result keeps it beside the
+    dynamic one (:func:`spurdyn.results.pairs.pair_variables`): the driver's roll of the first
+    pair at each position (rad), each pair's force (N) and the static transmission error (m)."""
+    c = model.cycle
+    return {"roll": c.roll.copy(), "force": c.force.copy(), "transmission_error": c.transmission_error.copy()}
 
 
 def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle_end: float,
@@ -142,4 +150,4 @@ def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle
     }
 
 
-__all__ = ["sector_record", "sector_result"]
+__all__ = ["sector_record", "sector_result", "static_cycle"]

@@ -58,7 +58,10 @@ def sector_like(cycles_done: int, *, asked: int = 5, settled: bool | None = None
     if settled is not None:
         steady["settled"] = settled
     info = {"model": "sector", "n_dof": 100, "damping_ratio": 0.05, "pair_teeth": teeth.tolist(),
-            "driver": "a", "steady": steady}
+            "driver": "a", "steady": steady, "damping_ratio_source": "model default",
+            # what every sector run's record holds beside (docs/summary.md)
+            "start": "static", "torque_history": None, "back_flanks": False, "backlash_normal_m": 0.0,
+            "rayleigh": [0.0, 1e-7], "rayleigh_default": True}
     if static:
         rolls = START + PITCH * np.arange(21) / 20
         pairs = np.column_stack([tooth_force(rolls - START + j * PITCH) for j in (0, 1)])

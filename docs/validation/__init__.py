@@ -22,6 +22,7 @@ page (``docs/``)                module                 what
 ``stress_validation.md``        ``stress``             the root stress against the mesh and ISO 6336-3
 ``validation_sweep.md``         ``sweep``              the dynamic factor against speed (section 7)
 ``stiffness.md`` (printed)      ``stiffness``          the tables of the stiffness page
+``engineer_defaults.md``        ``engineer``           bare case files by default: settled, rated
 ==============================  =====================  ===============================================
 
 What they share (the pages' folder, writing a page and keeping its figures, a run timed,
@@ -44,6 +45,7 @@ PAGES = {
     "stress_validation": "stress",
     "validation_sweep": "sweep",
     "stiffness": "stiffness",
+    "engineer_defaults": "engineer",
 }
 
 __all__ = ["PAGES"]

@@ -65,6 +65,9 @@ class Case:
     model
         The model the file asks for (``[model] kind``, one of
         :data:`~spurdyn.settings.MODEL_NAMES`; ``--model`` overrides it).
+    written
+        The ``[run]`` keys the file wrote (``"run.dt"``, ...): a model that does not read
+        one refuses it by that name (:meth:`labels`), as it refuses an option.
     """
 
     name: str
@@ -72,6 +75,12 @@ class Case:
     run: RunSettings
     description: str = ""
     model: str = DEFAULT_MODEL
+    written: frozenset[str] = frozenset()
+
+    def labels(self, options: Mapping[str, str]) -> dict[str, str]:
+        """How a refusal names each setting given: the command line's ``options``
+        (``{"run.dt": "--dt"}``), and the keys the file wrote by themselves."""
+        return {**{key: key for key in self.written}, **options}
 
     @property
     def meshed_pair(self) -> MeshedPair:
@@ -247,7 +256,8 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         run = run.with_(dt=default_step(run, pair, system))
     if system is not None:
         check_run(pair, run, system, _step_field(src, overrides, labels, scale_b))
-    return Case(name=name, pair=pair, run=run, description=description)
+    return Case(name=name, pair=pair, run=run, description=description,
+                written=frozenset(f"run.{key}" for key in table))
 
 
 def _mesh_density(meshed_pair: MeshedPair, overrides: Mapping[str, Any],

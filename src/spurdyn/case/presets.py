@@ -96,7 +96,8 @@ def preset_case(name: str, overrides: Mapping[str, Any] | None = None,
     case = case_from_pair(MeshedPair(pair=pair, name=name), table, name,
                           overrides, labels, description=preset.description,
                           check_step=check_step)
-    return replace(case, model=PAPER_MODEL)     # the paper's cases run the paper's model
+    # the paper's cases run the paper's model; their table is the preset's, not the user's
+    return replace(case, model=PAPER_MODEL, written=frozenset())
 
 
 def resolve_cases(spec: str, overrides: Mapping[str, Any] | None = None,

@@ -151,8 +151,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             if case.pair.driver == "b":
                 raise InputError("--vtu", f"needs tooth frames, but {case.name} is driven by "
                                  "gear B, whose runs keep none; leave out --vtu")
-    for case in cases:   # not ignored in silence
-        entry.refuse(case.run, labels, case.pair)
+    for case in cases:   # not ignored in silence: the options, and the keys its file wrote
+        entry.refuse(case.run, case.labels(labels), case.pair)
     if not args.allow_large:
         from spurdyn.solvers.limits import check_size
 

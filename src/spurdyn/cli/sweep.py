@@ -127,7 +127,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
     model = args.model or case.model          # --model, else the case file's [model] kind
     entry = ENTRIES[model]
-    entry.refuse(case.run, labels, case.pair)   # not ignored in silence
+    entry.refuse(case.run, case.labels(labels), case.pair)   # not ignored in silence
     case = replace(case, run=entry.with_defaults(case.run))
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:

@@ -259,6 +259,19 @@ class CyclicGear(Reduction):
             self._resp[key] = (base.reshape(base.shape[0], -1, 2) @ q.T).reshape(base.shape[0], -1)
         return self._resp[key]
 
+    def static_rows(self, k: int, side: int, dofs: NDArray[np.intp]) -> NDArray[np.float64]:
+        """:meth:`static_response` at the free DOFs ``dofs`` alone, summed over the
+        harmonics at those rows only (the ring's whole response is never formed)."""
+        blk = self.block
+        key = (blk.tooth(k), side)
+        if key in self._resp:
+            return self._resp[key][dofs]
+        o = blk.tooth(k) - blk.first
+        base = self._ring_response(blk.body.free_dofs[np.asarray(dofs, dtype=np.intp)],
+                                   _unit_loads(self.cell, blk, side), o)
+        q = turn_matrix(o * self.cell.pitch)
+        return (base.reshape(base.shape[0], -1, 2) @ q.T).reshape(base.shape[0], -1)
+
     def flank_flex(self, s: int, t: int) -> NDArray[np.float64]:
         return self.flex[s, t]
 

@@ -10,9 +10,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.result import Result
+from spurdyn.result import Result, ToothStress
 from spurdyn.sector.system import REACH
 from spurdyn.settings import DEFAULT_RAMP_CYCLES
+from spurdyn.solvers.sector.teeth import contact_pressures, root_stress
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
 if TYPE_CHECKING:  # annotations only
@@ -22,7 +23,8 @@ if TYPE_CHECKING:  # annotations only
 
 def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, status: str, reason: str,
                   wall: float, most: int, keep: NDArray[np.bool_] | None = None,
-                  back_keep: NDArray[np.bool_] | None = None, info: dict[str, Any] | None = None) -> Result:
+                  back_keep: NDArray[np.bool_] | None = None, info: dict[str, Any] | None = None,
+                  offset: int = 0) -> Result:
     """The run of ``model`` written in ``record`` as a :class:`~spurdyn.result.Result` in the
     pair's own A and B.
 
@@ -46,6 +48,8 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         no back flanks.
     info
         What the integrator adds to the result's record.
+    offset
+        The driver's body tooth of pair 0 (a continuation runs on).
 
     Returns
     -------
@@ -86,11 +90,23 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     if back is not None:
         back_force = back[1][sel]
         out["back_pair_teeth"] = back[0].tolist()
+    pressure, half = contact_pressures(model, record.theta[sel, 0], record.force[sel])
+    stress = root_stress(model, record, n_kept, offset)
     en = record.energy
     if en is not None:
         out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
         out["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
                          "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
+    drive = (slice(None), slice(0, model.teeth.size))
+    pair_p, pair_b = pressure[drive], half[drive]
+    if keep is not None:
+        pair_p, pair_b = pair_p[:, keep], pair_b[:, keep]
+    any_on = np.isfinite(pressure).any(axis=1)
+    # every contact's, the back flanks' too: the largest over the pairs at each step
+    p_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], pressure, 0.0), axis=1), np.nan)
+    b_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], half, 0.0), axis=1), np.nan)
+    if stress is not None and swap:
+        stress = ToothStress(stress.time, stress.teeth[::-1], stress.values[::-1], stress.per_cycle)
     return Result(
         time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most_force, gap=gap,
         roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
@@ -98,7 +114,9 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
         info={**out, **(info or {})}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
-        back_force=back_force, transmission_error=te)
+        back_force=back_force, transmission_error=te, contact_pressure_max=p_max,
+        contact_half_width=b_max, pair_contact_pressure=pair_p, pair_contact_half_width=pair_b,
+        tooth_stress=stress)
 
 
 def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle_end: float,

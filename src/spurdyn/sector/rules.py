@@ -100,7 +100,9 @@ def stress_steps(per_cycle: int, n_steps: int) -> NDArray[np.intp]:
     cycle), the nearest steps to evenly spaced phases, the same in every cycle."""
     n = min(STRESS_SAMPLES, per_cycle)
     rows = np.arange(n_steps * n // per_cycle + 1)
-    return np.round(rows * (per_cycle / n)).astype(np.intp)
+    cycle, j = np.divmod(rows, n)
+    # the nearest step to phase j / n, halves up, in whole numbers: the same every cycle
+    return (cycle * per_cycle + (2 * j * per_cycle + n) // (2 * n)).astype(np.intp)
 
 
 def steps_per_cycle(speed: float, teeth: int, dt: float | None = None) -> int:

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from spurdyn.result import Result, ToothStress
 from spurdyn.sector.system import REACH
 from spurdyn.settings import DEFAULT_RAMP_CYCLES
-from spurdyn.solvers.sector.teeth import contact_pressures, root_stress
+from spurdyn.solvers.sector.teeth import pair_pressures, root_stress
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
 if TYPE_CHECKING:  # annotations only
@@ -90,21 +90,13 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     if back is not None:
         back_force = back[1][sel]
         out["back_pair_teeth"] = back[0].tolist()
-    pressure, half = contact_pressures(model, record.theta[sel, 0], record.force[sel])
+    contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep)
     stress = root_stress(model, record, n_kept, offset)
     en = record.energy
     if en is not None:
         out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
         out["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
                          "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
-    drive = (slice(None), slice(0, model.teeth.size))
-    pair_p, pair_b = pressure[drive], half[drive]
-    if keep is not None:
-        pair_p, pair_b = pair_p[:, keep], pair_b[:, keep]
-    any_on = np.isfinite(pressure).any(axis=1)
-    # every contact's, the back flanks' too: the largest over the pairs at each step
-    p_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], pressure, 0.0), axis=1), np.nan)
-    b_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], half, 0.0), axis=1), np.nan)
     if stress is not None and swap:
         stress = ToothStress(stress.time, stress.teeth[::-1], stress.values[::-1], stress.per_cycle)
     return Result(
@@ -114,9 +106,7 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         corner=np.zeros(n, dtype=np.int8), frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
         info={**out, **(info or {})}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
-        back_force=back_force, transmission_error=te, contact_pressure_max=p_max,
-        contact_half_width=b_max, pair_contact_pressure=pair_p, pair_contact_half_width=pair_b,
-        tooth_stress=stress)
+        back_force=back_force, transmission_error=te, tooth_stress=stress, **contact)
 
 
 def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle_end: float,

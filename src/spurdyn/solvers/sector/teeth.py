@@ -40,6 +40,24 @@ def contact_pressures(model: SectorModel, theta_a: NDArray[np.float64],
     return p, b
 
 
+def pair_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: NDArray[np.float64],
+                   keep: NDArray[np.bool_] | None) -> dict[str, NDArray[np.float64]]:
+    """The :class:`~spurdyn.result.Result` fields of the contacts' pressure: per drive pair
+    (those of ``keep``, all if ``None``) ``pair_contact_pressure`` and
+    ``pair_contact_half_width``, and at each step the largest over every contact, the back
+    flanks' too (``contact_pressure_max``, ``contact_half_width``; NaN with none)."""
+    pressure, half = contact_pressures(model, theta_a, force)
+    drive = (slice(None), slice(0, model.teeth.size))
+    pair_p, pair_b = pressure[drive], half[drive]
+    if keep is not None:
+        pair_p, pair_b = pair_p[:, keep], pair_b[:, keep]
+    any_on = np.isfinite(pressure).any(axis=1)
+    p_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], pressure, 0.0), axis=1), np.nan)
+    b_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], half, 0.0), axis=1), np.nan)
+    return {"pair_contact_pressure": pair_p, "pair_contact_half_width": pair_b,
+            "contact_pressure_max": p_max, "contact_half_width": b_max}
+
+
 def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: int = 0) -> ToothStress | None:
     """The root stress of every tooth of the driver and the driven gear (``model.dp``'s
     order) at the run's sampled steps below ``n_kept``: per sample and tooth the largest
@@ -67,4 +85,4 @@ def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: i
                        values=(values[0], values[1]), per_cycle=min(STRESS_SAMPLES, model.per_cycle))
 
 
-__all__ = ["contact_pressures", "root_stress"]
+__all__ = ["contact_pressures", "pair_pressures", "root_stress"]

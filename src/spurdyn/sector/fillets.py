@@ -25,6 +25,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from spurdyn import store
@@ -58,17 +59,23 @@ def _chain(edges: NDArray[np.intp], start: int) -> NDArray[np.intp]:
         out.append(ahead[0])
 
 
-def tooth_fillets(mesh: SectorMesh, k: int, form_radius: float, material: Any) -> RootSurface:
+def tooth_fillets(mesh: SectorMesh, k: int, form_radius: float, material: Any,
+                  edges: NDArray[np.intp] | None = None,
+                  holding: Any = None) -> RootSurface:
     """The :class:`~spurdyn.model.root.RootSurface` of tooth ``k`` of a sector ``mesh``:
     its right fillet from the cell's edge up to the form radius, then its left, their
-    stress operator on the sector's displacements (gear frame)."""
+    stress operator on the sector's displacements (gear frame). ``edges`` the mesh's
+    :func:`boundary_edges` and ``holding`` its node-element incidence (sparse, nodes by
+    elements), if the caller has them (computed here otherwise)."""
     half = 0.5 * mesh.pitch_angle
-    local = turn(mesh.nodes, -mesh.tooth_angle(k))          # tooth k along +y
-    chi = np.arctan2(local[:, 0], local[:, 1])
-    r = np.hypot(local[:, 0], local[:, 1])
+    edges = boundary_edges(mesh.elements) if edges is None else edges
+    on = np.unique(edges)
+    chi, r = np.full(mesh.n_nodes, np.inf), np.zeros(mesh.n_nodes)
+    local = turn(mesh.nodes[on], -mesh.tooth_angle(k))          # tooth k along +y
+    chi[on] = np.arctan2(local[:, 0], local[:, 1])
+    r[on] = np.hypot(local[:, 0], local[:, 1])
     tol = 1e-9
     inside = (np.abs(chi) <= half + tol) & (r < form_radius) & (r > mesh.inner_radius * (1 + tol))
-    edges = boundary_edges(mesh.elements)
     edges = edges[inside[edges].all(axis=1)]
     nodes, side = [], []
     for s, sign in enumerate((1.0, -1.0)):
@@ -80,9 +87,19 @@ def tooth_fillets(mesh: SectorMesh, k: int, form_radius: float, material: Any) -
         side.append(np.full(path.size, s, dtype=np.int8))
     all_nodes = np.concatenate(nodes)
     tangents = np.concatenate([outline_tangents(mesh.nodes[p]) for p in nodes])
-    operator, dofs = surface_stress_columns(mesh.nodes, mesh.elements, all_nodes, material)
+    holding = incidence(mesh) if holding is None else holding
+    near = np.unique(holding[all_nodes].indices)
+    operator, dofs = surface_stress_columns(mesh.nodes, mesh.elements[near], all_nodes, material)
     return RootSurface(nodes=all_nodes, side=np.concatenate(side), radius=r[all_nodes],
                        tangents=tangents, operator=operator, dofs=dofs)
+
+
+def incidence(mesh: SectorMesh) -> sp.csr_matrix:
+    """``(N, E)`` which elements hold each node (a sparse pattern)."""
+    el = mesh.elements
+    rows = el.ravel()
+    cols = np.repeat(np.arange(el.shape[0]), el.shape[1])
+    return sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(mesh.n_nodes, el.shape[0]))
 
 
 def tangential_operator(surface: RootSurface) -> NDArray[np.float64]:
@@ -110,7 +127,8 @@ class GearFillets:
         blk = self.block = gear.block
         body = blk.body
         self.teeth = blk.first + np.arange(blk.count)
-        surfaces = [tooth_fillets(body.mesh, int(k), blk.gear.form_radius, blk.gear.material)
+        edges, holding = boundary_edges(body.mesh.elements), incidence(body.mesh)
+        surfaces = [tooth_fillets(body.mesh, int(k), blk.gear.form_radius, blk.gear.material, edges, holding)
                     for k in self.teeth]
         self.radius, self.side = surfaces[0].radius, surfaces[0].side
         free_of = np.full(body.mesh.n_dof, -1, dtype=np.intp)
@@ -149,15 +167,16 @@ class GearFillets:
         f = blk.flank_dofs(blk.first).size
         n_side = f // 2
 
-        def mapped(j: int, s: int) -> NDArray[np.float64]:
-            resp = red.static_rows(int(j), s, rows)
-            turn_j = np.kron(np.eye(n_side), blk.turn_of(int(j), s))
-            return np.array([op @ resp[at[i]:at[i + 1]] @ turn_j for i, op in enumerate(self._ops)])
+        def mapped(j: int) -> NDArray[np.float64]:
+            """``(K, sides, n, f)``: every tooth's fillets under tooth ``j``'s flank loads."""
+            resp = red.static_rows(int(j), rows)
+            turns = [np.kron(np.eye(n_side), blk.turn_of(int(j), s)) for s in range(sides)]
+            return np.array([[op @ resp[at[i]:at[i + 1], s] @ turns[s] for s in range(sides)]
+                             for i, op in enumerate(self._ops)])
 
         if blk.whole:
-            return modes, np.stack([mapped(blk.first, s) for s in range(sides)], axis=1)
-        return modes, np.stack([np.stack([mapped(j, s) for s in range(sides)], axis=1)
-                                for j in self.teeth], axis=1)
+            return modes, mapped(blk.first)
+        return modes, np.stack([mapped(j) for j in self.teeth], axis=1)
 
     def stress(self, q: NDArray[np.float64], rows: Any = None,
                force: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
@@ -185,4 +204,4 @@ class GearFillets:
         return out
 
 
-__all__ = ["GearFillets", "boundary_edges", "tangential_operator", "tooth_fillets"]
+__all__ = ["GearFillets", "boundary_edges", "incidence", "tangential_operator", "tooth_fillets"]

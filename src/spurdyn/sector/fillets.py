@@ -34,6 +34,10 @@ from spurdyn.mesh.sector import SectorMesh, turn
 from spurdyn.model.root import RootSurface
 
 
+#: Teeth whose modes at the fillets are formed at once.
+MODE_CHUNK = 8
+
+
 def boundary_edges(elements: NDArray[np.intp]) -> NDArray[np.intp]:
     """``(B, 3)`` the free edges of a Q8 mesh, each ``(corner, mid-side, corner)``: an edge
     whose mid-side node belongs to one element only."""
@@ -160,9 +164,15 @@ class GearFillets:
         ``(K, K, sides, n, f)``."""
         red, blk = self.reduced, self.block
         rows = np.concatenate(self._rows)
-        phi = red.phi_rows(rows)
         at = np.cumsum([0] + [r.size for r in self._rows])
-        modes = np.array([op @ phi[at[i]:at[i + 1]] for i, op in enumerate(self._ops)])
+        # the modes at the fillets' rows a few teeth at a time (a whole gear's 53 teeth and
+        # 514 modes: 66 MB at once)
+        modes = []
+        for lo in range(0, len(self._ops), MODE_CHUNK):
+            hi = min(lo + MODE_CHUNK, len(self._ops))
+            phi = red.phi_rows(rows[at[lo]:at[hi]])
+            modes += [self._ops[i] @ phi[at[i] - at[lo]:at[i + 1] - at[lo]] for i in range(lo, hi)]
+        modes = np.array(modes)
         sides = 2
         f = blk.flank_dofs(blk.first).size
         n_side = f // 2

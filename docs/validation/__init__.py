@@ -20,6 +20,8 @@ page (``docs/``)                module                 what
                                 (+ ``sector_rattle``)  (its figures in the page's JSON)
 ``sector_rk4_validation.md``    ``sector_rk4``         the sector's implicit loop against RK4
 ``stress_validation.md``        ``stress``             the root stress against the mesh and ISO 6336-3
+                                (+ ``stress_sector``)  (its sector section, figures in
+                                                       ``stress_sector.json``)
 ``validation_sweep.md``         ``sweep``              the dynamic factor against speed (section 7)
 ``stiffness.md`` (printed)      ``stiffness``          the tables of the stiffness page
 ``engineer_defaults.md``        ``engineer``           bare case files by default: settled, rated
@@ -43,6 +45,7 @@ PAGES = {
     "sector_dynamics_validation": "sector_dynamics",
     "sector_rk4_validation": "sector_rk4",
     "stress_validation": "stress",
+    "stress_sector": "stress_sector",
     "validation_sweep": "sweep",
     "stiffness": "stiffness",
     "engineer_defaults": "engineer",

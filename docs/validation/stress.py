@@ -215,6 +215,11 @@ def render(rows: list[dict], seconds: float, dynamic: list[dict] | None = None) 
                 "follows the dynamic force (the root stress is sampled at the frames, every "
                 "20 steps; the force at every step). ISO's σ_F0 for this pair is "
                 f"{qs['sigma_f0'] / 1e6:.1f} MPa (static, nominal times Y_S).", ""]
+    from validation.stress_sector import section_from_store
+
+    sector = section_from_store()       # measured by its own generator, kept in its JSON
+    if sector:
+        out += [sector, ""]
     return "\n".join(out)
 
 

@@ -12,6 +12,32 @@ from numpy.typing import NDArray
 STAGES = ("displacement", "velocity", "acceleration")
 
 
+@dataclass(frozen=True)
+class ToothStress:
+    """The root stress of every tooth of both gears of a model of whole teeth on their rims,
+    at sampled times (SI units).
+
+    Attributes
+    ----------
+    time
+        ``(S,)`` the sampled times (s).
+    teeth
+        The tooth numbers of the driver's and the driven gear's bodies, ``(K_0,)`` and
+        ``(K_1,)`` (the model's own numbering).
+    values
+        Per gear (as ``teeth``) ``(4, S, K)``: the largest stress along both fillets of the
+        tooth (tension positive), the distance of its point from the gear centre, the
+        smallest (compression negative) and its distance.
+    per_cycle
+        Samples a mesh cycle.
+    """
+
+    time: NDArray[np.float64]
+    teeth: tuple[NDArray[np.intp], NDArray[np.intp]]
+    values: tuple[NDArray[np.float64], NDArray[np.float64]]
+    per_cycle: int
+
+
 @dataclass
 class Result:
     """Time history of a simulated engagement (SI units; angles in rad unless named _deg).
@@ -61,6 +87,12 @@ class Result:
         ``(n, B)`` normal force (N) of each pair of back flanks (the driver's tooth
         ``info["back_pair_teeth"][i]`` on the driven gear's ``-k + 1``, along the back line of
         action); ``None`` where the back flanks are not contacts.
+    pair_contact_pressure, pair_contact_half_width
+        ``(n, P)`` Hertz's peak pressure (Pa) and half-width (m) of each pair of
+        ``pair_force`` (NaN where it carries no force); ``None`` for a model of one pair.
+    tooth_stress
+        The root stress of every tooth at sampled times, gear A's first
+        (:class:`ToothStress`); ``None`` for a model that does not compute it per tooth.
     transmission_error
         ``(n,)`` ``r_b,driver theta_driver - r_b,driven theta_driven`` (m) less its rigid
         kinematic value: positive where the driver runs ahead; ``None`` where not computed.
@@ -99,6 +131,9 @@ class Result:
     residual: NDArray[np.float64] | None = None
     iterations: NDArray[np.int64] | None = None
     corner: NDArray[np.int8] | None = None
+    pair_contact_pressure: NDArray[np.float64] | None = None
+    pair_contact_half_width: NDArray[np.float64] | None = None
+    tooth_stress: ToothStress | None = None
 
     @property
     def angle_deg(self) -> NDArray[np.float64]:

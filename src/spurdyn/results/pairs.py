@@ -12,12 +12,13 @@ import xarray as xr
 
 from spurdyn.result import Result
 from spurdyn.results.headline import averaged_peak
+from spurdyn.results.stress import tooth_stress_variables
 
 
 def pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
     """The tooth pairs' forces, roll angles and load shares, the mesh force and the
     transmission error of a model of several teeth (none for a model of one pair)."""
-    out: dict[str, xr.Variable] = {}
+    out: dict[str, xr.Variable] = tooth_stress_variables(result)
     if result.transmission_error is not None:
         out["transmission_error"] = xr.Variable(("time",), np.asarray(result.transmission_error, float), {
             "units": "m", "long_name": "transmission error along the line of action: r_b,driver "
@@ -41,6 +42,14 @@ def pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
         out["pair_roll_deg"] = xr.Variable(dims, np.degrees(np.asarray(result.pair_roll, float)), {
             "units": "degree", "long_name": "driver's roll angle of each tooth pair's contact "
             "point on its extended path of contact (NaN away from it)"})
+    for name, value, units, long in (
+            ("pair_contact_pressure", result.pair_contact_pressure, "Pa",
+             "peak Hertzian pressure of each tooth pair (2 F / (pi b L); NaN out of contact)"),
+            ("pair_contact_half_width", result.pair_contact_half_width, "m",
+             "half-width of each tooth pair's Hertzian strip (NaN out of contact)")):
+        if value is not None:
+            out[name] = xr.Variable(dims, np.asarray(value, float).reshape(n, -1),
+                                    {"units": units, "long_name": long})
     if result.back_force is not None:
         back = np.asarray(result.back_force, float).reshape(n, -1)
         out["back_pair_force"] = xr.Variable(("time", "back_pair"), back, {

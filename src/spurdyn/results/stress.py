@@ -10,6 +10,7 @@ static load. :func:`stress_summary` turns both into the figures of ``summary.jso
 
 from __future__ import annotations
 
+import json
 from typing import Any
 
 import numpy as np
@@ -30,6 +31,30 @@ ROOT_VARIABLES = {
     "root_stress_compressive_position": ("m", "distance from the gear centre of the fillet "
                                               "point of root_stress_compressive"),
 }
+
+
+def tooth_stress_variables(result: Any) -> dict[str, xr.Variable]:
+    """The root stress of every tooth of a result with a
+    :class:`~spurdyn.result.ToothStress` (the sector model's): the coordinates
+    ``stress_time`` (s), ``tooth_a`` and ``tooth_b`` (the bodies' tooth numbers) and, per
+    gear, the variables of :data:`ROOT_VARIABLES` along ``(stress_time, tooth_a|b)``;
+    none for a result without it."""
+    ts = getattr(result, "tooth_stress", None)
+    if ts is None:
+        return {}
+    out = {"stress_time": xr.Variable(("stress_time",), np.asarray(ts.time, float), {
+        "units": "s", "long_name": "time of the root stress's samples (a fixed number a mesh cycle)",
+        "samples_per_cycle": int(ts.per_cycle)})}
+    for g, gear in enumerate("ab"):
+        dim = f"tooth_{gear}"
+        out[dim] = xr.Variable((dim,), np.asarray(ts.teeth[g], np.int32), {
+            "units": "1", "long_name": f"tooth of gear {gear.upper()}: the model's tooth number, "
+            "the driver's tooth k carrying pair k and the driven gear's tooth -k (back flanks "
+            "-k+1), both taken round the gear (docs/sector.md, 6.11)"})
+        for j, (name, (units, long)) in enumerate(ROOT_VARIABLES.items()):
+            out[f"{name}_{gear}"] = xr.Variable(("stress_time", dim), np.asarray(ts.values[g][j], float),
+                                                {"units": units, "long_name": long})
+    return out
 
 
 def root_stress_variables(ds: xr.Dataset) -> dict[str, xr.Variable]:
@@ -184,6 +209,56 @@ def safety_phrase(summary: dict[str, Any]) -> str:
     return "".join(f", {p}" for p in parts)
 
 
+def _stress_window(ds: xr.Dataset) -> tuple[float, float, str]:
+    """The times a sector run's root-stress peaks are taken over: a complete steady-state
+    run's last cycles (those of its dynamic factor), else the whole run; and what it was."""
+    info = json.loads(ds.attrs.get("info", "{}") or "{}")
+    steady = info.get("steady")
+    if steady and ds.attrs.get("status") == "complete":
+        lo, hi = steady["window_s"]
+        return float(lo), float(hi), (f"over the last {steady['last_cycles']} mesh cycle(s), "
+                                      f"{lo:.6g} to {hi:.6g} s, as the dynamic factor")
+    return -np.inf, np.inf, "over the whole run (it was not complete)"
+
+
+def sector_stress_summary(ds: xr.Dataset) -> dict[str, Any]:
+    """The root-stress peaks of a run with every tooth's stress (``root_stress_a`` ...,
+    the sector model's): per gear (A, B) the largest stress over its teeth and the samples
+    of the settled window (:func:`_stress_window`), its position, tooth and time, and the
+    smallest (compressive) one and its position; empty for a run without them."""
+    if "root_stress_a" not in ds:
+        return {}
+    lo, hi, said = _stress_window(ds)
+    t = ds["stress_time"].values
+    rows = (t >= lo - 1e-12) & (t <= hi + 1e-12)
+    keys = ("root_stress_max_Pa", "root_stress_max_position_m", "root_stress_max_tooth",
+            "root_stress_max_time_s", "root_stress_compressive_min_Pa",
+            "root_stress_compressive_position_m")
+    out: dict[str, Any] = {k: [] for k in keys}
+    for gear in "ab":
+        teeth = ds[f"tooth_{gear}"].values
+        found = []
+        for name, best in (("root_stress", np.nanargmax), ("root_stress_compressive", np.nanargmin)):
+            v = ds[f"{name}_{gear}"].values[rows]
+            if not np.isfinite(v).any():
+                found.append(None)
+                continue
+            s, k = np.unravel_index(int(best(v)), v.shape)
+            found.append((float(v[s, k]), float(ds[f"{name}_position_{gear}"].values[rows][s, k]),
+                          int(teeth[k]), float(t[rows][s])))
+        (hi_, lo_) = found
+        out["root_stress_max_Pa"].append(None if hi_ is None else hi_[0])
+        out["root_stress_max_position_m"].append(None if hi_ is None else hi_[1])
+        out["root_stress_max_tooth"].append(None if hi_ is None else hi_[2])
+        out["root_stress_max_time_s"].append(None if hi_ is None else hi_[3])
+        out["root_stress_compressive_min_Pa"].append(None if lo_ is None else lo_[0])
+        out["root_stress_compressive_position_m"].append(None if lo_ is None else lo_[1])
+    out["root_stress_note"] = (f"every tooth's fillets on its rim, {said}; sampled "
+                               f"{int(ds['stress_time'].attrs.get('samples_per_cycle', 0)) or 'a fixed number of'} "
+                               "times a mesh cycle (docs/sector.md, 6.11)")
+    return out
+
+
 def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
     """The stress figures of ``summary.json``: per gear (A, B) the largest root stress over
     the frames and its position, the smallest (compressive) one, and ISO's values."""
@@ -208,6 +283,7 @@ def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
         out["root_stress_max_Pa"], out["root_stress_max_position_m"] = pick(hi, r_hi, np.nanargmax)
         out["root_stress_compressive_min_Pa"], out["root_stress_compressive_position_m"] = \
             pick(lo, r_lo, np.nanargmin)
+    out.update(sector_stress_summary(ds))
     out.update(iso_figures(case))
     contact = None
     if "contact_pressure_max" in ds and np.isfinite(ds["contact_pressure_max"].values).any():
@@ -217,4 +293,4 @@ def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
 
 
 __all__ = ["ROOT_VARIABLES", "iso_figures", "root_stress_variables", "safety_figures",
-           "safety_phrase", "stress_summary"]
+           "safety_phrase", "sector_stress_summary", "stress_summary", "tooth_stress_variables"]

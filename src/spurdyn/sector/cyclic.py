@@ -232,17 +232,23 @@ class CyclicGear(Reduction):
             out[:, where] = vals * self._scale[where]
         return out
 
-    def _ring_response(self, rows: NDArray[np.intp], loads: NDArray[np.float64], shift: int = 0) -> NDArray[np.float64]:
+    def _ring_response(self, rows: NDArray[np.intp], loads: NDArray[np.float64], shift: int = 0,
+                       keep: bool = True) -> NDArray[np.float64]:
         """``(len(rows), c)`` the ring's static response at its DOFs ``rows`` to the loads
         ``(2 n_ind, c)`` on the reference cell's independent DOFs, turned round the ring by
-        ``shift`` cells: ``(1/z) sum_h x_h``, the conjugate harmonics folded in."""
+        ``shift`` cells: ``(1/z) sum_h x_h``, the conjugate harmonics folded in; ``keep``
+        keeps the harmonics' factors for the next call (some 18 MB each on the design pair's
+        53-tooth gear), else each is let go once used."""
         cell = self.cell
         out = np.zeros((rows.size, loads.shape[1]))
         for h in range(cell.z // 2 + 1):
-            if h not in self._lu:
+            found = self._lu.get(h)
+            if found is None:
                 k, _, t = cell.harmonic(h)
-                self._lu[h] = (_RealForm(k), t)
-            solve, t = self._lu[h]
+                found = (_RealForm(k), t)
+                if keep:
+                    self._lu[h] = found
+            solve, t = found
             y = t @ solve(loads)
             v = cell.at(rows, y, h, shift)
             out += (1.0 if h == 0 or 2 * h == cell.z else 2.0) * np.real(v)
@@ -258,6 +264,18 @@ class CyclicGear(Reduction):
             q = turn_matrix(o * self.cell.pitch)
             self._resp[key] = (base.reshape(base.shape[0], -1, 2) @ q.T).reshape(base.shape[0], -1)
         return self._resp[key]
+
+    def static_rows(self, k: int, dofs: NDArray[np.intp]) -> NDArray[np.float64]:
+        """:meth:`static_response` of both flanks at the free DOFs ``dofs`` alone, summed over
+        the harmonics at those rows only (the ring's whole response is never formed) and the
+        harmonics' factors let go (a run's step never needs them)."""
+        blk = self.block
+        o = blk.tooth(k) - blk.first
+        loads = np.hstack([_unit_loads(self.cell, blk, side) for side in (0, 1)])
+        base = self._ring_response(blk.body.free_dofs[np.asarray(dofs, dtype=np.intp)], loads, o, keep=False)
+        q = turn_matrix(o * self.cell.pitch)
+        turned = (base.reshape(base.shape[0], -1, 2) @ q.T).reshape(base.shape[0], 2, -1)
+        return np.ascontiguousarray(turned)
 
     def flank_flex(self, s: int, t: int) -> NDArray[np.float64]:
         return self.flex[s, t]

@@ -48,6 +48,11 @@ class Reduction:
         ``k``'s flank DOFs of ``side``."""
         raise NotImplementedError
 
+    def static_rows(self, k: int, dofs: NDArray[np.intp]) -> NDArray[np.float64]:
+        """``(len(dofs), 2, f)``: :meth:`static_response` of tooth ``k``'s right and left
+        flanks at the free DOFs ``dofs`` alone."""
+        return np.stack([self.static_response(k, side)[dofs] for side in (0, 1)], axis=1)
+
     def modes_at(self, k: int, side: int = 0) -> NDArray[np.float64]:
         """``(2 (2 ny + 1), m)`` the modes at tooth ``k``'s flank DOFs (``side`` 0 the right
         flank, 1 the left)."""

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from collections import namedtuple
 
+import numpy as np
+
 #: Columns of the time history, one row per saved step, declared here only: every writer
 #: builds a :class:`HistoryRow` (the compiled ``write_row`` of
 #: :mod:`spurdyn.solvers.paper.step_compiled`, the NumPy steppers' ``row``), and the
@@ -113,5 +115,8 @@ SectorStepState = namedtuple("SectorStepState", ["q", "v", "acc", "qdd", "force"
 SectorRk4State = namedtuple("SectorRk4State", ["q", "v", "force", "held"])
 
 #: A sector run's saved columns per step: the hubs' turns and speeds, the contacts'
-#: forces and the smallest gap.
-SectorOut = namedtuple("SectorOut", ["theta", "omega", "force", "gap"])
+#: forces and the smallest gap; and every few steps the coordinates (``states``, row
+#: ``sample[step]`` of step ``step``, -1 for a step not sampled; none by default), from which
+#: the teeth's root stress is recovered after the run.
+SectorOut = namedtuple("SectorOut", ["theta", "omega", "force", "gap", "states", "sample"],
+                       defaults=(np.zeros((0, 0)), np.zeros(0, np.int64)))

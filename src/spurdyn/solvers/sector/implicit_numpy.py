@@ -141,6 +141,7 @@ class ImplicitStepper(SectorStepper):
         rec.theta[i] = q[0], q[na]
         rec.omega[i] = v[0], v[na]
         rec.force[i] = force
+        rec.keep_state(i, q)
         fo = force[rows.on] if rows is not None else np.zeros(0)
         if rows is not None:
             gaps = model.gap_rows(rows, q) + rows.const + model.c_h * fo + c_res @ fo

@@ -10,10 +10,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from spurdyn.result import Result
+from spurdyn.result import Result, ToothStress
 from spurdyn.sector.rules import mesh_damping
 from spurdyn.sector.system import REACH
 from spurdyn.settings import DEFAULT_RAMP_CYCLES
+from spurdyn.solvers.sector.teeth import pair_pressures, root_stress
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
 if TYPE_CHECKING:  # annotations only
@@ -23,7 +24,8 @@ if TYPE_CHECKING:  # annotations only
 
 def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, status: str, reason: str,
                   wall: float, most: int, keep: NDArray[np.bool_] | None = None,
-                  back_keep: NDArray[np.bool_] | None = None, info: dict[str, Any] | None = None) -> Result:
+                  back_keep: NDArray[np.bool_] | None = None, info: dict[str, Any] | None = None,
+                  offset: int = 0) -> Result:
     """The run of ``model`` written in ``record`` as a :class:`~spurdyn.result.Result` in the
     pair's own A and B.
 
@@ -47,6 +49,8 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         no back flanks.
     info
         What the integrator adds to the result's record.
+    offset
+        The driver's body tooth of pair 0 (a continuation runs on).
 
     Returns
     -------
@@ -87,18 +91,23 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     if back is not None:
         back_force = back[1][sel]
         out["back_pair_teeth"] = back[0].tolist()
+    contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep)
+    stress = root_stress(model, record, n_kept, offset)
     en = record.energy
     if en is not None:
         out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
         out["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
                          "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
+    if stress is not None and swap:
+        stress = ToothStress(stress.time, stress.teeth[::-1], stress.values[::-1], stress.per_cycle)
     return Result(
         time=t, angle=(theta[:, 1] if swap else theta[:, 0]).copy(), contact_force=most_force, gap=gap,
         roll=ab(roll), theta=ab(theta), omega=ab(omega), torque=ab(torque),
         frame_time=np.zeros(0), frame_theta=np.zeros((0, 2)),
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
-        info={**out, **(info or {}), "static_cycle": static_cycle(model)}, pair_force=forces, pair_roll=np.where(on, rolls, np.nan),
-        back_force=back_force, transmission_error=te)
+        info={**out, **(info or {}), "static_cycle": static_cycle(model)}, pair_force=forces,
+        pair_roll=np.where(on, rolls, np.nan), back_force=back_force, transmission_error=te, tooth_stress=stress,
+        **contact)
 
 
 def static_cycle(model: SectorModel) -> dict[str, NDArray[np.float64]]:

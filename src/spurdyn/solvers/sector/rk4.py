@@ -145,6 +145,7 @@ class Rk4Stepper(SectorStepper):
         rec.omega[i] = v[0], v[na]
         rec.force[i] = self.force
         rec.gap[i] = gap
+        rec.keep_state(i, q)
 
     def _steps(self, n: int) -> tuple[int, int]:
         if self.first_status != OK:

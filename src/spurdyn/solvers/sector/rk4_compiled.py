@@ -76,7 +76,9 @@ def stage(tq0, tq1, q, v, held, gear0, gear1, con, table, cfg, orders, force):
 
 @njit
 def _write(out, i, q, v, force, gap, na):
-    """Step ``i``'s samples into the saved columns ``out``."""
+    """Step ``i``'s samples into the saved columns ``out`` (on a sampled step ``q`` too)."""
+    if i < out.sample.size and out.sample[i] >= 0:
+        out.states[out.sample[i]] = q
     out.theta[i, 0] = q[0]
     out.theta[i, 1] = q[na]
     out.omega[i, 0] = v[0]

@@ -118,7 +118,8 @@ def _result(model: SectorModel, stepper: SectorStepper, record: SectorRecord, st
                 modes=[g.n - 1 for g in model.gears] if model.modes else None, coordinates=model.n,
                 backend=backend)
     return sector_result(model, record, n_kept=n_kept, status=status, reason=reason, wall=wall, most=model.most,
-                         keep=keep, back_keep=back_keep if model.back else None, info=info)
+                         keep=keep, back_keep=back_keep if model.back else None, info=info,
+                         offset=start.offset)
 
 
 def end_state(model: SectorModel, stepper: Any) -> tuple[float, ...]:

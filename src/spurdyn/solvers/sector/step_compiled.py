@@ -100,14 +100,16 @@ def _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols,
 
 @njit
 def _save(out, step, q, v, force, rows, c_h, na):
-    """Step ``step``'s samples into ``out``: turns, speeds, forces, and the smallest gap of
-    the pairs ``rows`` near the path (none: left as it was)."""
+    """Step ``step``'s samples into ``out``: turns, speeds, forces, the smallest gap of the
+    pairs ``rows`` near the path (none: left as it was) and, on a sampled step, ``q``."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     out.theta[step, 0] = q[0]
     out.theta[step, 1] = q[na]
     out.omega[step, 0] = v[0]
     out.omega[step, 1] = v[na]
     out.force[step] = force
+    if step < out.sample.size and out.sample[step] >= 0:
+        out.states[out.sample[step]] = q
     p = on.size
     if p:
         fo = np.empty(p)

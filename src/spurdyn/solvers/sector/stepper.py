@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
 from spurdyn.sector.model import SectorModel
+from spurdyn.sector.rules import stress_steps
 from spurdyn.solvers.base import Frames, Stepper
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_NAN, SectorOut
 from spurdyn.solvers.steady import settled_after
@@ -52,10 +53,26 @@ class SectorRecord:
         self.force = np.full((n_out, model.c_teeth.size), np.nan)
         self.gap = np.full(n_out, np.nan)
         self.energy = np.full((n_out, 8), np.nan) if energy else None
+        self._sample_states(model, n_steps)
+
+    def _sample_states(self, model: SectorModel, n_steps: int) -> None:
+        """The steps whose coordinates are kept (:func:`~spurdyn.sector.rules.stress_steps`)
+        and their rows, those kept before carried over."""
+        steps = stress_steps(model.per_cycle, n_steps)
+        self.sample = np.full(n_steps + 1, -1, dtype=np.int64)
+        self.sample[steps] = np.arange(steps.size)
+        old = getattr(self, "states", np.zeros((0, model.n)))
+        self.states = np.full((steps.size, model.n), np.nan)
+        self.states[:old.shape[0]] = old
+
+    def keep_state(self, i: int, q: NDArray[np.float64]) -> None:
+        """Keep step ``i``'s coordinates ``q`` if it is a sampled step."""
+        if self.sample[i] >= 0:
+            self.states[self.sample[i]] = q
 
     def out(self) -> SectorOut:
         """The saved columns as the compiled loops write them."""
-        return SectorOut(self.theta, self.omega, self.force, self.gap)
+        return SectorOut(self.theta, self.omega, self.force, self.gap, self.states, self.sample)
 
     def extend(self, model: SectorModel, n_steps: int, more: int) -> None:
         """``more`` rows beyond the run's ``n_steps`` (now ``n_steps + more``), their torques."""
@@ -65,6 +82,7 @@ class SectorRecord:
         self.torque = np.concatenate([self.torque, model.torques_at(np.arange(n_steps + 1, n_steps + more + 1))])
         if self.energy is not None:
             self.energy = np.concatenate([self.energy, np.full((more, 8), np.nan)])
+        self._sample_states(model, n_steps + more)
 
 
 class SectorStepper(Stepper):

@@ -1,0 +1,88 @@
+"""What a sector run's record gives tooth by tooth (docs/sector.md, 6.11): every contact's
+Hertzian pressure and half-width at every step, and the root stress of every tooth of both
+gears at the sampled steps, from the kept coordinates through the fillets' linear maps
+(:class:`spurdyn.sector.fillets.GearFillets`)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.contact.hertz import peak_pressure
+from spurdyn.model.root import peaks
+from spurdyn.result import ToothStress
+from spurdyn.sector.fillets import GearFillets
+from spurdyn.sector.rules import STRESS_SAMPLES, stress_steps
+from spurdyn.sector.system import half_widths_at
+
+if TYPE_CHECKING:  # annotations only
+    from spurdyn.sector.model import SectorModel
+    from spurdyn.solvers.sector.stepper import SectorRecord
+
+
+def contact_pressures(model: SectorModel, theta_a: NDArray[np.float64],
+                      force: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(p_max, b)`` ``(n, C)``: Hertz's peak pressure (Pa) and half-width (m) of every
+    contact of ``model.c_teeth`` at the driver's turns ``theta_a`` ``(n,)`` under its forces
+    ``force`` ``(n, C)``, at the contact radii and curvatures the run's strips had (the gap
+    table's, tip corners' included); NaN where a contact carries no force or is off its path."""
+    rolls = model.roll_0 + theta_a[:, None] + model.c_teeth[None, :] * model.pitch
+    rolls = np.where(model.c_side[None, :] == 1, model.sigma - rolls, rolls)
+    on = (rolls >= model.roll_0 - model.reach) & (rolls <= model.roll_1 + model.reach) \
+        & np.isfinite(force) & (np.nan_to_num(force) > 0.0)
+    p, b = np.full(force.shape, np.nan), np.full(force.shape, np.nan)
+    if on.any():
+        _, _, r_a, r_b = model.table.at(rolls[on])
+        b[on] = half_widths_at(model.dp, (r_a, r_b), force[on], model.estar, model.width)
+        p[on] = peak_pressure(force[on], b[on], model.width)
+    return p, b
+
+
+def pair_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: NDArray[np.float64],
+                   keep: NDArray[np.bool_] | None) -> dict[str, NDArray[np.float64]]:
+    """The :class:`~spurdyn.result.Result` fields of the contacts' pressure: per drive pair
+    (those of ``keep``, all if ``None``) ``pair_contact_pressure`` and
+    ``pair_contact_half_width``, and at each step the largest over every contact, the back
+    flanks' too (``contact_pressure_max``, ``contact_half_width``; NaN with none)."""
+    pressure, half = contact_pressures(model, theta_a, force)
+    drive = (slice(None), slice(0, model.teeth.size))
+    pair_p, pair_b = pressure[drive], half[drive]
+    if keep is not None:
+        pair_p, pair_b = pair_p[:, keep], pair_b[:, keep]
+    any_on = np.isfinite(pressure).any(axis=1)
+    p_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], pressure, 0.0), axis=1), np.nan)
+    b_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], half, 0.0), axis=1), np.nan)
+    return {"pair_contact_pressure": pair_p, "pair_contact_half_width": pair_b,
+            "contact_pressure_max": p_max, "contact_half_width": b_max}
+
+
+def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: int = 0) -> ToothStress | None:
+    """The root stress of every tooth of the driver and the driven gear (``model.dp``'s
+    order) at the run's sampled steps below ``n_kept``: per sample and tooth the largest
+    stress along both fillets, its radius, the smallest and its radius; ``None`` where no
+    sampled step was kept."""
+    steps = stress_steps(model.per_cycle, record.gap.size - 1)
+    keep = (steps < n_kept) & np.isfinite(record.states[:steps.size, 0])
+    steps, states = steps[keep], record.states[:steps.size][keep]
+    if not steps.size:
+        return None
+    fillets = [GearFillets(g) for g in model.gears]
+    stress = [np.empty((steps.size,) + (f.teeth.size, f.radius.size)) for f in fillets]
+    for s, (i, q) in enumerate(zip(steps, states)):
+        force = record.force[i]
+        rows = model.rows_at(float(q[0]), force, offset)
+        on = rows.on if rows is not None else np.zeros(0, np.intp)
+        for g, f in enumerate(fillets):
+            elastic = rows.sides[g][1] if rows is not None else None
+            stress[g][s] = f.stress(q[model.parts[g]], elastic, force[on])
+    values = []
+    for f, sig in zip(fillets, stress):
+        flat = peaks(sig.reshape(-1, f.radius.size), f.radius)
+        values.append(np.array([v.reshape(steps.size, f.teeth.size) for v in flat]))
+    return ToothStress(time=steps * model.h, teeth=(fillets[0].teeth.copy(), fillets[1].teeth.copy()),
+                       values=(values[0], values[1]), per_cycle=min(STRESS_SAMPLES, model.per_cycle))
+
+
+__all__ = ["contact_pressures", "pair_pressures", "root_stress"]

@@ -155,8 +155,9 @@ class DaskBackend:
             if lost:
                 points = ", ".join(f"{k.rpm:,.6g} rpm" for k in lost)
                 yield (f"a worker ({event.get('worker', '?')}) was lost while running "
-                       f"{points}: the scheduler runs {'it' if len(lost) == 1 else 'them'} "
-                       f"again (up to distributed.scheduler.allowed-failures times)")
+                       f"{points}; {'it runs' if len(lost) == 1 else 'they run'} again on "
+                       f"a worker of the cluster (up to distributed.scheduler."
+                       f"allowed-failures times)")
 
     def run(self, tasks: Sequence[PointTask], fn: PointFn) -> Stream:
         futures = self._submit(tasks, fn)

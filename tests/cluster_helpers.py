@@ -151,6 +151,6 @@ class LoopbackCluster:
             if proc is None:
                 continue
             try:
-                proc.wait(timeout=20)
+                proc.wait(timeout=5)       # test processes: no need to wait for a clean exit
             except subprocess.TimeoutExpired:
                 self.kill(proc)

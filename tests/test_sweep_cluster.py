@@ -158,6 +158,16 @@ def test_tls_sweep(tmp_path, capsys):
         assert code == 2 and err.startswith(f"spurdyn: error: --scheduler: no Dask "
                                             f"scheduler answered at {plain}")
         assert err.count("\n") == 1 and not (tmp_path / "plain").exists()
+
+        # a certificate of another authority: refused (the scheduler does not admit it)
+        other = ch.make_certificates(tmp_path / "other")
+        code, _, err = sweep(capsys, "paper-fig8", "--rpm", "10000", "--model", "lumped",
+                             "--scheduler", c.address, "--scheduler-timeout", "2",
+                             "--out", tmp_path / "other-sw", "--tls-ca-file", other["ca"],
+                             "--tls-cert", other["cert"], "--tls-key", other["key"])
+        assert code == 2 and err.startswith(f"spurdyn: error: --scheduler: no Dask "
+                                            f"scheduler answered at {c.address}")
+        assert err.count("\n") == 1 and not (tmp_path / "other-sw").exists()
     finally:
         c.stop()
 

@@ -1,10 +1,9 @@
 """``spurdyn sweep``: grids, sweep.nc, the picture, resuming, interruptions, failures,
-refusals, and the points running on Dask (a local cluster of real processes, and an
-external scheduler and worker started on 127.0.0.1).
+refusals (the points on Dask clusters of real processes: tests/test_sweep_cluster.py).
 
 Most tests use the lumped model in this process (``serial``: the local cluster replaced
 by :class:`~spurdyn.sweep.backends.SerialBackend`, so that a monkeypatched point function
-is the one that runs); the Dask tests start real processes and stop them.
+is the one that runs).
 """
 
 from __future__ import annotations
@@ -12,9 +11,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import subprocess
-import sys
-import time
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -287,6 +283,16 @@ def test_failed_and_incomplete_points_recorded_and_sweep_goes_on(tmp_path, capsy
     (["--rpm", "1000", "--jobs", "0"], "--jobs"),
     (["--rpm", "1000", "--scheduler", "localhost:8786"], "--scheduler"),
     (["--rpm", "1000", "--scheduler", "tcp://127.0.0.1:8786", "--jobs", "2"], "--jobs"),
+    (["--rpm", "1000", "--scheduler-timeout", "5"], "--scheduler-timeout"),
+    (["--rpm", "1000", "--scheduler", "tcp://127.0.0.1:1", "--scheduler-timeout", "0"],
+     "--scheduler-timeout"),
+    (["--rpm", "1000", "--scheduler", "tcp://127.0.0.1:1", "--scheduler-timeout", "nan"],
+     "--scheduler-timeout"),
+    (["--rpm", "1000", "--tls-ca-file", "ca.pem"], "--tls-ca-file"),
+    (["--rpm", "1000", "--scheduler", "tcp://127.0.0.1:1", "--tls-cert", "c.pem"], "--tls-cert"),
+    (["--rpm", "1000", "--scheduler", "tls://127.0.0.1:1"], "--tls-ca-file"),
+    (["--rpm", "1000", "--scheduler", "tls://127.0.0.1:1", "--tls-ca-file", "no.pem",
+      "--tls-cert", "no.pem"], "--tls-ca-file"),
     (["--rpm", "1000", "--dt", "1e-6"], "--dt"),
     (["--rpm", "1000", "--mesh", "4by14"], "--mesh"),
     (["--rpm", "1000:20000:1000", "--angle", "0.001"], "--angle"),
@@ -336,131 +342,6 @@ def test_tiny_fe_sweep_keeps_runs(tmp_path, capsys, serial):
             assert float(ds[name].sel(rpm=rpm)) == pytest.approx(summary[key], rel=1e-12)
         assert (r / "result.nc").is_file() and (r / "contact_force.png").is_file()
     assert not [p for p in (out / "runs").iterdir() if p.name.startswith(".")]
-
-
-# -- Dask ------------------------------------------------------------------------------
-
-@pytest.mark.slow
-def test_local_cluster_of_processes(tmp_path, capsys):
-    out = tmp_path / "sw"
-    code, stdout, err = sweep(capsys, "paper-fig8", "--rpm", "8000:20000:4000", "--model",
-                              "lumped", "--jobs", "2", "--out", out)
-    assert code == 0, err
-    assert "4 computed on 2 local workers" in stdout
-    workers = {json.loads(p.read_text())["worker"] for p in (out / "points").glob("*.json")}
-    assert all(w.split(":")[1] != str(os.getpid()) for w in workers)  # other processes
-    assert (load(out / "sweep_lumped.nc")["status"].values == 0).all()
-
-
-def _dying_point(task):
-    """A point function whose worker process dies at 10,000 rpm (importable by workers)."""
-    if task.key.rpm == 10000.0:
-        time.sleep(1.0)  # let the client fetch the point finished before on this worker
-        os._exit(3)
-    return run_point(task)
-
-
-@pytest.mark.slow
-def test_worker_dying_loses_only_its_point(tmp_path):
-    import dask
-    import distributed  # noqa: F401 - its defaults must be loaded before config.set
-
-    from spurdyn.case import preset_case
-    from spurdyn.sweep.backends import local_backend
-    from spurdyn.sweep.runner import run_sweep
-    from spurdyn.sweep.spec import SweepPlan
-
-    plan = SweepPlan(case=preset_case("paper-fig8"), model="lumped",
-                     rpms=(8000.0, 10000.0, 12000.0), torques=None, out=tmp_path / "sw")
-    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
-        with local_backend(1) as backend:
-            report = run_sweep(plan, backend, progress=False, point_fn=_dying_point)
-    status = report.dataset["status"]
-    assert int(status.sel(rpm=10000.0)) == STATUS_CODES["failed"]
-    assert "KilledWorker" in str(report.dataset["reason"].sel(rpm=10000.0).values)
-    assert (status.sel(rpm=[8000.0, 12000.0]).values == STATUS_CODES["complete"]).all()
-    assert report.computed == 3 and len(list((tmp_path / "sw" / "points").glob("*"))) == 3
-
-
-def _dask(*args: str) -> list[str]:
-    """The ``dask`` command of this environment."""
-    return [str(Path(sys.executable).with_name("dask")), *args]
-
-
-@pytest.fixture
-def loopback_cluster(tmp_path):
-    """A Dask scheduler and one worker, both on 127.0.0.1, stopped afterwards."""
-    scheduler_file = tmp_path / "scheduler.json"
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
-    procs = [subprocess.Popen(
-        _dask("scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-              "--scheduler-file", str(scheduler_file)),
-        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)]
-    try:
-        deadline = time.monotonic() + 60
-        while not scheduler_file.exists() and time.monotonic() < deadline:
-            time.sleep(0.1)
-        time.sleep(0.2)
-        address = json.loads(scheduler_file.read_text())["address"]
-        assert address.startswith("tcp://127.0.0.1:")
-        procs.append(subprocess.Popen(
-            _dask("worker", address, "--host", "127.0.0.1", "--nworkers", "1", "--nthreads",
-                  "1", "--no-dashboard", "--no-nanny"),
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env))
-        yield address
-    finally:
-        for p in reversed(procs):
-            p.terminate()
-        for p in reversed(procs):
-            try:
-                p.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                p.kill()
-                p.wait()
-
-
-@pytest.mark.slow
-def test_external_scheduler_on_loopback(tmp_path, capsys, loopback_cluster):
-    out = tmp_path / "sw"
-    code, stdout, err = sweep(capsys, "paper-fig8", "--rpm", "10000:20000:5000", "--model",
-                              "lumped", "--scheduler", loopback_cluster, "--out", out)
-    assert code == 0, err
-    assert f"3 computed on {loopback_cluster}" in stdout
-    workers = {json.loads(p.read_text())["worker"] for p in (out / "points").glob("*.json")}
-    assert len(workers) == 1 and workers.pop().split(":")[1] != str(os.getpid())
-    assert (load(out / "sweep.nc")["status"].values == 0).all()
-
-    # The only worker dies (no nanny restarts it): the finished point is kept, the others
-    # are marked not run once the cluster has had no worker for the grace period.
-    from spurdyn.case import preset_case
-    from spurdyn.sweep.backends import scheduler_backend
-    from spurdyn.sweep.runner import run_sweep
-    from spurdyn.sweep.spec import SweepPlan
-
-    plan = SweepPlan(case=preset_case("paper-fig8"), model="lumped",
-                     rpms=(8000.0, 10000.0, 12000.0), torques=None, out=tmp_path / "dies")
-    with scheduler_backend(loopback_cluster, no_worker_grace_s=2.0) as backend:
-        report = run_sweep(plan, backend, progress=False, point_fn=_dying_point)
-    assert report.stopped == "RuntimeError: no worker in the cluster for 2 s"
-    status = report.dataset["status"]
-    assert int(status.sel(rpm=8000.0)) == STATUS_CODES["complete"]
-    assert (status.sel(rpm=[10000.0, 12000.0]).values == STATUS_CODES["not_run"]).all()
-    assert str(report.dataset["reason"].sel(rpm=12000.0).values).startswith("sweep stopped: ")
-    assert len(list((tmp_path / "dies" / "points").glob("*.json"))) == 1
-
-
-def test_unreachable_scheduler_refused(tmp_path):
-    import socket
-
-    from spurdyn.errors import InputError
-    from spurdyn.sweep.backends import scheduler_backend
-
-    with socket.socket() as s:  # a free port on loopback, nobody listening
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    with pytest.raises(InputError, match="no Dask scheduler answers"):
-        with scheduler_backend(f"tcp://127.0.0.1:{port}", timeout_s=1.0):
-            pass
 
 
 def test_sweep_progress_on_a_terminal_only():

@@ -22,6 +22,7 @@ from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_
 from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as ENTRIES
 from spurdyn.sweep import backends as _backends
+from spurdyn.sweep import scheduler as _scheduler
 from spurdyn.sweep.spec import CONTINUATIONS, MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
 
 #: Exit statuses of ``spurdyn sweep`` (those of ``spurdyn run``).
@@ -38,9 +39,36 @@ def local_backend(jobs: int) -> Any:
     return _backends.local_backend(jobs)
 
 
-def scheduler_backend(address: str) -> Any:
+def scheduler_backend(address: str, timeout_s: float, tls: _scheduler.TlsFiles) -> Any:
     """An existing Dask cluster (a seam for tests)."""
-    return _backends.scheduler_backend(address)
+    return _scheduler.scheduler_backend(address, timeout_s=timeout_s, tls=tls)
+
+
+def tls_files(args: argparse.Namespace) -> _scheduler.TlsFiles:
+    """The ``--tls-*`` files given."""
+    return _scheduler.TlsFiles(*(Path(f) if f is not None else None
+                                 for f in (args.tls_ca_file, args.tls_cert, args.tls_key)))
+
+
+def _check_cluster(args: argparse.Namespace) -> None:
+    """Refuse --jobs with --scheduler, a malformed --scheduler, a bad --scheduler-timeout
+    and --tls-* files without a tls:// scheduler."""
+    if args.jobs is not None:
+        if args.scheduler is not None:
+            raise InputError("--jobs", "has no effect with --scheduler: the cluster's workers "
+                             "run the points")
+        if args.jobs < 1:
+            raise InputError("--jobs", f"must be a whole number >= 1 (got {args.jobs})")
+    if args.scheduler is not None:
+        _scheduler.check_address(args.scheduler)
+    if args.scheduler_timeout is not None:
+        if args.scheduler is None:
+            raise InputError("--scheduler-timeout", "is for --scheduler (the local cluster "
+                             "is started by the command)")
+        if not 0.1 <= args.scheduler_timeout <= 3600:    # NaN fails too
+            raise InputError("--scheduler-timeout", f"must be seconds between 0.1 and 3600 "
+                             f"(got {args.scheduler_timeout:g})")
+    _scheduler.check_tls(args.scheduler, tls_files(args))
 
 
 @contextmanager
@@ -113,14 +141,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     """Check every option and the case; the sweep to run (nothing is created)."""
     if args.model is not None and args.model not in MODELS:
         raise InputError("--model", f"must be one of {', '.join(MODELS)} (got {args.model!r})")
-    if args.jobs is not None:
-        if args.scheduler is not None:
-            raise InputError("--jobs", "has no effect with --scheduler: the cluster's workers "
-                             "run the points")
-        if args.jobs < 1:
-            raise InputError("--jobs", f"must be a whole number >= 1 (got {args.jobs})")
-    if args.scheduler is not None:
-        _backends.check_address(args.scheduler)
+    _check_cluster(args)
     rpms = parse_speeds(args.rpm)
     torques = parse_torques(args.torque) if args.torque is not None else None
     overrides, labels = _overrides(args, torques)
@@ -231,7 +252,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     elif plan.continuation is not None:   # one chain in this process: no cluster
         backend_cm, where = _nothing_to_run(), f"this process, speeds {plan.continuation}"
     elif args.scheduler is not None:
-        backend_cm, where = scheduler_backend(args.scheduler), args.scheduler
+        timeout = args.scheduler_timeout or _scheduler.CONNECT_TIMEOUT_S
+        backend_cm = scheduler_backend(args.scheduler, timeout, tls_files(args))
+        where = args.scheduler
     else:
         jobs = min(args.jobs or _backends.default_jobs(), todo)
         backend_cm = local_backend(jobs)
@@ -287,7 +310,17 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--jobs", type=int, metavar="N",
                    help="worker processes of the local Dask cluster (default: one per core)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
-                   help="run on the existing Dask cluster of this scheduler instead")
+                   help="run on the existing Dask cluster of this scheduler instead "
+                   "(tcp:// on a trusted network only; tls:// with --tls-*)")
+    p.add_argument("--scheduler-timeout", type=float, metavar="S",
+                   help=f"seconds the scheduler has to answer (default "
+                   f"{_scheduler.CONNECT_TIMEOUT_S:g})")
+    p.add_argument("--tls-ca-file", metavar="PEM",
+                   help="tls:// scheduler: the certificate authority of the cluster")
+    p.add_argument("--tls-cert", metavar="PEM",
+                   help="tls:// scheduler: this client's certificate, signed by that authority")
+    p.add_argument("--tls-key", metavar="PEM",
+                   help="tls:// scheduler: the private key of --tls-cert (if not in it)")
     p.add_argument("--keep-runs", action="store_true",
                    help="also keep each point's whole run folder in DIR/runs/")
     p.add_argument("--force", action="store_true",

@@ -14,7 +14,8 @@
 
 The modules: :mod:`~spurdyn.sweep.spec` (grids, point keys, settings hash),
 :mod:`~spurdyn.sweep.point` (one point: run and figures), :mod:`~spurdyn.sweep.backends`
-(this process or Dask), :mod:`~spurdyn.sweep.store` (point files, ``sweep.nc``),
+(this process or Dask), :mod:`~spurdyn.sweep.scheduler` (an existing cluster, over TCP or
+TLS), :mod:`~spurdyn.sweep.store` (point files, ``sweep.nc``),
 :mod:`~spurdyn.sweep.runner` (resumable runs), :mod:`~spurdyn.sweep.resonance` (the
 natural-frequency estimate), :mod:`~spurdyn.sweep.plot` (``dynamic_factor.png``).
 """
@@ -27,7 +28,7 @@ from spurdyn.lazy import lazy_facade
 #: ``spurdyn --help`` does not pay for xarray and Matplotlib).
 _EXPORTS = {
     "DaskBackend": "backends", "SerialBackend": "backends", "local_backend": "backends",
-    "scheduler_backend": "backends",
+    "scheduler_backend": "scheduler",
     "FIGURES": "point", "PointOutcome": "point", "PointTask": "point", "run_point": "point",
     "ResonanceEstimate": "resonance", "resonance_estimate": "resonance",
     "SweepReport": "runner", "run_sweep": "runner", "points_to_compute": "runner",

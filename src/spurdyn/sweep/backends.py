@@ -3,12 +3,14 @@
 A backend turns a list of :class:`~spurdyn.sweep.point.PointTask` into a stream of
 ``(task, outcome, note)`` in the order the points finish: ``outcome`` is the
 :class:`~spurdyn.sweep.point.PointOutcome`, or ``None`` when the point was not computed
-(``note`` says why). The runner writes each outcome the moment it arrives.
+(``note`` says why); ``task`` is ``None`` for a note on the cluster alone (a worker lost
+and its points run again). The runner writes each outcome the moment it arrives.
 
 :class:`DaskBackend` runs on a ``distributed`` client: a local cluster made by
 :func:`local_backend` (one single-threaded worker process per job, on 127.0.0.1) or an
-existing cluster reached by :func:`scheduler_backend`. :class:`SerialBackend` runs the
-points one after the other in this process (the Python API, tests and debugging).
+existing cluster reached by :func:`spurdyn.sweep.scheduler.scheduler_backend`.
+:class:`SerialBackend` runs the points one after the other in this process (the Python
+API, tests and debugging).
 """
 
 from __future__ import annotations
@@ -21,13 +23,12 @@ import uuid
 from contextlib import contextmanager
 from typing import Any, Callable, Iterator, Protocol, Sequence
 
-from spurdyn.errors import InputError
 from spurdyn.signals import Interrupts, ignored
 from spurdyn.sweep.point import FAILED, PointOutcome, PointTask
 from spurdyn.sweep.spec import expected_steps
 
 PointFn = Callable[[PointTask], PointOutcome]
-Stream = Iterator[tuple[PointTask, "PointOutcome | None", str]]
+Stream = Iterator[tuple["PointTask | None", "PointOutcome | None", str]]
 
 #: Seconds a cluster may have no worker before the sweep gives up on the rest.
 NO_WORKER_GRACE_S = 120.0
@@ -79,6 +80,10 @@ class SerialBackend:
 
 # -- on a Dask cluster -----------------------------------------------------------------
 
+class ClusterLost(RuntimeError):
+    """The cluster went away in the middle of a sweep (its scheduler, or every worker)."""
+
+
 def _failed(task: PointTask, reason: str) -> PointOutcome:
     return PointOutcome(key=task.key, status=FAILED, reason=reason, finished=time.time())
 
@@ -89,8 +94,10 @@ class DaskBackend:
     Every point is submitted at once, the longest first (scheduler ``priority``); results
     are taken as they finish. A task whose worker died more often than the scheduler
     allows (``KilledWorker``) is a failed point; tasks cancelled or lost with the scheduler
-    are not run. When the cluster has had no worker for ``no_worker_grace_s`` the
-    remaining points are given up (not run).
+    are not run. A worker lost while running points is noted (a stream item without a
+    task). A lost connection to the scheduler, or a cluster without a worker for
+    ``no_worker_grace_s``, raises :class:`ClusterLost`: the points not finished are given up
+    (the runner marks them not run).
     """
 
     def __init__(self, client: Any, description: str,
@@ -99,6 +106,7 @@ class DaskBackend:
         self.description = description
         self.no_worker_grace_s = no_worker_grace_s
         self._pending: set[Any] = set()
+        self._events: list[dict[str, Any]] = []
 
     def _workers(self) -> int:
         try:
@@ -106,54 +114,91 @@ class DaskBackend:
         except Exception:  # noqa: BLE001 - a lost scheduler reads as no workers
             return 0
 
-    def run(self, tasks: Sequence[PointTask], fn: PointFn) -> Stream:
-        from distributed import wait
-
-        ordered = by_cost(tasks)
+    def _submit(self, tasks: Sequence[PointTask], fn: PointFn) -> dict[Any, PointTask]:
+        """Every point as a task, the longest first; watch the scheduler's worker losses."""
         token = uuid.uuid4().hex[:8]
         futures = {}
-        for task in ordered:
+        for task in by_cost(tasks):
             fut = self.client.submit(fn, task, key=f"spurdyn-{task.key.stem}-{token}",
                                      pure=False, retries=0, priority=expected_steps(task.case))
             futures[fut] = task
         self._pending = set(futures)
+        try:   # the scheduler's "all" topic says which tasks each lost worker was running
+            self.client.subscribe_topic("all", lambda event: self._events.append(event[1]))
+        except Exception:  # noqa: BLE001 - the sweep runs on without the notes
+            pass
+        return futures
+
+    def _wait_some(self) -> set[Any]:
+        """The tasks finished within a second (none if none), or :class:`ClusterLost`."""
+        from distributed import wait
+
+        try:
+            with self.client.as_current():
+                return set(wait(list(self._pending), timeout=1.0,
+                                return_when="FIRST_COMPLETED").done)
+        except TimeoutError:
+            return set()
+        except Exception as err:  # noqa: BLE001 - the client cancels all on a lost link
+            if self.client.status != "running":
+                raise ClusterLost("lost the connection to the scheduler") from err
+            raise
+
+    def _losses(self, futures: dict[Any, PointTask]) -> Iterator[str]:
+        """A note per worker lost while running points of this sweep."""
+        by_key = {fut.key: task for fut, task in futures.items()}
+        events, self._events = self._events, []
+        for event in events:
+            if event.get("action") != "remove-worker" or event.get("expected"):
+                continue
+            lost = sorted(by_key[k].key for k in event.get("processing-tasks", ()) if k in by_key)
+            if lost:
+                points = ", ".join(f"{k.rpm:,.6g} rpm" for k in lost)
+                yield (f"a worker ({event.get('worker', '?')}) was lost while running "
+                       f"{points}; {'it runs' if len(lost) == 1 else 'they run'} again on "
+                       f"a worker of the cluster (up to distributed.scheduler."
+                       f"allowed-failures times)")
+
+    def run(self, tasks: Sequence[PointTask], fn: PointFn) -> Stream:
+        futures = self._submit(tasks, fn)
         no_worker_since: float | None = None
         while self._pending:
-            try:
-                with self.client.as_current():
-                    done = wait(list(self._pending), timeout=1.0,
-                                return_when="FIRST_COMPLETED").done
-            except TimeoutError:
-                done = set()
+            done = self._wait_some()
+            for note in self._losses(futures):
+                yield None, None, note
             if not done:
                 if self._workers() == 0:
                     no_worker_since = no_worker_since or time.monotonic()
                     if time.monotonic() - no_worker_since > self.no_worker_grace_s:
-                        raise RuntimeError(f"no worker in the cluster for "
-                                           f"{self.no_worker_grace_s:.0f} s")
+                        raise ClusterLost(f"no worker in the cluster for "
+                                          f"{self.no_worker_grace_s:.0f} s")
                 else:
                     no_worker_since = None
                 continue
             for fut in sorted(done, key=lambda f: futures[f].key):
                 self._pending.discard(fut)
-                task = futures[fut]
-                if fut.status == "finished":
-                    try:
-                        outcome = fut.result(timeout=RESULT_TIMEOUT_S)
-                    except TimeoutError:
-                        # The result died with its worker before it was fetched: the
-                        # scheduler computes it again (or the no-worker watch gives up).
-                        self._pending.add(fut)
-                        continue
-                    except Exception as err:  # noqa: BLE001 - e.g. it cannot be unpickled
-                        outcome = _failed(task, f"{type(err).__name__}: {err}")
-                    fut.release()
-                    yield task, outcome, ""
-                elif fut.status == "error":
-                    err = fut.exception()
-                    yield task, _failed(task, f"{type(err).__name__}: {err}"), ""
-                else:  # cancelled or lost
-                    yield task, None, f"task {fut.status} (lost its scheduler or cancelled)"
+                yield from self._outcome(fut, futures[fut])
+
+    def _outcome(self, fut: Any, task: PointTask) -> Stream:
+        """The finished task's point (nothing if its result died with its worker: the
+        task is pending again)."""
+        if fut.status == "finished":
+            try:
+                outcome = fut.result(timeout=RESULT_TIMEOUT_S)
+            except TimeoutError:
+                # The result died with its worker before it was fetched: the scheduler
+                # computes it again (or the no-worker watch gives up).
+                self._pending.add(fut)
+                return
+            except Exception as err:  # noqa: BLE001 - e.g. it cannot be unpickled
+                outcome = _failed(task, f"{type(err).__name__}: {err}")
+            fut.release()
+            yield task, outcome, ""
+        elif fut.status == "error":
+            err = fut.exception()
+            yield task, _failed(task, f"{type(err).__name__}: {err}"), ""
+        else:  # cancelled or lost
+            yield task, None, f"task {fut.status} (lost its scheduler or cancelled)"
 
     def cancel(self) -> None:
         pending, self._pending = list(self._pending), set()
@@ -165,9 +210,12 @@ class DaskBackend:
 
 
 def _quiet_distributed() -> None:
+    """No log lines from ``distributed`` in this process (the sweep reports what happened)."""
+    import distributed  # noqa: F401 - importing it sets its loggers' levels: quiet them after
+
     for name in ("distributed", "distributed.client", "distributed.scheduler",
                  "distributed.worker", "distributed.nanny", "distributed.core",
-                 "distributed.deploy", "distributed.comm"):
+                 "distributed.deploy", "distributed.comm", "distributed.utils"):
         logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
@@ -226,66 +274,3 @@ def _close(client: Any, cluster: Any = None) -> None:
                 cluster.close(timeout=10)
             except Exception:  # noqa: BLE001
                 pass
-
-
-def _worker_spurdyn() -> str:
-    from spurdyn.version import __version__
-
-    return __version__
-
-
-def check_address(address: str) -> str:
-    """Refuse a ``--scheduler`` that is not ``tcp://HOST:PORT`` (or ``tls://``)."""
-    scheme, sep, rest = address.partition("://")
-    host, colon, port = rest.rpartition(":")
-    if not sep or scheme not in ("tcp", "tls") or not colon or not host or not port.isdigit():
-        raise InputError("--scheduler", f"must look like tcp://HOST:PORT (got {address!r})")
-    return address
-
-
-@contextmanager
-def scheduler_backend(address: str, timeout_s: float = 10.0, workers_timeout_s: float = 30.0,
-                      no_worker_grace_s: float = NO_WORKER_GRACE_S) -> Iterator[DaskBackend]:
-    """An existing Dask cluster reached through its scheduler at ``address``.
-
-    The sweep gives up the points not yet finished once the cluster has had no worker
-    for ``no_worker_grace_s`` (they are ``not_run``; the finished ones are kept).
-
-    Raises
-    ------
-    InputError
-        Naming ``--scheduler``: no scheduler answers within ``timeout_s``, no worker
-        joins within ``workers_timeout_s``, or the workers cannot import spurdyn.
-    """
-    from distributed import Client
-
-    check_address(address)
-    _quiet_distributed()
-    try:
-        client = Client(address, timeout=timeout_s, set_as_default=False)
-    except (OSError, TimeoutError) as err:
-        raise InputError("--scheduler", f"no Dask scheduler answers at {address} "
-                         f"({type(err).__name__}: {err})") from None
-    try:
-        try:
-            client.wait_for_workers(1, timeout=workers_timeout_s)
-        except (TimeoutError, OSError):
-            raise InputError("--scheduler", f"no worker joined the scheduler at {address} "
-                             f"within {workers_timeout_s:g} s; start one with "
-                             f"'dask worker {address}'") from None
-        try:
-            versions = client.run(_worker_spurdyn)
-        except Exception as err:  # noqa: BLE001 - e.g. ModuleNotFoundError on a worker
-            raise InputError("--scheduler", f"the workers at {address} cannot run spurdyn "
-                             f"({type(err).__name__}: {err})") from None
-        from spurdyn.version import __version__
-
-        other = sorted({v for v in versions.values() if v != __version__})
-        if other:
-            raise InputError("--scheduler", f"the workers run spurdyn {', '.join(other)}, "
-                             f"this is {__version__}")
-        n = len(versions)
-        yield DaskBackend(client, f"the Dask cluster at {address} ({n} worker"
-                          f"{'s' if n != 1 else ''} now)", no_worker_grace_s=no_worker_grace_s)
-    finally:
-        _close(client)

@@ -165,7 +165,7 @@ def points_to_compute(plan: SweepPlan) -> list[PointKey]:
 
 def _point_stream(plan: SweepPlan, backend: Backend, tasks: list[PointTask],
                   records: dict[PointKey, dict[str, Any]], fn: PointFn
-                  ) -> Iterator[tuple[PointTask, PointOutcome | None, str]]:
+                  ) -> Iterator[tuple[PointTask | None, PointOutcome | None, str]]:
     """The points' outcomes as they finish: a continuation's chains in this process
     (:func:`_chain`), the others on ``backend`` (nothing when there are no tasks)."""
     if plan.continuation is not None:
@@ -173,7 +173,8 @@ def _point_stream(plan: SweepPlan, backend: Backend, tasks: list[PointTask],
     return backend.run(tasks, fn) if tasks else iter(())
 
 
-def _take_points(stream_: Iterator[tuple[PointTask, PointOutcome | None, str]], backend: Backend,
+def _take_points(stream_: Iterator[tuple[PointTask | None, PointOutcome | None, str]],
+                 backend: Backend,
                  out: Path, settings: dict[str, Any], cost: dict[PointKey, int], bar: SweepProgress,
                  signals_before: int, records: dict[PointKey, dict[str, Any]]
                  ) -> tuple[set[PointKey], dict[PointKey, str], bool, str]:
@@ -214,6 +215,9 @@ def _take_points(stream_: Iterator[tuple[PointTask, PointOutcome | None, str]], 
     interrupted, stopped = False, ""
     try:
         for task, outcome, note in stream_:
+            if task is None:       # a note on the cluster: a worker lost, its points rerun
+                bar.write(f"spurdyn: {note}")
+                continue
             if outcome is None:
                 missing[task.key] = note or "not run"
                 continue

@@ -32,6 +32,10 @@ def has_teeth_stress(ds: xr.Dataset) -> bool:
     return all(f"root_stress_{g}" in ds for g in _GEARS) and "stress_time" in ds.coords
 
 
+#: Teeth whose peak is below this fraction of the gear's largest are drawn but not numbered.
+NAMED_FRACTION = 0.25
+
+
 def _rotation_deg(ds: xr.Dataset, g: str) -> np.ndarray:
     """Gear ``g``'s rotation since the start (deg) at the stress samples."""
     return np.degrees(np.interp(ds["stress_time"].values, ds["time"].values, ds[f"theta_{g}"].values))
@@ -47,16 +51,21 @@ def _draw_gear(ax: Axes, ds: xr.Dataset, g: str) -> str:
     name = f"root_stress_compressive_{g}"
     compression = -np.abs(ds[name].values[keep]) / 1e6 if name in ds else None
     teeth = ds[f"tooth_{g}"].values
-    loaded = np.flatnonzero(np.nanmax(np.abs(tension), axis=0, initial=0.0) > 0.0)
-    for n, j in enumerate(loaded):
+    peaks = np.nanmax(np.abs(tension), axis=0, initial=0.0)
+    loaded = np.flatnonzero(peaks > 0.0)
+    named = 0
+    for j in loaded:
         colour = tooth_colour(teeth[j])
         ax.plot(x, tension[:, j], color=colour, lw=1.0)
         if compression is not None:
             ax.plot(x, compression[:, j], color=colour, lw=0.7, ls="--")
+        if peaks[j] < NAMED_FRACTION * peaks.max():
+            continue        # a tooth away from the mesh: the rim's bending, unnamed
         i = int(np.nanargmax(tension[:, j]))
         # alternate heights, so that neighbouring teeth's numbers do not overlap
-        ax.annotate(f"{int(teeth[j])}", (x[i], tension[i, j]), xytext=(0, 3 + 9 * (n % 2)),
+        ax.annotate(f"{int(teeth[j])}", (x[i], tension[i, j]), xytext=(0, 3 + 9 * (named % 2)),
                     textcoords="offset points", ha="center", va="bottom", fontsize=7, color=colour)
+        named += 1
     ax.axhline(0.0, color="0.5", lw=0.5)
     ax.margins(y=0.18)
     ax.set_ylabel(f"gear {g.upper()}: root stress (MPa)")

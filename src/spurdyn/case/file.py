@@ -24,7 +24,7 @@ from typing import Any, Callable, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
-from spurdyn.case.pair_tables import MeshedPair, check_keys, gear_to_dict, pair_from_dict, read_toml
+from spurdyn.case.pair_tables import TOP_KEYS, MeshedPair, check_keys, gear_to_dict, pair_from_dict, read_toml
 from spurdyn.model.loading import check_history
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_ROW_GRADING, MAX_GRADING, MAX_ROW_GRADING
@@ -429,8 +429,35 @@ def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
               labels: Mapping[str, str] | None = None, check_step: bool = True) -> Case:
     """Read a case TOML file: the pair tables and the ``[run]`` table."""
     path = Path(path)
-    return case_from_dict(read_toml(path), name=path.stem, overrides=overrides,
+    return case_from_dict(read_case_file(path), name=path.stem, overrides=overrides,
                           labels=labels, check_step=check_step, base=path.parent)
+
+
+def read_case_file(path: str | Path) -> dict[str, Any]:
+    """The tables of a case file, read as every command reads one: a file too large, not
+    TOML, with an unknown table or key at the top or in ``[run]``, or whose ``run`` or
+    ``model`` is not a table, refused naming the file or the key.
+
+    The pair tables are read by :func:`~spurdyn.case.pair_tables.pair_from_dict`, the
+    ``[run]`` table's values by :func:`case_from_pair` (``run``, ``sweep``) or
+    :func:`file_torque` (``info``, ``stiffness``), with the same messages.
+    """
+    data = read_toml(Path(path))
+    check_keys(data, TOP_KEYS, "")
+    run = data.get("run")
+    if run is not None:
+        if not isinstance(run, dict):
+            raise InputError("run", "must be a table")
+        check_keys(run, RUN_KEYS, "run")
+    _model_kind(data.get("model"), {}, {})
+    return data
+
+
+def file_torque(data: Mapping[str, Any]) -> float | None:
+    """The ``[run]`` torque of a case file's tables (N m; ``None`` without one), refused as
+    ``spurdyn run`` refuses it (``run.torque``)."""
+    src = _Source(data.get("run") or {}, "run", {}, {})
+    return src.number("torque", None, positive=False)
 
 
 #: ``[mesh]`` keys :func:`case_to_dict` writes only where they differ from these defaults (so

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from spurdyn.case.files import read_text
 from spurdyn.errors import InputError
 from spurdyn.fem.material import STEEL, Material, check_plausible
 from spurdyn.iso6336 import materials as iso_materials
@@ -403,14 +404,10 @@ def read_toml(path: Path) -> dict[str, Any]:
     Raises
     ------
     InputError
-        Naming the file, if it is missing, unreadable or not valid TOML.
+        Naming the file, if it is missing, unreadable, too large (:func:`~spurdyn.case.files.read_text`)
+        or not valid TOML.
     """
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(str(path), "no such file; give a preset name or a TOML file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as err:
-        raise InputError(str(path), f"cannot be read ({type(err).__name__})") from None
+    text = read_text(path, str(path), "no such file; give a preset name or a TOML file")
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:

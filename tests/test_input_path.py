@@ -1,0 +1,109 @@
+"""Every command reads a case file as ``spurdyn run`` does, and bounds its work (docs/cli.md,
+"Limits"): the same reader and messages for ``info``, ``mesh`` and ``stiffness``; files read
+with a size limit; the elastic tooth's bound on every torque (a torque history's samples,
+the quasi-static commands' ``--torque``); the option the user wrote named in a refusal.
+
+The refusals come before any solver runs (the FE solver is the synthetic one where a run
+would start), so the file takes seconds.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from cli_helpers import EXAMPLES, fake, here, run  # noqa: F401  (fixtures)
+
+PAIR = (EXAMPLES / "paper_pair.toml").read_text()
+#: The commands that read a case file's pair, as typed after the file.
+PAIR_COMMANDS = (["info"], ["stiffness"], ["mesh", "--png", "m.png"])
+
+
+def refused(capsys, folder: Path, *argv: object) -> str:
+    """The one line of a refusal (exit 2, nothing on stdout, nothing written)."""
+    before = sorted(p.name for p in folder.iterdir())
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == "" and err.count("\n") == 1, (argv, code, err)
+    assert err.startswith("spurdyn: error: ") and "Traceback" not in err, err
+    assert sorted(p.name for p in folder.iterdir()) == before, argv
+    return err
+
+
+BAD_FILES = [
+    ("gear_a = [\n", "is not valid TOML"),
+    ("run = 3\n" + PAIR[:PAIR.index("[run]")], "run: must be a table"),
+    (PAIR.replace("[run]", "[run]\nspeed = 3"), "run.speed: unknown key"),
+    ("model = 4\n" + PAIR[:PAIR.index("[model]")], "model: must be a table"),
+    ("[extra]\n" + PAIR, "extra: unknown key"),
+]
+
+
+@pytest.mark.parametrize("text, message", BAD_FILES)
+@pytest.mark.parametrize("command", PAIR_COMMANDS + (["run"],), ids=lambda c: c[0])
+def test_every_command_reads_a_case_file_as_run_does(fake, here, capsys, command, text, message):
+    (here / "case.toml").write_text(text)
+    err = refused(capsys, here, command[0], "case.toml", *command[1:])
+    assert message in err, err
+
+
+@pytest.mark.parametrize("command", PAIR_COMMANDS + (["run"],), ids=lambda c: c[0])
+def test_a_missing_case_file_is_no_such_file(here, capsys, command):
+    err = refused(capsys, here, command[0], "nowhere.toml", *command[1:])
+    assert err.startswith("spurdyn: error: nowhere.toml: no such file"), err
+
+
+def test_an_endless_torque_history_is_refused_by_its_size(fake, here, capsys):
+    text = (EXAMPLES / "idle_rattle.toml").read_text()
+    (here / "case.toml").write_text(text.replace('"idle_rattle_torque.csv"', '"/dev/zero"'))
+    err = refused(capsys, here, "run", "case.toml")
+    assert err.startswith("spurdyn: error: run.torque_history: '/dev/zero' holds more than 128 MiB")
+
+
+def test_a_case_file_beyond_the_limit_is_refused(here, capsys, monkeypatch):
+    from spurdyn.case import files
+
+    monkeypatch.setattr(files, "MAX_FILE_BYTES", 1000)
+    (here / "case.toml").write_text(PAIR + "#" * 1000 + "\n")
+    err = refused(capsys, here, "info", "case.toml")
+    assert "case.toml: holds more than" in err
+
+
+def _history_case(folder: Path, column: str, value: float) -> Path:
+    text = (EXAMPLES / "idle_rattle.toml").read_text()
+    csv = ("time_s, driver_Nm, load_Nm\n0, 1, 1\n0.001, 1, 1\n0.002, 1, 1\n0.003, 1, 1\n"
+           .replace("0.002, 1, 1", "0.002, 1e9, 1" if column == "driver" else "0.002, 1, 1e9"))
+    (folder / "h.csv").write_text(csv)
+    path = folder / "case.toml"
+    path.write_text(text.replace('"idle_rattle_torque.csv"', '"h.csv"'))
+    return path
+
+
+@pytest.mark.parametrize("column", ["driver", "load"])
+def test_a_torque_history_is_bounded_as_the_torque_is(fake, here, capsys, column):
+    err = refused(capsys, here, "run", _history_case(here, column, 1e9))
+    assert err.startswith(f"spurdyn: error: run.torque_history: its {column} torque at 0.002 s, "
+                          f"1e+09 N m strains the {'driver' if column == 'driver' else 'driven'}'s "
+                          "tooth by about"), err
+
+
+@pytest.mark.parametrize("argv", [["stiffness", "paper"], ["info", "paper", "--contact", "hertz"]],
+                         ids=["stiffness", "info"])
+def test_quasi_static_commands_bound_the_torque_as_run_does(here, capsys, argv):
+    err = refused(capsys, here, *argv, "--torque", "1e30")
+    assert err.startswith("spurdyn: error: --torque: 1e+30 N m strains the driver's tooth"), err
+    run_err = refused(capsys, here, "run", "paper-fig8", "--torque", "1e30")
+    assert err == run_err
+
+
+@pytest.mark.parametrize("command", ["info", "stiffness"])
+def test_a_case_files_torque_is_named_as_its_key(here, capsys, command):
+    (here / "case.toml").write_text(PAIR.replace("[run]", "[run]\ntorque = 1e9"))
+    err = refused(capsys, here, command, "case.toml")
+    assert err.startswith("spurdyn: error: run.torque: 1e+09 N m strains"), err
+
+
+@pytest.mark.parametrize("command", PAIR_COMMANDS, ids=lambda c: c[0])
+def test_a_mesh_option_is_named_as_written(here, capsys, command):
+    err = refused(capsys, here, command[0], "paper", *command[1:], "--mesh", "1000x1000")
+    assert err.startswith("spurdyn: error: --mesh: nx must be"), err

@@ -107,3 +107,10 @@ def test_a_case_files_torque_is_named_as_its_key(here, capsys, command):
 def test_a_mesh_option_is_named_as_written(here, capsys, command):
     err = refused(capsys, here, command[0], "paper", *command[1:], "--mesh", "1000x1000")
     assert err.startswith("spurdyn: error: --mesh: nx must be"), err
+
+
+@pytest.mark.parametrize("rpm", ["1000:1e308:1e-300", "0:1e308:1e304", "1000:20000:1"])
+def test_a_sweep_of_too_many_points_is_refused_by_its_count(here, capsys, rpm):
+    err = refused(capsys, here, "sweep", "paper-fig8", "--rpm", rpm, "--model", "lumped",
+                  "--out", here / "o")
+    assert err.startswith("spurdyn: error: --rpm: ") and "values; at most 10,000" in err, err

@@ -114,3 +114,36 @@ def test_a_sweep_of_too_many_points_is_refused_by_its_count(here, capsys, rpm):
     err = refused(capsys, here, "sweep", "paper-fig8", "--rpm", rpm, "--model", "lumped",
                   "--out", here / "o")
     assert err.startswith("spurdyn: error: --rpm: ") and "values; at most 10,000" in err, err
+
+
+@pytest.mark.parametrize("ratio, hz, key", [
+    (1e308, [5000, 50000], "run.rayleigh_ratio"),
+    (0.05, [1e308, 1e308], "run.rayleigh_hz"),
+    (0.05, [1e-300, 1e308], "run.rayleigh_hz"),
+])
+def test_rayleigh_damping_beyond_numbers_names_the_key_written(fake, here, capsys, ratio, hz, key):
+    from test_properties import case_file
+
+    path = case_file(here, {"rayleigh_ratio": ratio, "rayleigh_hz": hz, "integrator": "implicit"})
+    err = refused(capsys, here, "run", path, "--out", here / "o")
+    assert err.startswith(f"spurdyn: error: {key}: gives Rayleigh coefficients beyond"), err
+
+
+@pytest.mark.parametrize("rack, key", [
+    ("basic_rack = {addendum = 1.0, dedendum = 0.9}", "gear_a.basic_rack.dedendum"),
+    ("dedendum = 0.003", "gear_a.dedendum"),
+    ("addendum = 0.0045", "gear_a.addendum"),
+])
+@pytest.mark.parametrize("command", PAIR_COMMANDS + (["run"],), ids=lambda c: c[0])
+def test_a_tip_on_the_mating_root_names_the_height_written(fake, here, capsys, rack, key, command):
+    text = PAIR.replace("tip_radius = 0.047625", "").replace("root_radius = 0.04048", "")
+    (here / "case.toml").write_text(text.replace("[gear_a.material]", f"{rack}\n[gear_a.material]"))
+    err = refused(capsys, here, command[0], "case.toml", *command[1:])
+    assert err.startswith(f"spurdyn: error: {key}: leaves no clearance"), err
+
+
+def test_a_tip_on_the_root_at_a_given_centre_distance_names_it(here, capsys):
+    (here / "case.toml").write_text(PAIR.replace("# centre_distance = 0.0889",
+                                                 "centre_distance = 0.0885"))
+    err = refused(capsys, here, "info", "case.toml")
+    assert err.startswith("spurdyn: error: pair.centre_distance: "), err

@@ -377,6 +377,13 @@ def _rayleigh(src: _Source) -> dict[str, float]:
         raise InputError(name, f"must be two positive frequencies in Hz, e.g. [5000, 50000] "
                          f"(got {hz!r})")
     a, b = rayleigh_from_ratio(zeta, float(hz[0]), float(hz[1]))
+    if not (math.isfinite(a) and math.isfinite(b)):
+        # name the key the user wrote: the frequencies, unless a ratio of 1 at them is finite
+        ordinary = all(math.isfinite(c) for c in rayleigh_from_ratio(1.0, *map(float, hz)))
+        raise InputError(src.field("rayleigh_ratio") if ordinary else name,
+                         f"gives Rayleigh coefficients beyond any number (rayleigh_mass {a:g}, "
+                         f"rayleigh_stiffness {b:g}): give a damping ratio below 1 at "
+                         "frequencies in Hz")
     return {"rayleigh_mass": a, "rayleigh_stiffness": b}
 
 

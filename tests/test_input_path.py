@@ -9,6 +9,8 @@ would start), so the file takes seconds.
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -147,3 +149,41 @@ def test_a_tip_on_the_root_at_a_given_centre_distance_names_it(here, capsys):
                                                  "centre_distance = 0.0885"))
     err = refused(capsys, here, "info", "case.toml")
     assert err.startswith("spurdyn: error: pair.centre_distance: "), err
+
+
+@pytest.mark.parametrize("argv, key", [
+    (["--model", "sector", "--speed-a", "1", "--cycles", "1"], "--speed-a"),
+    (["--model", "sector", "--cycles", "10000", "--max-cycles", "10000", "--mesh", "2x8"],
+     "--max-cycles"),
+    (["--model", "sector", "--cycles", "3000"], "--cycles"),
+    (["--model", "lumped", "--cycles", "1000", "--speed-a", "100"], "--cycles"),
+    (["--model", "lumped", "--cycles", "5", "--speed-a", "10"], "--speed-a"),
+])
+def test_steady_states_are_bounded_by_their_own_steps(fake, here, capsys, argv, key):
+    err = refused(capsys, here, "run", "paper-fig8", *argv)
+    assert err.startswith(f"spurdyn: error: {key}: paper-fig8 would take "), err
+    assert "give --allow-large" in err
+
+
+@pytest.mark.parametrize("model", ["sector", "lumped"])
+def test_a_steady_states_size_counts_its_cycles(model):
+    from spurdyn.case.presets import resolve_cases
+    from spurdyn.lumped.steady import samples_per_cycle
+    from spurdyn.sector.rules import steps_per_cycle
+    from spurdyn.simulators import MODELS
+    from spurdyn.solvers.limits import MAX_STEPS
+
+    entry = MODELS[model]
+    (case,) = resolve_cases("paper-fig8", {"run.cycles": 7, "run.max_cycles": 9}, {})
+    case = replace(case, run=entry.with_defaults(case.run))
+    size = entry.size(case)
+    period = 2 * math.pi / (case.pair.gear_a.teeth * case.run.speed_a)
+    per_cycle = (steps_per_cycle(case.run.speed_a, case.pair.gear_a.teeth) if model == "sector"
+                 else samples_per_cycle(period))
+    assert size.steps == 9 * per_cycle < MAX_STEPS and size.steps_capped
+
+
+def test_a_sweeps_slowest_speed_is_bounded(here, capsys):
+    err = refused(capsys, here, "sweep", "paper-fig8", "--model", "sector", "--rpm", "1,2",
+                  "--cycles", "1", "--out", here / "o")
+    assert err.startswith("spurdyn: error: --rpm: paper-fig8@1rpm"), err

@@ -239,6 +239,47 @@ class LumpedEntry(ModelEntry):
                                  f"that carry load together (got {settings.teeth})")
 
 
+    def size(self, case: Any) -> Size:
+        """One engagement along its ``dt``; a steady state, the samples of the most cycles it
+        may go on to (:func:`spurdyn.lumped.steady.samples_per_cycle`)."""
+        if case.run.cycles is None:
+            return super().size(case)
+        from spurdyn.lumped.steady import samples_per_cycle
+        from spurdyn.sector.rules import DEFAULT_CYCLES
+
+        run = case.run
+        period = 2.0 * math.pi / (case.pair.gear_a.teeth * run.speed_a)
+        most = max(run.cycles_limit or run.cycles, run.cycles)
+        default = run.with_(cycles=DEFAULT_CYCLES, max_cycles=None).cycles_limit
+        return cycles_size(case, samples_per_cycle(period), most, default, LUMPED_STEPS_PER_S)
+
+
+#: Steps a second of the sector model, for the time a refusal of a long run estimates: on
+#: whole modal gears, compiled (docs/sector.md: 70-120 us a step on the paper's pair), and on
+#: a sector of teeth, in the NumPy loop (measured: 64,284 steps in 128 s, the paper's pair at
+#: 1 rpm, build included, this project's 2-core machine).
+SECTOR_STEPS_PER_S = 10_000
+SECTOR_TEETH_STEPS_PER_S = 500
+#: Samples a second of the lumped model's steady state, whose size counts samples (its
+#: integrator takes about seven steps a sample; measured: paper-fig8 at 4,000 rpm, 200 cycles,
+#: 107,201 samples in 21 s).
+LUMPED_STEPS_PER_S = 5_000
+
+
+def cycles_size(case: Any, per_cycle: int, most: int, default_most: int, rate: float) -> Size:
+    """The :class:`~spurdyn.solvers.limits.Size` of a steady state of ``per_cycle`` steps a mesh
+    cycle over the ``most`` cycles it may go on to, one sample a step: too many steps blame the
+    cycles (``max_cycles`` where given) when the model's default cycles (``default_most`` at
+    most) would keep it within the limit, else the speed."""
+    from spurdyn.solvers.limits import BYTES_PER_SAMPLE, MAX_STEPS
+
+    steps = per_cycle * most
+    cycles_key = "max_cycles" if case.run.max_cycles is not None else "cycles"
+    blame = cycles_key if per_cycle * default_most <= MAX_STEPS else "speed_a_rpm"
+    return Size(steps, (steps + 1) * BYTES_PER_SAMPLE, sampling=cycles_key, steps_capped=True,
+                blame=blame, steps_per_s=rate, remedy="raise the speed, give fewer cycles")
+
+
 @dataclass(frozen=True)
 class SectorEntry(ModelEntry):
     """Several elastic teeth on elastic rims, hubs with inertia, under constant torques
@@ -277,13 +318,16 @@ class SectorEntry(ModelEntry):
         return 2.0 * math.pi / (teeth * speed) / steps_per_cycle(speed, teeth)
 
     def size(self, case: Any) -> Size:
-        """Every step of the most cycles it may go on to, one sample each."""
-        from spurdyn.solvers.limits import BYTES_PER_SAMPLE
+        """Every step of the most cycles it may go on to, one sample each, at its own step
+        (whatever ``dt`` says)."""
         from spurdyn.sector.rules import cycles_limit, steps_per_cycle
+        from spurdyn.sector.system import WHOLE_FROM_CYCLES
 
         speed, teeth = self._driver(case.run, case.pair)
-        steps = steps_per_cycle(speed, teeth) * cycles_limit(case.run)
-        return Size(steps, (steps + 1) * BYTES_PER_SAMPLE, sampling="cycles")
+        most = cycles_limit(case.run)
+        rate = SECTOR_STEPS_PER_S if most >= WHOLE_FROM_CYCLES else SECTOR_TEETH_STEPS_PER_S
+        return cycles_size(case, steps_per_cycle(speed, teeth), most,
+                           cycles_limit(case.run.with_(cycles=None, max_cycles=None)), rate)
 
     def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
         """Its revision, and its defaults where the case gives nothing: the bodies' damping,

@@ -161,6 +161,13 @@ class Size:
         per step; the others' steps are cheap.
     sampling
         The ``[run]`` key that sets how many samples are kept (blamed for too many bytes).
+    blame
+        The ``[run]`` key blamed for too many steps; ``None``: the time step, where the
+        paper's would keep the run within the limit, else the speed (the FE model's rule).
+    steps_per_s
+        The model's steps a second, for the time a refusal estimates.
+    remedy
+        What would shorten the run, for the refusal.
     """
 
     steps: int
@@ -168,6 +175,9 @@ class Size:
     frame_bytes: int = 0
     steps_capped: bool = False
     sampling: str = "save_every"
+    blame: str | None = None
+    steps_per_s: float = STEPS_PER_S
+    remedy: str = "raise the speed, shorten --angle"
 
 
 def estimate(case: Any, frames: bool = True, steps_capped: bool = True) -> Size:
@@ -201,12 +211,14 @@ def check_size(case: Any, labels: Mapping[str, str], size: Size, *,
     """
     steps = size.steps
     if size.steps_capped and steps > MAX_STEPS:
-        # Blame the time step when the paper's would keep the run within the limit.
-        dt_blamed = steps * case.run.dt / PAPER_DT <= MAX_STEPS
-        key = _label(labels, "dt") if dt_blamed else speed_field or _label(labels, "speed_a_rpm")
+        if size.blame is None:  # the time step, when the paper's would keep the run within the limit
+            blame = "dt" if steps * case.run.dt / PAPER_DT <= MAX_STEPS else "speed_a_rpm"
+        else:
+            blame = size.blame
+        key = speed_field or _label(labels, blame) if blame == "speed_a_rpm" else _label(labels, blame)
         raise InputError(key, f"{case.name} would take {steps:,} steps (limit {MAX_STEPS:,}; "
-                         f"about {steps / STEPS_PER_S / 60:,.0f} min at {STEPS_PER_S:,} steps/s); raise the "
-                         f"speed, shorten --angle, or give {flag} to run it anyway")
+                         f"about {steps / size.steps_per_s / 60:,.0f} min at {size.steps_per_s:,.0f} "
+                         f"steps/s); {size.remedy}, or give {flag} to run it anyway")
     if size.bytes > MAX_BYTES:
         frames = size.frame_bytes > size.bytes / 2
         what = "frames_every" if frames else size.sampling

@@ -187,3 +187,20 @@ def test_a_sweeps_slowest_speed_is_bounded(here, capsys):
     err = refused(capsys, here, "sweep", "paper-fig8", "--model", "sector", "--rpm", "1,2",
                   "--cycles", "1", "--out", here / "o")
     assert err.startswith("spurdyn: error: --rpm: paper-fig8@1rpm"), err
+
+
+@pytest.mark.parametrize("argv, key", [
+    (["--model", "lumped", "--cycles", "5", "--angle", "5"], "--angle: is one engagement's"),
+    (["--model", "sector", "--angle", "5"], "--angle: the sector model does not read it"),
+])
+def test_an_angle_a_steady_state_would_not_read_is_refused(fake, here, capsys, argv, key):
+    err = refused(capsys, here, "run", "paper-fig8", *argv, "--out", here / "o")
+    assert err.startswith(f"spurdyn: error: {key}"), err
+
+
+def test_a_case_files_angle_beside_cycles_is_refused_by_its_key(fake, here, capsys):
+    from test_properties import case_file
+
+    path = case_file(here, {"angle_deg": 5.0, "cycles": 5})
+    err = refused(capsys, here, "run", path, "--model", "lumped", "--out", here / "o")
+    assert err.startswith("spurdyn: error: run.angle_deg: is one engagement's"), err

@@ -50,6 +50,9 @@ FE_CYCLES_REASON = ("needs a model that meshes for more than one engagement: the
 #: Why the FE solver's RK4 refuses damping.
 FE_DAMPING_REASON = ("needs the implicit integrator in the FE model: the paper's RK4 is "
                      "undamped (use --integrator implicit, --model lumped, or no damping)")
+#: Why the lumped model's steady state refuses an angle.
+LUMPED_ANGLE_REASON = ("is one engagement's rotation; a steady state runs its mesh cycles "
+                       "(--cycles): leave out one of them")
 #: Why a model without several teeth refuses ``teeth``.
 TEETH_REASON = ("sets the sector model's teeth per gear (--model sector, or the lumped model's "
                 "--stiffness sector); {model} would not read it")
@@ -222,6 +225,8 @@ class LumpedEntry(ModelEntry):
     (:func:`simulate_lumped`)."""
 
     def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
+        if settings.cycles is not None and settings.angle is not None:
+            raise InputError(label("angle", labels), LUMPED_ANGLE_REASON)
         if settings.stiffness == "sector":
             refuse_sector_row_grading(settings.row_grading, label("row_grading", labels),
                                       "with the sector stiffness (stiffness = \"sector\"), ")

@@ -204,3 +204,26 @@ def test_a_case_files_angle_beside_cycles_is_refused_by_its_key(fake, here, caps
     path = case_file(here, {"angle_deg": 5.0, "cycles": 5})
     err = refused(capsys, here, "run", path, "--model", "lumped", "--out", here / "o")
     assert err.startswith("spurdyn: error: run.angle_deg: is one engagement's"), err
+
+
+@pytest.mark.parametrize("torque, message", [
+    ("0", "--torque: must be above zero for the sector model"),
+    ("1e-9", "--torque: 1e-09 N m deflects the teeth by less than the rounding"),
+])
+def test_a_sector_run_without_a_load_is_refused(fake, here, capsys, torque, message):
+    err = refused(capsys, here, "run", "paper-fig8", "--model", "sector", "--torque", torque)
+    assert err.startswith(f"spurdyn: error: {message}"), err
+
+
+def test_an_unloaded_steady_state_says_so_without_warnings(here, capsys):
+    import json
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code, _, err = run(capsys, "run", "paper-fig8", "--model", "lumped", "--torque", "0",
+                           "--cycles", "2", "--out", here / "o", "--quiet")
+    assert code == 0 and err == "", err
+    summary = json.loads((here / "o" / "summary.json").read_text())
+    assert summary["status"] == "complete" and summary["dynamic_factor"] is None
+    assert summary["dynamic_factor_note"] == "none: no quasi-static force (zero torque)"

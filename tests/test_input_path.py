@@ -227,3 +227,28 @@ def test_an_unloaded_steady_state_says_so_without_warnings(here, capsys):
     summary = json.loads((here / "o" / "summary.json").read_text())
     assert summary["status"] == "complete" and summary["dynamic_factor"] is None
     assert summary["dynamic_factor_note"] == "none: no quasi-static force (zero torque)"
+
+
+@pytest.mark.parametrize("inertia", ["1e300", "1e-12"])
+@pytest.mark.parametrize("command", PAIR_COMMANDS + (["run"],), ids=lambda c: c[0])
+def test_a_disk_inertia_beyond_any_gear_is_refused(fake, here, capsys, inertia, command):
+    (here / "case.toml").write_text(PAIR.replace("disk_inertia = 2.965e-4",
+                                                 f"disk_inertia = {inertia}"))
+    err = refused(capsys, here, command[0], "case.toml", *command[1:])
+    assert err.startswith(f"spurdyn: error: gear_a.disk_inertia: {float(inertia):g} kg m^2 is "), err
+
+
+def test_the_inertia_bounds_are_the_solid_disks():
+    from spurdyn.errors import InputError
+    from spurdyn.geometry.gear import INERTIA_RATIOS
+    from spurdyn.geometry.presets import paper_pair
+
+    gear = paper_pair().gear_a
+    solid = replace(gear, disk_inertia=None, blank=None).disk_inertia   # the default blank's
+    low, high = INERTIA_RATIOS
+    for j in (low * solid * 1.001, high * solid * 0.999):
+        assert replace(gear, disk_inertia=j).disk_inertia == j
+    for j in (low * solid * 0.999, high * solid * 1.001):
+        with pytest.raises(InputError) as err:
+            replace(gear, disk_inertia=j)
+        assert err.value.field == "disk_inertia"

@@ -252,3 +252,15 @@ def test_the_inertia_bounds_are_the_solid_disks():
         with pytest.raises(InputError) as err:
             replace(gear, disk_inertia=j)
         assert err.value.field == "disk_inertia"
+
+
+@pytest.mark.parametrize("model", ["sector", "lumped"])
+def test_a_torque_historys_size_is_its_cycles(model):
+    from spurdyn.case import load_case
+    from spurdyn.simulators import MODELS
+
+    case = load_case(EXAMPLES / "idle_rattle.toml")      # 9 cycles under a history
+    size = MODELS[model].size(case)
+    assert size.steps_capped and size.steps % case.run.cycles == 0
+    assert size.steps == case.run.cycles * MODELS[model].size(
+        replace(case, run=case.run.with_(cycles=1))).steps

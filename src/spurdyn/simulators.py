@@ -332,14 +332,14 @@ class SectorEntry(ModelEntry):
     def size(self, case: Any) -> Size:
         """Every step of the most cycles it may go on to, one sample each, at its own step
         (whatever ``dt`` says)."""
-        from spurdyn.sector.rules import cycles_limit, steps_per_cycle
+        from spurdyn.sector.rules import DEFAULT_CYCLES, cycles_limit, steps_per_cycle
         from spurdyn.sector.system import WHOLE_FROM_CYCLES
 
         speed, teeth = self._driver(case.run, case.pair)
         most = cycles_limit(case.run)
         rate = SECTOR_STEPS_PER_S if most >= WHOLE_FROM_CYCLES else SECTOR_TEETH_STEPS_PER_S
-        return cycles_size(case, steps_per_cycle(speed, teeth), most,
-                           cycles_limit(case.run.with_(cycles=None, max_cycles=None)), rate)
+        default = case.run.with_(cycles=DEFAULT_CYCLES, max_cycles=None)
+        return cycles_size(case, steps_per_cycle(speed, teeth), most, cycles_limit(default), rate)
 
     def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
         """Its revision, and its defaults where the case gives nothing: the bodies' damping,

@@ -240,7 +240,7 @@ def test_a_disk_inertia_beyond_any_gear_is_refused(fake, here, capsys, inertia, 
 
 def test_the_inertia_bounds_are_the_solid_disks():
     from spurdyn.errors import InputError
-    from spurdyn.geometry.gear import INERTIA_RATIOS
+    from spurdyn.geometry.blank import INERTIA_RATIOS
     from spurdyn.geometry.presets import paper_pair
 
     gear = paper_pair().gear_a

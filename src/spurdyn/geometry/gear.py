@@ -17,7 +17,7 @@ from spurdyn.errors import InputError
 from spurdyn.fem.material import STEEL, Material
 from spurdyn.geometry import involute as ivl
 from spurdyn.geometry import relief as rlf
-from spurdyn.geometry.blank import Blank, blank_inertia, check_blank
+from spurdyn.geometry.blank import Blank, blank_inertia, check_blank, check_disk_inertia
 from spurdyn.geometry.rack import ISO_53, BasicRack, default_rack, full_round_radius
 
 #: Default rack-cutter tip radius, as a fraction of the module, of a 20 deg gear: ISO 53
@@ -37,14 +37,6 @@ MAX_FACE_WIDTH_MODULES = 200.0
 
 #: Most teeth a gear may have (beyond it the tooth is a speck on a huge disk: a slip).
 MAX_TEETH = 1000
-
-#: The range of a given ``disk_inertia`` in units of the gear's own solid disk (the default
-#: blank's). Below: lighter than a thin rim under the teeth (a rim one module deep holds
-#: about ``4 m / r = 8 / z`` of the solid disk, 0.008 at the most teeth). Above: what a shaft can
-#: carry beside the gear, with a margin of a hundred (a flywheel of 0.3 kg m^2 beside the
-#: paper's gear is 1,000 times it, a motor's rotor beside a 17-tooth pinion some 2,500).
-#: Beyond either end the number is a slip of units (g mm^2, or 1e300), not a gear.
-INERTIA_RATIOS = (1e-3, 1e6)
 
 #: Largest profile shift coefficient accepted in either sense (the tip points or the
 #: tooth undercuts long before this on any real gear).
@@ -244,7 +236,7 @@ class Gear:
             require_positive("disk_inertia", self.disk_inertia)
             if self.blank is not None:
                 raise InputError("blank", "give either disk_inertia or a blank, not both")
-            self._check_inertia(self.disk_inertia)
+            check_disk_inertia(self.disk_inertia, self._blank_inertia(Blank()))
             return
         blank = Blank() if self.blank is None else self.blank
         check_blank(blank, self.root_radius, self.face_width)
@@ -252,20 +244,9 @@ class Gear:
         object.__setattr__(self, "disk_inertia", self._blank_inertia(blank))
 
     def _blank_inertia(self, blank: Blank) -> float:
-        """The rigid disk's inertia (kg m^2) of ``blank``: the blank, and every tooth but the
-        elastic one, which brings its own mass."""
+        """The disk's inertia on ``blank`` (kg m^2): it, and every tooth but the elastic one."""
         return blank_inertia(blank, self.root_radius, self.face_width, self.material.density) \
             + (self.teeth - 1) * self.tooth_polar_inertia()
-
-    def _check_inertia(self, j: float) -> None:
-        """Refuse a given ``disk_inertia`` beyond :data:`INERTIA_RATIOS` times the gear's own
-        solid disk's (the default blank's)."""
-        solid = self._blank_inertia(Blank())
-        low, high = INERTIA_RATIOS
-        if not low * solid <= j <= high * solid:
-            raise InputError("disk_inertia", f"{j:g} kg m^2 is {j / solid:.3g} times the gear's own "
-                             f"solid disk ({solid:.3g} kg m^2); give {low * solid:.3g} to "
-                             f"{high * solid:.3g} kg m^2 (inertia is in kg m^2)")
 
     @classmethod
     def standard(cls, teeth: int, module: float, pressure_angle_deg: float, face_width: float,

@@ -163,7 +163,7 @@ def test_the_size_and_the_hash_extras_are_the_entries():
     case = SimpleNamespace(pair=PAIR, run=run, name="c")
     sector = MODELS["sector"].size(case)
     assert sector == MODELS["sector"].size(SimpleNamespace(pair=PAIR, run=run.with_(dt=1e-9), name="c"))
-    assert sector.sampling == "cycles" and not sector.steps_capped and sector.frame_bytes == 0
+    assert sector.sampling == "cycles" and sector.steps_capped and sector.frame_bytes == 0
     fe = MODELS["fe"].size(SimpleNamespace(pair=PAIR, run=RunSettings(**BASE), name="c"))
     assert fe.steps_capped and fe.frame_bytes > 0
     assert "sector_revision" in MODELS["sector"].hash_extras(run)

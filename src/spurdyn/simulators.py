@@ -50,6 +50,9 @@ FE_CYCLES_REASON = ("needs a model that meshes for more than one engagement: the
 #: Why the FE solver's RK4 refuses damping.
 FE_DAMPING_REASON = ("needs the implicit integrator in the FE model: the paper's RK4 is "
                      "undamped (use --integrator implicit, --model lumped, or no damping)")
+#: Why the lumped model's steady state refuses an angle.
+LUMPED_ANGLE_REASON = ("is one engagement's rotation; a steady state runs its mesh cycles "
+                       "(--cycles): leave out one of them")
 #: Why a model without several teeth refuses ``teeth``.
 TEETH_REASON = ("sets the sector model's teeth per gear (--model sector, or the lumped model's "
                 "--stiffness sector); {model} would not read it")
@@ -57,6 +60,9 @@ TEETH_REASON = ("sets the sector model's teeth per gear (--model sector, or the 
 SECTOR_DT_REASON = ("the sector model sets its own step of accuracy (docs/sector.md, 6.3); "
                     "leave it out")
 SECTOR_INTEGRATOR_REASON = "the sector model steps by generalized-alpha only; leave it out or give implicit"
+SECTOR_TORQUE_REASON = ("must be above zero for the sector model: its run starts from the loaded "
+                        "static mesh cycle and its steady state is measured against it (a torque "
+                        "history's mean torque); an unloaded pair runs with --model lumped")
 SECTOR_CONTACT_REASON = "the sector model's contact is the Hertzian strip; leave it out or give hertz"
 
 
@@ -222,6 +228,8 @@ class LumpedEntry(ModelEntry):
     (:func:`simulate_lumped`)."""
 
     def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
+        if settings.cycles is not None and settings.angle is not None:
+            raise InputError(label("angle", labels), LUMPED_ANGLE_REASON)
         if settings.stiffness == "sector":
             refuse_sector_row_grading(settings.row_grading, label("row_grading", labels),
                                       "with the sector stiffness (stiffness = \"sector\"), ")
@@ -239,6 +247,47 @@ class LumpedEntry(ModelEntry):
                                  f"that carry load together (got {settings.teeth})")
 
 
+    def size(self, case: Any) -> Size:
+        """One engagement along its ``dt``; a steady state, the samples of the most cycles it
+        may go on to (:func:`spurdyn.lumped.steady.samples_per_cycle`)."""
+        if case.run.cycles is None:
+            return super().size(case)
+        from spurdyn.lumped.steady import samples_per_cycle
+        from spurdyn.sector.rules import DEFAULT_CYCLES
+
+        run = case.run
+        period = 2.0 * math.pi / (case.pair.gear_a.teeth * run.speed_a)
+        most = max(run.cycles_limit or run.cycles, run.cycles)
+        default = run.with_(cycles=DEFAULT_CYCLES, max_cycles=None).cycles_limit
+        return cycles_size(case, samples_per_cycle(period), most, default, LUMPED_STEPS_PER_S)
+
+
+#: Steps a second of the sector model, for the time a refusal of a long run estimates: on
+#: whole modal gears, compiled (docs/sector.md: 70-120 us a step on the paper's pair), and on
+#: a sector of teeth, in the NumPy loop (measured: 64,284 steps in 128 s, the paper's pair at
+#: 1 rpm, build included, this project's 2-core machine).
+SECTOR_STEPS_PER_S = 10_000
+SECTOR_TEETH_STEPS_PER_S = 500
+#: Samples a second of the lumped model's steady state, whose size counts samples (its
+#: integrator takes about seven steps a sample; measured: paper-fig8 at 4,000 rpm, 200 cycles,
+#: 107,201 samples in 21 s).
+LUMPED_STEPS_PER_S = 5_000
+
+
+def cycles_size(case: Any, per_cycle: int, most: int, default_most: int, rate: float) -> Size:
+    """The :class:`~spurdyn.solvers.limits.Size` of a steady state of ``per_cycle`` steps a mesh
+    cycle over the ``most`` cycles it may go on to, one sample a step: too many steps blame the
+    cycles (``max_cycles`` where given) when the model's default cycles (``default_most`` at
+    most) would keep it within the limit, else the speed."""
+    from spurdyn.solvers.limits import BYTES_PER_SAMPLE, MAX_STEPS
+
+    steps = per_cycle * most
+    cycles_key = "max_cycles" if case.run.max_cycles is not None else "cycles"
+    blame = cycles_key if per_cycle * default_most <= MAX_STEPS else "speed_a_rpm"
+    return Size(steps, (steps + 1) * BYTES_PER_SAMPLE, sampling=cycles_key, steps_capped=True,
+                blame=blame, steps_per_s=rate, remedy="raise the speed, give fewer cycles")
+
+
 @dataclass(frozen=True)
 class SectorEntry(ModelEntry):
     """Several elastic teeth on elastic rims, hubs with inertia, under constant torques
@@ -249,6 +298,10 @@ class SectorEntry(ModelEntry):
         given the ``pair``, fewer ``teeth`` than the run meets."""
         from spurdyn import store
 
+        if not settings.torque > 0.0:
+            raise InputError(label("torque", labels), SECTOR_TORQUE_REASON)
+        if pair is not None:
+            _refuse_rounding_torque(pair, settings.torque, label("torque", labels))
         store.check()
         if pair is None or settings.teeth is None:
             return
@@ -277,13 +330,16 @@ class SectorEntry(ModelEntry):
         return 2.0 * math.pi / (teeth * speed) / steps_per_cycle(speed, teeth)
 
     def size(self, case: Any) -> Size:
-        """Every step of the most cycles it may go on to, one sample each."""
-        from spurdyn.solvers.limits import BYTES_PER_SAMPLE
-        from spurdyn.sector.rules import cycles_limit, steps_per_cycle
+        """Every step of the most cycles it may go on to, one sample each, at its own step
+        (whatever ``dt`` says)."""
+        from spurdyn.sector.rules import DEFAULT_CYCLES, cycles_limit, steps_per_cycle
+        from spurdyn.sector.system import WHOLE_FROM_CYCLES
 
         speed, teeth = self._driver(case.run, case.pair)
-        steps = steps_per_cycle(speed, teeth) * cycles_limit(case.run)
-        return Size(steps, (steps + 1) * BYTES_PER_SAMPLE, sampling="cycles")
+        most = cycles_limit(case.run)
+        rate = SECTOR_STEPS_PER_S if most >= WHOLE_FROM_CYCLES else SECTOR_TEETH_STEPS_PER_S
+        default = case.run.with_(cycles=DEFAULT_CYCLES, max_cycles=None)
+        return cycles_size(case, steps_per_cycle(speed, teeth), most, cycles_limit(default), rate)
 
     def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
         """Its revision, and its defaults where the case gives nothing: the bodies' damping,
@@ -324,6 +380,27 @@ class SectorEntry(ModelEntry):
         """The driver's speed (rad/s) and teeth."""
         driver = pair.gear_a if pair.driver == "a" else pair.gear_b
         return float(settings.speed_a if pair.driver == "a" else settings.speed_b), driver.teeth
+
+
+def _refuse_rounding_torque(pair: GearPair, torque: float, name: str) -> None:
+    """Refuse a torque whose static tooth deflection is lost in the rounding of positions.
+
+    The deflection ``F / k`` is above ``F / (E b)`` (a tooth is far softer than a block of
+    its face width, ``k ~ E b / 10``); below :data:`~spurdyn.solvers.limits.TOL_MIN_ROUNDINGS`
+    times machine epsilon times the centre distance (2e-15 m on the paper's pair, the
+    smallest ``tol_disp``) the contact forces are rounding (measured on the paper's pair:
+    1e-9 N m ran to a dynamic factor of 0.000, 1e-4 N m to 1.40 as at 1 N m).
+    """
+    import sys
+
+    from spurdyn.solvers.limits import TOL_MIN_ROUNDINGS
+
+    driver = pair.gear_a if pair.driver == "a" else pair.gear_b
+    floor = TOL_MIN_ROUNDINGS * sys.float_info.epsilon * pair.centre_distance
+    least = floor * driver.material.young * driver.face_width * driver.base_radius
+    if torque < least:
+        raise InputError(name, f"{torque:g} N m deflects the teeth by less than the rounding of "
+                         f"positions ({floor:.2g} m); at least {least:.2g} N m")
 
 
 def simulate_lumped(pair: GearPair, settings: RunSettings,

@@ -7,7 +7,10 @@
   :class:`~spurdyn.case.file.Case` and its dictionary both ways;
 - :mod:`~spurdyn.case.pair_tables`: the pair tables (``[gear_a]``, ``[gear_b]``,
   ``[pair]``, ``[mesh]``) read into a :class:`~spurdyn.case.pair_tables.MeshedPair`;
-- :mod:`~spurdyn.case.torque`: a torque history from a CSV file or an inline table.
+- :mod:`~spurdyn.case.torque`: a torque history from a CSV file or an inline table;
+- :mod:`~spurdyn.case.files`: a file the user named, read with a size limit;
+- :mod:`~spurdyn.case.source`: where a run setting comes from (an option or the file), and
+  its refusal naming the one written.
 
 The package sits above the solvers, because the case file runs the run check
 (docs/architecture.md). Its names are served lazily, so that importing the pair tables or
@@ -24,6 +27,7 @@ _EXPORTS = {
     "preset_case": "presets", "preset_lines": "presets", "resolve_cases": "presets",
     "CASE_CONTACT": "file", "RUN_KEYS": "file", "Case": "file", "case_from_dict": "file",
     "case_from_pair": "file", "case_to_dict": "file", "load_case": "file",
+    "read_case_file": "file", "RunSource": "source", "file_torque": "file", "MAX_FILE_BYTES": "files", "read_text": "files",
     "BLANK_KEYS": "pair_tables", "GEAR_KEYS": "pair_tables", "MATERIAL_KEYS": "pair_tables",
     "MESH_KEYS": "pair_tables", "PAIR_KEYS": "pair_tables", "RACK_KEYS": "pair_tables",
     "RELIEF_KEYS": "pair_tables", "TOP_KEYS": "pair_tables", "MeshedPair": "pair_tables",

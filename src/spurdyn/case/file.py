@@ -24,7 +24,7 @@ from typing import Any, Callable, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.pair import GearPair
-from spurdyn.case.pair_tables import MeshedPair, check_keys, gear_to_dict, pair_from_dict, read_toml
+from spurdyn.case.pair_tables import TOP_KEYS, MeshedPair, check_keys, gear_to_dict, pair_from_dict, read_toml
 from spurdyn.model.loading import check_history
 from spurdyn.model.system import PairSystem, system_for
 from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_ROW_GRADING, MAX_GRADING, MAX_ROW_GRADING
@@ -34,6 +34,7 @@ from spurdyn.settings import (
 )
 from spurdyn.solvers.check import check_run, default_step
 from spurdyn.solvers.implicit.damping import rayleigh_from_ratio
+from spurdyn.case.source import RunSource
 from spurdyn.case.torque import history_from_table, history_to_table, read_history_csv
 
 RUN_KEYS = {
@@ -104,78 +105,6 @@ class Case:
         return static_force(self.pair, self.run.torque)
 
 
-class _Source:
-    """Where each run setting comes from: a command-line override or the ``[run]`` table.
-
-    ``overrides`` and ``labels`` are keyed by dotted names (``run.dt``, ``mesh.nx``);
-    a label (``--dt``) names the field in refusals of an overridden value.
-    """
-
-    def __init__(self, table: Mapping[str, Any], where: str,
-                 overrides: Mapping[str, Any], labels: Mapping[str, str]) -> None:
-        self.table, self.where, self.overrides, self.labels = table, where, overrides, labels
-
-    def field(self, key: str) -> str:
-        dotted = f"{self.where}.{key}"
-        return self.labels.get(dotted, dotted) if dotted in self.overrides else dotted
-
-    def get(self, key: str) -> tuple[bool, Any, str]:
-        dotted = f"{self.where}.{key}"
-        if dotted in self.overrides and self.overrides[dotted] is not None:
-            return True, self.overrides[dotted], self.labels.get(dotted, dotted)
-        if key in self.table and self.table[key] is not None:
-            return True, self.table[key], dotted
-        return False, None, dotted
-
-    def number(self, key: str, default: float | None, *, positive: bool = True,
-               required_hint: str = "") -> float | None:
-        found, value, name = self.get(key)
-        if not found:
-            if default is None and required_hint:
-                raise InputError(name, f"is missing; {required_hint}")
-            return default
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise InputError(name, f"must be a number (got {value!r})")
-        value = float(value)
-        if not math.isfinite(value):
-            raise InputError(name, f"must be a finite number (got {value!r})")
-        if positive and value <= 0.0:
-            raise InputError(name, f"must be positive (got {value:g})")
-        if not positive and value < 0.0:
-            raise InputError(name, f"must not be negative (got {value:g})")
-        return value
-
-    def integer(self, key: str, default: int, low: int) -> int:
-        found, value, name = self.get(key)
-        if not found:
-            return default
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise InputError(name, f"must be a whole number (got {value!r})")
-        if value < low:
-            raise InputError(name, f"must be a whole number >= {low} (got {value})")
-        return value
-
-    def choice(self, key: str, default: str, allowed: tuple[str, ...],
-               retired: Mapping[str, str] | None = None) -> str:
-        found, value, name = self.get(key)
-        if not found:
-            return default
-        if retired and isinstance(value, str) and value in retired:
-            raise InputError(name, f"{value!r} {retired[value]}")
-        if value not in allowed:
-            raise InputError(name, f"must be one of {', '.join(allowed)} (got {value!r})")
-        return str(value)
-
-    def boolean(self, key: str, default: bool | None) -> bool | None:
-        found, value, name = self.get(key)
-        if not found:
-            return default
-        if not isinstance(value, bool):
-            raise InputError(name, f"must be true or false (got {value!r})")
-        return value
-
-
-
 _RUN_DEFAULTS = {f.name: f.default for f in fields(RunSettings)}
 #: A case file's contact model unless it says otherwise: the distributed contact, which
 #: holds at design loads (the paper's presets say ``"point"``).
@@ -224,7 +153,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     if not isinstance(table, dict):
         raise InputError("run", "must be a table")
     check_keys(table, RUN_KEYS, "run")
-    src = _Source(table, "run", overrides, labels)
+    src = RunSource(table, "run", overrides, labels)
     pair = meshed_pair.pair
     hint = "give it in the [run] table or on the command line"
     speed_a = src.number("speed_a_rpm", None, required_hint=hint)
@@ -264,7 +193,7 @@ def _mesh_density(meshed_pair: MeshedPair, overrides: Mapping[str, Any],
                   labels: Mapping[str, str]) -> tuple[int, int, float, float]:
     """``(nx, ny, grading, row_grading)`` of the ``[mesh]`` table as ``overrides`` change it,
     the gradings refused beyond their bounds."""
-    mesh = _Source({"nx": meshed_pair.nx, "ny": meshed_pair.ny, "grading": meshed_pair.grading,
+    mesh = RunSource({"nx": meshed_pair.nx, "ny": meshed_pair.ny, "grading": meshed_pair.grading,
                     "row_grading": meshed_pair.row_grading}, "mesh", overrides, labels)
     nx = mesh.integer("nx", meshed_pair.nx, 1)
     ny = mesh.integer("ny", meshed_pair.ny, 1)
@@ -279,7 +208,7 @@ def _mesh_density(meshed_pair: MeshedPair, overrides: Mapping[str, Any],
     return nx, ny, grading, row_grading
 
 
-def _run_options(src: _Source, base: Path | None) -> dict[str, Any]:
+def _run_options(src: RunSource, base: Path | None) -> dict[str, Any]:
     """The :class:`RunSettings` fields of the ``[run]`` table beyond the speeds, torque, step,
     angle and mesh, each checked (in this order, the order refusals come in)."""
     return dict(
@@ -309,7 +238,7 @@ def _run_options(src: _Source, base: Path | None) -> dict[str, Any]:
     )
 
 
-def _step_field(src: _Source, overrides: Mapping[str, Any], labels: Mapping[str, str],
+def _step_field(src: RunSource, overrides: Mapping[str, Any], labels: Mapping[str, str],
                 scale_b: float) -> Callable[[str], str]:
     """How the run check names a refused field: the key the user wrote, or what made it so."""
     def field(name: str) -> str:
@@ -339,7 +268,7 @@ def _speed_scale(table: Mapping[str, Any], overrides: Mapping[str, Any]) -> floa
     return float(overrides["run.speed_a_rpm"]) / float(own_a)
 
 
-def _torque_history(src: _Source, base: Path | None) -> TorqueHistory | None:
+def _torque_history(src: RunSource, base: Path | None) -> TorqueHistory | None:
     """The ``torque_history``: a CSV file's name (relative to ``base``, or to the working
     folder where the command line gave it) or an inline table
     (:mod:`spurdyn.case.torque`), repeated if ``torque_history_periodic``."""
@@ -360,7 +289,7 @@ def _torque_history(src: _Source, base: Path | None) -> TorqueHistory | None:
     return read_history_csv(path, name, bool(periodic))
 
 
-def _rayleigh(src: _Source) -> dict[str, float]:
+def _rayleigh(src: RunSource) -> dict[str, float]:
     """Rayleigh's coefficients from ``rayleigh_mass`` and ``rayleigh_stiffness``, or from a
     damping ratio ``rayleigh_ratio`` at the two frequencies ``rayleigh_hz = [f1, f2]``;
     nothing if none of them is given (the model's default)."""
@@ -387,6 +316,13 @@ def _rayleigh(src: _Source) -> dict[str, float]:
         raise InputError(name, f"must be two positive frequencies in Hz, e.g. [5000, 50000] "
                          f"(got {hz!r})")
     a, b = rayleigh_from_ratio(zeta, float(hz[0]), float(hz[1]))
+    if not (math.isfinite(a) and math.isfinite(b)):
+        # name the key the user wrote: the frequencies, unless a ratio of 1 at them is finite
+        ordinary = all(math.isfinite(c) for c in rayleigh_from_ratio(1.0, *map(float, hz)))
+        raise InputError(src.field("rayleigh_ratio") if ordinary else name,
+                         f"gives Rayleigh coefficients beyond any number (rayleigh_mass {a:g}, "
+                         f"rayleigh_stiffness {b:g}): give a damping ratio below 1 at "
+                         "frequencies in Hz")
     return {"rayleigh_mass": a, "rayleigh_stiffness": b}
 
 
@@ -439,8 +375,35 @@ def load_case(path: str | Path, overrides: Mapping[str, Any] | None = None,
               labels: Mapping[str, str] | None = None, check_step: bool = True) -> Case:
     """Read a case TOML file: the pair tables and the ``[run]`` table."""
     path = Path(path)
-    return case_from_dict(read_toml(path), name=path.stem, overrides=overrides,
+    return case_from_dict(read_case_file(path), name=path.stem, overrides=overrides,
                           labels=labels, check_step=check_step, base=path.parent)
+
+
+def read_case_file(path: str | Path) -> dict[str, Any]:
+    """The tables of a case file, read as every command reads one: a file too large, not
+    TOML, with an unknown table or key at the top or in ``[run]``, or whose ``run`` or
+    ``model`` is not a table, refused naming the file or the key.
+
+    The pair tables are read by :func:`~spurdyn.case.pair_tables.pair_from_dict`, the
+    ``[run]`` table's values by :func:`case_from_pair` (``run``, ``sweep``) or
+    :func:`file_torque` (``info``, ``stiffness``), with the same messages.
+    """
+    data = read_toml(Path(path))
+    check_keys(data, TOP_KEYS, "")
+    run = data.get("run")
+    if run is not None:
+        if not isinstance(run, dict):
+            raise InputError("run", "must be a table")
+        check_keys(run, RUN_KEYS, "run")
+    _model_kind(data.get("model"), {}, {})
+    return data
+
+
+def file_torque(data: Mapping[str, Any]) -> float | None:
+    """The ``[run]`` torque of a case file's tables (N m; ``None`` without one), refused as
+    ``spurdyn run`` refuses it (``run.torque``)."""
+    src = RunSource(data.get("run") or {}, "run", {}, {})
+    return src.number("torque", None, positive=False)
 
 
 #: ``[mesh]`` keys :func:`case_to_dict` writes only where they differ from these defaults (so

@@ -15,13 +15,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from spurdyn.case.files import read_text
 from spurdyn.errors import InputError
 from spurdyn.fem.material import STEEL, Material, check_plausible
 from spurdyn.iso6336 import materials as iso_materials
 from spurdyn.iso6336 import safety as iso_safety
 from spurdyn.geometry.blank import Blank
 from spurdyn.geometry.gear import MAX_MODULE, MAX_TEETH, Gear
-from spurdyn.geometry.pair import GearPair
+from spurdyn.geometry.pair import GearPair, default_centre_distance
 from spurdyn.geometry.rack import ISO_53, BasicRack, default_rack
 from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, DEFAULT_ROW_GRADING
 
@@ -361,6 +362,8 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     try:
         pair = GearPair(gear_a=gear_a, gear_b=gear_b, centre_distance=centre, driver=driver)
     except InputError as err:
+        if err.field == "centre_distance" and centre is None:
+            raise _no_clearance(data, gear_a, gear_b, err) from None
         if not err.field.startswith("gear_"):
             raise err.prefixed("pair") from None
         # GearPair names the gear's field; name the key written in the file instead.
@@ -379,6 +382,31 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     row_grading = _number(mesh_table, "row_grading", "mesh", DEFAULT_ROW_GRADING)
     return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading,
                       row_grading=row_grading)
+
+
+#: The keys of a gear table that set its root (its dedendum), in the order a refusal names them.
+ROOT_KEYS = ("root_radius", "dedendum", "basic_rack", "profile_shift")
+
+
+def _no_clearance(data: dict[str, Any], gear_a: Gear, gear_b: Gear,
+                  err: InputError) -> InputError:
+    """The refusal of a pair without a centre distance whose tip hits the other gear's root:
+    the centre distance is the pair's own, so name the key that set the root (or the tip)."""
+    a = default_centre_distance(gear_a, gear_b)
+    hit_b = a <= gear_a.tip_radius + gear_b.root_radius      # A's tip on B's root
+    root, tip = ("gear_b", "gear_a") if hit_b else ("gear_a", "gear_b")
+    for where, keys in ((root, ROOT_KEYS), (tip, ("tip_radius", "addendum"))):
+        table = data.get(where, data["gear_a"])
+        key = next((k for k in keys if k in table), None)
+        if key is None:
+            continue
+        if key == "basic_rack" and isinstance(table[key], dict):
+            key = "basic_rack.dedendum" if "dedendum" in table[key] else "basic_rack.addendum"
+        return InputError(f"{'gear_a' if where not in data else where}.{key}",
+                          f"leaves no clearance: a tip would hit the other gear's root at the "
+                          f"centre distance {a:.6g} m (the pair's own); a dedendum must exceed "
+                          "the mating addendum")
+    return err.prefixed("pair")
 
 
 def load_pair(path: str | Path) -> MeshedPair:
@@ -403,14 +431,10 @@ def read_toml(path: Path) -> dict[str, Any]:
     Raises
     ------
     InputError
-        Naming the file, if it is missing, unreadable or not valid TOML.
+        Naming the file, if it is missing, unreadable, too large (:func:`~spurdyn.case.files.read_text`)
+        or not valid TOML.
     """
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(str(path), "no such file; give a preset name or a TOML file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as err:
-        raise InputError(str(path), f"cannot be read ({type(err).__name__})") from None
+    text = read_text(path, str(path), "no such file; give a preset name or a TOML file")
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:

@@ -21,6 +21,7 @@ import math
 from pathlib import Path
 from typing import Any, Mapping
 
+from spurdyn.case.files import read_text
 from spurdyn.errors import InputError
 from spurdyn.settings import TorqueHistory
 
@@ -32,12 +33,7 @@ OPTIONAL_COLUMNS = ("load_Nm",)
 def read_history_csv(path: Path, key: str, periodic: bool = False) -> TorqueHistory:
     """The torque history in the CSV file ``path`` (module docstring); ``key`` names the case
     key or option that gave it, for the refusals."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(key, f"{str(path)!r}: no such file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError, OSError, ValueError) as err:
-        raise InputError(key, f"{str(path)!r} cannot be read ({type(err).__name__})") from None
+    text = read_text(path, key)
     header: list[str] | None = None
     columns: dict[str, list[float]] = {}
     for number, line in enumerate(text.splitlines(), start=1):

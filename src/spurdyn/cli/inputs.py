@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from spurdyn.case.pair_tables import MeshedPair, load_pair
+from spurdyn.case.pair_tables import MeshedPair, pair_from_dict
 from spurdyn.cli.options import parse_mesh
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
@@ -21,7 +21,23 @@ def resolve_pair(name: str) -> MeshedPair:
     if not name.endswith(".toml") and not Path(name).exists():
         raise InputError("CASE", f"unknown case {name!r}; use 'paper', a preset "
                          "(see 'spurdyn cases') or a .toml file")
-    return load_pair(name)
+    from spurdyn.case.file import read_case_file
+
+    return pair_from_dict(read_case_file(name), name=Path(name).stem)
+
+
+def case_torque(name: str) -> float | None:
+    """The driver's torque (N m) of a CASE argument: the paper's for ``paper`` and the
+    presets, a file's ``[run]`` torque (``None`` without one), read and refused as
+    ``spurdyn run`` reads and refuses it (:func:`~spurdyn.case.file.read_case_file`)."""
+    from spurdyn.case.file import file_torque, read_case_file
+    from spurdyn.case.presets import is_preset
+    from spurdyn.geometry.presets import PAPER_TORQUE
+
+    if name == "paper" or is_preset(name):
+        return PAPER_TORQUE
+    resolve_pair(name)                  # the file's tables first, in run's order
+    return file_torque(read_case_file(name))
 
 
 def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None,
@@ -45,6 +61,8 @@ def meshed_case(args: argparse.Namespace) -> MeshedPair:
                    row_grading=case.row_grading)
     except InputError as err:
         given = {"mesh.grading": args.grading, "mesh.row_grading": row_grading}
+        if err.field in ("mesh.nx", "mesh.ny") and args.mesh is not None:
+            raise InputError("--mesh", f"{err.field[5:]} {err.reason}") from None
         raise InputError(f"--{err.field[5:].replace('_', '-')}" if given.get(err.field) is not None
                          else err.field, err.reason) from None
     return case
@@ -59,4 +77,4 @@ def png_target(text: str) -> Path:
     return png
 
 
-__all__ = ["meshed_case", "png_target", "resolve_pair"]
+__all__ = ["case_torque", "meshed_case", "png_target", "resolve_pair"]

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
-import tomllib
 from dataclasses import replace
 from pathlib import Path
 from typing import Any, NoReturn, Sequence
@@ -20,7 +20,6 @@ from spurdyn.case.pair_tables import MeshedPair
 from spurdyn.cli.inputs import meshed_case, png_target, resolve_pair
 from spurdyn.cli.options import DYNAMICS_OVERRIDES, add_dynamics_options, parse_mesh
 from spurdyn.errors import InputError
-from spurdyn.geometry.presets import PAPER_TORQUE
 from spurdyn.simulators import MODELS
 from spurdyn.settings import BACKENDS, CONTACTS, DEFAULT_MODEL, METHODS
 
@@ -43,19 +42,22 @@ def _info_contact(args: argparse.Namespace, case: MeshedPair) -> tuple[str, floa
     under the file's ``[run]`` torque (or ``--torque``); a file without a torque to the
     point contact, unless ``--contact hertz`` asks for the strip (then a torque is needed)."""
     from spurdyn.case.presets import is_preset
+    from spurdyn.cli.inputs import case_torque
     from spurdyn.model.loading import static_force
+    from spurdyn.solvers.limits import check_torque
 
     paper = args.case == "paper" or is_preset(args.case)
     contact = args.contact or ("point" if paper else "hertz")
     if contact not in CONTACTS:
         raise InputError("--contact", f"must be one of {', '.join(CONTACTS)} (got {contact!r})")
-    torque = args.torque
-    if torque is None and paper:
-        torque = PAPER_TORQUE
+    torque, field = args.torque, "--torque"
     if torque is None:
-        with open(args.case, "rb") as fh:
-            torque = tomllib.load(fh).get("run", {}).get("torque")
-    known = isinstance(torque, (int, float)) and not isinstance(torque, bool) and torque > 0
+        torque, field = case_torque(args.case), "run.torque"
+    elif not (math.isfinite(torque) and torque >= 0.0):
+        raise InputError("--torque", f"must be a torque in N m, zero or positive (got {torque!r})")
+    if torque is not None:
+        check_torque(case.pair, torque, field)     # as run refuses it
+    known = torque is not None and torque > 0
     if contact == "point" or (not known and args.contact is None):
         return "point", None     # a pair without a load: the strip has no width to report
     if not known:

@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import tomllib
 
 from typing import Any
 
@@ -42,29 +41,30 @@ def add_stiffness_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_stiffness)
 
 
-def _torques(args: argparse.Namespace) -> list[float]:
-    from spurdyn.case.presets import is_preset
-    from spurdyn.geometry.presets import PAPER_TORQUE
+def _torques(args: argparse.Namespace, pair: Any) -> list[float]:
+    """The driver's torques of the command: ``--torque``'s, else the case's (read as ``run``
+    reads it), each refused beyond the elastic tooth as ``run`` refuses it."""
+    from spurdyn.cli.inputs import case_torque
+    from spurdyn.solvers.limits import check_torque
 
+    field = "--torque"
     if args.torque is not None:
         try:
             values = [float(v) for v in str(args.torque).split(",")]
         except ValueError:
             raise InputError("--torque", f"must be torques in N m separated by commas (got "
                              f"{args.torque!r})") from None
-    elif args.case == "paper" or is_preset(args.case):
-        values = [PAPER_TORQUE]
     else:
-        with open(args.case, "rb") as fh:
-            t = tomllib.load(fh).get("run", {}).get("torque")
+        t = case_torque(args.case)
         if t is None:
             raise InputError("--torque", "the case has no [run] torque: give the driver's "
                              "torque (N m) with --torque")
-        values = [t]
+        values, field = [t], "run.torque"
     for v in values:
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-            raise InputError("--torque", f"must be positive torques in N m (got {v!r})")
-    return [float(v) for v in values]
+        if not math.isfinite(v) or v <= 0:
+            raise InputError(field, f"must be positive torques in N m (got {v!r})")
+        check_torque(pair, v, field)
+    return values
 
 
 def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
@@ -78,10 +78,10 @@ def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
     if not 3 <= args.positions <= MAX_POSITIONS:
         raise InputError("--positions", f"must be a whole number from 3 to {MAX_POSITIONS} "
                          f"(got {args.positions})")
-    torques = _torques(args)
     case = meshed_case(args)
-    refuse_sector_row_grading(case.row_grading)   # a case file's [mesh] row_grading
     pair = case.pair
+    torques = _torques(args, pair)
+    refuse_sector_row_grading(case.row_grading)   # a case file's [mesh] row_grading
     if args.teeth is not None and not pairs_in_path(driving_pair(pair)) <= args.teeth:
         raise InputError("--teeth", f"must be at least the {pairs_in_path(pair)} teeth that carry "
                          "load together")

@@ -78,3 +78,22 @@ def blank_inertia(blank: Blank, root_radius: float, face_width: float, density: 
     return (ring_inertia(density, face_width, blank.hub_radius, blank.bore_radius)
             + ring_inertia(density, blank.web_width, blank.rim_radius, blank.hub_radius)
             + ring_inertia(density, face_width, root_radius, blank.rim_radius))
+
+
+#: The range of a given ``disk_inertia`` in units of the gear's own solid disk (the default
+#: blank's). Below: lighter than a thin rim under the teeth (a rim one module deep holds
+#: about ``4 m / r = 8 / z`` of the solid disk, 0.008 at the most teeth). Above: what a shaft can
+#: carry beside the gear, with a margin of a hundred (a flywheel of 0.3 kg m^2 beside the
+#: paper's gear is 1,000 times it, a motor's rotor beside a 17-tooth pinion some 2,500).
+#: Beyond either end the number is a slip of units (g mm^2, or 1e300), not a gear.
+INERTIA_RATIOS = (1e-3, 1e6)
+
+
+def check_disk_inertia(j: float, solid: float) -> None:
+    """Refuse a given ``disk_inertia`` ``j`` (kg m^2) beyond :data:`INERTIA_RATIOS` times the
+    gear's own solid disk's ``solid`` (the default blank's), naming ``disk_inertia``."""
+    low, high = INERTIA_RATIOS
+    if not low * solid <= j <= high * solid:
+        raise InputError("disk_inertia", f"{j:g} kg m^2 is {j / solid:.3g} times the gear's own "
+                         f"solid disk ({solid:.3g} kg m^2); give {low * solid:.3g} to "
+                         f"{high * solid:.3g} kg m^2 (inertia is in kg m^2)")

@@ -17,7 +17,7 @@ from spurdyn.errors import InputError
 from spurdyn.fem.material import STEEL, Material
 from spurdyn.geometry import involute as ivl
 from spurdyn.geometry import relief as rlf
-from spurdyn.geometry.blank import Blank, blank_inertia, check_blank
+from spurdyn.geometry.blank import Blank, blank_inertia, check_blank, check_disk_inertia
 from spurdyn.geometry.rack import ISO_53, BasicRack, default_rack, full_round_radius
 
 #: Default rack-cutter tip radius, as a fraction of the module, of a 20 deg gear: ISO 53
@@ -236,14 +236,17 @@ class Gear:
             require_positive("disk_inertia", self.disk_inertia)
             if self.blank is not None:
                 raise InputError("blank", "give either disk_inertia or a blank, not both")
+            check_disk_inertia(self.disk_inertia, self._blank_inertia(Blank()))
             return
         blank = Blank() if self.blank is None else self.blank
         check_blank(blank, self.root_radius, self.face_width)
-        # The blank, and every tooth but the elastic one, which brings its own mass.
-        j = blank_inertia(blank, self.root_radius, self.face_width, self.material.density) \
-            + (self.teeth - 1) * self.tooth_polar_inertia()
         object.__setattr__(self, "blank", blank)
-        object.__setattr__(self, "disk_inertia", j)
+        object.__setattr__(self, "disk_inertia", self._blank_inertia(blank))
+
+    def _blank_inertia(self, blank: Blank) -> float:
+        """The disk's inertia on ``blank`` (kg m^2): it, and every tooth but the elastic one."""
+        return blank_inertia(blank, self.root_radius, self.face_width, self.material.density) \
+            + (self.teeth - 1) * self.tooth_polar_inertia()
 
     @classmethod
     def standard(cls, teeth: int, module: float, pressure_angle_deg: float, face_width: float,

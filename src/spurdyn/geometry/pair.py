@@ -18,6 +18,14 @@ from spurdyn.geometry import working as wkg
 from spurdyn.geometry.gear import Gear, require_positive
 
 
+def default_centre_distance(gear_a: Gear, gear_b: Gear) -> float:
+    """The centre distance of a pair that gives none (m): zero backlash for the nominal
+    shifts, exactly ``r_1 + r_2`` without shift."""
+    return wkg.zero_backlash_centre_distance(
+        gear_a.pitch_radius + gear_b.pitch_radius, gear_a.pressure_angle,
+        gear_a.profile_shift + gear_b.profile_shift, gear_a.teeth + gear_b.teeth)
+
+
 @dataclass(frozen=True)
 class GearPair:
     """Two meshing gears, A and B, on a given centre distance.
@@ -40,10 +48,7 @@ class GearPair:
     def __post_init__(self) -> None:
         ga, gb = self.gear_a, self.gear_b
         if self.centre_distance is None:
-            # Zero backlash for the nominal shifts (exactly r_1 + r_2 without shift).
-            object.__setattr__(self, "centre_distance", wkg.zero_backlash_centre_distance(
-                ga.pitch_radius + gb.pitch_radius, ga.pressure_angle,
-                ga.profile_shift + gb.profile_shift, ga.teeth + gb.teeth))
+            object.__setattr__(self, "centre_distance", default_centre_distance(ga, gb))
         require_positive("centre_distance", self.centre_distance)
         if self.driver not in ("a", "b"):
             raise InputError("driver", f"must be 'a' or 'b' (got {self.driver!r})")

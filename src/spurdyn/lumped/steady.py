@@ -45,6 +45,13 @@ MAX_SAMPLE_INTERVAL = 1e-6
 Cycle = TableCycle | SectorCycle
 
 
+def samples_per_cycle(period: float) -> int:
+    """Samples a mesh cycle of ``period`` (s) keeps: :data:`SAMPLES_PER_CYCLE`, or more to keep
+    them :data:`MAX_SAMPLE_INTERVAL` apart at most (a whole number, so that every cycle is
+    sampled at the same phases)."""
+    return max(SAMPLES_PER_CYCLE, int(math.ceil(period / MAX_SAMPLE_INTERVAL)))
+
+
 def as_cycle(pair: GearPair, stiffness: MeshStiffnessTable | Cycle) -> Cycle:
     """A single-pair table as its :class:`~spurdyn.lumped.cycle.TableCycle`; a cycle as is."""
     return TableCycle(pair, stiffness) if isinstance(stiffness, MeshStiffnessTable) else stiffness
@@ -180,7 +187,7 @@ def _steady_grid(pair: GearPair, settings: RunSettings, cycle: Cycle, stiffnesse
     f_n = float(torsional_natural_frequency(pair, cycle.k_max))
     t_end = cycles * period
     # a whole number of samples a cycle, so that every cycle is sampled at the same phases
-    per_cycle = max(SAMPLES_PER_CYCLE, int(math.ceil(period / MAX_SAMPLE_INTERVAL)))
+    per_cycle = samples_per_cycle(period)
     h = period / per_cycle
     n_out = cycles * per_cycle + 1
     t = np.linspace(0.0, t_end, n_out)     # ends exactly at t_end, the integration's end

@@ -131,11 +131,21 @@ def steady_figures(ds: xr.Dataset, steady: dict[str, Any], complete: bool) -> di
                                 f"{m} mesh cycle(s) against its largest quasi-static value"
                                 + ("" if steady["settled"] else "; the run had not settled: "
                                    "its cycle-to-cycle change was above the tolerance")
-                                if ok else "none: the run stopped early"),
+                                if ok else _no_factor(complete, peak is not None)),
         "transmission_error_rms_m": steady["transmission_error_rms_m"],
         "transmission_error_pp_m": steady["transmission_error_pp_m"],
         "mesh_stiffness_mean_N_per_m": steady["mesh_stiffness_mean_N_per_m"],
     }
+
+
+def _no_factor(complete: bool, touched: bool) -> str:
+    """Why a steady run's summary has no dynamic factor, in the headline's words
+    (:func:`spurdyn.results.headline.headline`): stopped early, no contact, else no load."""
+    if not complete:
+        return "none: the run stopped early"
+    if not touched:
+        return "none: the teeth never touched"
+    return "none: no quasi-static force (zero torque)"
 
 
 __all__ = ["back_flank_figures", "pair_variables", "static_cycle_variables", "steady_figures"]

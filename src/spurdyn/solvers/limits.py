@@ -21,7 +21,6 @@ from typing import Any, Callable, Mapping
 
 from spurdyn.errors import InputError
 from spurdyn.fem.material import bursting_speed
-from spurdyn.model.loading import static_force
 from spurdyn.settings import PAPER_DT, RPM
 
 
@@ -93,13 +92,37 @@ def check_run_bounds(pair: Any, run: Any, field: Callable[[str], str]) -> None:
         raise InputError(field("tol_disp"), f"must lie between {tol_min:.2g} m (rounding of "
                          f"positions) and {tol_max:.2g} m (a millionth of the module) "
                          f"(got {run.tol_disp:g}); the paper uses 1e-12")
-    strain = static_force(pair, run.torque) / (driver.material.young * driver.face_width
-                                               * driver.module)
+    check_torque(pair, run.torque, field("torque"))
+    if run.torque_history is not None:
+        check_history_torques(pair, run.torque_history, field("torque_history"))
+
+
+def check_torque(pair: Any, torque: float, field: str, driven: bool = False,
+                 what: str = "") -> None:
+    """Refuse a torque (N m) whose quasi-static tooth force ``|T| / r_b`` strains the tooth
+    of the gear it acts on by more than :data:`MAX_STRAIN` (``F / (E b m)``): the driver's,
+    or with ``driven`` the driven gear's (a load torque). ``what`` says where the torque was
+    found (a torque history's sample), before the figures."""
+    gear = pair.gear_a if (pair.driver == "a") != driven else pair.gear_b
+    force = abs(torque) / gear.base_radius
+    strain = force / (gear.material.young * gear.face_width * gear.module)
     if strain > MAX_STRAIN:
-        top = MAX_STRAIN * driver.material.young * driver.face_width * driver.module \
-            * driver.base_radius
-        raise InputError(field("torque"), f"{run.torque:g} N m strains the driver's tooth by "
-                         f"about {strain:.2g}, beyond any elastic tooth; at most {top:.4g} N m")
+        top = MAX_STRAIN * gear.material.young * gear.face_width * gear.module * gear.base_radius
+        raise InputError(field, f"{what}{torque:g} N m strains the {'driven' if driven else 'driver'}"
+                         f"'s tooth by about {strain:.2g}, beyond any elastic tooth; at most "
+                         f"{top:.4g} N m")
+
+
+def check_history_torques(pair: Any, history: Any, field: str) -> None:
+    """:func:`check_torque` on the largest driver's and load torque of a torque history
+    (:class:`~spurdyn.settings.TorqueHistory`), naming the sample's time."""
+    for column, driven in (("driver", False), ("load", True)):
+        values = getattr(history, column)
+        if values is None:
+            continue
+        i = max(range(len(values)), key=lambda j: abs(values[j]))
+        check_torque(pair, values[i], field, driven,
+                     f"its {column} torque at {history.time[i]:g} s, ")
 
 
 def check_sampling(pair: Any, run: Any, field: Callable[[str], str]) -> None:
@@ -138,6 +161,13 @@ class Size:
         per step; the others' steps are cheap.
     sampling
         The ``[run]`` key that sets how many samples are kept (blamed for too many bytes).
+    blame
+        The ``[run]`` key blamed for too many steps; ``None``: the time step, where the
+        paper's would keep the run within the limit, else the speed (the FE model's rule).
+    steps_per_s
+        The model's steps a second, for the time a refusal estimates.
+    remedy
+        What would shorten the run, for the refusal.
     """
 
     steps: int
@@ -145,6 +175,9 @@ class Size:
     frame_bytes: int = 0
     steps_capped: bool = False
     sampling: str = "save_every"
+    blame: str | None = None
+    steps_per_s: float = STEPS_PER_S
+    remedy: str = "raise the speed, shorten --angle"
 
 
 def estimate(case: Any, frames: bool = True, steps_capped: bool = True) -> Size:
@@ -178,12 +211,14 @@ def check_size(case: Any, labels: Mapping[str, str], size: Size, *,
     """
     steps = size.steps
     if size.steps_capped and steps > MAX_STEPS:
-        # Blame the time step when the paper's would keep the run within the limit.
-        dt_blamed = steps * case.run.dt / PAPER_DT <= MAX_STEPS
-        key = _label(labels, "dt") if dt_blamed else speed_field or _label(labels, "speed_a_rpm")
+        if size.blame is None:  # the time step, when the paper's would keep the run within the limit
+            blame = "dt" if steps * case.run.dt / PAPER_DT <= MAX_STEPS else "speed_a_rpm"
+        else:
+            blame = size.blame
+        key = speed_field or _label(labels, blame) if blame == "speed_a_rpm" else _label(labels, blame)
         raise InputError(key, f"{case.name} would take {steps:,} steps (limit {MAX_STEPS:,}; "
-                         f"about {steps / STEPS_PER_S / 60:,.0f} min at {STEPS_PER_S:,} steps/s); raise the "
-                         f"speed, shorten --angle, or give {flag} to run it anyway")
+                         f"about {steps / size.steps_per_s / 60:,.0f} min at {size.steps_per_s:,.0f} "
+                         f"steps/s); {size.remedy}, or give {flag} to run it anyway")
     if size.bytes > MAX_BYTES:
         frames = size.frame_bytes > size.bytes / 2
         what = "frames_every" if frames else size.sampling
@@ -195,5 +230,5 @@ def check_size(case: Any, labels: Mapping[str, str], size: Size, *,
                          f"{'tooth frames' if frames else 'steps'} or give {flag} to run it anyway")
 
 
-__all__ = ["MAX_BYTES", "MAX_STEPS", "Size", "check_run_bounds", "check_sampling", "check_size", "engagement_steps",
-           "estimate"]
+__all__ = ["MAX_BYTES", "MAX_STEPS", "Size", "check_history_torques", "check_run_bounds", "check_sampling",
+           "check_size", "check_torque", "engagement_steps", "estimate"]

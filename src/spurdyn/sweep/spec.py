@@ -98,9 +98,11 @@ def parse_grid(text: str, field: str, *, positive: bool = True) -> tuple[float, 
                 raise InputError(field, f"STEP must be positive (got {step:g})")
             if stop < start:
                 raise InputError(field, f"STOP {stop:g} is below START {start:g}")
-            count = math.floor((stop - start) / step + 1e-6) + 1
-            if count > MAX_POINTS:
-                raise InputError(field, f"{count:,} values; at most {MAX_POINTS:,}")
+            span = (stop - start) / step      # inf for a step far below the range
+            if not span < MAX_POINTS:
+                many = f"{span + 1:,.0f}" if span < 1e15 else "more than 1e15"
+                raise InputError(field, f"{many} values; at most {MAX_POINTS:,}")
+            count = math.floor(span + 1e-6) + 1
             values = [start + i * step for i in range(count)]
         else:
             raise InputError(field, f"{text!r}: {syntax}")

@@ -153,9 +153,10 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
     return out
 
 
-def case_inputs(spec: str, case: Any, rows: list[dict[str, Any]], info: dict[str, Any]
-                ) -> dict[str, Any]:
-    """The case as given, each setting of the case marked given or taken by default."""
+def case_inputs(spec: str, case: Any, rows: list[dict[str, Any]], info: dict[str, Any],
+                options: dict[str, str]) -> dict[str, Any]:
+    """The case as given, each setting of the case marked given (in the file, or by the
+    option named in ``options``, dotted key -> option) or taken by default."""
     from spurdyn.case.file import case_to_dict
 
     text, given = None, {}
@@ -166,10 +167,11 @@ def case_inputs(spec: str, case: Any, rows: list[dict[str, Any]], info: dict[str
     settings = []
     for table, values in full.items():
         for key, value in _leaves(values):
+            name = f"{table}.{key}"
             mine = _lookup(given, [table, *key.split(".")])
-            settings.append({"key": f"{table}.{key}", "value": value,
-                             "source": "given" if mine is not None else
-                             "default (docs/engineer_defaults.md)"})
+            source = (f"given ({options[name]})" if name in options else "given"
+                      if mine is not None else "default (docs/engineer_defaults.md)")
+            settings.append({"key": name, "value": value, "source": source})
     sources = next((r["_sources"] for r in rows if r["_sources"].get("mesh_damping")), {})
     return {"case_file": spec if text is not None else None, "case_text": text,
             "settings": settings, "damping": sources,
@@ -242,7 +244,7 @@ def gather(plan: Any, sweep: Any, resonance: Any, args: argparse.Namespace, rpm:
         "case": case.name, "model": plan.model, "version": __version__,
         "rpm": list(plan.rpms), "torques_Nm": list(plan.torque_values),
         "verdict": verdict(rows, resonance, plan.rpms),
-        "inputs": case_inputs(args.case, case, rows, info) | {
+        "inputs": case_inputs(args.case, case, rows, info, _options(args)) | {
             "commands": commands(args.case, rpm, plan.torque_values, mesh, args.out)},
         "geometry": info,
         "mesh_cycle": cycle,
@@ -281,6 +283,16 @@ def pictures(meshed: Any, cycles: Any, cycle: dict[str, Any]) -> dict[str, str |
                    for r in cycle["torques"]]
             draw_mesh_cycle(cycles, f"{meshed.name}: quasi-static mesh cycle", png, iso)
             out["cycle"] = file_uri(png)
+    return out
+
+
+def _options(args: argparse.Namespace) -> dict[str, str]:
+    """The case keys the report's options set (the speed is set per point by --rpm)."""
+    out = {"run.speed_a_rpm": "--rpm", "run.speed_b_rpm": "--rpm (the case's ratio)"}
+    if args.mesh is not None:
+        out |= {"mesh.nx": "--mesh", "mesh.ny": "--mesh"}
+    if args.torque is not None:
+        out["run.torque"] = "--torque"
     return out
 
 

@@ -154,10 +154,11 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
 
 
 def case_inputs(spec: str, case: Any, rows: list[dict[str, Any]], info: dict[str, Any],
-                options: dict[str, str]) -> dict[str, Any]:
+                options: dict[str, str], model: str) -> dict[str, Any]:
     """The case as given, each setting of the case marked given (in the file, or by the
     option named in ``options``, dotted key -> option) or taken by default."""
     from spurdyn.case.file import case_to_dict
+    from spurdyn.simulators import MODELS
 
     text, given = None, {}
     if Path(spec).is_file():
@@ -165,9 +166,12 @@ def case_inputs(spec: str, case: Any, rows: list[dict[str, Any]], info: dict[str
         given = tomllib.loads(text)
     full = case_to_dict(case)
     settings = []
+    unread = set(MODELS[model].unread)
     for table, values in full.items():
         for key, value in _leaves(values):
             name = f"{table}.{key}"
+            if table == "run" and key.removesuffix("_rpm").removesuffix("_deg") in unread:
+                continue            # a setting this model does not read (another model's)
             mine = _lookup(given, [table, *key.split(".")])
             source = (f"given ({options[name]})" if name in options else "given"
                       if mine is not None else "default (docs/engineer_defaults.md)")
@@ -244,7 +248,7 @@ def gather(plan: Any, sweep: Any, resonance: Any, args: argparse.Namespace, rpm:
         "case": case.name, "model": plan.model, "version": __version__,
         "rpm": list(plan.rpms), "torques_Nm": list(plan.torque_values),
         "verdict": verdict(rows, resonance, plan.rpms),
-        "inputs": case_inputs(args.case, case, rows, info, _options(args)) | {
+        "inputs": case_inputs(args.case, case, rows, info, _options(args), plan.model) | {
             "commands": commands(args.case, rpm, plan.torque_values, mesh, args.out)},
         "geometry": info,
         "mesh_cycle": cycle,

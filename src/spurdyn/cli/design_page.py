@@ -38,7 +38,8 @@ def num(value: Any, fmt: str = ".4g", scale: float = 1.0) -> str:
     """A number formatted, or an em dash where it is absent."""
     if value is None:
         return "&mdash;"
-    return format(value if scale == 1.0 else value * scale, fmt)
+    text = format(value if scale == 1.0 else value * scale, fmt)
+    return text[1:] if text.startswith("-") and not text.strip("-0.,") else text  # no "-0.00"
 
 
 def table(head: Sequence[str], rows: Sequence[Sequence[Any]], left: int = 1) -> str:
@@ -155,7 +156,7 @@ def verdict_part(data: dict[str, Any]) -> str:
     words = (f"<ul>{warn}</ul>" if warn else
              "<p class=ok>No warning: every point complete and settled, no contact loss, "
              "no safety factor below 1, no resonance in or near the range.</p>")
-    return "<h2>1. Verdict</h2>" + table(["figure", "value", "source"], rows, left=1) + words
+    return "<h2>1. Verdict</h2>" + table(["figure", "value", "source"], rows, left=3) + words
 
 
 def inputs_part(data: dict[str, Any]) -> str:
@@ -164,7 +165,9 @@ def inputs_part(data: dict[str, Any]) -> str:
             if i["case_text"] is not None else "<p>A preset case (no file).</p>")
     rows = [[f"<code>{esc(s['key'])}</code>", esc(s["value"]),
              esc(s["source"])] for s in i["settings"]]
-    damp = [[k, esc(v)] for k, v in i["damping"].items() if v is not None]
+    damp = [[k.replace("_", " "), esc(", ".join(f"{a} {b:.4g}" if isinstance(b, float) else
+                                                f"{a}: {b}" for a, b in v.items()))]
+            for k, v in i["damping"].items() if v is not None]
     inert = i.get("disk_inertia_source") or {}
     damp += [[f"disk inertia {g.upper()}", esc(s)] for g, s in inert.items()]
     cmds = "\n".join(esc(c) for c in i["commands"])

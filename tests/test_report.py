@@ -83,6 +83,8 @@ def test_numbers_equal_their_sources(report):
     top = max(points, key=lambda p: p["dynamic_factor"])
     assert v["dynamic_factor_max"] == {"value": top["dynamic_factor"], "rpm": top["rpm"],
                                        "torque_Nm": 50.0}
+    at_top = [w for w in v["warnings"] if "top of the range" in w]
+    assert len(at_top) == (top["rpm"] == 4000.0)
     for key in ("safety_root_model", "safety_root_iso", "safety_contact_model",
                 "safety_contact_iso"):
         for i, g in enumerate("AB"):

@@ -149,6 +149,10 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
             who = "ISO 6336-1" if name == "iso" else "the model"
             warnings.append(f"the main mesh resonance ({who}: {res[name + '_rpm']:,.0f} rpm) "
                             f"is {place}")
+    top = out["dynamic_factor_max"]
+    if top is not None and len(rpms) > 1 and top["rpm"] == hi:
+        warnings.append(f"the largest dynamic factor ({top['value']:.3f}) is at the top of "
+                        f"the range, {hi:g} rpm: it may be larger above it")
     out["warnings"] = warnings
     return out
 

@@ -155,7 +155,8 @@ def verdict_part(data: dict[str, Any]) -> str:
     warn = "".join(f"<li class=warn>{esc(w)}</li>" for w in v["warnings"])
     words = (f"<ul>{warn}</ul>" if warn else
              "<p class=ok>No warning: every point complete and settled, no contact loss, "
-             "no safety factor below 1, no resonance in or near the range.</p>")
+             "no safety factor below 1, no resonance in or near the range, the largest "
+             "dynamic factor inside the range.</p>")
     return "<h2>1. Verdict</h2>" + table(["figure", "value", "source"], rows, left=3) + words
 
 

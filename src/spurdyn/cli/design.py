@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Iterator
 
@@ -83,7 +84,7 @@ def build_report_plan(args: argparse.Namespace) -> tuple[Any, str]:
     check_report_out(out, args.force)
     rpm = args.rpm if args.rpm is not None else _default_rpm(args.case)
     plan = build_plan(_sweep_namespace(args, rpm, out))
-    return plan, rpm
+    return replace(plan, run_pictures=False), rpm   # the page needs the numbers only
 
 
 class _PerPointLines:

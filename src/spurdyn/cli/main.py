@@ -331,6 +331,9 @@ def build_parser() -> argparse.ArgumentParser:
     from spurdyn.cli.cache import add_cache_parser
 
     add_cache_parser(sub)
+    from spurdyn.cli.design import add_report_parser
+
+    add_report_parser(sub)
 
     cases = sub.add_parser("cases", help="list the ready-made cases (presets)")
     cases.set_defaults(func=cmd_cases)

@@ -124,14 +124,15 @@ class SweepProgress:
 
 # -- writing ---------------------------------------------------------------------------
 
-def write_run_folder(out: Path, key: PointKey, case: Case, result: Result) -> Path:
+def write_run_folder(out: Path, key: PointKey, case: Case, result: Result,
+                     png: bool = True) -> Path:
     """Write a point's whole run folder (``spurdyn run``'s layout) to ``out/runs/``
     (:func:`spurdyn.results.folder.write_run_folder`)."""
     from spurdyn.results.folder import write_run_folder as write_folder
 
     target = run_path(out, key)
     target.parent.mkdir(parents=True, exist_ok=True)
-    return write_folder(result, case, target, force=True)[1]
+    return write_folder(result, case, target, force=True, png=png)[1]
 
 
 def short_error(err: BaseException, limit: int = 240) -> str:
@@ -176,8 +177,8 @@ def _point_stream(plan: SweepPlan, backend: Backend, tasks: list[PointTask],
 def _take_points(stream_: Iterator[tuple[PointTask | None, PointOutcome | None, str]],
                  backend: Backend,
                  out: Path, settings: dict[str, Any], cost: dict[PointKey, int], bar: SweepProgress,
-                 signals_before: int, records: dict[PointKey, dict[str, Any]]
-                 ) -> tuple[set[PointKey], dict[PointKey, str], bool, str]:
+                 signals_before: int, records: dict[PointKey, dict[str, Any]],
+                 png: bool = True) -> tuple[set[PointKey], dict[PointKey, str], bool, str]:
     """Write each point the moment it finishes, until the stream ends or the sweep stops.
 
     Parameters
@@ -198,6 +199,8 @@ def _take_points(stream_: Iterator[tuple[PointTask | None, PointOutcome | None, 
         :attr:`Interrupts.count` before the points started.
     records
         The points' records, by key: each point written is added.
+    png
+        Draw the pictures of the run folders kept.
 
     Returns
     -------
@@ -224,7 +227,7 @@ def _take_points(stream_: Iterator[tuple[PointTask | None, PointOutcome | None, 
             with Interrupts.held():
                 write_point(out, outcome, settings)
                 if outcome.result is not None:
-                    write_run_folder(out, task.key, task.case, outcome.result)
+                    write_run_folder(out, task.key, task.case, outcome.result, png)
                 records[task.key] = point_record(_without_result(outcome))
                 finished.add(task.key)
             bar.update(cost[task.key], outcome.status == COMPLETE)
@@ -320,7 +323,7 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     signals_before = Interrupts.count
     stream_ = _point_stream(plan, backend, tasks, records, fn)
     finished, missing, interrupted, stopped = _take_points(
-        stream_, backend, out, settings, cost, bar, signals_before, records)
+        stream_, backend, out, settings, cost, bar, signals_before, records, plan.run_pictures)
     _mark_missing(tasks, finished, missing, records, interrupted, stopped)
     ds, files = _write_results(plan, records, missing, resonance)
     return SweepReport(plan=plan, dataset=ds, computed=len(finished),

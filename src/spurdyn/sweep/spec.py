@@ -233,6 +233,9 @@ class SweepPlan:
         ``"down"``: the speeds run in that order, one after the other in this process, each
         point of a steady-state sweep starting from the previous speed's end state, so that
         the jumps of the nonlinear response show.
+    run_pictures
+        With ``keep_runs``: also draw each run folder's pictures (``spurdyn report`` keeps
+        only the numbers: drawn in the sweep's process, they cost seconds a point).
     """
 
     case: Case
@@ -243,6 +246,7 @@ class SweepPlan:
     keep_runs: bool = False
     force: bool = False
     continuation: str | None = None
+    run_pictures: bool = True
 
     @property
     def torque_values(self) -> tuple[float, ...]:

@@ -1,0 +1,192 @@
+"""``spurdyn report CASE``: a design report an engineer can hand on (issue 36).
+
+Order of work, as ``spurdyn sweep``: the options, the case and the output folder are
+checked before anything is written (a refusal is one line naming the key, exit status
+2). The speed points then run through the sweep's own machinery (the registry, the
+sweep store in ``DIR/sweep`` with each point's run folder, a local Dask cluster or the
+one at ``--scheduler``), so a repeated report reuses its finished points and an
+interrupted one resumes. The page ``DIR/report.html`` and its numbers ``DIR/report.json``
+are written last, also when some points failed (they show as failed, with their reason).
+See docs/report.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+from typing import Any, Iterator
+
+from spurdyn.errors import InputError
+
+#: Exit statuses (those of ``spurdyn sweep``).
+EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
+
+#: The default speed range, as fractions of the case's speed of A, and its speeds.
+DEFAULT_RANGE, DEFAULT_SPEEDS = (0.25, 1.5), 6
+
+#: The files a report writes in its folder (the sweep's store is ``SWEEP_DIR``).
+HTML_FILE, JSON_FILE, SWEEP_DIR = "report.html", "report.json", "sweep"
+
+
+def check_report_out(out: Path, force: bool) -> None:
+    """Refuse a folder that cannot hold a report (nothing is created).
+
+    A folder that exists and is not empty must hold a report (``report.json`` or the
+    sweep store) unless ``--force``: a report adds to its own folder, resuming it.
+    """
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", f"{out} is a file, not a folder; give another --out")
+    if out.is_dir() and any(out.iterdir()) and not force:
+        if not ((out / JSON_FILE).is_file() or (out / SWEEP_DIR).is_dir()):
+            raise InputError("--out", f"{out} exists, is not empty and holds no report; give "
+                             "another --out (or --force)")
+
+
+def _sweep_namespace(args: argparse.Namespace, rpm: str, out: Path) -> argparse.Namespace:
+    """The options of ``spurdyn sweep`` for the report's points: its parser's defaults,
+    the report's case, speeds, torques, mesh and cluster, every point's run folder kept."""
+    from spurdyn.cli.sweep import add_sweep_parser
+
+    parser = argparse.ArgumentParser(add_help=False)
+    add_sweep_parser(parser.add_subparsers())
+    ns = parser.parse_args(["sweep", args.case, "--rpm", rpm])
+    ns.torque, ns.mesh, ns.jobs, ns.scheduler = args.torque, args.mesh, args.jobs, args.scheduler
+    ns.out, ns.keep_runs, ns.force, ns.quiet = str(out / SWEEP_DIR), True, args.force, args.quiet
+    return ns
+
+
+def _default_rpm(case_spec: str) -> str:
+    """``--rpm`` when not given: :data:`DEFAULT_SPEEDS` speeds over :data:`DEFAULT_RANGE`
+    of the case's speed of A."""
+    from spurdyn.cli.sweep import resolve_sweep_case
+    from spurdyn.settings import RPM
+
+    case = resolve_sweep_case(case_spec, {}, {}, 1000.0)
+    rpm = case.run.speed_a / RPM
+    lo, hi = (round(rpm * f, 3) for f in DEFAULT_RANGE)
+    return f"{lo:g}:{hi:g}/{DEFAULT_SPEEDS}"
+
+
+def build_report_plan(args: argparse.Namespace) -> tuple[Any, str]:
+    """Check the options, the case and the folder; the sweep plan and the ``--rpm`` used.
+
+    Raises
+    ------
+    InputError
+        Naming the option or case key (nothing is written).
+    """
+    from spurdyn.cli.sweep import build_plan
+
+    out = Path(args.out)
+    check_report_out(out, args.force)
+    rpm = args.rpm if args.rpm is not None else _default_rpm(args.case)
+    plan = build_plan(_sweep_namespace(args, rpm, out))
+    return replace(plan, run_pictures=False), rpm   # the page needs the numbers only
+
+
+class _PerPointLines:
+    """A backend that passes every point through and, off a terminal, prints a plain line
+    per point finished (points done, time spent, time left); on a terminal the sweep's
+    tqdm bar shows the same."""
+
+    def __init__(self, backend: Any, total: int, enabled: bool) -> None:
+        self.backend, self.total, self.enabled = backend, total, enabled
+        self.description = getattr(backend, "description", "")
+
+    def run(self, tasks: Any, fn: Any) -> Iterator[Any]:
+        t0, done = time.perf_counter(), 0
+        for task, outcome, note in self.backend.run(tasks, fn):
+            done += 1
+            if self.enabled:
+                spent = time.perf_counter() - t0
+                left = spent / done * (self.total - done)
+                status = outcome.status if outcome is not None else (note or "not run")
+                print(f"spurdyn: point {done}/{self.total} ({task.key.rpm:g} rpm, "
+                      f"{task.key.torque:g} N m): {status}; {spent:.0f} s spent, about "
+                      f"{left:.0f} s left", file=sys.stderr, flush=True)
+            yield task, outcome, note
+
+    def cancel(self) -> None:
+        self.backend.cancel()
+
+
+def _backend(args: argparse.Namespace, todo: int) -> tuple[Any, str]:
+    """Where the points run (the sweep command's seams, so tests can replace them)."""
+    from spurdyn.cli import sweep as cli_sweep
+    from spurdyn.sweep import backends
+
+    if todo == 0:
+        return cli_sweep._nothing_to_run(), "no worker"
+    if args.scheduler is not None:
+        return cli_sweep.scheduler_backend(args.scheduler), args.scheduler
+    jobs = min(args.jobs or backends.default_jobs(), todo)
+    return cli_sweep.local_backend(jobs), f"{jobs} local worker{'s' if jobs > 1 else ''}"
+
+
+def run_points(plan: Any, args: argparse.Namespace) -> Any:
+    """Run the report's missing points through :func:`spurdyn.sweep.runner.run_sweep`."""
+    from spurdyn.sweep.resonance import resonance_estimate
+    from spurdyn.sweep.runner import points_to_compute, run_sweep
+
+    resonance = resonance_estimate(plan.case, plan.model)
+    todo = len(points_to_compute(plan))
+    backend_cm, where = _backend(args, todo)
+    if not args.quiet:
+        print(f"spurdyn: report of {plan.case.name}: {len(plan.keys())} points, {todo} to "
+              f"compute on {where}", file=sys.stderr, flush=True)
+    plain = not args.quiet and not sys.stderr.isatty()
+    with backend_cm as backend:
+        sweep = run_sweep(plan, _PerPointLines(backend, todo, plain), resonance=resonance,
+                          progress=not args.quiet)
+    return sweep, resonance
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    """Run ``spurdyn report``; return the exit status."""
+    from spurdyn.cli.design_data import gather
+    from spurdyn.cli.design_page import write_report
+
+    if args.out is None:
+        args.out = str(Path("out") / f"report-{Path(args.case).stem}")
+    plan, rpm = build_report_plan(args)
+    sweep, resonance = run_points(plan, args)
+    data = gather(plan, sweep, resonance, args, rpm)
+    html, js = write_report(Path(args.out), data)
+    if not args.quiet:
+        print(f"-> {html}\n-> {js}")
+    return EXIT_OK if sweep.all_complete else EXIT_INCOMPLETE
+
+
+def add_report_parser(sub: argparse._SubParsersAction) -> None:
+    """Add ``spurdyn report`` to the subcommands."""
+    p = sub.add_parser(
+        "report", help="a design report: one self-contained HTML page and its numbers in JSON",
+        description="Write DIR/report.html (one self-contained page: verdict, inputs, "
+        "geometry, quasi-static mesh cycle, figures against speed, ISO 6336 rating, model "
+        "and limits) and DIR/report.json (every number the page shows). The speed points "
+        "run as 'spurdyn sweep' runs them (kept in DIR/sweep: a repeated report reuses "
+        "them, an interrupted one resumes). Exit status: 0 every point complete, 1 some "
+        "point not complete (shown on the page), 2 bad input (nothing written). See "
+        "docs/report.md.")
+    p.add_argument("case", metavar="CASE", help="a TOML case file (or a preset name)")
+    p.add_argument("--rpm", metavar="A:B/N", help="speeds of gear A (rpm): START:STOP/N, "
+                   "START:STOP:STEP or A,B,C (default: 6 speeds from 1/4 to 1.5 times the "
+                   "case's speed)")
+    p.add_argument("--torque", metavar="T1,T2,...", help="driver torques (N m; default the "
+                   "case's)")
+    p.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
+    p.add_argument("--jobs", type=int, metavar="N",
+                   help="worker processes of the local Dask cluster (default: one per core)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="run the points on the existing Dask cluster of this scheduler")
+    p.add_argument("--out", metavar="DIR", help="report folder (default out/report-<case>); "
+                   "running again into it reuses the finished points")
+    p.add_argument("--force", action="store_true", help="compute every point again")
+    p.add_argument("--quiet", action="store_true", help="no progress, no report lines")
+    p.set_defaults(func=cmd_report)
+
+
+__all__ = ["add_report_parser", "build_report_plan", "check_report_out", "cmd_report"]

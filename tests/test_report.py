@@ -1,0 +1,220 @@
+"""``spurdyn report``: its numbers equal the results they came from, the page is one
+self-contained file, a repeated report reuses its points, a failed point is shown and the
+rest still written, bad input is refused before any point runs; and the page checked in a
+real browser (headless Chromium, skipped where none is installed).
+
+The points are real sector-model runs of the 23/47 example on a coarse 2 x 8 tooth mesh,
+run in this process (the local Dask cluster replaced by the serial backend, as
+test_sweep.py does), two speeds and one torque.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import shutil
+from contextlib import contextmanager
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+
+from spurdyn.cli import sweep as cli_sweep
+from spurdyn.cli.main import main
+from spurdyn.sweep import point as point_mod
+from spurdyn.sweep.backends import SerialBackend
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pinion_23_47.toml"
+ARGS = ["--mesh", "2x8", "--rpm", "2000,4000", "--jobs", "1"]
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+@contextmanager
+def serial_cluster():
+    """The points run in this process (the local cluster's seam replaced)."""
+    with pytest.MonkeyPatch.context() as mp:
+        @contextmanager
+        def local(jobs):
+            yield SerialBackend()
+
+        mp.setattr(cli_sweep, "local_backend", local)
+        yield mp
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    """One report of two speeds (exit status, stderr, folder)."""
+    out = tmp_path_factory.mktemp("report") / "rep"
+    with serial_cluster():
+        code = main(["report", str(EXAMPLE), *ARGS, "--out", str(out)])
+    return code, out
+
+
+class Page(HTMLParser):
+    """The tags and attributes of a page."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.attrs: list[tuple[str, str, str]] = []
+
+    def handle_starttag(self, tag, attrs):
+        self.attrs += [(tag, k, v or "") for k, v in attrs]
+
+
+def test_numbers_equal_their_sources(report):
+    from spurdyn.case.file import load_case
+    from spurdyn.iso6336.rating import iso_pair, rate
+
+    code, out = report
+    assert code == 0
+    data = json.loads((out / "report.json").read_text())
+    points = data["speed"]["points"]
+    assert [p["rpm"] for p in points] == [2000.0, 4000.0]
+    for p in points:
+        s = json.loads((out / p["summary"]).read_text())
+        assert p["status"] == s["status"] == "complete"
+        for key in ("dynamic_factor", "settled", "transmission_error_rms_m",
+                    "transmission_error_pp_m", "root_stress_max_Pa", "contact_pressure_max_Pa",
+                    "safety_root_model", "safety_root_iso", "safety_contact_model",
+                    "safety_contact_iso", "iso6336_k_v", "separations"):
+            assert p[key] == s[key], key
+        assert s["speed_a_rpm"] == pytest.approx(p["rpm"], rel=1e-12)
+    v = data["verdict"]
+    top = max(points, key=lambda p: p["dynamic_factor"])
+    assert v["dynamic_factor_max"] == {"value": top["dynamic_factor"], "rpm": top["rpm"],
+                                       "torque_Nm": 50.0}
+    at_top = [w for w in v["warnings"] if "top of the range" in w]
+    assert len(at_top) == (top["rpm"] == 4000.0)
+    for key in ("safety_root_model", "safety_root_iso", "safety_contact_model",
+                "safety_contact_iso"):
+        for i, g in enumerate("AB"):
+            assert v[f"{key}_min"][g]["value"] == min(p[key][i] for p in points)
+    case = load_case(str(EXAMPLE))
+    assert data["geometry"]["contact_ratio"] == case.pair.contact_ratio
+    r = rate(iso_pair(case.pair), 50.0)
+    row = data["mesh_cycle"]["torques"][0]
+    assert row["iso6336_mesh_N_per_m"] == pytest.approx(r.mesh * case.pair.gear_a.face_width,
+                                                        rel=1e-12)
+    assert 0 < row["mesh_stiffness_mean_N_per_m"]
+    rated = data["rating"][0]
+    s = json.loads((out / rated["summary"]).read_text())
+    assert rated["rating_iso"] == s["rating_iso"]
+    assert min(rated["rating_iso"]["S_F"]) == min(min(p["safety_root_iso"]) for p in points)
+    given = {x["key"]: x["source"] for x in data["inputs"]["settings"]}
+    assert given["gear_a.teeth"] == "given" and given["mesh.nx"] == "given (--mesh)"
+    assert given["gear_a.addendum"].startswith("default")
+
+
+def test_page_is_self_contained(report):
+    _, out = report
+    text = (out / "report.html").read_text()
+    page = Page()
+    page.feed(text)
+    imgs = [v for tag, k, v in page.attrs if tag == "img" and k == "src"]
+    assert len(imgs) == 3                     # the teeth, the mesh cycle, against speed
+    for src in imgs:
+        head, payload = src.split(",", 1)
+        assert head == "data:image/png;base64"
+        assert base64.b64decode(payload)[:8] == PNG_MAGIC
+    for tag, k, v in page.attrs:
+        assert k not in ("src", "href") or not v.lower().startswith(("http:", "https:", "//")), (tag, v)
+    assert "<script" not in text and "<link" not in text and "@media print" in text
+    for part in ("1. Verdict", "2. Inputs", "3. Geometry", "4. Quasi-static mesh cycle",
+                 "5. Against speed", "6. Rating", "7. Model and limits"):
+        assert part in text
+
+
+def test_repeat_reuses_points_and_shows_a_failed_one(report, tmp_path, capsys):
+    """A third speed whose run fails: the two finished points are not computed again, the
+    failed one is on the page with its reason, the rest still written (exit status 1)."""
+    _, first = report
+    out = tmp_path / "rep"
+    shutil.copytree(first, out)
+    computed = []
+
+    def failing(model, case):
+        computed.append(case.run.speed_a)
+        raise RuntimeError("the solver diverged (a test)")
+
+    with serial_cluster() as mp:
+        mp.setattr(point_mod, "simulate_model", failing)
+        code = main(["report", str(EXAMPLE), *ARGS[:2], "--rpm", "2000,3000,4000",
+                     "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 1 and len(computed) == 1
+    assert "point 1/1 (3000 rpm, 50 N m): failed" in err          # a line per point
+    data = json.loads((out / "report.json").read_text())
+    bad = [p for p in data["speed"]["points"] if p["status"] != "complete"]
+    assert [p["rpm"] for p in bad] == [3000.0] and bad[0]["status"] == "failed"
+    assert "the solver diverged" in bad[0]["reason"] and bad[0]["dynamic_factor"] is None
+    assert any("3000 rpm" in w and "failed" in w for w in data["verdict"]["warnings"])
+    assert "the solver diverged (a test)" in (out / "report.html").read_text()
+
+
+@pytest.mark.parametrize("extra, field", [
+    (["--rpm", "abc"], "--rpm"),
+    (["--rpm", "1000", "--torque", "-5"], "--torque"),
+    (["--rpm", "1000", "--jobs", "0"], "--jobs"),
+    (["--rpm", "1000", "--mesh", "2y8"], "--mesh"),
+])
+def test_bad_input_refused(tmp_path, capsys, extra, field):
+    out = tmp_path / "rep"
+    with serial_cluster() as mp:
+        mp.setattr(point_mod, "simulate_model", lambda *a: pytest.fail("a point ran"))
+        code = main(["report", str(EXAMPLE), *extra, "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and field in err[0], err
+    assert not out.exists()
+
+
+def test_bad_case_refused(tmp_path, capsys):
+    case = tmp_path / "bad.toml"
+    case.write_text(EXAMPLE.read_text().replace("face_width = 0.020", "face_widht = 0.020", 1))
+    code = main(["report", str(case), "--rpm", "1000", "--out", str(tmp_path / "rep")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "face_widht" in err[0], err
+    assert not (tmp_path / "rep").exists()
+    (tmp_path / "file").write_text("x")
+    assert main(["report", str(EXAMPLE), "--out", str(tmp_path / "file")]) == 2
+    assert "--out" in capsys.readouterr().err
+
+
+def _chromium() -> tuple[str, str] | None:
+    for browser in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(browser)
+        if path and shutil.which("chromedriver"):
+            return path, shutil.which("chromedriver")
+    return None
+
+
+def test_page_in_a_real_browser(report, tmp_path):
+    """Every figure loaded (naturalWidth > 0), no error in the browser's console; a
+    screenshot kept under tmp_path."""
+    found = _chromium()
+    if found is None:
+        pytest.skip("no Chromium and chromedriver installed (Debian: apt-get install "
+                    "chromium chromium-driver): the browser test did not run")
+    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed "
+                                    "(pip install -e '.[test]'): the browser test did not run")
+    from selenium.webdriver.chrome.service import Service
+
+    _, out = report
+    options = webdriver.ChromeOptions()
+    options.binary_location = found[0]
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1280,2000",
+                "--disable-dev-shm-usage"):
+        options.add_argument(arg)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(service=Service(found[1]), options=options)
+    try:
+        driver.get((out / "report.html").resolve().as_uri())
+        widths = driver.execute_script(
+            "return Array.from(document.images).map(i => i.complete ? i.naturalWidth : 0)")
+        shot = tmp_path / "report.png"
+        driver.save_screenshot(str(shot))
+        logs = driver.get_log("browser")
+    finally:
+        driver.quit()
+    assert len(widths) == 3 and all(w > 0 for w in widths), widths
+    assert [e for e in logs if e["level"] in ("SEVERE", "ERROR")] == []
+    assert shot.read_bytes()[:8] == PNG_MAGIC

@@ -199,9 +199,10 @@ def test_an_angle_a_steady_state_would_not_read_is_refused(fake, here, capsys, a
 
 
 def test_a_case_files_angle_beside_cycles_is_refused_by_its_key(fake, here, capsys):
-    from test_properties import case_file
-
-    path = case_file(here, {"angle_deg": 5.0, "cycles": 5})
+    # the designer's file (no key the lumped model does not read: those are refused first)
+    example = Path(__file__).resolve().parents[1] / "examples" / "pinion_23_47.toml"
+    path = here / "p.toml"
+    path.write_text(example.read_text() + "angle_deg = 5.0\ncycles = 5\n")
     err = refused(capsys, here, "run", path, "--model", "lumped", "--out", here / "o")
     assert err.startswith("spurdyn: error: run.angle_deg: is one engagement's"), err
 

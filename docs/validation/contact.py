@@ -1,4 +1,4 @@
-"""Measure the distributed (Hertzian) contact beside the paper's point contact (issue 14).
+"""Measure the distributed (Hertzian) contact beside the paper's point contact.
 
     .venv/bin/python docs/validation contact_validation [--only PART ...]
 

@@ -1,4 +1,4 @@
-"""The implicit integrator against the paper's RK4 (issue 16): writes docs/implicit_validation.md.
+"""The implicit integrator against the paper's RK4: writes docs/implicit_validation.md.
 
     .venv/bin/python docs/validation implicit_validation          # ~1.5 min
     .venv/bin/python docs/validation implicit_validation --fine   # and the fine meshes, ~6 min
@@ -205,7 +205,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     damp = damping()
     sens = sensitivity(fig10)
     lines = [
-        "# The implicit integrator against RK4 (issue 16)",
+        "# The implicit integrator against RK4",
         "",
         "Written by `docs/validation/implicit.py` (" + time.strftime("%Y-%m-%d") +
         f", {time.time() - t0:.0f} s on this 2-core machine); the method is derived in "
@@ -217,7 +217,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "*shift* is its time minus RK4's, or that of an extra touch before it nearer to it than "
         "to the previous contact's end (the teeth struck early, then bounced off). "
         "The implicit touches no RK4 impact took are listed as *extra*, with their duration "
-        "and peak force (an early touch is listed there too). *Criteria* are the issue's four "
+        "and peak force (an early touch is listed there too). *Criteria* are the four asked of it "
         "(steps at most 1/20 of RK4's, RMS within 2 %, averaged peak within 1 %, every RK4 "
         "impact within 2 us).",
         "",

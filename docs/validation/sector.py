@@ -1,4 +1,4 @@
-"""The sector model's quasi-static mesh cycle against ISO 6336-1 and its own limits (issue 15):
+"""The sector model's quasi-static mesh cycle against ISO 6336-1 and its own limits:
 writes docs/sector_validation.md.
 
     .venv/bin/python docs/validation sector_validation        # ~2 min
@@ -97,7 +97,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     thin = with_blank(example, Blank(hub_radius=0.012, rim_radius=example.gear_a.root_radius - 3 * 0.002,
                                      web_width=0.006))
     lines = [
-        "# The sector model's quasi-static mesh cycle (issue 15)",
+        "# The sector model's quasi-static mesh cycle",
         "",
         f"Written by `docs/validation/sector.py` ({time.strftime('%Y-%m-%d')}, "
         "{seconds} s on this 2-core machine); the model and its derivation are in docs/sector.md. "

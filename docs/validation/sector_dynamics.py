@@ -342,7 +342,7 @@ def render(f: dict) -> str:
         "## Load balance (quasi-static, 10 rpm, 100 steps a cycle)",
         "",
         f"- The pairs' forces sum to `T / r_b` within **{b['load_balance_max_rel'] * 100:.3f} %** "
-        "at every step (the issue asks 0.5 %).",
+        "at every step (the target is 0.5 %).",
         f"- Away from the path's ends the transmission error is the static mesh cycle's at the "
         f"run's phase within {b['te_vs_static_max_rel'] * 100:.2f} % (static mean "
         f"{b['te_static_mean_um']:.2f} µm). Near the ends the run has the tip corners' early "
@@ -398,14 +398,14 @@ def render(f: dict) -> str:
          f"c = 2 zeta sqrt(k(phi) m_e); over the stretch of single contact it is a ratio of "
          f"{r5['zeta_single']:.4f} on the single pair's own stiffness W/e) the damped cosine "
          f"fitted to the 10-µs-averaged ring's {r5['periods']} periods decays at **{r5['decay_ratio']:.4f}** "
-         f"({(r5['decay_ratio'] / 0.05 - 1) * 100:+.1f} % of the ratio asked; the issue's check: "
+         f"({(r5['decay_ratio'] / 0.05 - 1) * 100:+.1f} % of the ratio asked; the check: "
          f"within 10 %; misfit {r5['fit_misfit'] * 100:.1f} % of its amplitude)."
          if r5["decay_ratio"] is not None else "Too few periods to measure the decay."),
         "",
         "## Time step (4 cycles, zeta = 0.05, against a tenth of the default step)",
         "",
         "The sector model has no RK4 twin; its reference is the same scheme at a tenth of the "
-        "default step. The issue's measures: the 10-µs-averaged mesh force's RMS difference over "
+        "default step. The measures: the 10-µs-averaged mesh force's RMS difference over "
         "the run against its peak (asked: within 2 %), the contact onsets' times (within 2 µs) "
         "and the settled dynamic factor (within 1 %).",
         "",

@@ -1,4 +1,4 @@
-"""The sector model's implicit loop against an RK4 reference (issue 16): writes
+"""The sector model's implicit loop against an RK4 reference: writes
 docs/sector_rk4_validation.md (and its numbers, docs/sector_rk4_validation.json).
 
     .venv/bin/python docs/validation sector_rk4_validation       # ~10 min on one core
@@ -209,9 +209,9 @@ def summary(rows: list[dict]) -> list[str]:
            "run also lets go, is matched like any other change."
            if lone else "none."),
         "",
-        ("So the implicit loop at its default step meets the issue's four criteria at the three speeds "
+        ("So the implicit loop at its default step meets its four criteria at the three speeds "
          f"({', '.join(f'{n:,}' for n in passed)} rpm)." if len(passed) == len(rows) else
-         "So the implicit loop at its default step meets the issue's four criteria at "
+         "So the implicit loop at its default step meets its four criteria at "
          + (", ".join(f"{n:,}" for n in passed) or "none of the speeds")
          + " rpm; the others fail as the table says.")
         + f" How narrowly: the largest impact shift is {worst_made * 1e6:.2f} us against the 2 us asked "
@@ -232,10 +232,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     rows = [compare(rpm) for rpm in SPEEDS_RPM]
     save_figures(DATA, dict(stability=stiff, rows=rows))
     lines = [
-        "# The sector model: implicit against RK4 (issue 16)",
+        "# The sector model: implicit against RK4",
         "",
         "Written by `docs/validation/sector_rk4.py` (the numbers also in "
-        "`sector_rk4_validation.json`). Issue 16 asks of the implicit integrator, on the sector model at "
+        "`sector_rk4_validation.json`). The implicit integrator is asked, on the sector model at "
         "three speeds: at its default step against RK4 at the paper's step (3e-8 s), the 10-µs-averaged "
         "contact force within 2 % RMS of its peak, impacts made within 2 µs, the settled dynamic factor "
         "within 1 %, with a time step at least 20 times RK4's.",
@@ -284,7 +284,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "brackets; the settled dynamic factor of each (`results.pairs.steady_figures`). Over the "
         "whole run: the contacts made and broken by each pair (a pair's force becoming positive or "
         "zero: entries and exits) in RK4 and the implicit run, and the largest time between an RK4 "
-        "change and the implicit run's nearest, for contacts made (impacts: the issue's 2 µs) and "
+        "change and the implicit run's nearest, for contacts made (impacts: the 2 µs asked) and "
         "broken (reported); separations of the whole mesh (impacts after them, matched as in "
         "implicit_validation.md). Where RK4's force touches zero for less than one implicit step "
         "and no implicit change is near, the two changes are listed with the implicit run's least "

@@ -1,4 +1,4 @@
-"""Root stress against the mesh and against ISO 6336-3 (issue 17): writes docs/stress_validation.md.
+"""Root stress against the mesh and against ISO 6336-3: writes docs/stress_validation.md.
 
     .venv/bin/python docs/validation stress_validation
 
@@ -155,7 +155,7 @@ def render(rows: list[dict], seconds: float, dynamic: list[dict] | None = None) 
     conv = [abs(r["meshes"][-2]["tension"] / r["meshes"][-1]["tension"] - 1) * 100 for r in rows]
     out += ["## What it shows", "",
             f"* **Convergence.** Between the two finest meshes (12 × 40 and 16 × 56, graded 6) "
-            f"the peak changes by {', '.join(f'{c:.2f} %' for c in conv)} (issue 17 asks < 3 %).",
+            f"the peak changes by {', '.join(f'{c:.2f} %' for c in conv)} (the target is < 3 %).",
             f"* **Against ISO 6336-3.** The FE peak is {', '.join(f'{b:.2f}' for b in best)} "
             "of σ_F0 on the finest mesh. The differences are the model's and the standard's: "
             "ISO's Y_F is a cantilever-beam stress at the 30° tangent section and Y_S "
@@ -171,8 +171,8 @@ def render(rows: list[dict], seconds: float, dynamic: list[dict] | None = None) 
             "without limit as the mesh is refined, not a point of the gear. "
             + (f"It holds the peak for {', '.join(at_corner)}: that gear's fillet is cut above "
                "the point where its stress would peak, so its figure is the model's, not the "
-               "gear's, and the mesh study there does not converge; the elastic rim of issue 15 "
-               "removes the cut." if at_corner else "No pair here has its peak there."), ""]
+               "gear's, and the mesh study there does not converge; the sector model's elastic "
+               "rim removes the cut." if at_corner else "No pair here has its peak there."), ""]
     hz = contact_check()
     if hz:
         out += ["## Contact pressure: the strip, Hertz and ISO 6336-2", "",

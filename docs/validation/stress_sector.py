@@ -1,5 +1,5 @@
 """The sector model's quasi-static root stress on the elastic rim against the mesh and ISO
-6336-3 (issue 35): writes the section "Sector model: the root on its rim" of
+6336-3: writes the section "Sector model: the root on its rim" of
 docs/stress_validation.md, its figures in docs/stress_sector.json.
 
     .venv/bin/python docs/validation stress_sector

@@ -41,18 +41,18 @@ that script from the runs it makes (re-run it to regenerate the page and the fig
 stepper), {total / 60:.1f} min of computing in all, made {dates[0]} – {dates[-1]} on
 {"commit " + gits[0] if len(gits) == 1 else "commits " + ", ".join(gits)}.*
 
-> **The distributed contact (issue 14)** is measured on its own page,
+> **The distributed contact** is measured on its own page,
 > [`docs/contact_validation.md`](contact_validation.md), written by
 > `docs/validation/contact.py`: stiffness against the mesh (even and graded), every
 > preset and Figs. 8-10 on finer meshes with both contacts, pairs at design loads, Hertz,
 > energy. This page measures the paper's point contact, which its presets use.
 >
-> **Root and contact stress (issue 17)** are measured on
+> **Root and contact stress** are measured on
 > [`docs/stress_validation.md`](stress_validation.md), written by
 > `docs/validation/stress.py`: the fillet stress against the mesh and ISO 6336-3 for
 > three pairs, the strip against Hertz and ISO 6336-2, the dynamic root stress of Figs. 8-10.
 >
-> **The sector model (issues 15, 16)**, several elastic teeth on elastic rims, is measured on
+> **The sector model**, several elastic teeth on elastic rims, is measured on
 > [`docs/sector_validation.md`](sector_validation.md) (its quasi-static mesh cycle against
 > ISO 6336-1) and [`docs/sector_dynamics_validation.md`](sector_dynamics_validation.md)
 > (its dynamic run: load balance, energy, ring and damping, time step, modal against whole

@@ -25,7 +25,7 @@ MAX_POSITIONS = 2001
 
 def add_stiffness_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("stiffness", help="quasi-static mesh cycle of the sector model: mesh "
-                       "stiffness, static transmission error and load share (issue 15)")
+                       "stiffness, static transmission error and load share")
     p.add_argument("case", metavar="CASE", help="'paper', a preset or a TOML file describing a pair")
     p.add_argument("--torque", metavar="NM[,NM...]",
                    help="the driver's torque(s) (default: the case's)")

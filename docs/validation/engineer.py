@@ -1,6 +1,6 @@
-"""``engineer_defaults.md``: what a gear engineer gets from a bare case file (issue 35).
+"""``engineer_defaults.md``: what a gear engineer gets from a bare case file.
 
-Each design pair of issue 14 (modules 2-5 mm, 20 and 25 deg, 100-450 N/mm) is written as
+Each design pair of the contact validation (modules 2-5 mm, 20 and 25 deg, 100-450 N/mm) is written as
 the least a designer gives (teeth, module, pressure angle, face width, material with its
 ISO 6336-5 class, speed, torque) and run by ``spurdyn run`` with nothing else: the sector
 model, whole gears, damped, to a settled steady state. Beside it, the lumped model on the

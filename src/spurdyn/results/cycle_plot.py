@@ -26,7 +26,7 @@ from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
 from spurdyn.results.frames import speeds_label
-from spurdyn.results.plots import stopped_early, wrap_title
+from spurdyn.results.plots import save_figure, stopped_early, wrap_title
 
 MESH_CYCLE_PNG = "mesh_cycle.png"
 TE_PNG = "transmission_error.png"
@@ -160,12 +160,7 @@ def mesh_cycle_figure(ds: xr.Dataset) -> Figure | None:
 
 def plot_mesh_cycle(ds: xr.Dataset, png: str | Path) -> Path | None:
     """Write :func:`mesh_cycle_figure` to ``png``; ``None`` (no file) where it draws nothing."""
-    fig = mesh_cycle_figure(ds)
-    if fig is None:
-        return None
-    png = Path(png)
-    fig.savefig(png)
-    return png
+    return save_figure(mesh_cycle_figure(ds), png)
 
 
 def _te_spectra(ds: xr.Dataset) -> tuple[NDArray[np.float64], NDArray[np.float64] | None, int, int]:
@@ -228,12 +223,7 @@ def transmission_error_figure(ds: xr.Dataset) -> Figure | None:
 
 def plot_transmission_error(ds: xr.Dataset, png: str | Path) -> Path | None:
     """Write :func:`transmission_error_figure` to ``png``; ``None`` (no file) where it draws nothing."""
-    fig = transmission_error_figure(ds)
-    if fig is None:
-        return None
-    png = Path(png)
-    fig.savefig(png)
-    return png
+    return save_figure(transmission_error_figure(ds), png)
 
 
 __all__ = ["HARMONICS", "MESH_CYCLE_PNG", "TE_PNG", "harmonic_amplitudes", "last_cycles",

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Sequence
 
 import matplotlib
 import numpy as np
@@ -123,6 +123,15 @@ def _draw_average(ax: Axes, ds: xr.Dataset, colour: str, label: str | None) -> N
 #: Characters per title line that fit the 8-inch picture at font size 10, and the most
 #: lines a title may take.
 TITLE_WIDTH, TITLE_LINES = 95, 4
+
+
+def save_figure(fig: Any, png: str | Path) -> Path | None:
+    """Write ``fig`` to ``png``; ``None`` (no file) where there is no figure (it drew nothing)."""
+    if fig is None:
+        return None
+    png = Path(png)
+    fig.savefig(png)
+    return png
 
 
 def stopped_early(ds: xr.Dataset) -> str:

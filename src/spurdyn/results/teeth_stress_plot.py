@@ -21,7 +21,7 @@ from matplotlib.lines import Line2D
 
 from spurdyn.results.cycle_plot import tooth_colour
 from spurdyn.results.frames import speeds_label
-from spurdyn.results.plots import stopped_early, wrap_title
+from spurdyn.results.plots import save_figure, stopped_early, wrap_title
 
 ROOT_STRESS_PNG = "root_stress.png"
 _GEARS = ("a", "b")
@@ -99,12 +99,7 @@ def teeth_stress_figure(ds: xr.Dataset) -> Figure | None:
 
 def plot_teeth_stress(ds: xr.Dataset, png: str | Path) -> Path | None:
     """Write :func:`teeth_stress_figure` to ``png``; ``None`` (no file) where it draws nothing."""
-    fig = teeth_stress_figure(ds)
-    if fig is None:
-        return None
-    png = Path(png)
-    fig.savefig(png)
-    return png
+    return save_figure(teeth_stress_figure(ds), png)
 
 
 __all__ = ["ROOT_STRESS_PNG", "has_teeth_stress", "plot_teeth_stress", "teeth_stress_figure"]

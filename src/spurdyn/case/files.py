@@ -13,7 +13,7 @@ from pathlib import Path
 from spurdyn.errors import InputError
 
 #: Bytes of a case file or a torque history: the longest history
-#: (:data:`~spurdyn.settings.MAX_HISTORY_POINTS`, a million, lines of three numbers at full precision,
+#: (:data:`~spurdyn.history.MAX_HISTORY_POINTS`, a million, lines of three numbers at full precision,
 #: about 80 bytes a line, 80 MB) fits, with room for comments.
 MAX_FILE_BYTES = 128 << 20
 

@@ -41,7 +41,7 @@ from spurdyn.results.frames import (
 )
 from spurdyn.results.headline import headline
 from spurdyn.results.keys import run_conditions, select, settings_of
-from spurdyn.results.pairs import pair_variables, back_flank_figures, steady_figures
+from spurdyn.results.pairs import info_figures, pair_variables
 from spurdyn.results.stress import root_stress_variables, stress_summary
 from spurdyn.settings import PAPER_MODEL
 
@@ -378,27 +378,6 @@ def _contact_figures(ds: xr.Dataset) -> dict[str, float | None]:
             "contact_half_width_max_m": _max_or_none(ds, "contact_half_width")}
 
 
-def _add_info_figures(summary: dict[str, Any], ds: xr.Dataset, info: dict[str, Any],
-                      complete: bool) -> None:
-    """Add to ``summary`` the figures a model's ``info`` asks for: the steady state, the
-    model, the start and torques, the back flanks and the bodies' damping."""
-    if "steady" in info:
-        summary.update(steady_figures(ds, info["steady"], complete))
-    # which model made it: the FE model's info names none (it was the default until issue 35)
-    summary["model"] = info.get("model", PAPER_MODEL)
-    if "start" in info:         # a run of mesh cycles: how it started, what torques it carried
-        summary["start"] = info["start"]
-        summary["torque_history"] = info.get("torque_history")
-    if "back_flanks" in info:   # the sector model: whether the back flanks were contacts
-        summary["back_flanks"] = back_flank_figures(ds, info)
-    if "rayleigh" in info:      # the bodies' damping the model ran with, and whose it was
-        a, b = info["rayleigh"]
-        summary["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
-                                   "source": "model default" if info.get("rayleigh_default") else "run"}
-    if "damping_ratio_source" in info:  # the mesh damper's ratio, and whose it was
-        summary["mesh_damping"] = {"ratio": info["damping_ratio"], "source": info["damping_ratio_source"]}
-
-
 def summarize(ds: xr.Dataset) -> dict[str, Any]:
     """The figures of ``summary.json``, all computed from the dataset.
 
@@ -450,7 +429,7 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     }
     # root stress along the fillets (runs with tooth frames) and ISO's nominal stresses
     summary.update(stress_summary(ds, case_from_run(ds)))
-    _add_info_figures(summary, ds, info, complete)
+    summary.update(info_figures(ds, info, complete))
     conditions = run_conditions(model, "steady" in info, "root_stress" in ds, case)
     return _jsonable(select(summary, model, conditions))
 

@@ -13,6 +13,7 @@ import xarray as xr
 from spurdyn.result import Result
 from spurdyn.results.headline import averaged_peak
 from spurdyn.results.stress import tooth_stress_variables
+from spurdyn.settings import PAPER_MODEL
 
 
 def pair_variables(result: Result, n: int) -> dict[str, xr.Variable]:
@@ -148,4 +149,26 @@ def _no_factor(complete: bool, touched: bool) -> str:
     return "none: no quasi-static force (zero torque)"
 
 
-__all__ = ["back_flank_figures", "pair_variables", "static_cycle_variables", "steady_figures"]
+def info_figures(ds: xr.Dataset, info: dict[str, Any], complete: bool) -> dict[str, Any]:
+    """The summary's figures a model's ``info`` asks for: the steady state, the model, the
+    start and torques, the back flanks, and the bodies' and the mesh damper's damping with
+    whose each was."""
+    out: dict[str, Any] = {}
+    if "steady" in info:
+        out.update(steady_figures(ds, info["steady"], complete))
+    out["model"] = info.get("model", PAPER_MODEL)   # the FE model's info names none
+    if "start" in info:         # a run of mesh cycles: how it started, what torques it carried
+        out["start"] = info["start"]
+        out["torque_history"] = info.get("torque_history")
+    if "back_flanks" in info:   # the sector model: whether the back flanks were contacts
+        out["back_flanks"] = back_flank_figures(ds, info)
+    if "rayleigh" in info:
+        a, b = info["rayleigh"]
+        out["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
+                               "source": "model default" if info.get("rayleigh_default") else "run"}
+    if "damping_ratio_source" in info:
+        out["mesh_damping"] = {"ratio": info["damping_ratio"], "source": info["damping_ratio_source"]}
+    return out
+
+
+__all__ = ["back_flank_figures", "info_figures", "pair_variables", "static_cycle_variables", "steady_figures"]

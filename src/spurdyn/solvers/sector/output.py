@@ -124,6 +124,7 @@ def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle
     the mesh damper, the step, the drive flanks' ``teeth`` kept, whether ``back`` flanks are
     contacts, the driver's turn at the end and the settled test's ``steady`` record."""
     pair, settings, blocks, c_table = model.pair, model.settings, model.blocks, model.c_table
+    zeta, zeta_source = mesh_damping(settings)
     return {
         "model": "sector",
         "integrator": "implicit",
@@ -144,8 +145,8 @@ def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle
         # the mesh damper follows the cycle's stiffness: its mean and range over a cycle
         "mesh_damper_N_s_per_m": float(c_table[:-1].mean()),
         "mesh_damper_range_N_s_per_m": [float(c_table.min()), float(c_table.max())],
-        "damping_ratio": mesh_damping(settings)[0],
-        "damping_ratio_source": mesh_damping(settings)[1],
+        "damping_ratio": zeta,
+        "damping_ratio_source": zeta_source,
         "dt_s": model.h,
         "steps_per_cycle": model.per_cycle,
         "pair_teeth": teeth.tolist(),

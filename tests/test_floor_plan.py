@@ -37,6 +37,7 @@ FLOORS = (
     ("fem",),
     ("geometry",),
     ("iso6336",),
+    ("energy",),
     ("mesh",),
     ("settings",),
     ("model",),

@@ -30,7 +30,7 @@ from spurdyn.energy.section import (half_height, load_angle, moment_arm, positio
                                    radial_position)
 
 #: Gauss-Legendre points on each part of the integral (docs/faults_energy.md, section 5:
-#: 24 already agree with 256 to 1e-12 on the paper's gear).
+#: on the paper's gear 48 agree with 1024 to 2e-13, the deepest cracks included).
 DEFAULT_POINTS = 48
 
 #: Timoshenko's shear factor of a rectangular section, as the method uses it.

@@ -35,23 +35,56 @@ def single_range(pair, n: int = 401) -> np.ndarray:
     return np.linspace(lo, hi, n)
 
 
+def annulus_twist(gear, bore: float) -> float:
+    """Twist compliance (m/N, along the line of action) of a plane annulus from the bore to
+    the root circle: ``r_b^2 / (4 pi G b) (1/r_in^2 - 1/r_f^2)`` (docs/sector_validation.md, 3)."""
+    g = gear.material.young / (2.0 * (1.0 + gear.material.poisson))
+    return gear.base_radius**2 / (4 * math.pi * g * gear.face_width) * (
+        1.0 / bore**2 - 1.0 / gear.root_radius**2)
+
+
+def shared_twist_mean(pair, bores, root_segment: bool, n: int = 4000) -> float:
+    """Mean mesh stiffness (N/m) with both gears' annulus twist taken out of each pair's
+    branch and put in series with the whole mesh, where two pairs share it: a diagnostic
+    of the method's parallel springs, not a variant of the method."""
+    twist = annulus_twist(pair.gear_a, bores[0]) + annulus_twist(pair.gear_b, bores[1])
+    pitch = 2 * math.pi / pair.gear_a.teeth
+    xi = pair.start_roll_a + (np.arange(n) + 0.5) * pitch / n
+    branches = np.zeros(n)
+    for j in range(0, math.ceil(pair.contact_ratio) + 1):
+        on = xi + j * pitch <= pair.end_roll_a
+        c = pair_compliance(pair, xi[on] + j * pitch, bore_radii=bores,
+                            root_segment=root_segment).total
+        branches[on] += 1.0 / (c - twist)
+    return float(np.mean(1.0 / (twist + 1.0 / branches)))
+
+
 def healthy_table(pair, bores) -> list[str]:
     """Mean and single-pair figures of the method's variants against ISO and the sector."""
     b = pair.gear_a.face_width
     iso = rate(iso_pair(pair), PAPER_TORQUE)
     iso_mean, iso_single = iso.mesh * b / 1e6, iso.single_pair * b / 1e6
-    rows = ["| variant | k mean (N/um) | single-pair max (N/um) | mean vs sector 110.1 | "
-            f"single vs sector 85.9 | mean vs ISO c_ga b {iso_mean:.1f} | "
-            f"single vs ISO c' b {iso_single:.1f} |", "|---|---|---|---|---|---|---|"]
+    rows = ["| variant | k pitch (N/um) | k mean (N/um) | single-pair max (N/um) | mean vs "
+            f"sector {SECTOR_MEAN} | single vs sector {SECTOR_SINGLE} | mean vs ISO c_ga b "
+            f"{iso_mean:.1f} | single vs ISO c' b {iso_single:.1f} | mean, twist shared "
+            "(N/um) |", "|---|---|---|---|---|---|---|---|---|"]
     for name, bore, seg in (("teeth on their base circles only (no foundation)", None, False),
-                            ("published: + fillet foundation (bore 19.05 mm)", bores, False),
-                            ("extension: + the teeth below the base circle", bores, True)):
+                            ("teeth down to the root circle (no foundation)", None, True),
+                            ("published: base circles + fillet foundation", bores, False),
+                            ("extension: root circles + fillet foundation", bores, True)):
+        pitch = pair_compliance(pair, [pair.pitch_roll_a], bore_radii=bore,
+                                root_segment=seg).stiffness[0] / 1e6
         mean = mean_mesh_stiffness(pair, bore_radii=bore, root_segment=seg) / 1e6
         single = pair_compliance(pair, single_range(pair), bore_radii=bore,
                                  root_segment=seg).stiffness.max() / 1e6
-        rows.append(f"| {name} | {mean:.1f} | {single:.1f} | {mean / SECTOR_MEAN - 1:+.1%} | "
-                    f"{single / SECTOR_SINGLE - 1:+.1%} | {mean / iso_mean - 1:+.1%} | "
-                    f"{single / iso_single - 1:+.1%} |")
+        shared = "" if bore is None else f"{shared_twist_mean(pair, bore, seg) / 1e6:.1f}"
+        rows.append(f"| {name} | {pitch:.1f} | {mean:.1f} | {single:.1f} | "
+                    f"{mean / SECTOR_MEAN - 1:+.1%} | {single / SECTOR_SINGLE - 1:+.1%} | "
+                    f"{mean / iso_mean - 1:+.1%} | {single / iso_single - 1:+.1%} | {shared} |")
+    rows.append(f"\nISO c'_th b (c' b without C_M = 0.8): {iso_single / 0.8:.1f} N/um; "
+                f"annulus twist, both gears: "
+                f"{(annulus_twist(pair.gear_a, bores[0]) + annulus_twist(pair.gear_b, bores[1])) * 1e9:.3f}"
+                " um/kN.")
     return rows
 
 

@@ -81,10 +81,9 @@ def healthy_table(pair, bores) -> list[str]:
         rows.append(f"| {name} | {pitch:.1f} | {mean:.1f} | {single:.1f} | "
                     f"{mean / SECTOR_MEAN - 1:+.1%} | {single / SECTOR_SINGLE - 1:+.1%} | "
                     f"{mean / iso_mean - 1:+.1%} | {single / iso_single - 1:+.1%} | {shared} |")
+    twist = annulus_twist(pair.gear_a, bores[0]) + annulus_twist(pair.gear_b, bores[1])
     rows.append(f"\nISO c'_th b (c' b without C_M = 0.8): {iso_single / 0.8:.1f} N/um; "
-                f"annulus twist, both gears: "
-                f"{(annulus_twist(pair.gear_a, bores[0]) + annulus_twist(pair.gear_b, bores[1])) * 1e9:.3f}"
-                " um/kN.")
+                f"annulus twist, both gears: {twist * 1e9:.3f} um/kN.")
     return rows
 
 
@@ -139,8 +138,8 @@ def convergence_table(pair, bores) -> list[str]:
                         ("4.5 mm, 60 deg", Crack(4.5e-3, math.radians(60.0))),
                         ("5.3 mm, 45 deg", Crack(5.3e-3))):
         ref = tooth_compliance(pair.gear_a, roll, crack, bores[0], points=1024).total
-        errs = [np.max(np.abs(tooth_compliance(pair.gear_a, roll, crack, bores[0],
-                                               points=n).total / ref - 1)) for n in (12, 24, 48, 96)]
+        errs = [np.max(np.abs(tooth_compliance(pair.gear_a, roll, crack, bores[0], points=n).total
+                              / ref - 1)) for n in (12, 24, 48, 96)]
         rows.append(f"| {name} | " + " | ".join(f"{e:.1e}" for e in errs) + " |")
     return rows
 

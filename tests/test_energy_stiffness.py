@@ -83,12 +83,13 @@ def test_root_segment_is_the_uniform_cantilever_closed_form():
     inertia, area = width * height**3 / 12.0, width * height
     y_b = float(radial_position(a2, rb, a2))
     d = y_b - GEAR.root_radius
-    # M(y) = cos(a1) (y_c - y) - sin(a1) h_c is linear in y: int M^2 dy = (M_0^3 - M_1^3) / (3 cos a1)
+    # M(y) = cos(a1) (y_c - y) - sin(a1) h_c is linear in y:
+    # int M^2 dy = (M_0^3 - M_1^3) / (3 cos a1)
     m_root = np.cos(a1) * (radial_position(-a1, rb, a2) - GEAR.root_radius) \
         - np.sin(a1) * half_height(-a1, rb, a2)
     m_base = m_root - np.cos(a1) * d
-    np.testing.assert_allclose(bending, (m_root**3 - m_base**3) / (3 * np.cos(a1) * young * inertia),
-                               rtol=1e-12)
+    closed = (m_root**3 - m_base**3) / (3 * np.cos(a1) * young * inertia)
+    np.testing.assert_allclose(bending, closed, rtol=1e-12)
     np.testing.assert_allclose(shear, SHEAR_FACTOR * np.cos(a1) ** 2 * d / (g * area), rtol=1e-12)
     np.testing.assert_allclose(axial, np.sin(a1) ** 2 * d / (young * area), rtol=1e-12)
 

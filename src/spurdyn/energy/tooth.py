@@ -103,7 +103,8 @@ def root_segment_integrals(gear: Gear, a1: NDArray[np.float64],
     shear_modulus = young / (2.0 * (1.0 + gear.material.poisson))
     inertia, area = face_width * height**3 / 12.0, face_width * height
     bending = np.sum(weight * arm**2 / (young * inertia), axis=1)
-    shear = np.sum(weight * SHEAR_FACTOR * np.cos(a1[:, None]) ** 2 / (shear_modulus * area), axis=1)
+    cos2 = np.cos(a1[:, None]) ** 2
+    shear = np.sum(weight * SHEAR_FACTOR * cos2 / (shear_modulus * area), axis=1)
     axial = np.sum(weight * np.sin(a1[:, None]) ** 2 / (young * area), axis=1)
     return bending, shear, axial
 

@@ -13,6 +13,7 @@ from scipy.integrate import quad
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.energy import Crack, mean_mesh_stiffness, mesh_cycle, pair_compliance, tooth_compliance
+from spurdyn.energy.foundation import centre_line_crossing, foundation_compliance, root_half_angle
 from spurdyn.energy.section import half_height, load_angle, radial_position, tip_alpha
 from spurdyn.energy.tooth import SHEAR_FACTOR, root_segment_integrals
 
@@ -148,6 +149,21 @@ def test_mean_is_the_cycle_average():
     assert set(np.unique(cycle.pairs)) == {1, 2}
     assert np.mean(cycle.mesh) == pytest.approx(mean_mesh_stiffness(PAIR, bore_radii=(BORE, BORE)),
                                                 rel=1e-3)
+
+
+def test_foundation_geometry_and_bore():
+    """``u_f`` from the line of action as the geometry package draws it; ``theta_f`` on the
+    root circle; the body's compliance grows as its bore shrinks (more body under the tooth)."""
+    for roll in ROLLS:
+        r_c = float(GEAR.radius_at_roll_angle(roll))
+        (x, y), (n_x, n_y) = GEAR.flank_point(np.asarray(r_c)), GEAR.flank_normal(np.asarray(r_c))
+        assert centre_line_crossing(GEAR, roll) == pytest.approx(y - x / n_x * n_y, rel=1e-13)
+    angle = root_half_angle(GEAR)
+    corner = GEAR.root_radius * np.array([math.sin(angle), math.cos(angle)])
+    np.testing.assert_allclose(GEAR.fillet_points(np.asarray(0.0)), corner, rtol=1e-12)
+    bores = np.linspace(0.3, 0.9, 7) * GEAR.root_radius
+    c = np.array([foundation_compliance(GEAR, ROLLS, bore) for bore in bores])
+    assert np.all(c > 0) and np.all(np.diff(c, axis=0) < 0)
 
 
 @pytest.mark.parametrize("make, key", [

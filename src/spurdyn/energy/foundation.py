@@ -46,6 +46,14 @@ def root_half_angle(gear: Gear) -> float:
     return math.atan2(float(x), float(y))
 
 
+def centre_line_crossing(gear: Gear, roll: ArrayLike) -> NDArray[np.float64]:
+    """Distance (m) from the gear centre at which the line of action through the flank
+    point of roll angle ``roll`` crosses the tooth's centre line: ``y(-a1) - h(-a1) tan(a1)``."""
+    rb, a2 = gear.base_radius, gear.half_angle_base
+    a1 = load_angle(gear, roll)
+    return radial_position(-a1, rb, a2) - half_height(-a1, rb, a2) * np.tan(a1)
+
+
 def check_bore(gear: Gear, bore_radius: float, key: str = "bore_radius") -> None:
     """Refuse a bore radius that is not a length between 0 and the root radius."""
     if isinstance(bore_radius, bool) or not isinstance(bore_radius, (int, float)) \
@@ -62,9 +70,9 @@ def foundation_compliance(gear: Gear, roll: ArrayLike, bore_radius: float,
     ``face_width`` defaults to the gear's; the material's Young's modulus as published
     (plane stress, as the tooth's beam terms)."""
     check_bore(gear, bore_radius)
-    rb, a2, rf = gear.base_radius, gear.half_angle_base, gear.root_radius
+    rf = gear.root_radius
     a1 = load_angle(gear, roll)
-    u_f = radial_position(-a1, rb, a2) - half_height(-a1, rb, a2) * np.tan(a1) - rf
+    u_f = centre_line_crossing(gear, roll) - rf
     theta_f = root_half_angle(gear)
     s_f = 2.0 * rf * theta_f
     h_f = rf / bore_radius
@@ -75,5 +83,5 @@ def foundation_compliance(gear: Gear, roll: ArrayLike, bore_radius: float,
         big_l * ratio**2 + big_m * ratio + big_p * (1.0 + big_q * np.tan(a1) ** 2))
 
 
-__all__ = ["SAINSOT_COEFFICIENTS", "check_bore", "foundation_compliance", "root_half_angle",
+__all__ = ["SAINSOT_COEFFICIENTS", "centre_line_crossing", "check_bore", "foundation_compliance", "root_half_angle",
            "sainsot_factor"]

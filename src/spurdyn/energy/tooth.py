@@ -131,7 +131,7 @@ def tooth_compliance(gear: Gear, roll: ArrayLike, crack: Crack | None = None,
     root_segment
         Add the tooth between the root circle and the base circle's section as a beam of
         constant section (not in the published form, which clamps the tooth on its base
-        circle; ``docs/faults_energy.md``, section 6).
+        circle; a crack does not cut it; ``docs/faults_energy.md``, sections 6-7).
     """
     roll = np.atleast_1d(np.asarray(roll, dtype=float))
     width = gear.face_width if face_width is None else face_width

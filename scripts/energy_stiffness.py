@@ -122,7 +122,8 @@ def crack_table(pair, bores) -> list[str]:
         case = "-" if q == 0 else ("1" if s >= 0 else "2")
         cut = "-" if q == 0 else \
             f"{math.degrees(gear.half_angle_base - limit_alpha(gear, s)):.2f}"
-        rows.append(f"| {q:.1f} | {case} | {s * 1e3 if q else math.nan:.3f} | {cut} | "
+        offset = "-" if q == 0 else f"{s * 1e3:.3f}"
+        rows.append(f"| {q:.1f} | {case} | {offset} | {cut} | "
                     f"{k_pitch / 1e6:.1f} | {k_pitch / pitch - 1:+.1%} | "
                     f"{np.mean(cycle.mesh) / 1e6:.1f} | {cycle.mesh.min() / 1e6:.1f} |")
     rows.append(f"\nHealthy mesh over the same positions: mean {np.mean(healthy.mesh) / 1e6:.1f}, "

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from spurdyn.case.fault_tables import FAULT_KEYS
 from spurdyn.cli.main import main
 from spurdyn.cli.report import pair_info
 from spurdyn.errors import InputError
@@ -22,7 +23,8 @@ from spurdyn.solvers.check import DT_FRACTION, run_settings
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "pinion_23_47.toml"
 SECTIONS = {"top": TOP_KEYS, "gear": GEAR_KEYS, "basic_rack": RACK_KEYS, "blank": BLANK_KEYS,
-            "material": MATERIAL_KEYS, "pair": PAIR_KEYS, "mesh": MESH_KEYS, "run": RUN_KEYS}
+            "material": MATERIAL_KEYS, "pair": PAIR_KEYS, "mesh": MESH_KEYS, "run": RUN_KEYS,
+            "fault": FAULT_KEYS}
 
 
 def _documented() -> dict[str, set[str]]:

@@ -113,6 +113,13 @@ CASE_CONTACT = "hertz"
 _RUN_KEY_OF = {"speed_a": "speed_a_rpm", "speed_b": "speed_b_rpm", "angle": "angle_deg"}
 
 
+def refuse_faults(meshed_pair: MeshedPair, reader: str) -> None:
+    """Refuse a pair's ``[[fault]]`` tables where ``reader`` does not take them."""
+    if meshed_pair.faults:
+        raise InputError("fault", f"not read by {reader} yet; `spurdyn stiffness` follows a faulty "
+                         "gear over its revolution")
+
+
 def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None, name: str,
                    overrides: Mapping[str, Any] | None = None,
                    labels: Mapping[str, str] | None = None, description: str = "",
@@ -145,8 +152,10 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     ------
     InputError
         Unknown keys, wrong types, non-physical values, a ``dt`` above the stable step,
-        an angle beyond ``theta_s`` plus :data:`spurdyn.solvers.check.ANGLE_MARGIN`.
+        an angle beyond ``theta_s`` plus :data:`spurdyn.solvers.check.ANGLE_MARGIN`,
+        ``[[fault]]`` tables (the dynamic models do not carry faults yet).
     """
+    refuse_faults(meshed_pair, "the dynamic models")
     overrides = dict(overrides or {})
     labels = dict(labels or {})
     table = {} if run_table is None else run_table

@@ -16,7 +16,9 @@ from pathlib import Path
 from typing import Any
 
 from spurdyn.case.files import read_text
+from spurdyn.case.fault_tables import faults_from_dict
 from spurdyn.errors import InputError
+from spurdyn.geometry.fault import Fault
 from spurdyn.fem.material import STEEL, Material, check_plausible
 from spurdyn.iso6336 import materials as iso_materials
 from spurdyn.iso6336 import safety as iso_safety
@@ -42,7 +44,7 @@ MATERIAL_KEYS = {"young", "poisson", "density", "sigma_flim", "sigma_hlim", "sig
 CLASS_KEYS = ("material_class", "grade", "hardness_hv", "hardness_hbw")
 PAIR_KEYS = {"centre_distance", "driver"}
 MESH_KEYS = {"nx", "ny", "grading", "row_grading"}
-TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run", "model"}
+TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run", "model", "fault"}
 
 @dataclass(frozen=True)
 class MeshedPair:
@@ -54,6 +56,7 @@ class MeshedPair:
     name: str = "pair"
     grading: float = DEFAULT_GRADING
     row_grading: float = DEFAULT_ROW_GRADING
+    faults: tuple[Fault, ...] = ()
 
 
 def check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
@@ -381,7 +384,7 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     grading = _number(mesh_table, "grading", "mesh", DEFAULT_GRADING)
     row_grading = _number(mesh_table, "row_grading", "mesh", DEFAULT_ROW_GRADING)
     return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading,
-                      row_grading=row_grading)
+                      row_grading=row_grading, faults=faults_from_dict(data, pair))
 
 
 #: The keys of a gear table that set its root (its dedendum), in the order a refusal names them.

@@ -4,6 +4,7 @@ mesh), and a picture's target. Shared by ``cli.main`` and the commands beside it
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 
 from spurdyn.case.pair_tables import MeshedPair, pair_from_dict
@@ -45,17 +46,20 @@ def _with_mesh(case: MeshedPair, mesh: tuple[int, int] | None,
     nx, ny = (case.nx, case.ny) if mesh is None else mesh
     grading = case.grading if grading is None else grading
     row_grading = case.row_grading if row_grading is None else row_grading
-    return MeshedPair(pair=case.pair, nx=nx, ny=ny, name=case.name, grading=grading,
-                      row_grading=row_grading)
+    return replace(case, nx=nx, ny=ny, grading=grading, row_grading=row_grading)
 
 
-def meshed_case(args: argparse.Namespace) -> MeshedPair:
-    """The pair of ``info`` and ``mesh`` with the options' mesh, a bad mesh refused before
-    any work (naming ``--grading`` or ``--row-grading`` when the option gave it)."""
+def meshed_case(args: argparse.Namespace, faults: bool = False) -> MeshedPair:
+    """The pair of ``info``, ``mesh`` and ``stiffness`` with the options' mesh, a bad mesh
+    refused before any work (naming ``--grading`` or ``--row-grading`` when the option gave
+    it); its ``[[fault]]`` tables refused unless the command reads ``faults``."""
+    from spurdyn.case.file import refuse_faults
     from spurdyn.mesh.tooth import tooth_mesh
 
     row_grading = getattr(args, "row_grading", None)   # not an option of every command
     case = _with_mesh(resolve_pair(args.case), parse_mesh(args.mesh), args.grading, row_grading)
+    if not faults:
+        refuse_faults(case, f"`spurdyn {args.command}`" if hasattr(args, "command") else "this command")
     try:
         tooth_mesh(case.pair.gear_a, case.nx, case.ny, grading=case.grading,
                    row_grading=case.row_grading)

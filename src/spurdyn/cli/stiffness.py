@@ -36,8 +36,14 @@ def add_stiffness_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--mesh", metavar="NXxNY", help="elements across x along each tooth")
     p.add_argument("--grading", type=float, metavar="G", help="grading of each tooth's columns "
                    "toward its outlines (default 1: even)")
+    p.add_argument("--fault", action="append", metavar="SPEC", help="a fault, the keys of a "
+                   "[[fault]] table, e.g. gear=a,tooth=5,kind=missing or gear=a,tooth=5,kind=spall,"
+                   "roll_deg=20:24,depth=2e-5,width_fraction=0.5 (repeatable; with the case's "
+                   "faults the figures cover the faulty gear's revolution)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--png", metavar="FILE", help="draw the cycle into this picture")
+    p.add_argument("--png", metavar="FILE", help="draw the cycle (or the revolution) into this picture")
+    p.add_argument("--csv", metavar="FILE", help="write k(theta) and the static TE by torque into "
+                   "this table (CSV)")
     p.set_defaults(func=cmd_stiffness)
 
 
@@ -69,6 +75,7 @@ def _torques(args: argparse.Namespace, pair: Any) -> list[float]:
 
 def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
     """Compute the mesh cycle(s) of the command's case; the JSON object it prints."""
+    from spurdyn.case.fault_tables import parse_fault_option
     from spurdyn.cli.inputs import meshed_case
     from spurdyn.iso6336.rating import iso_pair, rate
     from spurdyn.sector.statics import DEFAULT_POSITIONS, driving_pair, mesh_cycle, pairs_in_path
@@ -78,13 +85,16 @@ def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
     if not 3 <= args.positions <= MAX_POSITIONS:
         raise InputError("--positions", f"must be a whole number from 3 to {MAX_POSITIONS} "
                          f"(got {args.positions})")
-    case = meshed_case(args)
+    case = meshed_case(args, faults=True)
     pair = case.pair
+    faults = case.faults + tuple(parse_fault_option(text, pair) for text in (args.fault or ()))
     torques = _torques(args, pair)
     refuse_sector_row_grading(case.row_grading)   # a case file's [mesh] row_grading
     if args.teeth is not None and not pairs_in_path(driving_pair(pair)) <= args.teeth:
         raise InputError("--teeth", f"must be at least the {pairs_in_path(pair)} teeth that carry "
                          "load together")
+    if faults:
+        return _faulty_report(args, case, faults, torques)
     cycles, rows = [], []
     for tq in torques:
         mc = mesh_cycle(pair, tq, case.nx, case.ny, teeth=args.teeth, positions=args.positions,
@@ -116,14 +126,53 @@ def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
+def _faulty_report(args: argparse.Namespace, case: Any, faults: tuple[Any, ...],
+                   torques: list[float]) -> dict[str, Any]:
+    """The JSON object of a faulty pair: the revolution at each torque."""
+    from spurdyn.cli.stiffness_faults import revolution_row
+    from spurdyn.sector.faulty import faulty_revolution
+
+    revs = [faulty_revolution(case.pair, tq, faults, case.nx, case.ny, teeth=args.teeth,
+                              positions=args.positions, grading=case.grading) for tq in torques]
+    rows = [revolution_row(r) for r in revs]
+    return {"case": case.name, "model": "sector", "contact": "hertz", "mesh": [case.nx, case.ny],
+            "faults": [{k: v for k, v in vars(f).items()} for f in faults],
+            "mesh_stiffness_min_N_per_m": rows[0]["mesh_stiffness_min_N_per_m"],
+            "mesh_stiffness_dip": rows[0]["mesh_stiffness_dip"],
+            "torques": rows, "_cycles": revs}
+
+
+def _print_faulty(report: dict[str, Any]) -> None:
+    revs = report["_cycles"]
+    print(f"{report['case']}: sector model with {len(report['faults'])} fault(s), "
+          f"{revs[0].teeth} teeth per gear, over {len(set(revs[0].cycle.tolist()))} mesh cycles "
+          f"(a revolution of gear {revs[0].gear}), {revs[0].angle.size} positions")
+    for row in report["torques"]:
+        lost = row["contact_lost_fraction"]
+        print(f"  {row['torque_Nm']:g} N m: mesh stiffness min {row['mesh_stiffness_min_N_per_m'] / 1e6:.1f} "
+              f"N/um against the healthy {row['mesh_stiffness_healthy_min_N_per_m'] / 1e6:.1f} "
+              f"(dip {100 * row['mesh_stiffness_dip']:.1f} %), mean {row['mesh_stiffness_mean_N_per_m'] / 1e6:.1f}"
+              + (f"; no pair carries over {100 * lost:.2f} % of the revolution" if lost > 0 else ""))
+
+
 def cmd_stiffness(args: argparse.Namespace) -> int:
-    png = None
+    png = csv_path = None
     if args.png:
         from spurdyn.cli.inputs import png_target
 
         png = png_target(args.png)
+    if args.csv:
+        from spurdyn.cli.stiffness_faults import csv_target
+
+        csv_path = csv_target(args.csv)
     report = stiffness_report(args)
     cycles = report.pop("_cycles")
+    if csv_path is not None:
+        from spurdyn.cli.stiffness_faults import write_csv
+
+        write_csv(csv_path, cycles)
+    if "faults" in report:
+        return _faulty_output(args, report, cycles, png, csv_path)
     if png is not None:
         from spurdyn.sector.plot import draw_mesh_cycle
 
@@ -146,8 +195,25 @@ def cmd_stiffness(args: argparse.Namespace) -> int:
                   f"{row['single_pair_stiffness_max_N_per_m'] / 1e6:.1f} N/um{iso}; static TE "
                   f"mean {row['transmission_error_mean_m'] * 1e6:.3f} um, peak-to-peak "
                   f"{row['transmission_error_pp_m'] * 1e6:.3f} um")
-        if png is not None:
-            print(f"-> {png}")
+        for target in (png, csv_path):
+            if target is not None:
+                print(f"-> {target}")
+    return 0
+
+
+def _faulty_output(args: argparse.Namespace, report: dict[str, Any], revs: list[Any],
+                   png: Any, csv_path: Any) -> int:
+    if png is not None:
+        from spurdyn.sector.plot import draw_revolution
+
+        draw_revolution(revs, f"{report['case']}: sector model, faulty gear over its revolution", png)
+    if args.json:
+        print(json.dumps(report, indent=2))
+    else:
+        _print_faulty(report | {"_cycles": revs})
+        for target in (png, csv_path):
+            if target is not None:
+                print(f"-> {target}")
     return 0
 
 

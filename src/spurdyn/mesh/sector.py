@@ -190,7 +190,8 @@ def _rim_rows(depth: float, h: float) -> NDArray[np.float64]:
 def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_NY,
                 inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
                 cut_angle: float = DEFAULT_FILLET_CUT_ANGLE, first: int | None = None,
-                full_rim: bool = True, web: tuple[float, float] | None = None) -> SectorMesh:
+                full_rim: bool = True, web: tuple[float, float] | None = None,
+                missing: frozenset[int] = frozenset()) -> SectorMesh:
     """Mesh ``teeth`` consecutive teeth of ``gear``, numbered from ``first`` (default: the
     middle one is 0), and their rim down to ``inner_radius`` (default
     :func:`default_inner_radius`). With ``full_rim`` the rim goes all the way round (the
@@ -198,7 +199,9 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
     no cut ends; without it the rim stops half a pitch beyond the first and last teeth, at
     free radial faces. ``web = (rim_radius, web_width)`` makes the elements below
     ``rim_radius`` a web of that axial width (:attr:`SectorMesh.width`). All ``z`` teeth
-    close the ring.
+    close the ring. The teeth of ``missing`` (body numbers) are broken off at their root
+    section: their cells keep the rim, whose top under the tooth becomes free surface, and
+    their rows of :attr:`SectorMesh.tooth_nodes` hold -1 for the nodes that went with them.
 
     Raises
     ------
@@ -235,7 +238,7 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
     rim_is_web[:n_web * ncol] = True
     cells = ks if not full_rim or teeth == z else np.arange(int(ks[0]), int(ks[0]) + z)
     xy, elements, hub, tooth_nodes, is_web = _place_cells(tooth, rim_xy, rim_el, rim_is_web, top_b, hub_local,
-                                                          ks, cells, pitch)
+                                                          ks, cells, pitch, missing)
     nodes, elements, renum = _merge_nodes(xy, elements, 1e-9 * gear.tip_radius)
     det = jacobian_determinants(nodes, elements)
     if not np.all(det > 0.0):
@@ -290,10 +293,12 @@ def _rim_cell(top: NDArray[np.float64], r: NDArray[np.float64]) -> tuple[
 
 def _place_cells(tooth: ToothMesh, rim_xy: NDArray[np.float64], rim_el: NDArray[np.intp],
                  rim_is_web: NDArray[np.bool_], top_b: NDArray[np.intp], hub_local: NDArray[np.intp],
-                 ks: NDArray[np.int64], cells: NDArray[np.int64], pitch: float) -> tuple[
+                 ks: NDArray[np.int64], cells: NDArray[np.int64], pitch: float,
+                 missing: frozenset[int] = frozenset()) -> tuple[
         NDArray[np.float64], NDArray[np.intp], NDArray[np.intp], NDArray[np.intp], NDArray[np.bool_]]:
-    """Every cell turned to its place, a tooth on those of ``ks``: ``(nodes, elements, hub
-    nodes, each tooth's nodes, web elements)``, the coincident nodes not yet merged."""
+    """Every cell turned to its place, a tooth on those of ``ks`` (its elements left out on
+    those of ``missing``): ``(nodes, elements, hub nodes, each tooth's nodes, web elements)``,
+    the coincident nodes not yet merged."""
     xy_parts, el_parts, tooth_maps, hub_parts, web_parts = [], [], [], [], []
     count = 0
     n_rim, n_tooth = rim_xy.shape[0], tooth.n_nodes
@@ -305,8 +310,12 @@ def _place_cells(tooth: ToothMesh, rim_xy: NDArray[np.float64], rim_el: NDArray[
             rmap = count + n_tooth + np.arange(n_rim)
             rmap[top_b] = tmap[tooth.root_nodes]
             xy_parts += [turn(tooth.nodes, ang), turn(rim_xy, ang)]
-            el_parts += [tmap[tooth.elements], rmap[rim_el]]
-            web_parts += [np.zeros(tooth.n_elements, dtype=bool), rim_is_web]
+            if int(k) in missing:
+                el_parts.append(rmap[rim_el])
+                web_parts.append(rim_is_web)
+            else:
+                el_parts += [tmap[tooth.elements], rmap[rim_el]]
+                web_parts += [np.zeros(tooth.n_elements, dtype=bool), rim_is_web]
             tooth_maps.append(tmap)
             count += n_tooth + n_rim
         else:

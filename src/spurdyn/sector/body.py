@@ -108,9 +108,10 @@ class SectorBody:
 
 def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = None,
                 inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
-                full_rim: bool = True) -> SectorBody:
+                full_rim: bool = True, missing: frozenset[int] = frozenset()) -> SectorBody:
     """Mesh and assemble ``teeth`` teeth of ``gear`` from tooth ``first`` (on the
-    full rim, or with the rim cut at free radial faces: :func:`spurdyn.mesh.sector.sector_mesh`).
+    full rim, or with the rim cut at free radial faces: :func:`spurdyn.mesh.sector.sector_mesh`),
+    the teeth of ``missing`` broken off at their root.
     A webbed blank puts the hub at its ``hub_radius`` and a web of its width below its
     ``rim_radius``."""
     blank = gear.blank
@@ -118,7 +119,7 @@ def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = No
     if inner_radius is None and web is not None:
         inner_radius = blank.hub_radius
     mesh = sector_mesh(gear, teeth, nx, ny, inner_radius, grading, first=first, web=web,
-                       full_rim=full_rim)
+                       full_rim=full_rim, missing=missing)
     hub = np.concatenate([2 * mesh.hub_nodes, 2 * mesh.hub_nodes + 1])
     free = np.setdiff1d(np.arange(mesh.n_dof), hub)
     tooth = mesh.tooth

@@ -1,5 +1,5 @@
-"""The picture of ``spurdyn stiffness``: mesh stiffness, static transmission error and load
-share over one mesh cycle, one line per torque."""
+"""The pictures of ``spurdyn stiffness``: mesh stiffness, static transmission error and load
+share over one mesh cycle, one line per torque; and a faulty pair's over its revolution."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
+from spurdyn.sector.faulty import Revolution
 from spurdyn.sector.statics import MeshCycle
 
 
@@ -53,4 +54,35 @@ def draw_mesh_cycle(cycles: Sequence[MeshCycle], title: str, png: Path,
     plt.close(fig)
 
 
-__all__ = ["draw_mesh_cycle"]
+def draw_revolution(revs: Sequence[Revolution], title: str, png: Path) -> None:
+    """Mesh stiffness and static transmission error over the revolution, the healthy pair's
+    stiffness dashed, the cycles holding a fault shaded."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
+    for i, rev in enumerate(revs):
+        deg, colour = np.degrees(rev.angle), f"C{i}"
+        axes[0].plot(deg, rev.stiffness / 1e6, color=colour, lw=1, label=f"{rev.torque:g} N m")
+        axes[0].plot(deg, rev.healthy_stiffness / 1e6, color=colour, lw=0.8, ls="--",
+                     label="healthy" if i == 0 else None)
+        axes[1].plot(deg, rev.transmission_error * 1e6, color=colour, lw=1)
+    rev = revs[0]
+    for c in rev.faulty:
+        span = np.degrees(rev.angle[rev.cycle == c])
+        for ax in axes:
+            ax.axvspan(span.min(), span.max() + (span[1] - span[0]), color="0.9", zorder=0)
+    axes[0].set_ylabel("mesh stiffness (N/µm)")
+    axes[1].set_ylabel("loaded static TE (µm)\n(gap: no pair carries)")
+    axes[1].set_xlabel(f"turn of gear {rev.gear} (deg); shaded: cycles with the fault in the mesh")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[0].set_title(title)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+
+
+__all__ = ["draw_mesh_cycle", "draw_revolution"]

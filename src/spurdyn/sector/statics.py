@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -223,33 +223,59 @@ def contact_law(pair: GearPair, torque: float, bodies: tuple[SectorBody, SectorB
                 pairs_in_path(dp))
 
 
-def solve_position(law: ContactLaw, rho: float) -> tuple[list[int], NDArray[np.float64], float,
-                                                    NDArray[np.float64], NDArray[np.bool_]]:
+#: A contact of a tooth pair (docs/faults.md): ``(pair j, its share of the face width, its
+#: unloaded gap beyond the pair's own, m)``. A healthy pair is one contact ``(j, 1, 0)``; a
+#: spalled flank splits its pair into the intact face and the pit's.
+Contact = tuple[int, float, float]
+#: Given the pairs on the path and both gears' roll angles at them, their contacts.
+Contacts = Callable[[list[int], NDArray[np.float64], NDArray[np.float64]], list[Contact]]
+
+
+def healthy_contacts(js: list[int], roll_a: NDArray[np.float64], roll_b: NDArray[np.float64]) -> list[Contact]:
+    """Every pair one contact over the whole face."""
+    return [(j, 1.0, 0.0) for j in js]
+
+
+def solve_position(law: ContactLaw, rho: float, contacts: Contacts = healthy_contacts,
+                   bodies: tuple[SectorBody, SectorBody] | None = None) -> tuple[
+        list[int], NDArray[np.float64], float, NDArray[np.float64], NDArray[np.bool_]]:
     """The pairs on the path at the driver's roll ``rho`` of pair 0, their forces, the
-    approach ``e``, the compliance matrix and the active set (module docstring)."""
-    dp, (body_a, body_b), w = law.pair, law.bodies, law.load
+    approach ``e``, and the compliance matrix and active set of their ``contacts`` (module
+    docstring; one contact per pair unless a fault splits one); ``bodies`` replace the
+    law's (a faulty sector)."""
+    dp, w = law.pair, law.load
+    body_a, body_b = law.bodies if bodies is None else bodies
     ga, gb = dp.gear_a, dp.gear_b
     pitch = 2.0 * math.pi / ga.teeth
     js = [j for j in range(law.pairs) if rho + j * pitch <= dp.end_roll_a + 1e-12]
     rolls = np.array([rho + j * pitch for j in js])
-    ra = ga.radius_at_roll_angle(rolls)
-    rb = gb.radius_at_roll_angle(np.asarray(dp.roll_b_from_roll_a(rolls)))
+    rolls_b = np.asarray(dp.roll_b_from_roll_a(rolls), dtype=float)
+    parts = contacts(js, rolls, rolls_b)
+    where = [js.index(j) for j, _, _ in parts]
+    share = np.array([s for _, s, _ in parts])
+    ra = ga.radius_at_roll_angle(rolls)[where]
+    rb = gb.radius_at_roll_angle(rolls_b)[where]
     rho_a = np.array([involute_curvature_radius(float(r), ga.base_radius) for r in ra])
     rho_b = np.array([involute_curvature_radius(float(r), gb.base_radius) for r in rb])
-    g = np.asarray(ga.relief_depth(ra) + gb.relief_depth(rb), dtype=float)
-    f = np.full(len(js), w / len(js))
-    for _ in range(50):
-        b = np.atleast_1d(half_width(f, rho_a, rho_b, law.estar, law.width))
-        la = np.column_stack([body_a.load(j, float(r), float(bb)) for j, r, bb in zip(js, ra, b)])
-        lb = np.column_stack([body_b.load(-j, float(r), float(bb)) for j, r, bb in zip(js, rb, b)])
-        c = body_a.compliance(la) + body_b.compliance(lb) + law.c_h * np.eye(len(js))
+    g = np.asarray(ga.relief_depth(ra) + gb.relief_depth(rb), dtype=float) + np.array([x for _, _, x in parts])
+    f = w * share / max(share.sum(), 1.0) if parts else np.zeros(0)
+    c = np.zeros((0, 0))
+    active = np.zeros(0, dtype=bool)
+    e = math.nan
+    for _ in range(50 if parts else 0):
+        b = np.atleast_1d(half_width(f, rho_a, rho_b, law.estar, law.width * share))
+        la = np.column_stack([body_a.load(j, float(r), float(bb)) for (j, _, _), r, bb in zip(parts, ra, b)])
+        lb = np.column_stack([body_b.load(-j, float(r), float(bb)) for (j, _, _), r, bb in zip(parts, rb, b)])
+        c = body_a.compliance(la) + body_b.compliance(lb) + np.diag(law.c_h / share)
         c = 0.5 * (c + c.T)            # symmetric to round-off (Maxwell-Betti)
         f_new, e, active = _active_set(c, g, w)
         done = np.max(np.abs(f_new - f)) <= FORCE_TOL * w
         f = f_new
         if done:
             break
-    return js, f, e, c, active
+    pair_f = np.zeros(len(js))
+    np.add.at(pair_f, np.asarray(where, dtype=np.intp), f)
+    return js, pair_f, e, c, active
 
 
 def pair_forces_at(pair: GearPair, torque: float, roll: float,
@@ -257,6 +283,29 @@ def pair_forces_at(pair: GearPair, torque: float, roll: float,
     """The forces (N) of the pairs ``0, 1, ...`` on the path at the driver's roll angle
     ``roll`` of pair 0 (one position of :func:`mesh_cycle`)."""
     return solve_position(contact_law(pair, torque, bodies), roll)[1]
+
+
+def sector_firsts(dp: GearPair, teeth: int) -> tuple[int, int]:
+    """The first body tooth of the driver's and the driven gear's sectors of ``teeth`` teeth:
+    the loaded teeth are the driver's 0 .. n-1 and the driven's 0 .. -(n-1), a neighbour
+    either side when the sector has room."""
+    n_pairs = pairs_in_path(dp)
+    extra = max(teeth - n_pairs, 0)
+    before = (extra + 1) // 2
+    return -before, -(n_pairs - 1) - (extra - before)
+
+
+def sector_bodies(dp: GearPair, teeth: int, nx: int, ny: int,
+                  inner_radius: tuple[float | None, float | None] = (None, None), grading: float = 1.0,
+                  missing: tuple[frozenset[int], frozenset[int]] = (frozenset(), frozenset())) -> tuple[
+        SectorBody, SectorBody]:
+    """The two sectors of the driving pair ``dp`` (:func:`sector_firsts`), the body teeth of
+    ``missing`` broken off."""
+    first_a, first_b = sector_firsts(dp, teeth)
+    return (sector_body(dp.gear_a, teeth, nx, ny, first=first_a, inner_radius=inner_radius[0],
+                        grading=grading, missing=missing[0]),
+            sector_body(dp.gear_b, teeth, nx, ny, first=first_b, inner_radius=inner_radius[1],
+                        grading=grading, missing=missing[1]))
 
 
 def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | None = None,
@@ -269,13 +318,7 @@ def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | Non
     n_pairs = pairs_in_path(dp)
     k_teeth = default_teeth(dp) if teeth is None else int(teeth)
     if bodies is None:
-        # the loaded teeth are the driver's 0 .. n-1 and the driven's 0 .. -(n-1), a
-        # neighbour either side when the sector has room
-        extra = max(k_teeth - n_pairs, 0)
-        before = (extra + 1) // 2
-        body_a = sector_body(ga, k_teeth, nx, ny, first=-before, inner_radius=inner_radius[0], grading=grading)
-        body_b = sector_body(gb, k_teeth, nx, ny, first=-(n_pairs - 1) - (extra - before),
-                             inner_radius=inner_radius[1], grading=grading)
+        body_a, body_b = sector_bodies(dp, k_teeth, nx, ny, inner_radius, grading)
     else:
         body_a, body_b = bodies
     law = contact_law(pair, torque, (body_a, body_b))
@@ -306,5 +349,5 @@ def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | Non
                      path=(dp.start_roll_a, dp.end_roll_a))
 
 
-__all__ = ["DEFAULT_POSITIONS", "MeshCycle", "default_teeth", "driving_pair", "mesh_cycle",
-           "pair_forces_at", "pairs_in_path"]
+__all__ = ["Contact", "Contacts", "DEFAULT_POSITIONS", "healthy_contacts", "MeshCycle", "default_teeth", "driving_pair", "mesh_cycle",
+           "pair_forces_at", "pairs_in_path", "sector_bodies", "sector_firsts", "solve_position"]

@@ -1,0 +1,80 @@
+"""A fault on one tooth of a gear (docs/faults.md): what it is, in SI units.
+
+Teeth are numbered round each whole gear in the order they enter the mesh: tooth 0 of
+each gear is the one entering the path of contact at the start of the first mesh cycle
+(the two meet there), tooth ``k`` enters ``k`` mesh cycles after it.
+
+Kinds built so far: a **missing** tooth (broken off at its root) and a **spall** (a pit
+over a stretch of the flank's roll, of a depth, over a fraction of the face width). The
+kinds the case file knows but no model computes yet are refused by name where they are
+read (:data:`PLANNED_KINDS`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from spurdyn.geometry.pair import GearPair
+
+#: Fault kinds a model computes.
+KINDS = ("missing", "spall")
+#: Fault kinds a case file may name that no model computes yet (refused by name).
+PLANNED_KINDS = ("crack", "chip")
+
+
+@dataclass(frozen=True)
+class Fault:
+    """One fault on one tooth.
+
+    Attributes
+    ----------
+    gear
+        ``"a"`` or ``"b"``.
+    tooth
+        The tooth, ``0 .. z - 1`` on its gear (module docstring).
+    kind
+        One of :data:`KINDS`.
+    roll
+        A spall's stretch of the faulty flank: its gear's own roll angles (rad) at the
+        pit's two ends, ``roll[0] < roll[1]``; ``None`` for a missing tooth.
+    depth
+        A spall's depth normal to the flank (m); 0 for a missing tooth.
+    width_fraction
+        The share of the face width the spall covers, ``(0, 1]``; 1 for a missing tooth.
+    """
+
+    gear: str
+    tooth: int
+    kind: str
+    roll: tuple[float, float] | None = None
+    depth: float = 0.0
+    width_fraction: float = 1.0
+
+    def covers(self, roll: float) -> bool:
+        """Whether the faulty flank's point at its gear's roll angle ``roll`` (rad) lies in
+        the pit (a spall's, ends included); never for other kinds."""
+        return self.roll is not None and self.roll[0] <= roll <= self.roll[1]
+
+
+def active_rolls(pair: GearPair, gear: str) -> tuple[float, float]:
+    """The roll angles (rad) of ``gear``'s (``"a"`` or ``"b"``) own flank at the two ends of
+    its active profile: from where the mating tip reaches to its own tip."""
+    if gear == "a":
+        return pair.start_roll_a, pair.end_roll_a
+    return pair.start_roll_b, pair.tip_roll_length_b / pair.gear_b.base_radius
+
+
+def tooth_index(tooth: int, teeth: int) -> int:
+    """``tooth`` taken round a gear of ``teeth`` teeth: ``0 .. teeth - 1``."""
+    return int(tooth) % int(teeth)
+
+
+def faulty_cycles(teeth: int, other: int, both: bool) -> int:
+    """Mesh cycles of the revolution a faulty pair is followed over: the faulty gear's
+    teeth, or for faults on both gears the cycles until the two meet again as they
+    started (the least common multiple)."""
+    return teeth * other // math.gcd(teeth, other) if both else teeth
+
+
+__all__ = ["Fault", "KINDS", "PLANNED_KINDS", "active_rolls", "faulty_cycles", "tooth_index"]

@@ -1,0 +1,212 @@
+"""A faulty pair's loaded tooth contact analysis over the faulty gear's revolution
+(docs/faults.md).
+
+Mesh cycle ``c`` of the revolution starts with tooth ``c`` of each gear entering the path
+as pair 0 (:mod:`spurdyn.geometry.fault` numbers the teeth so), and pair ``j`` is tooth
+``c - j``. The sector of section 3 of docs/sector.md holds the driver's body teeth
+``first_a ..`` (pair ``j`` on body tooth ``j``) and the driven's ``first_b ..`` (pair
+``j`` on body tooth ``-j``), so a whole tooth ``k`` of the driver is its body tooth
+``c - k`` and of the driven gear ``k - c``, taken round the gear into the sector's range.
+A cycle whose sectors hold no faulty tooth is the healthy one, solved once; every other
+is solved on its own sectors: a missing tooth's cell without its tooth and no contact on
+it, a spalled flank's pair split into the intact face and the pit
+(:data:`~spurdyn.sector.statics.Contact`), the pit's contact behind the pit's depth.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.geometry.fault import Fault, faulty_cycles
+from spurdyn.geometry.pair import GearPair
+from spurdyn.sector.body import SectorBody
+from spurdyn.sector.statics import (DEFAULT_POSITIONS, Contact, Contacts, ContactLaw, contact_law, default_teeth,
+                                    driving_pair, healthy_contacts, sector_bodies, sector_firsts, solve_position)
+
+
+@dataclass(frozen=True)
+class Revolution:
+    """The quasi-static mesh of a faulty pair over the faulty gear's revolution (SI).
+
+    Attributes
+    ----------
+    angle
+        ``(n,)`` the turn of the revolution's gear from the start of cycle 0 (rad).
+    cycle
+        ``(n,)`` the mesh cycle of each position.
+    stiffness
+        ``(n,)`` mesh stiffness (N/m); 0 where no pair carries the load.
+    transmission_error
+        ``(n,)`` loaded static transmission error (m); NaN where no pair carries the load
+        (the gears part until the next pair's profiles meet, which the path of contact
+        does not hold).
+    force
+        ``(n, P)`` the normal force of each pair ``j`` of the position's cycle (N).
+    healthy_stiffness
+        ``(n,)`` the healthy pair's mesh stiffness at the same positions (N/m).
+    faulty
+        The cycles whose sectors hold a faulty tooth.
+    gear
+        The revolution's gear, ``"a"`` or ``"b"`` (the driver's where both have faults).
+    load, torque, teeth, n_dof
+        As :class:`~spurdyn.sector.statics.MeshCycle`'s.
+    """
+
+    angle: NDArray[np.float64]
+    cycle: NDArray[np.intp]
+    stiffness: NDArray[np.float64]
+    transmission_error: NDArray[np.float64]
+    force: NDArray[np.float64]
+    healthy_stiffness: NDArray[np.float64]
+    faulty: tuple[int, ...]
+    gear: str
+    load: float
+    torque: float
+    teeth: int
+    n_dof: int
+
+    def summary(self) -> dict[str, Any]:
+        """The figures of ``spurdyn stiffness --json`` with faults: the healthy cycle's keys
+        over the revolution, and the fault's dip against the healthy pair."""
+        k, te = self.stiffness[:-1], self.transmission_error[:-1]
+        carried = np.isfinite(te)
+        healthy_min = float(self.healthy_stiffness.min())
+        return {
+            "torque_Nm": self.torque, "load_N": self.load, "teeth_per_gear": self.teeth,
+            "n_dof": self.n_dof, "positions": int(self.angle.size), "revolution_of": self.gear,
+            "mesh_cycles": int(self.cycle.max()) + 1, "faulty_cycles": list(self.faulty),
+            "mesh_stiffness_mean_N_per_m": float(k.mean()),
+            "mesh_stiffness_min_N_per_m": float(k.min()),
+            "mesh_stiffness_max_N_per_m": float(k.max()),
+            "mesh_stiffness_healthy_min_N_per_m": healthy_min,
+            "mesh_stiffness_dip": 1.0 - float(k.min()) / healthy_min,
+            "contact_lost_fraction": float(1.0 - carried.mean()),
+            "transmission_error_mean_m": float(te[carried].mean()) if carried.any() else None,
+            "transmission_error_pp_m": float(np.ptp(te[carried])) if carried.any() else None,
+            "load_share_max": float(self.force.max() / self.load),
+        }
+
+
+def _wrap(x: int, first: int, count: int, z: int) -> int | None:
+    """Body tooth ``x`` taken round a gear of ``z`` teeth into ``first .. first + count - 1``."""
+    m = first + (x - first) % z
+    return m if m < first + count else None
+
+
+@dataclass(frozen=True)
+class _Cycle:
+    """Where a revolution's faults sit in cycle ``c``'s sectors: body teeth per gear."""
+
+    missing: tuple[frozenset[int], frozenset[int]]
+    spalls: tuple[tuple[Fault, ...], tuple[Fault, ...]]
+    touched: bool
+
+
+def _place(faults: tuple[Fault, ...], driver: str, c: int, firsts: tuple[int, int], teeth: int,
+           zs: tuple[int, int]) -> _Cycle:
+    """The faults of ``faults`` in cycle ``c``'s sectors (module docstring)."""
+    missing: tuple[set[int], set[int]] = (set(), set())
+    spalls: tuple[list[Fault], list[Fault]] = ([], [])
+    touched = False
+    for f in faults:
+        g = 0 if f.gear == driver else 1
+        m = _wrap(c - f.tooth if g == 0 else f.tooth - c, firsts[g], teeth, zs[g])
+        if m is None:
+            continue
+        touched = True
+        (missing[g].add(m) if f.kind == "missing" else spalls[g].append(f))
+    return _Cycle((frozenset(missing[0]), frozenset(missing[1])), (tuple(spalls[0]), tuple(spalls[1])),
+                  touched)
+
+
+def _contacts(c: int, place: _Cycle, zs: tuple[int, int]) -> Contacts:
+    """Cycle ``c``'s contacts: a missing tooth's pair left out, a spalled flank's split."""
+    def split(js: list[int], roll_a: NDArray[np.float64], roll_b: NDArray[np.float64]) -> list[Contact]:
+        out: list[Contact] = []
+        for i, j in enumerate(js):
+            if j in place.missing[0] or -j in place.missing[1]:
+                continue
+            parts = [(j, 1.0, 0.0)]
+            for g, roll in ((0, float(roll_a[i])), (1, float(roll_b[i]))):
+                for f in place.spalls[g]:
+                    if (c - j - f.tooth) % zs[g] == 0 and f.covers(roll):
+                        parts = [q for _, s, x in parts for q in ((j, s * (1.0 - f.width_fraction), x),
+                                                               (j, s * f.width_fraction, x + f.depth))]
+            out += [p for p in parts if p[1] > 0.0]
+        return out
+    return split
+
+
+def _solve(law: ContactLaw, rolls: NDArray[np.float64], contacts: Contacts,
+           bodies: tuple[SectorBody, SectorBody]) -> tuple[NDArray[np.float64], ...]:
+    """Mesh stiffness, transmission error and pair forces at the driver's ``rolls``."""
+    k, te = np.zeros(rolls.size), np.full(rolls.size, np.nan)
+    force = np.zeros((rolls.size, law.pairs))
+    for i, rho in enumerate(rolls):
+        js, f, e, c, active = solve_position(law, float(rho), contacts, bodies)
+        force[i, js] = f
+        if active.any():
+            idx = np.flatnonzero(active)
+            k[i] = float(np.sum(np.linalg.inv(c[np.ix_(idx, idx)])))
+            te[i] = e
+    return k, te, force
+
+
+def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], nx: int, ny: int,
+                      teeth: int | None = None, positions: int = DEFAULT_POSITIONS,
+                      grading: float = 1.0) -> Revolution:
+    """The loaded tooth contact analysis of ``pair`` with ``faults`` under the driver's
+    ``torque`` (N m), ``positions`` positions a mesh cycle, over the faulty gear's revolution
+    (module docstring)."""
+    dp = driving_pair(pair)
+    zs = (dp.gear_a.teeth, dp.gear_b.teeth)
+    k_teeth = default_teeth(dp) if teeth is None else int(teeth)
+    firsts = sector_firsts(dp, k_teeth)
+    healthy = sector_bodies(dp, k_teeth, nx, ny, grading=grading)
+    law = contact_law(pair, torque, healthy)
+    gears = {f.gear for f in faults}
+    gear = gears.pop() if len(gears) == 1 else pair.driver
+    turning = 0 if gear == pair.driver else 1
+    n_cycles = faulty_cycles(zs[turning], zs[1 - turning], len({f.gear for f in faults}) == 2)
+    pitch = 2.0 * math.pi / zs[0]
+    rolls = dp.start_roll_a + pitch * np.arange(positions) / (positions - 1)
+    base = _solve(law, rolls, healthy_contacts, healthy)
+    parts, faulty = [], []
+    for c in range(n_cycles):
+        place = _place(faults, pair.driver, c, firsts, k_teeth, zs)
+        if not place.touched:
+            parts.append(base)
+            continue
+        faulty.append(c)
+        bodies = healthy if not any(place.missing) else sector_bodies(dp, k_teeth, nx, ny, grading=grading,
+                                                                       missing=place.missing)
+        parts.append(_solve(law, rolls, _contacts(c, place, zs), bodies))
+    return _assemble(parts, base, rolls, faulty, gear, turning, zs, law, k_teeth, healthy, torque)
+
+
+def _assemble(parts: list[tuple[NDArray[np.float64], ...]], base: tuple[NDArray[np.float64], ...],
+              rolls: NDArray[np.float64], faulty: list[int], gear: str, turning: int,
+              zs: tuple[int, int], law: ContactLaw, k_teeth: int, healthy: tuple[SectorBody, SectorBody],
+              torque: float) -> Revolution:
+    """The cycles end to end, each without its last position (the next one's first), and
+    the first cycle's first position again at the end: a closed revolution."""
+    n = len(parts)
+    cut = slice(0, rolls.size - 1)
+    # the revolution's gear turns a pitch of its own a mesh cycle
+    per = (rolls[cut] - rolls[0]) * zs[0] / zs[turning]
+    angle = np.concatenate([c * 2.0 * math.pi / zs[turning] + per for c in range(n)] + [[2.0 * math.pi * n / zs[turning]]])
+    stack = [np.concatenate([p[i][cut] for p in parts] + [parts[0][i][:1]]) for i in range(3)]
+    healthy_k = np.concatenate([base[0][cut]] * n + [base[0][:1]])
+    cycle = np.concatenate([np.full(rolls.size - 1, c) for c in range(n)] + [[0]]).astype(np.intp)
+    return Revolution(angle=angle, cycle=cycle, stiffness=stack[0], transmission_error=stack[1],
+                      force=stack[2], healthy_stiffness=healthy_k, faulty=tuple(faulty), gear=gear,
+                      load=law.load, torque=float(torque), teeth=k_teeth,
+                      n_dof=healthy[0].mesh.n_dof + healthy[1].mesh.n_dof)
+
+
+__all__ = ["Revolution", "faulty_revolution"]

@@ -1,0 +1,153 @@
+"""Faults on the sector model's teeth (docs/faults.md): the ``[[fault]]`` tables, a
+missing tooth's mesh, and the quasi-static mesh over the faulty gear's revolution."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from cli_helpers import run
+
+from spurdyn.case.fault_tables import faults_from_dict, parse_fault_option
+from spurdyn.errors import InputError
+from spurdyn.geometry.fault import Fault, active_rolls
+from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
+from spurdyn.mesh.sector import sector_mesh
+from spurdyn.sector.faulty import faulty_revolution
+
+# a coarse mesh and few positions: the tests check the bookkeeping and the limits, the
+# mesh study is the page's
+NX, NY, POSITIONS = 2, 4, 9
+
+
+@pytest.fixture(scope="module")
+def pair():
+    return paper_pair()
+
+
+def _spall(pair, depth: float, fraction: float) -> Fault:
+    lo, hi = active_rolls(pair, "a")
+    return Fault("a", 5, "spall", roll=(lo + 0.25 * (hi - lo), lo + 0.6 * (hi - lo)), depth=depth,
+                 width_fraction=fraction)
+
+
+def _run(pair, *faults: Fault):
+    return faulty_revolution(pair, PAPER_TORQUE, faults, NX, NY, positions=POSITIONS)
+
+
+def test_missing_tooth_mesh_drops_its_elements_and_nodes(pair):
+    whole = sector_mesh(pair.gear_a, 4, NX, NY)
+    broken = sector_mesh(pair.gear_a, 4, NX, NY, missing=frozenset({1}))
+    assert broken.elements.shape[0] == whole.elements.shape[0] - whole.tooth.n_elements
+    # no node is left without an element (the stiffness stays non-singular)
+    assert np.array_equal(np.unique(broken.elements), np.arange(broken.n_nodes))
+    row = list(broken.teeth).index(1)
+    gone = broken.tooth_nodes[row] < 0
+    # the tooth's root row stays: it is the rim's top under the tooth
+    assert gone.sum() == whole.tooth.n_nodes - whole.tooth.root_nodes.size
+
+
+@pytest.fixture(scope="module")
+def healthy(pair):
+    return _run(pair)
+
+
+def test_spall_of_no_depth_is_the_healthy_pair(pair, healthy):
+    # the pair split into the intact face and a pit of no depth: two contacts in parallel
+    rev = _run(pair, _spall(pair, 0.0, 0.5))
+    assert rev.faulty
+    np.testing.assert_allclose(rev.stiffness, healthy.stiffness, rtol=1e-12)
+    np.testing.assert_allclose(rev.transmission_error, healthy.transmission_error, rtol=1e-11)
+
+
+def test_no_fault_repeats_the_healthy_cycle(pair, healthy):
+    rev = healthy
+    assert rev.faulty == ()
+    per = POSITIONS - 1
+    k = rev.stiffness[:-1].reshape(pair.gear_a.teeth, per)
+    assert np.array_equal(k, np.broadcast_to(k[0], k.shape))
+    assert np.array_equal(rev.stiffness, rev.healthy_stiffness)
+
+
+def test_deep_full_width_spall_carries_nothing_on_the_pit(pair):
+    fault = _spall(pair, 1e-4, 1.0)           # deeper than any deflection here
+    rev = _run(pair, fault)
+    per, pitch = POSITIONS - 1, 2 * math.pi / pair.gear_a.teeth
+    rolls = pair.start_roll_a + pitch * np.arange(POSITIONS) / (POSITIONS - 1)
+    hits = 0
+    for c in rev.faulty:
+        for i in range(per):
+            j = c - fault.tooth                # the faulty tooth is pair c - 5 of cycle c
+            on_path = np.sum(rolls[i] + np.arange(rev.force.shape[1]) * pitch <= pair.end_roll_a + 1e-12)
+            if 0 <= j < rev.force.shape[1] and fault.covers(rolls[i] + j * pitch):
+                # where another pair is on the path it takes the load; where the pitted
+                # pair is alone, the load reaches the pit's bottom
+                te = rev.transmission_error[c * per + i]
+                assert (rev.force[c * per + i, j] == 0.0) if on_path > 1 else (te > fault.depth)
+                hits += on_path > 1
+    assert hits > 0
+    # and half the face spalled carries where the full face would not
+    half = _run(pair, _spall(pair, 1e-4, 0.5))
+    assert half.stiffness.min() > rev.stiffness.min()
+    assert half.stiffness.min() < half.healthy_stiffness.min()
+
+
+def test_missing_tooth_loses_the_load_over_its_single_contact(pair):
+    rev = _run(pair, Fault("a", 5, "missing"))
+    z, eps = pair.gear_a.teeth, pair.contact_ratio
+    # no pair on the path where the missing tooth would carry alone: 2 - eps of a pitch
+    lost = (2.0 - eps) / z
+    assert abs(rev.summary()["contact_lost_fraction"] - lost) <= 1.0 / (z * (POSITIONS - 1))
+    assert rev.summary()["mesh_stiffness_dip"] == 1.0
+    assert np.all(rev.stiffness[np.isnan(rev.transmission_error)] == 0.0)
+    # the cycles without the fault in their sectors are the healthy ones, to the bit
+    healthy = ~np.isin(rev.cycle, rev.faulty)
+    assert np.array_equal(rev.stiffness[healthy], rev.healthy_stiffness[healthy])
+
+
+def test_tables_refused_by_the_key_written(pair):
+    good = {"gear": "a", "tooth": 5, "kind": "missing"}
+    assert faults_from_dict({"fault": [good]}, pair) == (Fault("a", 5, "missing"),)
+    cases = [
+        ({"gear": "c", "tooth": 5, "kind": "missing"}, "fault[0].gear"),
+        ({"gear": "a", "tooth": 28, "kind": "missing"}, "fault[0].tooth"),
+        ({"gear": "a", "tooth": 5, "kind": "crack"}, "fault[0].kind"),
+        ({"gear": "a", "tooth": 5, "kind": "missing", "depth": 1e-5}, "fault[0].depth"),
+        ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [0, 5], "depth": 1e-5}, "fault[0].roll_deg"),
+        ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [20, 25], "depth": -1.0}, "fault[0].depth"),
+        ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [20, 25], "depth": 1e-5,
+          "width_fraction": 1.5}, "fault[0].width_fraction"),
+    ]
+    for table, key in cases:
+        with pytest.raises(InputError) as err:
+            faults_from_dict({"fault": [table]}, pair)
+        assert err.value.field == key
+    with pytest.raises(InputError) as err:
+        faults_from_dict({"fault": [good, good]}, pair)
+    assert err.value.field == "fault[1].tooth"
+    with pytest.raises(InputError) as err:
+        parse_fault_option("gear=a,tooth=five,kind=missing", pair)
+    assert err.value.field == "--fault"
+    f = parse_fault_option("gear=a,tooth=5,kind=spall,roll_deg=20:24,depth=2e-5", pair)
+    assert f.roll == pytest.approx((math.radians(20), math.radians(24)))
+
+
+def test_command_refuses_faults_where_not_read_and_writes_the_table(tmp_path, capsys):
+    case = tmp_path / "broken.toml"
+    case.write_text('[gear_a]\nteeth = 28\nmodule = 3.175e-3\nface_width = 6.35e-3\n\n'
+                    '[run]\ntorque = 22.25\n\n[[fault]]\ngear = "a"\ntooth = 5\nkind = "missing"\n')
+    for command in (["run", str(case), "--out", str(tmp_path / "out")], ["info", str(case)]):
+        code, out, err = run(capsys, *command)
+        assert code == 2 and err.strip().count("\n") == 0 and "fault" in err
+    assert not (tmp_path / "out").exists()
+    table = tmp_path / "k.csv"
+    code, out, err = run(capsys, "stiffness", str(case), "--mesh", f"{NX}x{NY}", "--positions",
+                             str(POSITIONS), "--csv", str(table), "--json")
+    assert code == 0, err
+    report = json.loads(out)
+    rows = table.read_text().splitlines()
+    assert rows[0].split(",")[:3] == ["torque_Nm", "angle_deg", "mesh_stiffness_N_per_m"]
+    assert len(rows) - 1 == len(report["torques"][0]["angle_deg"])
+    assert report["torques"][0]["mesh_stiffness_min_N_per_m"] == 0.0

@@ -468,26 +468,22 @@ def write_run(result: Result, case: Case, directory: str | Path, *, png: bool = 
 
         plot_contact_force([ds], directory / PNG_FILE)
         if pairs:
-            from spurdyn.results.cycle_plot import MESH_CYCLE_PNG
             from spurdyn.results.mesh_plot import plot_pair_pictures
-            from spurdyn.results.teeth_stress_plot import ROOT_STRESS_PNG
 
-            plot_pair_pictures(ds, directory, (ROOT_STRESS_PNG, MESH_CYCLE_PNG))
+            plot_pair_pictures(ds, directory, part=0)
 
     # The picture is drawn in a child process on the other core meanwhile (done when the
-    # block ends; without a child, drawn here after the rest). A run of several pairs has
-    # five: the mesh and the transmission error are drawn here after the files, as long as
-    # the child's three (docs/performance.md, "The design pair in seconds").
+    # block ends; without a child, drawn here after the rest); a run of several pairs has
+    # the other part of its pictures drawn here after the files, about as long.
     with beside(picture) if png else nullcontext():
         write_netcdf(ds, directory / RESULT_FILE)
         write_csv(ds, directory / CSV_FILE)
         summary = summarize(ds)
         write_summary(summary, directory / SUMMARY_FILE)
         if png and pairs:
-            from spurdyn.results.cycle_plot import TE_PNG
-            from spurdyn.results.mesh_plot import MESH_PNG, plot_pair_pictures
+            from spurdyn.results.mesh_plot import plot_pair_pictures
 
-            plot_pair_pictures(ds, directory, (MESH_PNG, TE_PNG))
+            plot_pair_pictures(ds, directory, part=1)
     if vtu and "frame_u" in ds:
         from spurdyn.results.vtu import write_vtu_series
 

@@ -10,7 +10,6 @@ legend entry each.
 from __future__ import annotations
 
 import json
-from collections.abc import Collection
 from pathlib import Path
 
 import numpy as np
@@ -114,20 +113,23 @@ def plot_mesh(ds: xr.Dataset, png: str | Path) -> Path:
     return png
 
 
-def plot_pair_pictures(ds: xr.Dataset, directory: str | Path, names: Collection[str] | None = None) -> list[Path]:
+def plot_pair_pictures(ds: xr.Dataset, directory: str | Path, part: int | None = None) -> list[Path]:
     """The pictures of a run of several tooth pairs written into ``directory``: ``mesh.png``
     (the whole run), and where the run holds what they draw ``mesh_cycle.png`` and
     ``transmission_error.png`` (the last settled mesh cycle,
     :mod:`spurdyn.results.cycle_plot`) and ``root_stress.png`` (each tooth's root stress,
-    :mod:`spurdyn.results.teeth_stress_plot`); only those of ``names`` if given (file
-    names). Returns the files written."""
+    :mod:`spurdyn.results.teeth_stress_plot`). ``part`` 0 draws the root stress and the mesh
+    cycle alone, 1 the mesh and the transmission error (two parts about as long, drawn in
+    two processes by :func:`spurdyn.results.io.write_run`), ``None`` all. Returns the
+    files written."""
     from spurdyn.results.cycle_plot import MESH_CYCLE_PNG, TE_PNG, plot_mesh_cycle, plot_transmission_error
     from spurdyn.results.teeth_stress_plot import ROOT_STRESS_PNG, plot_teeth_stress
 
     directory = Path(directory)
-    draw = {MESH_PNG: plot_mesh, MESH_CYCLE_PNG: plot_mesh_cycle, TE_PNG: plot_transmission_error,
-            ROOT_STRESS_PNG: plot_teeth_stress}
-    drawn = [plot(ds, directory / name) for name, plot in draw.items() if names is None or name in names]
+    parts = ({ROOT_STRESS_PNG: plot_teeth_stress, MESH_CYCLE_PNG: plot_mesh_cycle},
+             {MESH_PNG: plot_mesh, TE_PNG: plot_transmission_error})
+    draw = {**parts[0], **parts[1]} if part is None else parts[part]
+    drawn = [plot(ds, directory / name) for name, plot in draw.items()]
     return [p for p in drawn if p is not None]
 
 

@@ -23,7 +23,8 @@ from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as ENTRIES
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep import scheduler as _scheduler
-from spurdyn.sweep.spec import CONTINUATIONS, MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
+from spurdyn.sweep.spec import (CONTINUATIONS, MODELS, SweepPlan, check_count, check_plan,
+                                parse_speeds, parse_torques)
 
 #: Exit statuses of ``spurdyn sweep`` (those of ``spurdyn run``).
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
@@ -144,6 +145,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     _check_cluster(args)
     rpms = parse_speeds(args.rpm)
     torques = parse_torques(args.torque) if args.torque is not None else None
+    check_count(rpms, torques)      # before any point is made
     overrides, labels = _overrides(args, torques)
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
     model = args.model or case.model          # --model, else the case file's [model] kind

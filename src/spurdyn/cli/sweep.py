@@ -316,7 +316,9 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    "(tcp:// on a trusted network only; tls:// with --tls-*)")
     p.add_argument("--scheduler-timeout", type=float, metavar="S",
                    help=f"seconds the scheduler has to answer (default "
-                   f"{_scheduler.CONNECT_TIMEOUT_S:g})")
+                   f"{_scheduler.CONNECT_TIMEOUT_S:g}); during the sweep, silent for "
+                   f"this or {_backends.SILENCE_S:g} s, the longer, it counts as lost "
+                   "(the finished points kept)")
     p.add_argument("--tls-ca-file", metavar="PEM",
                    help="tls:// scheduler: the certificate authority of the cluster")
     p.add_argument("--tls-cert", metavar="PEM",

@@ -34,6 +34,12 @@ Stream = Iterator[tuple["PointTask | None", "PointOutcome | None", str]]
 #: Seconds a cluster may have no worker before the sweep gives up on the rest.
 NO_WORKER_GRACE_S = 120.0
 
+#: Seconds the scheduler may leave a look at the cluster (once a second) unanswered
+#: before the sweep counts it lost, keeping its finished points: a scheduler busy with
+#: another user's large graph answers within seconds; a frozen one (its connection open,
+#: nothing coming back) would hold the sweep for ever.
+SILENCE_S = 60.0
+
 #: Points submitted ahead of the workers, per worker thread (at least :data:`MIN_AHEAD`):
 #: the scheduler keeps each worker fed, the longest points first, while the rest wait in
 #: this process's queue. Submitted at once, a 10,000-point sweep took ~20 s to submit and
@@ -105,41 +111,51 @@ class DaskBackend:
     process; results are taken as they finish. A task whose worker died more often than the scheduler
     allows (``KilledWorker``) is a failed point; tasks cancelled or lost with the scheduler
     are not run. A worker lost while running points is noted (a stream item without a
-    task). A lost connection to the scheduler, or a cluster without a worker for
-    ``no_worker_grace_s``, raises :class:`ClusterLost`: the points not finished are given up
+    task). A lost connection to the scheduler, a scheduler silent for ``silence_s``
+    (default :data:`SILENCE_S`), or a cluster without a worker for ``no_worker_grace_s``,
+    raises :class:`ClusterLost`: the points not finished are given up
     (the runner marks them not run).
     """
 
     def __init__(self, client: Any, description: str,
-                 no_worker_grace_s: float = NO_WORKER_GRACE_S) -> None:
+                 no_worker_grace_s: float = NO_WORKER_GRACE_S,
+                 silence_s: float | None = None) -> None:
         self.client = client
         self.description = description
         self.no_worker_grace_s = no_worker_grace_s
+        self.silence_s = SILENCE_S if silence_s is None else silence_s
+        self._lost = False
         self._pending: set[Any] = set()
         self._queue: deque[PointTask] = deque()
         self._tasks: dict[Any, PointTask] = {}
         self._token = ""
         self._events: list[dict[str, Any]] = []
 
-    def _workers(self) -> int:
+    def _look(self) -> tuple[int, int]:
+        """The cluster's workers and worker threads, asked of the scheduler within
+        ``silence_s`` (a scheduler that cannot be reached reads as no workers).
+
+        Raises
+        ------
+        ClusterLost
+            The scheduler has not answered within ``silence_s``: it is frozen (its
+            connection open, nothing coming back), and every wait on it would last forever.
+        """
         try:
-            return len(self.client.scheduler_info().get("workers", {}))
+            found = self.client.sync(self.client.scheduler.identity,
+                                     callback_timeout=self.silence_s)
+        except TimeoutError:
+            self._lost = True
+            raise ClusterLost(f"the scheduler has not answered for {self.silence_s:g} s") from None
         except Exception:  # noqa: BLE001 - a lost scheduler reads as no workers
-            return 0
+            return 0, 0
+        workers = found.get("workers", {})
+        return len(workers), sum(int(w.get("nthreads", 1)) for w in workers.values())
 
-    def _threads(self) -> int:
-        try:
-            workers = self.client.scheduler_info().get("workers", {})
-            return sum(int(w.get("nthreads", 1)) for w in workers.values())
-        except Exception:  # noqa: BLE001 - a lost scheduler reads as no threads
-            return 0
-
-    def _submit_more(self, fn: PointFn) -> None:
+    def _submit_more(self, fn: PointFn, threads: int) -> None:
         """Submit queued points, the longest first, until :data:`AHEAD_PER_THREAD` points
         per worker thread (at least :data:`MIN_AHEAD`) are pending."""
-        if not self._queue:
-            return
-        room = max(MIN_AHEAD, AHEAD_PER_THREAD * self._threads()) - len(self._pending)
+        room = max(MIN_AHEAD, AHEAD_PER_THREAD * threads) - len(self._pending)
         while self._queue and room > 0:
             task = self._queue.popleft()
             fut = self.client.submit(fn, task, key=f"spurdyn-{task.key.stem}-{self._token}",
@@ -190,12 +206,13 @@ class DaskBackend:
         self._watch_losses()
         no_worker_since: float | None = None
         while self._pending or self._queue:
-            self._submit_more(fn)
+            workers, threads = self._look()   # every second: a frozen scheduler is lost
+            self._submit_more(fn, threads)
             done = self._wait_some()
             for note in self._losses():
                 yield None, None, note
             if not done:
-                if self._workers() == 0:
+                if workers == 0:
                     no_worker_since = no_worker_since or time.monotonic()
                     if time.monotonic() - no_worker_since > self.no_worker_grace_s:
                         raise ClusterLost(f"no worker in the cluster for "
@@ -231,7 +248,7 @@ class DaskBackend:
     def cancel(self) -> None:
         self._queue.clear()
         pending, self._pending = list(self._pending), set()
-        if pending:
+        if pending and not self._lost:    # a frozen scheduler would hold the call for ever
             try:
                 self.client.cancel(pending, force=True)
             except Exception:  # noqa: BLE001 - the cluster may be gone already

@@ -10,9 +10,11 @@ import os
 import signal
 from contextlib import contextmanager
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
+from spurdyn.errors import InputError
 from cli_helpers import EXAMPLES, fake, here, run  # noqa: F401  (fixtures)
 from spurdyn.cli import main as cli_main
 
@@ -120,13 +122,14 @@ class _Client:
 
     def __init__(self):
         self.submitted = 0
+        self.scheduler = SimpleNamespace(identity=lambda: {"workers": {"tcp://w": {"nthreads": 1}}})
+
+    def sync(self, call, callback_timeout=None):
+        return call()
 
     def submit(self, fn, task, key, pure, retries, priority):
         self.submitted += 1
         return _Future(key, task, fn, self.submitted)
-
-    def scheduler_info(self):
-        return {"workers": {"tcp://w": {"nthreads": 1}}}
 
     def subscribe_topic(self, topic, handler):
         pass
@@ -159,3 +162,94 @@ def test_a_cluster_is_handed_a_few_points_at_a_time(monkeypatch):
     assert sorted(got) == sorted(plan.rpms) and client.submitted == 60
     assert max(most) == max(backends.MIN_AHEAD, backends.AHEAD_PER_THREAD * 1)
     assert got[0] == min(plan.rpms)        # the longest point (the slowest speed) first
+
+
+# -- a scheduler that freezes in the middle of a sweep ---------------------------------
+
+@pytest.mark.slow
+def test_a_frozen_scheduler_is_given_up_keeping_the_finished_points(tmp_path, capsys,
+                                                                    monkeypatch):
+    """The scheduler is stopped (SIGSTOP: its connections stay open, nothing comes back)
+    while the last point runs: the sweep gives it up after the silence allowed, in one
+    line, keeping the two finished points (it used to wait for ever: the watchdog below
+    wakes the scheduler after 90 s so that such a wait ends in a failure, not a hang)."""
+    import threading
+    import time
+
+    import cluster_helpers as ch
+    from spurdyn.sweep import backends
+    from spurdyn.sweep import point as point_mod
+
+    monkeypatch.setattr(backends, "SILENCE_S", 3.0, raising=False)
+    monkeypatch.setattr(point_mod, "run_point", ch.slow_point)
+    cluster = ch.LoopbackCluster(tmp_path / "cluster")
+    try:
+        cluster.start_scheduler()
+        cluster.start_worker()
+
+        def freeze() -> None:
+            ch.wait_for(cluster.marks / f"{ch.SLOW_RPM:.0f}.started")
+            os.kill(cluster.scheduler.pid, signal.SIGSTOP)
+            time.sleep(90.0)
+            os.kill(cluster.scheduler.pid, signal.SIGCONT)
+
+        threading.Thread(target=freeze, daemon=True).start()
+        t0 = time.monotonic()
+        code, out, err = run(capsys, "sweep", "paper-fig8", "--rpm", "8000,10000,12000",
+                             "--model", "lumped", "--scheduler", cluster.address,
+                             "--scheduler-timeout", "2", "--out", tmp_path / "sw")
+        took = time.monotonic() - t0
+    finally:
+        if cluster.scheduler is not None and cluster.scheduler.poll() is None:
+            os.kill(cluster.scheduler.pid, signal.SIGCONT)
+        cluster.stop()
+    assert code == 1, err
+    assert ("spurdyn: sweep stopped (ClusterLost: the scheduler has not answered for 3 s): "
+            f"2 of 3 points kept in {tmp_path / 'sw'}") in err, err
+    assert took < 60.0, took
+    assert len(list((tmp_path / "sw" / "points").glob("*.json"))) == 2
+
+
+# -- the sector model's whole bodies: bounded by their time, not their step count ------
+
+def test_whole_bodies_that_would_take_hours_are_refused_naming_bodies(fake, here, capsys):
+    code, out, err = run(capsys, "run", "paper-fig8", "--model", "sector", "--bodies", "full",
+                         "--cycles", "20", "--damping", "0.05")
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith("spurdyn: error: --bodies: paper-fig8 would take 64,320 steps"), err
+    assert "55,554 coordinates" in err and 'give modal bodies (bodies = "modal"' in err, err
+    assert list(here.iterdir()) == []
+
+
+def test_the_whole_bodies_estimate_counts_the_runs_coordinates_and_their_time():
+    """The coordinates are those the run steps (25,474 on 2 x 8 teeth over one cycle, as a
+    run's summary says; 55,554 on the whole gears, docs/performance.md), the time a run may
+    take is MAX_SECONDS whatever the model, and the modal bodies keep their step count."""
+    from dataclasses import replace
+
+    from spurdyn.case.presets import preset_case
+    from spurdyn.sector.rules import full_coordinates
+    from spurdyn.simulators import FULL_STEP_S_PER_COORDINATE, MODELS
+    from spurdyn.solvers.limits import MAX_SECONDS, MAX_STEPS, check_size
+
+    case = preset_case("paper-fig8")
+    entry = MODELS["sector"]
+
+    def sized(**kw):
+        c = replace(case, run=entry.with_defaults(case.run.with_(damping_ratio=0.05, **kw)))
+        return c, entry.size(c)
+
+    small = dict(cycles=1, max_cycles=1, bodies="full", nx=2, ny=8)
+    assert full_coordinates(case.pair, case.run.with_(**small)) == 25_474
+    assert full_coordinates(case.pair, case.run.with_(cycles=3, bodies="full")) == 55_554
+    c, size = sized(**small)                    # results_identical.py's run: still allowed
+    assert size.steps_per_s == pytest.approx(1.0 / (FULL_STEP_S_PER_COORDINATE * 25_474))
+    assert size.most_steps == int(MAX_SECONDS * size.steps_per_s) < MAX_STEPS
+    check_size(c, {}, size)
+    c, size = sized(cycles=20, bodies="full")
+    assert size.steps / size.steps_per_s > MAX_SECONDS
+    with pytest.raises(InputError, match="run.bodies"):
+        check_size(c, {}, size)
+    c, modal = sized(cycles=20)
+    assert modal.most_steps == MAX_STEPS and modal.steps == size.steps
+    check_size(c, {}, modal)

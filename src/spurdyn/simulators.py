@@ -274,6 +274,29 @@ SECTOR_TEETH_STEPS_PER_S = 500
 LUMPED_STEPS_PER_S = 5_000
 
 
+#: Seconds a step of the sector model's whole bodies takes per coordinate: 22.0 ms a step
+#: on the paper's whole gears, 55,554 coordinates (docs/performance.md, "a step per
+#: coordinate"; the solve of the whole stiffness grows with it, the modal bodies' do not).
+FULL_STEP_S_PER_COORDINATE = 0.396e-6
+
+
+def full_bodies_size(case: Any, size: Size) -> Size:
+    """``size`` of a sector run on whole bodies: its steps at the rate their coordinates
+    allow (:data:`FULL_STEP_S_PER_COORDINATE`, the model's rate at most), bounded by the time
+    :data:`~spurdyn.solvers.limits.MAX_SECONDS` rather than the step count, blaming
+    ``bodies``."""
+    from dataclasses import replace
+
+    from spurdyn.sector.rules import full_coordinates
+    from spurdyn.solvers.limits import MAX_SECONDS
+
+    n = full_coordinates(case.pair, case.run)
+    rate = min(size.steps_per_s, 1.0 / (FULL_STEP_S_PER_COORDINATE * n))
+    return replace(size, steps_per_s=rate, most_steps=int(MAX_SECONDS * rate), blame="bodies",
+                   remedy=f"a step of the whole bodies ({n:,} coordinates) takes about "
+                   f"{1e3 / rate:.2g} ms: give modal bodies (bodies = \"modal\", the default)")
+
+
 def cycles_size(case: Any, per_cycle: int, most: int, default_most: int, rate: float) -> Size:
     """The :class:`~spurdyn.solvers.limits.Size` of a steady state of ``per_cycle`` steps a mesh
     cycle over the ``most`` cycles it may go on to, one sample a step: too many steps blame the
@@ -339,7 +362,8 @@ class SectorEntry(ModelEntry):
         most = cycles_limit(case.run)
         rate = SECTOR_STEPS_PER_S if most >= WHOLE_FROM_CYCLES else SECTOR_TEETH_STEPS_PER_S
         default = case.run.with_(cycles=DEFAULT_CYCLES, max_cycles=None)
-        return cycles_size(case, steps_per_cycle(speed, teeth), most, cycles_limit(default), rate)
+        size = cycles_size(case, steps_per_cycle(speed, teeth), most, cycles_limit(default), rate)
+        return full_bodies_size(case, size) if case.run.bodies == "full" else size
 
     def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
         """Its revision, and its defaults where the case gives nothing: the bodies' damping,

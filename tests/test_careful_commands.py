@@ -253,3 +253,31 @@ def test_the_whole_bodies_estimate_counts_the_runs_coordinates_and_their_time():
     c, modal = sized(cycles=20)
     assert modal.most_steps == MAX_STEPS and modal.steps == size.steps
     check_size(c, {}, modal)
+
+
+# -- the FE model without a load, and with one lost in the rounding --------------------
+
+@pytest.mark.parametrize("torque", ["1e-12", "1e-300"])
+def test_an_fe_load_lost_in_the_rounding_is_refused(fake, here, capsys, torque):
+    """Such a run used to end `complete` with a dynamic factor of 1.35e18 (1e-20 N m on
+    Fig. 8): its peak force the unloaded run's, over a static force of nothing."""
+    code, out, err = run(capsys, "run", "paper-fig8", "--torque", torque)
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith(f"spurdyn: error: --torque: {float(torque):g} N m deflects the teeth "
+                          "by less than the rounding of positions"), err
+    assert err.endswith("; or 0 for an unloaded run\n") and list(here.iterdir()) == []
+
+
+def test_an_unloaded_fe_run_is_a_clean_result(here, capsys):
+    import json
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code, _, err = run(capsys, "run", "paper-fig9", "--angle", "0.3", "--torque", "0",
+                           "--backend", "numpy", "--out", here / "o", "--quiet")
+    assert code == 0 and err == "", err
+    summary = json.loads((here / "o" / "summary.json").read_text())
+    assert summary["status"] == "complete" and summary["reason"] == ""
+    assert summary["dynamic_factor"] is None and summary["static_force_N"] == 0.0
+    assert summary["dynamic_factor_note"] == "none: no quasi-static force (zero torque)"

@@ -201,6 +201,11 @@ class FEEntry(ModelEntry):
     (:func:`spurdyn.solvers.loop.simulate`)."""
 
     def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
+        """Damping the explicit integrator does not carry; a load lost in the rounding of
+        the teeth's positions (zero is a load: an unloaded run, its dynamic factor none)."""
+        if pair is not None and settings.torque > 0.0:
+            _refuse_rounding_torque(pair, settings.torque, label("torque", labels),
+                                    unloaded="; or 0 for an unloaded run")
         if settings.damped and settings.integrator == "rk4":
             name = ("damping_ratio" if settings.mesh_damping > 0.0 else "rayleigh_mass"
                     if settings.rayleigh[0] > 0.0 else "rayleigh_stiffness")
@@ -406,14 +411,16 @@ class SectorEntry(ModelEntry):
         return float(settings.speed_a if pair.driver == "a" else settings.speed_b), driver.teeth
 
 
-def _refuse_rounding_torque(pair: GearPair, torque: float, name: str) -> None:
-    """Refuse a torque whose static tooth deflection is lost in the rounding of positions.
+def _refuse_rounding_torque(pair: GearPair, torque: float, name: str, unloaded: str = "") -> None:
+    """Refuse a torque whose static tooth deflection is lost in the rounding of positions
+    (the sector and FE models; ``unloaded`` ends the refusal, where a model runs unloaded).
 
     The deflection ``F / k`` is above ``F / (E b)`` (a tooth is far softer than a block of
     its face width, ``k ~ E b / 10``); below :data:`~spurdyn.solvers.limits.TOL_MIN_ROUNDINGS`
     times machine epsilon times the centre distance (2e-15 m on the paper's pair, the
     smallest ``tol_disp``) the contact forces are rounding (measured on the paper's pair:
-    1e-9 N m ran to a dynamic factor of 0.000, 1e-4 N m to 1.40 as at 1 N m).
+    1e-9 N m ran to a dynamic factor of 0.000, 1e-4 N m to 1.40 as at 1 N m; the FE model's
+    Fig. 8 run to 1.35e18 at 1e-20 N m, its peak force the unloaded run's: docs/solver.md).
     """
     import sys
 
@@ -424,7 +431,7 @@ def _refuse_rounding_torque(pair: GearPair, torque: float, name: str) -> None:
     least = floor * driver.material.young * driver.face_width * driver.base_radius
     if torque < least:
         raise InputError(name, f"{torque:g} N m deflects the teeth by less than the rounding of "
-                         f"positions ({floor:.2g} m); at least {least:.2g} N m")
+                         f"positions ({floor:.2g} m); at least {least:.2g} N m{unloaded}")
 
 
 def simulate_lumped(pair: GearPair, settings: RunSettings,

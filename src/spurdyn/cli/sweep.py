@@ -193,13 +193,17 @@ def _check_points(plan: SweepPlan, labels: dict[str, str], allow_large: bool) ->
     def field(key: str) -> str:
         return names.get(key) or labels.get(f"run.{key}", f"run.{key}")
 
+    entry = ENTRIES[plan.model]
+    for torque in plan.torque_values[1:]:   # the first is the case's, checked with the case
+        entry.check(plan.case.run.with_(torque=torque), {**labels, "run.torque": field("torque")},
+                    plan.case.pair)
     points = [plan.point_case(k) for k in plan.keys()]
     for point in points:
         check_run_bounds(point.pair, point.run, field)
         check_sampling(point.pair, point.run, field)
     if not allow_large:
         slowest = min(points, key=lambda p: p.run.speed_a)
-        check_size(slowest, labels, ENTRIES[plan.model].size(slowest), speed_field="--rpm")
+        check_size(slowest, labels, entry.size(slowest), speed_field="--rpm")
 
 
 def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:

@@ -279,10 +279,13 @@ SECTOR_TEETH_STEPS_PER_S = 500
 LUMPED_STEPS_PER_S = 5_000
 
 
-#: Seconds a step of the sector model's whole bodies takes per coordinate: 22.0 ms a step
-#: on the paper's whole gears, 55,554 coordinates (docs/performance.md, "a step per
-#: coordinate"; the solve of the whole stiffness grows with it, the modal bodies' do not).
-FULL_STEP_S_PER_COORDINATE = 0.396e-6
+#: Seconds a step of the sector model's whole bodies takes per coordinate (the NumPy loop,
+#: whose solve of the whole stiffness grows with them; the modal bodies' does not): measured
+#: by the difference of two runs' steps, 24.5 ms a step on 2 x 8 teeth over one cycle
+#: (25,474 coordinates, 0.96 us each) and 45.0 ms on the paper's whole gears (55,554, 0.81 us);
+#: the larger, so that a refusal does not promise less time than a run takes
+#: (docs/cli.md, "Limits").
+FULL_STEP_S_PER_COORDINATE = 0.96e-6
 
 
 def full_bodies_size(case: Any, size: Size) -> Size:
@@ -420,7 +423,7 @@ def _refuse_rounding_torque(pair: GearPair, torque: float, name: str, unloaded: 
     times machine epsilon times the centre distance (2e-15 m on the paper's pair, the
     smallest ``tol_disp``) the contact forces are rounding (measured on the paper's pair:
     1e-9 N m ran to a dynamic factor of 0.000, 1e-4 N m to 1.40 as at 1 N m; the FE model's
-    Fig. 8 run to 1.35e18 at 1e-20 N m, its peak force the unloaded run's: docs/solver.md).
+    Fig. 8 run to 1.35e18 at 1e-20 N m, its peak force the unloaded run's: docs/cli.md, "Limits").
     """
     import sys
 

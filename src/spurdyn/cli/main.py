@@ -409,7 +409,7 @@ def os_error_line(err: OSError, args: argparse.Namespace) -> str:
     is named with the system's words alone.
     """
     if err.filename is None:
-        return f"a file: {err.strerror or err}"
+        return f"{type(err).__name__}: {err.strerror or err}"
     path = Path(str(err.filename)).absolute()
     given = {n: getattr(args, n) for n in OUTPUT_OPTIONS if hasattr(args, n)}
     if given.get("out", "") is None:      # run, sweep and report write under out/ by default

@@ -281,3 +281,41 @@ def test_an_unloaded_fe_run_is_a_clean_result(here, capsys):
     assert summary["status"] == "complete" and summary["reason"] == ""
     assert summary["dynamic_factor"] is None and summary["static_force_N"] == 0.0
     assert summary["dynamic_factor_note"] == "none: no quasi-static force (zero torque)"
+
+
+def test_a_stop_signal_while_the_local_cluster_starts_closes_it(monkeypatch):
+    """Cut short inside ``LocalCluster``, the half-made cluster was left to Dask's own close
+    at exit, which printed an AssertionError's traceback; the signal is now acted on once
+    the cluster can be closed."""
+    import distributed
+
+    from spurdyn.signals import Interrupts
+    from spurdyn.sweep import backends
+
+    closed = []
+
+    class Cluster:
+        def __init__(self, **kw):
+            os.kill(os.getpid(), signal.SIGTERM)
+
+        def close(self, timeout=None):
+            closed.append("cluster")
+
+    class Client:
+        def __init__(self, cluster):
+            pass
+
+        def unsubscribe_topic(self, topic):
+            pass
+
+        def close(self, timeout=None):
+            closed.append("client")
+
+    monkeypatch.setattr(distributed, "LocalCluster", Cluster)
+    monkeypatch.setattr(distributed, "Client", Client)
+    with Interrupts.installed():
+        Interrupts.reset()
+        with pytest.raises(KeyboardInterrupt):
+            with backends.local_backend(2):
+                raise AssertionError("the sweep should not start")
+    assert closed == ["client", "cluster"] and Interrupts.name() == "SIGTERM"

@@ -292,16 +292,22 @@ def local_backend(jobs: int) -> Iterator[DaskBackend]:
     # and a worker that dies takes only the point it was running with it.
     # Workers ignore Ctrl-C (the client stops the sweep and closes the cluster): SIG_IGN is
     # inherited by the processes spawned now, and the preload sets it in restarted ones.
-    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}), ignored():
-        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=":0",
-                               # No dashboard; the scheduler's HTTP server (always on)
-                               # takes a free port instead of warning that 8787 is taken.
-                               scheduler_kwargs={"dashboard": False},
-                               silence_logs=logging.CRITICAL,
-                               preload=["spurdyn.sweep.worker_setup"])
-    client = Client(cluster)
+    # A stop signal while the cluster starts is acted on once it can be closed: cut short,
+    # the half-made cluster's own close at exit printed a traceback (AssertionError).
+    before = Interrupts.count
+    with Interrupts.held():
+        with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}), ignored():
+            cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                                   host="127.0.0.1", dashboard_address=":0",
+                                   # No dashboard; the scheduler's HTTP server (always on)
+                                   # takes a free port instead of warning that 8787 is taken.
+                                   scheduler_kwargs={"dashboard": False},
+                                   silence_logs=logging.CRITICAL,
+                                   preload=["spurdyn.sweep.worker_setup"])
+        client = Client(cluster)
     try:
+        if Interrupts.count != before:
+            raise KeyboardInterrupt
         yield DaskBackend(client, f"a local Dask cluster of {jobs} worker process"
                           f"{'es' if jobs > 1 else ''}")
     finally:

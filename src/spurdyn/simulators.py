@@ -201,6 +201,11 @@ class FEEntry(ModelEntry):
     (:func:`spurdyn.solvers.loop.simulate`)."""
 
     def check(self, settings: RunSettings, labels: Labels, pair: GearPair | None) -> None:
+        """Damping the explicit integrator does not carry; a load lost in the rounding of
+        the teeth's positions (zero is a load: an unloaded run, its dynamic factor none)."""
+        if pair is not None and settings.torque > 0.0:
+            _refuse_rounding_torque(pair, settings.torque, label("torque", labels),
+                                    unloaded="; or 0 for an unloaded run")
         if settings.damped and settings.integrator == "rk4":
             name = ("damping_ratio" if settings.mesh_damping > 0.0 else "rayleigh_mass"
                     if settings.rayleigh[0] > 0.0 else "rayleigh_stiffness")
@@ -274,6 +279,32 @@ SECTOR_TEETH_STEPS_PER_S = 500
 LUMPED_STEPS_PER_S = 5_000
 
 
+#: Seconds a step of the sector model's whole bodies takes per coordinate (the NumPy loop,
+#: whose solve of the whole stiffness grows with them; the modal bodies' does not): measured
+#: by the difference of two runs' steps, 24.5 ms a step on 2 x 8 teeth over one cycle
+#: (25,474 coordinates, 0.96 us each) and 45.0 ms on the paper's whole gears (55,554, 0.81 us);
+#: the larger, so that a refusal does not promise less time than a run takes
+#: (docs/cli.md, "Limits").
+FULL_STEP_S_PER_COORDINATE = 0.96e-6
+
+
+def full_bodies_size(case: Any, size: Size) -> Size:
+    """``size`` of a sector run on whole bodies: its steps at the rate their coordinates
+    allow (:data:`FULL_STEP_S_PER_COORDINATE`, the model's rate at most), bounded by the time
+    :data:`~spurdyn.solvers.limits.MAX_SECONDS` rather than the step count, blaming
+    ``bodies``."""
+    from dataclasses import replace
+
+    from spurdyn.sector.rules import full_coordinates
+    from spurdyn.solvers.limits import MAX_SECONDS
+
+    n = full_coordinates(case.pair, case.run)
+    rate = min(size.steps_per_s, 1.0 / (FULL_STEP_S_PER_COORDINATE * n))
+    return replace(size, steps_per_s=rate, most_steps=int(MAX_SECONDS * rate), blame="bodies",
+                   remedy=f"a step of the whole bodies ({n:,} coordinates) takes about "
+                   f"{1e3 / rate:.2g} ms: give modal bodies (bodies = \"modal\", the default)")
+
+
 def cycles_size(case: Any, per_cycle: int, most: int, default_most: int, rate: float) -> Size:
     """The :class:`~spurdyn.solvers.limits.Size` of a steady state of ``per_cycle`` steps a mesh
     cycle over the ``most`` cycles it may go on to, one sample a step: too many steps blame the
@@ -339,7 +370,8 @@ class SectorEntry(ModelEntry):
         most = cycles_limit(case.run)
         rate = SECTOR_STEPS_PER_S if most >= WHOLE_FROM_CYCLES else SECTOR_TEETH_STEPS_PER_S
         default = case.run.with_(cycles=DEFAULT_CYCLES, max_cycles=None)
-        return cycles_size(case, steps_per_cycle(speed, teeth), most, cycles_limit(default), rate)
+        size = cycles_size(case, steps_per_cycle(speed, teeth), most, cycles_limit(default), rate)
+        return full_bodies_size(case, size) if case.run.bodies == "full" else size
 
     def hash_extras(self, settings: RunSettings) -> dict[str, Any]:
         """Its revision, and its defaults where the case gives nothing: the bodies' damping,
@@ -382,14 +414,16 @@ class SectorEntry(ModelEntry):
         return float(settings.speed_a if pair.driver == "a" else settings.speed_b), driver.teeth
 
 
-def _refuse_rounding_torque(pair: GearPair, torque: float, name: str) -> None:
-    """Refuse a torque whose static tooth deflection is lost in the rounding of positions.
+def _refuse_rounding_torque(pair: GearPair, torque: float, name: str, unloaded: str = "") -> None:
+    """Refuse a torque whose static tooth deflection is lost in the rounding of positions
+    (the sector and FE models; ``unloaded`` ends the refusal, where a model runs unloaded).
 
     The deflection ``F / k`` is above ``F / (E b)`` (a tooth is far softer than a block of
     its face width, ``k ~ E b / 10``); below :data:`~spurdyn.solvers.limits.TOL_MIN_ROUNDINGS`
     times machine epsilon times the centre distance (2e-15 m on the paper's pair, the
     smallest ``tol_disp``) the contact forces are rounding (measured on the paper's pair:
-    1e-9 N m ran to a dynamic factor of 0.000, 1e-4 N m to 1.40 as at 1 N m).
+    1e-9 N m ran to a dynamic factor of 0.000, 1e-4 N m to 1.40 as at 1 N m; the FE model's
+    Fig. 8 run to 1.35e18 at 1e-20 N m, its peak force the unloaded run's: docs/cli.md, "Limits").
     """
     import sys
 
@@ -400,7 +434,7 @@ def _refuse_rounding_torque(pair: GearPair, torque: float, name: str) -> None:
     least = floor * driver.material.young * driver.face_width * driver.base_radius
     if torque < least:
         raise InputError(name, f"{torque:g} N m deflects the teeth by less than the rounding of "
-                         f"positions ({floor:.2g} m); at least {least:.2g} N m")
+                         f"positions ({floor:.2g} m); at least {least:.2g} N m{unloaded}")
 
 
 def simulate_lumped(pair: GearPair, settings: RunSettings,

@@ -43,8 +43,11 @@ def read_text(path: Path, key: str, missing: str = "no such file") -> str:
             data = fh.read(MAX_FILE_BYTES + 1)
     except FileNotFoundError:
         raise InputError(key, f"{name.rstrip() + ': ' if name else ''}{missing}") from None
+    except IsADirectoryError:
+        raise InputError(key, f"{name}is a folder, not a file") from None
     except (OSError, ValueError) as err:
-        raise InputError(key, f"{name}cannot be read ({type(err).__name__})") from None
+        why = getattr(err, "strerror", None) or type(err).__name__
+        raise InputError(key, f"{name}cannot be read ({why})") from None
     if len(data) > MAX_FILE_BYTES:
         raise InputError(key, f"{name}holds more than {MAX_FILE_BYTES >> 20} MiB (the most a "
                          "case file or a torque history may hold): is it the file you meant?")

@@ -166,7 +166,9 @@ def case_inputs(spec: str, case: Any, rows: list[dict[str, Any]], info: dict[str
 
     text, given = None, {}
     if Path(spec).is_file():
-        text = Path(spec).read_text(encoding="utf-8")
+        from spurdyn.case.files import read_text
+
+        text = read_text(Path(spec), spec)      # the one reader of a file the user named
         given = tomllib.loads(text)
     full = case_to_dict(case)
     settings = []

@@ -391,11 +391,33 @@ def main(argv: Sequence[str] | None = None) -> int:
         except BrokenPipeError:
             _silence_stdout()
             return EXIT_BROKEN_PIPE
-        except OSError as err:  # a picture or folder the system refuses to write
-            where = err.filename or "output"
-            print(f"spurdyn: error: {where}: cannot be written ({err.strerror or err})",
-                  file=sys.stderr)
+        except OSError as err:  # a file or folder the system refused to read or write
+            print(f"spurdyn: error: {os_error_line(err, args)}", file=sys.stderr)
             return EXIT_BAD_INPUT
+
+
+#: The options naming what a command writes (a path under one of them was being written).
+OUTPUT_OPTIONS = ("out", "png", "gif")
+
+
+def os_error_line(err: OSError, args: argparse.Namespace) -> str:
+    """``path: what failed`` for an ``OSError`` no command turned into a refusal.
+
+    The error does not say whether its path was read or written (a missing input file and
+    a missing output folder are both ``ENOENT``): a path at or under an output the command
+    was given (:data:`OUTPUT_OPTIONS`) "cannot be written"; any other, an input, a cache,
+    is named with the system's words alone.
+    """
+    if err.filename is None:
+        return f"{type(err).__name__}: {err.strerror or err}"
+    path = Path(str(err.filename)).absolute()
+    given = {n: getattr(args, n) for n in OUTPUT_OPTIONS if hasattr(args, n)}
+    if given.get("out", "") is None:      # run, sweep and report write under out/ by default
+        given["out"] = "out"
+    outputs = [Path(str(v)).absolute() for v in given.values() if v is not None]
+    if any(path == o or o in path.parents for o in outputs):
+        return f"{err.filename}: cannot be written ({err.strerror or err})"
+    return f"{err.filename}: {err.strerror or type(err).__name__}"
 
 
 def _silence_stdout() -> None:

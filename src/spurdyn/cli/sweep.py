@@ -23,7 +23,8 @@ from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as ENTRIES
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep import scheduler as _scheduler
-from spurdyn.sweep.spec import CONTINUATIONS, MODELS, SweepPlan, check_plan, parse_speeds, parse_torques
+from spurdyn.sweep.spec import (CONTINUATIONS, MODELS, SweepPlan, check_count, check_plan,
+                                parse_speeds, parse_torques)
 
 #: Exit statuses of ``spurdyn sweep`` (those of ``spurdyn run``).
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
@@ -144,6 +145,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     _check_cluster(args)
     rpms = parse_speeds(args.rpm)
     torques = parse_torques(args.torque) if args.torque is not None else None
+    check_count(rpms, torques)      # before any point is made
     overrides, labels = _overrides(args, torques)
     case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
     model = args.model or case.model          # --model, else the case file's [model] kind
@@ -191,13 +193,17 @@ def _check_points(plan: SweepPlan, labels: dict[str, str], allow_large: bool) ->
     def field(key: str) -> str:
         return names.get(key) or labels.get(f"run.{key}", f"run.{key}")
 
+    entry = ENTRIES[plan.model]
+    for torque in plan.torque_values[1:]:   # the first is the case's, checked with the case
+        entry.check(plan.case.run.with_(torque=torque), {**labels, "run.torque": field("torque")},
+                    plan.case.pair)
     points = [plan.point_case(k) for k in plan.keys()]
     for point in points:
         check_run_bounds(point.pair, point.run, field)
         check_sampling(point.pair, point.run, field)
     if not allow_large:
         slowest = min(points, key=lambda p: p.run.speed_a)
-        check_size(slowest, labels, ENTRIES[plan.model].size(slowest), speed_field="--rpm")
+        check_size(slowest, labels, entry.size(slowest), speed_field="--rpm")
 
 
 def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:
@@ -314,7 +320,9 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    "(tcp:// on a trusted network only; tls:// with --tls-*)")
     p.add_argument("--scheduler-timeout", type=float, metavar="S",
                    help=f"seconds the scheduler has to answer (default "
-                   f"{_scheduler.CONNECT_TIMEOUT_S:g})")
+                   f"{_scheduler.CONNECT_TIMEOUT_S:g}); during the sweep, silent for "
+                   f"this or {_backends.SILENCE_S:g} s, the longer, it counts as lost "
+                   "(the finished points kept)")
     p.add_argument("--tls-ca-file", metavar="PEM",
                    help="tls:// scheduler: the certificate authority of the cluster")
     p.add_argument("--tls-cert", metavar="PEM",

@@ -109,6 +109,23 @@ def cover_cycles(settings: RunSettings) -> int:
     return most if settings.torque_history is None else most + max(2, -(-most // 2))
 
 
+def full_coordinates(pair: GearPair, settings: RunSettings) -> int:
+    """The coordinates of a run's whole finite-element bodies (``bodies = "full"``): the free
+    DOFs of both gears' meshed teeth and rims, as the run meshes them (the teeth it carries:
+    :func:`~spurdyn.sector.system.teeth_for`), and the two hubs' rotations. Meshed, not
+    assembled: 0.1-0.3 s for the paper's whole gears."""
+    from spurdyn.sector.body import sector_body
+    from spurdyn.sector.statics import driving_pair
+    from spurdyn.sector.system import teeth_for
+
+    settings = with_defaults(settings)
+    dp = driving_pair(pair)
+    teeth = teeth_for(dp, cover_cycles(settings), back_flanks_on(dp, settings), settings.teeth)
+    return 2 + sum(sector_body(gear, min(count, gear.teeth), settings.nx, settings.ny,
+                               first=first, grading=settings.grading).free_dofs.size
+                   for gear, (first, count) in zip((dp.gear_a, dp.gear_b), teeth))
+
+
 #: Samples per mesh cycle of the coordinates the teeth's root stress is recovered from
 #: (docs/sector.md, 6.11): the sampled peak of a tooth's stress, a corner at the end of its
 #: single contact, lies below the true one by at most the stress's rise over a sample's

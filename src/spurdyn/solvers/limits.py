@@ -50,6 +50,10 @@ MAX_STEPS = 2_000_000
 #: Steps per second of the compiled solver on the default mesh, for the time estimate of
 #: a refusal (measured: paper-fig8, 29,251 steps in 6.4 s on one shared core).
 STEPS_PER_S = 4000
+#: Seconds of work a run may take unasked: what :data:`MAX_STEPS` take at the FE model's
+#: :data:`STEPS_PER_S` (500 s), the bound of a model whose step costs more than the step
+#: count says (the sector model's whole bodies: :attr:`Size.most_steps`).
+MAX_SECONDS = MAX_STEPS / STEPS_PER_S
 #: Bytes of results a run may hold unasked (in memory and in ``result.nc``).
 MAX_BYTES = 1 << 30
 #: Bytes per saved step: the solver's history row (18 numbers) and the dataset's
@@ -168,6 +172,9 @@ class Size:
         The model's steps a second, for the time a refusal estimates.
     remedy
         What would shorten the run, for the refusal.
+    most_steps
+        The steps a run may take unasked: :data:`MAX_STEPS`, or fewer where a step costs
+        more than the model's usual (:data:`MAX_SECONDS` at ``steps_per_s``).
     """
 
     steps: int
@@ -178,6 +185,7 @@ class Size:
     blame: str | None = None
     steps_per_s: float = STEPS_PER_S
     remedy: str = "raise the speed, shorten --angle"
+    most_steps: int = MAX_STEPS
 
 
 def estimate(case: Any, frames: bool = True, steps_capped: bool = True) -> Size:
@@ -210,13 +218,13 @@ def check_size(case: Any, labels: Mapping[str, str], size: Size, *,
     option the user gave).
     """
     steps = size.steps
-    if size.steps_capped and steps > MAX_STEPS:
+    if size.steps_capped and steps > size.most_steps:
         if size.blame is None:  # the time step, when the paper's would keep the run within the limit
             blame = "dt" if steps * case.run.dt / PAPER_DT <= MAX_STEPS else "speed_a_rpm"
         else:
             blame = size.blame
         key = speed_field or _label(labels, blame) if blame == "speed_a_rpm" else _label(labels, blame)
-        raise InputError(key, f"{case.name} would take {steps:,} steps (limit {MAX_STEPS:,}; "
+        raise InputError(key, f"{case.name} would take {steps:,} steps (limit {size.most_steps:,}; "
                          f"about {steps / size.steps_per_s / 60:,.0f} min at {size.steps_per_s:,.0f} "
                          f"steps/s); {size.remedy}, or give {flag} to run it anyway")
     if size.bytes > MAX_BYTES:
@@ -230,5 +238,5 @@ def check_size(case: Any, labels: Mapping[str, str], size: Size, *,
                          f"{'tooth frames' if frames else 'steps'} or give {flag} to run it anyway")
 
 
-__all__ = ["MAX_BYTES", "MAX_STEPS", "Size", "check_history_torques", "check_run_bounds", "check_sampling",
+__all__ = ["MAX_BYTES", "MAX_SECONDS", "MAX_STEPS", "Size", "check_history_torques", "check_run_bounds", "check_sampling",
            "check_size", "check_torque", "engagement_steps", "estimate"]

@@ -20,6 +20,7 @@ import os
 import signal
 import time
 import uuid
+from collections import deque
 from contextlib import contextmanager
 from typing import Any, Callable, Iterator, Protocol, Sequence
 
@@ -32,6 +33,20 @@ Stream = Iterator[tuple["PointTask | None", "PointOutcome | None", str]]
 
 #: Seconds a cluster may have no worker before the sweep gives up on the rest.
 NO_WORKER_GRACE_S = 120.0
+
+#: Seconds the scheduler may leave a look at the cluster (once a second) unanswered
+#: before the sweep counts it lost, keeping its finished points: a scheduler busy with
+#: another user's large graph answers within seconds; a frozen one (its connection open,
+#: nothing coming back) would hold the sweep for ever.
+SILENCE_S = 60.0
+
+#: Points submitted ahead of the workers, per worker thread (at least :data:`MIN_AHEAD`):
+#: the scheduler keeps each worker fed, the longest points first, while the rest wait in
+#: this process's queue. Submitted at once, a 10,000-point sweep took ~20 s to submit and
+#: ~25 kB a point in this process, and a stop signal waited for ~25 s of cancelling
+#: (docs/performance_sweep.md, "Many points").
+AHEAD_PER_THREAD = 2
+MIN_AHEAD = 4
 
 #: Seconds to fetch a finished point's result before looking again (a result held by a
 #: worker that has just died is lost and computed again).
@@ -91,43 +106,69 @@ def _failed(task: PointTask, reason: str) -> PointOutcome:
 class DaskBackend:
     """Run the points on a ``distributed`` client, one task per point.
 
-    Every point is submitted at once, the longest first (scheduler ``priority``); results
-    are taken as they finish. A task whose worker died more often than the scheduler
+    The points are submitted the longest first (scheduler ``priority``), a few per worker
+    thread ahead of the workers (:data:`AHEAD_PER_THREAD`), the rest waiting in this
+    process; results are taken as they finish. A task whose worker died more often than the scheduler
     allows (``KilledWorker``) is a failed point; tasks cancelled or lost with the scheduler
     are not run. A worker lost while running points is noted (a stream item without a
-    task). A lost connection to the scheduler, or a cluster without a worker for
-    ``no_worker_grace_s``, raises :class:`ClusterLost`: the points not finished are given up
+    task). A lost connection to the scheduler, a scheduler silent for ``silence_s``
+    (default :data:`SILENCE_S`), or a cluster without a worker for ``no_worker_grace_s``,
+    raises :class:`ClusterLost`: the points not finished are given up
     (the runner marks them not run).
     """
 
     def __init__(self, client: Any, description: str,
-                 no_worker_grace_s: float = NO_WORKER_GRACE_S) -> None:
+                 no_worker_grace_s: float = NO_WORKER_GRACE_S,
+                 silence_s: float | None = None) -> None:
         self.client = client
         self.description = description
         self.no_worker_grace_s = no_worker_grace_s
+        self.silence_s = SILENCE_S if silence_s is None else silence_s
+        self._lost = False
         self._pending: set[Any] = set()
+        self._queue: deque[PointTask] = deque()
+        self._tasks: dict[Any, PointTask] = {}
+        self._token = ""
         self._events: list[dict[str, Any]] = []
 
-    def _workers(self) -> int:
-        try:
-            return len(self.client.scheduler_info().get("workers", {}))
-        except Exception:  # noqa: BLE001 - a lost scheduler reads as no workers
-            return 0
+    def _look(self) -> tuple[int, int]:
+        """The cluster's workers and worker threads, asked of the scheduler within
+        ``silence_s`` (a scheduler that cannot be reached reads as no workers).
 
-    def _submit(self, tasks: Sequence[PointTask], fn: PointFn) -> dict[Any, PointTask]:
-        """Every point as a task, the longest first; watch the scheduler's worker losses."""
-        token = uuid.uuid4().hex[:8]
-        futures = {}
-        for task in by_cost(tasks):
-            fut = self.client.submit(fn, task, key=f"spurdyn-{task.key.stem}-{token}",
+        Raises
+        ------
+        ClusterLost
+            The scheduler has not answered within ``silence_s``: it is frozen (its
+            connection open, nothing coming back), and every wait on it would last forever.
+        """
+        try:
+            found = self.client.sync(self.client.scheduler.identity,
+                                     callback_timeout=self.silence_s)
+        except TimeoutError:
+            self._lost = True
+            raise ClusterLost(f"the scheduler has not answered for {self.silence_s:g} s") from None
+        except Exception:  # noqa: BLE001 - a lost scheduler reads as no workers
+            return 0, 0
+        workers = found.get("workers", {})
+        return len(workers), sum(int(w.get("nthreads", 1)) for w in workers.values())
+
+    def _submit_more(self, fn: PointFn, threads: int) -> None:
+        """Submit queued points, the longest first, until :data:`AHEAD_PER_THREAD` points
+        per worker thread (at least :data:`MIN_AHEAD`) are pending."""
+        room = max(MIN_AHEAD, AHEAD_PER_THREAD * threads) - len(self._pending)
+        while self._queue and room > 0:
+            task = self._queue.popleft()
+            fut = self.client.submit(fn, task, key=f"spurdyn-{task.key.stem}-{self._token}",
                                      pure=False, retries=0, priority=expected_steps(task.case))
-            futures[fut] = task
-        self._pending = set(futures)
+            self._tasks[fut.key] = task
+            self._pending.add(fut)
+            room -= 1
+
+    def _watch_losses(self) -> None:
         try:   # the scheduler's "all" topic says which tasks each lost worker was running
             self.client.subscribe_topic("all", lambda event: self._events.append(event[1]))
         except Exception:  # noqa: BLE001 - the sweep runs on without the notes
             pass
-        return futures
 
     def _wait_some(self) -> set[Any]:
         """The tasks finished within a second (none if none), or :class:`ClusterLost`."""
@@ -144,14 +185,14 @@ class DaskBackend:
                 raise ClusterLost("lost the connection to the scheduler") from err
             raise
 
-    def _losses(self, futures: dict[Any, PointTask]) -> Iterator[str]:
+    def _losses(self) -> Iterator[str]:
         """A note per worker lost while running points of this sweep."""
-        by_key = {fut.key: task for fut, task in futures.items()}
         events, self._events = self._events, []
         for event in events:
             if event.get("action") != "remove-worker" or event.get("expected"):
                 continue
-            lost = sorted(by_key[k].key for k in event.get("processing-tasks", ()) if k in by_key)
+            lost = sorted(self._tasks[k].key for k in event.get("processing-tasks", ())
+                          if k in self._tasks)
             if lost:
                 points = ", ".join(f"{k.rpm:,.6g} rpm" for k in lost)
                 yield (f"a worker ({event.get('worker', '?')}) was lost while running "
@@ -160,14 +201,18 @@ class DaskBackend:
                        f"allowed-failures times)")
 
     def run(self, tasks: Sequence[PointTask], fn: PointFn) -> Stream:
-        futures = self._submit(tasks, fn)
+        self._queue = deque(by_cost(tasks))
+        self._token = uuid.uuid4().hex[:8]
+        self._watch_losses()
         no_worker_since: float | None = None
-        while self._pending:
+        while self._pending or self._queue:
+            workers, threads = self._look()   # every second: a frozen scheduler is lost
+            self._submit_more(fn, threads)
             done = self._wait_some()
-            for note in self._losses(futures):
+            for note in self._losses():
                 yield None, None, note
             if not done:
-                if self._workers() == 0:
+                if workers == 0:
                     no_worker_since = no_worker_since or time.monotonic()
                     if time.monotonic() - no_worker_since > self.no_worker_grace_s:
                         raise ClusterLost(f"no worker in the cluster for "
@@ -175,9 +220,9 @@ class DaskBackend:
                 else:
                     no_worker_since = None
                 continue
-            for fut in sorted(done, key=lambda f: futures[f].key):
+            for fut in sorted(done, key=lambda f: self._tasks[f.key].key):
                 self._pending.discard(fut)
-                yield from self._outcome(fut, futures[fut])
+                yield from self._outcome(fut, self._tasks[fut.key])
 
     def _outcome(self, fut: Any, task: PointTask) -> Stream:
         """The finished task's point (nothing if its result died with its worker: the
@@ -201,8 +246,9 @@ class DaskBackend:
             yield task, None, f"task {fut.status} (lost its scheduler or cancelled)"
 
     def cancel(self) -> None:
+        self._queue.clear()
         pending, self._pending = list(self._pending), set()
-        if pending:
+        if pending and not self._lost:    # a frozen scheduler would hold the call for ever
             try:
                 self.client.cancel(pending, force=True)
             except Exception:  # noqa: BLE001 - the cluster may be gone already
@@ -246,16 +292,22 @@ def local_backend(jobs: int) -> Iterator[DaskBackend]:
     # and a worker that dies takes only the point it was running with it.
     # Workers ignore Ctrl-C (the client stops the sweep and closes the cluster): SIG_IGN is
     # inherited by the processes spawned now, and the preload sets it in restarted ones.
-    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}), ignored():
-        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=":0",
-                               # No dashboard; the scheduler's HTTP server (always on)
-                               # takes a free port instead of warning that 8787 is taken.
-                               scheduler_kwargs={"dashboard": False},
-                               silence_logs=logging.CRITICAL,
-                               preload=["spurdyn.sweep.worker_setup"])
-    client = Client(cluster)
+    # A stop signal while the cluster starts is acted on once it can be closed: cut short,
+    # the half-made cluster's own close at exit printed a traceback (AssertionError).
+    before = Interrupts.count
+    with Interrupts.held():
+        with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}), ignored():
+            cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                                   host="127.0.0.1", dashboard_address=":0",
+                                   # No dashboard; the scheduler's HTTP server (always on)
+                                   # takes a free port instead of warning that 8787 is taken.
+                                   scheduler_kwargs={"dashboard": False},
+                                   silence_logs=logging.CRITICAL,
+                                   preload=["spurdyn.sweep.worker_setup"])
+        client = Client(cluster)
     try:
+        if Interrupts.count != before:
+            raise KeyboardInterrupt
         yield DaskBackend(client, f"a local Dask cluster of {jobs} worker process"
                           f"{'es' if jobs > 1 else ''}")
     finally:
@@ -265,6 +317,10 @@ def local_backend(jobs: int) -> Iterator[DaskBackend]:
 def _close(client: Any, cluster: Any = None) -> None:
     # A second Ctrl-C or SIGTERM must not leave workers behind.
     with ignored((signal.SIGINT, signal.SIGTERM)):
+        try:   # else the scheduler sends this client's own removal to it as it closes
+            client.unsubscribe_topic("all")
+        except Exception:  # noqa: BLE001
+            pass
         try:
             client.close(timeout=10)
         except Exception:  # noqa: BLE001

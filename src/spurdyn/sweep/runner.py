@@ -270,6 +270,7 @@ def _write_results(plan: SweepPlan, records: dict[PointKey, dict[str, Any]],
     Ctrl-C; the dataset and the three files."""
     out = plan.out
     with Interrupts.held():
+        out.mkdir(parents=True, exist_ok=True)
         ds = sweep_dataset(plan, records, missing, extra_attrs=resonance.attrs())
         own, combined = write_sweep_files(out, ds)
         png = out / PNG_FILE
@@ -302,6 +303,11 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     -------
     SweepReport
         Also written: ``sweep_<model>.nc``, ``sweep.nc``, ``dynamic_factor.png``.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        A stop signal came before any point finished: nothing was written.
     """
     t0 = time.perf_counter()
     if resonance is None:
@@ -315,7 +321,6 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     records: dict[PointKey, dict[str, Any]] = dict(stored)
     tasks = [PointTask(k, plan.point_case(k), plan.keep_runs) for k in todo]
     cost = {t.key: expected_steps(t.case) for t in tasks}
-    out.mkdir(parents=True, exist_ok=True)
     settings = settings_dict(plan.case)
 
     bar = SweepProgress(f"{plan.model} sweep", sum(cost.values()), len(tasks),
@@ -324,6 +329,10 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     stream_ = _point_stream(plan, backend, tasks, records, fn)
     finished, missing, interrupted, stopped = _take_points(
         stream_, backend, out, settings, cost, bar, signals_before, records, plan.run_pictures)
+    if interrupted and not finished:
+        # As a run stopped before any result: nothing written (the folder is made by the
+        # first point written), the folder as it was; main says which signal it was.
+        raise KeyboardInterrupt
     _mark_missing(tasks, finished, missing, records, interrupted, stopped)
     ds, files = _write_results(plan, records, missing, resonance)
     return SweepReport(plan=plan, dataset=ds, computed=len(finished),

@@ -19,7 +19,7 @@ import threading
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
 from spurdyn.errors import InputError
 from spurdyn.sweep import backends as _backends
@@ -197,8 +197,12 @@ def scheduler_backend(address: str, timeout_s: float = CONNECT_TIMEOUT_S,
             raise InputError("--scheduler", f"no worker joined the scheduler at {address} "
                              f"within {workers_timeout_s:g} s; start one with "
                              f"'dask worker {address}'") from None
+        silence = max(timeout_s, _backends.SILENCE_S)
         try:
-            versions = client.run(_worker_spurdyn)
+            versions = _within(lambda: client.run(_worker_spurdyn), silence)
+        except TimeoutError:
+            raise InputError("--scheduler", f"the scheduler at {address} stopped answering "
+                             f"(nothing for {silence:g} s after it connected)") from None
         except Exception as err:  # noqa: BLE001 - e.g. ModuleNotFoundError on a worker
             raise InputError("--scheduler", f"the workers at {address} cannot run spurdyn "
                              f"({type(err).__name__}: {err})") from None
@@ -211,9 +215,33 @@ def scheduler_backend(address: str, timeout_s: float = CONNECT_TIMEOUT_S,
         n = len(versions)
         grace = _backends.NO_WORKER_GRACE_S if no_worker_grace_s is None else no_worker_grace_s
         yield DaskBackend(client, f"the Dask cluster at {address} ({n} worker"
-                          f"{'s' if n != 1 else ''} now)", no_worker_grace_s=grace)
+                          f"{'s' if n != 1 else ''} now)", no_worker_grace_s=grace,
+                          silence_s=silence)
     finally:
         _close(client)
+
+
+def _within(call: Callable[[], Any], timeout_s: float) -> Any:
+    """``call()``, waited for ``timeout_s`` at most in a thread of its own (a call to a
+    frozen scheduler never returns); ``TimeoutError`` after that, its exception if it
+    raised."""
+    box: list[Any] = []
+
+    def run() -> None:
+        try:
+            box.append((True, call()))
+        except BaseException as err:  # noqa: BLE001 - handed to the caller
+            box.append((False, err))
+
+    thread = threading.Thread(target=run, name="spurdyn-scheduler-call", daemon=True)
+    thread.start()
+    thread.join(timeout_s)
+    if not box:
+        raise TimeoutError(f"no answer within {timeout_s:g} s")
+    ok, value = box[0]
+    if not ok:
+        raise value
+    return value
 
 
 def _worker_spurdyn() -> str:

@@ -23,12 +23,18 @@ from spurdyn.case.file import Case, case_to_dict
 from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as _MODELS
 from spurdyn.settings import RPM
+from spurdyn.solvers.limits import MAX_BYTES
 
 #: Models a sweep can run.
 MODELS = tuple(_MODELS)
 
-#: Most points one grid may hold.
-MAX_POINTS = 10_000
+#: Bytes a point of a sweep takes: in the sweep's own process (its key, case, task, cost
+#: and record: 4.4 kB) and in its folder (its point file and its row of the results:
+#: 4.1 kB), measured on 2,000 and 20,000 points (docs/performance_sweep.md, "Many points").
+BYTES_PER_POINT = 8_500
+#: Most points one sweep may hold (and so one grid): the memory guard of a run's results
+#: (:data:`~spurdyn.solvers.limits.MAX_BYTES`, 1 GiB) over :data:`BYTES_PER_POINT`.
+MAX_POINTS = MAX_BYTES // BYTES_PER_POINT
 
 #: Speeds and torques are rounded to this many decimals (so keys do not depend on the
 #: last bit of a floating-point step).
@@ -115,6 +121,24 @@ def parse_grid(text: str, field: str, *, positive: bool = True) -> tuple[float, 
             kind = "positive" if positive else "zero or positive"
             raise InputError(field, f"values must be {kind} to {DECIMALS} decimals (got {v:g})")
     return tuple(sorted({round(v, DECIMALS) for v in values}))
+
+
+def check_count(rpms: tuple[float, ...], torques: tuple[float, ...] | None) -> None:
+    """Refuse a sweep of more than :data:`MAX_POINTS` points (speeds times torques), before
+    any point is made.
+
+    Raises
+    ------
+    InputError
+        Naming ``--torque`` (the grid that multiplies the speeds), or ``--rpm``.
+    """
+    n = len(rpms) * (len(torques) if torques is not None else 1)
+    if n > MAX_POINTS:
+        field = "--torque" if torques is not None else "--rpm"
+        grids = f"{len(rpms):,} speeds x {len(torques):,} torques = " if torques else ""
+        raise InputError(field, f"{grids}{n:,} points; at most {MAX_POINTS:,} (each holds "
+                         f"about {BYTES_PER_POINT / 1e3:.1f} kB in memory and on disk, within "
+                         f"the {MAX_BYTES / 2**30:g} GiB guard of a run's results)")
 
 
 def parse_speeds(text: str, field: str = "--rpm") -> tuple[float, ...]:
@@ -287,7 +311,8 @@ def expected_steps(case: Case) -> int:
 
 
 def check_plan(plan: SweepPlan) -> None:
-    """Refuse points that cannot run: an angle shorter than one step at the top speed.
+    """Refuse points that cannot run: more than :data:`MAX_POINTS` (:func:`check_count`), an
+    angle shorter than one step at the top speed.
 
     Raises
     ------
@@ -296,6 +321,7 @@ def check_plan(plan: SweepPlan) -> None:
     """
     if plan.model not in MODELS:
         raise InputError("--model", f"must be one of {', '.join(MODELS)} (got {plan.model!r})")
+    check_count(plan.rpms, plan.torques)
     top = plan.point_case(PointKey(plan.model, max(plan.rpms), plan.torque_values[0], ""))
     if top.run.angle is not None and top.run.angle < top.run.speed_a * top.run.dt:
         raise InputError("--angle", f"{math.degrees(top.run.angle):g} deg is shorter than one "

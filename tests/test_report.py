@@ -105,6 +105,51 @@ def test_numbers_equal_their_sources(report):
     assert given["gear_a.addendum"].startswith("default")
 
 
+def test_lumped_model_beside(report):
+    """The lumped model ran at the same speeds and torques on the sector model's mesh cycle
+    with the sector run's damping ratio and cycles; each of its numbers equals its point
+    record's, and the verdict's largest lumped factor is theirs."""
+    from spurdyn.sector.rules import DEFAULT_CYCLES, MESH_DAMPING_RATIO
+
+    _, out = report
+    data = json.loads((out / "report.json").read_text())
+    lumped = data["speed"]["lumped"]
+    assert lumped["settings"] == {"stiffness": "sector", "damping_ratio": MESH_DAMPING_RATIO,
+                                  "cycles": DEFAULT_CYCLES, "max_cycles": 4 * DEFAULT_CYCLES,
+                                  "mesh": "2x8"}
+    assert [(p["rpm"], p["torque_Nm"]) for p in lumped["points"]] == \
+        [(p["rpm"], p["torque_Nm"]) for p in data["speed"]["points"]]
+    for p in lumped["points"]:
+        record = json.loads((out / p["record"]).read_text())
+        assert record["model"] == "lumped" and p["status"] == record["status"] == "complete"
+        assert record["rpm"] == p["rpm"] and record["torque"] == p["torque_Nm"]
+        for key, src in (("dynamic_factor", "dynamic_factor"), ("separations", "separations"),
+                         ("transmission_error_rms_m", "transmission_error_rms"),
+                         ("transmission_error_pp_m", "transmission_error_pp"),
+                         ("cycles_done", "cycles_done")):
+            assert p[key] == record[src], key
+        assert p["settled"] is bool(record["settled"])
+    top = max(lumped["points"], key=lambda p: p["dynamic_factor"])
+    assert data["verdict"]["dynamic_factor_max_lumped"]["value"] == top["dynamic_factor"]
+    res = data["verdict"]["resonance"]
+    assert res["superharmonic_rpm"] == {str(k): res["model_rpm"] / k for k in (2, 3, 4)}
+
+
+def test_default_speeds_reach_the_resonance():
+    """The default --rpm: 20 speeds, a step of 1.3 times the resonance speed over 20 rounded
+    to 50 rpm, so the top speed is 1.3 times it within 20 x 25 rpm."""
+    from spurdyn.cli.design import default_rpm
+    from spurdyn.sweep.spec import parse_speeds
+
+    for n_res in (22055.4, 12276.0, 300.0, 10.0):
+        rpms = parse_speeds(default_rpm(n_res))
+        assert len(rpms) == 20 and rpms[0] == pytest.approx(rpms[1] - rpms[0])
+        assert rpms[0] % 50 == 0 and rpms[0] >= 50
+        if n_res > 1000:
+            assert abs(rpms[-1] - 1.3 * n_res) <= 20 * 25
+    assert default_rpm(22055.4) == "1450:29000/20"
+
+
 def test_page_is_self_contained(report):
     _, out = report
     text = (out / "report.html").read_text()
@@ -133,7 +178,7 @@ def test_repeat_reuses_points_and_shows_a_failed_one(report, tmp_path, capsys):
     computed = []
 
     def failing(model, case):
-        computed.append(case.run.speed_a)
+        computed.append((model, case.run.speed_a))
         raise RuntimeError("the solver diverged (a test)")
 
     with serial_cluster() as mp:
@@ -141,7 +186,7 @@ def test_repeat_reuses_points_and_shows_a_failed_one(report, tmp_path, capsys):
         code = main(["report", str(EXAMPLE), *ARGS[:2], "--rpm", "2000,3000,4000",
                      "--out", str(out)])
     err = capsys.readouterr().err
-    assert code == 1 and len(computed) == 1
+    assert code == 1 and sorted(m for m, _ in computed) == ["lumped", "sector"]  # one each
     assert "point 1/1 (3000 rpm, 50 N m): failed" in err          # a line per point
     data = json.loads((out / "report.json").read_text())
     bad = [p for p in data["speed"]["points"] if p["status"] != "complete"]
@@ -149,6 +194,8 @@ def test_repeat_reuses_points_and_shows_a_failed_one(report, tmp_path, capsys):
     assert "the solver diverged" in bad[0]["reason"] and bad[0]["dynamic_factor"] is None
     assert any("3000 rpm" in w and "failed" in w for w in data["verdict"]["warnings"])
     assert "the solver diverged (a test)" in (out / "report.html").read_text()
+    lumped = [p for p in data["speed"]["lumped"]["points"] if p["status"] != "complete"]
+    assert [p["rpm"] for p in lumped] == [3000.0] and lumped[0]["dynamic_factor"] is None
 
 
 @pytest.mark.parametrize("extra, field", [

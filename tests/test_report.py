@@ -135,6 +135,29 @@ def test_lumped_model_beside(report):
     assert res["superharmonic_rpm"] == {str(k): res["model_rpm"] / k for k in (2, 3, 4)}
 
 
+def test_warnings_grouped_per_torque():
+    """Points not settled, or with contact lost, make one warning per torque naming their
+    speeds and the most cycles (losses); a failed point one of its own."""
+    from types import SimpleNamespace
+
+    from spurdyn.cli.design_data import verdict
+
+    def row(rpm, tq, settled=True, cycles=5, seps=0, status="complete"):
+        return {"rpm": rpm, "torque_Nm": tq, "status": status, "reason": "", "settled": settled,
+                "cycles_done": cycles, "separations": seps, "dynamic_factor": 1.2,
+                **{k: [2.0, 2.0] for k in ("safety_root_model", "safety_root_iso",
+                                           "safety_contact_model", "safety_contact_iso")}}
+    rows = [row(1000, 25), row(2000, 25, False, 20, 3), row(3000, 25, False, 18, 7),
+            row(2000, 50, seps=1), row(3000, 50, status="failed")]
+    res = SimpleNamespace(resonance_rpm=1e5, natural_frequency_hz=1.0, iso_resonance_rpm=None)
+    w = verdict(rows, res, (1000.0, 2000.0, 3000.0))["warnings"]
+    assert w[0] == "3000 rpm, 50 N m: failed"
+    assert w[1].startswith("not settled after 20 mesh cycles at 2,000, 3,000 rpm (25 N m)")
+    assert w[2] == "contact lost up to 7 times a run (rattle) at 2,000, 3,000 rpm (25 N m)"
+    assert w[3] == "contact lost up to 1 times a run (rattle) at 2,000 rpm (50 N m)"
+    assert len(w) == 4
+
+
 def test_default_speeds_reach_the_resonance():
     """The default --rpm: 20 speeds, a step of 1.3 times the resonance speed over 20 rounded
     to 50 rpm, so the top speed is 1.3 times it within 20 x 25 rpm."""
@@ -196,6 +219,24 @@ def test_repeat_reuses_points_and_shows_a_failed_one(report, tmp_path, capsys):
     assert "the solver diverged (a test)" in (out / "report.html").read_text()
     lumped = [p for p in data["speed"]["lumped"]["points"] if p["status"] != "complete"]
     assert [p["rpm"] for p in lumped] == [3000.0] and lumped[0]["dynamic_factor"] is None
+
+
+def test_no_lumped(report, tmp_path):
+    """--no-lumped: no lumped point runs (the sector's are reused), the page says why."""
+    _, first = report
+    out = tmp_path / "rep"
+    shutil.copytree(first, out)
+    shutil.rmtree(out / "sweep" / "points")       # no point may run: none is left to reuse
+    shutil.copytree(first / "sweep" / "points", out / "sweep" / "points",
+                    ignore=lambda d, names: [n for n in names if n.startswith("lumped")])
+    with serial_cluster() as mp:
+        mp.setattr(point_mod, "simulate_model", lambda *a: pytest.fail("a point ran"))
+        code = main(["report", str(EXAMPLE), *ARGS, "--no-lumped", "--out", str(out)])
+    assert code == 0
+    data = json.loads((out / "report.json").read_text())
+    assert data["speed"]["lumped"] == {"absent": "left out (--no-lumped)"}
+    assert "dynamic_factor_max_lumped" not in data["verdict"]
+    assert "No lumped model beside: left out (--no-lumped)" in (out / "report.html").read_text()
 
 
 @pytest.mark.parametrize("extra, field", [

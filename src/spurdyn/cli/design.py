@@ -201,7 +201,7 @@ def cmd_report(args: argparse.Namespace) -> int:
     if args.out is None:
         args.out = str(Path("out") / f"report-{Path(args.case).stem}")
     plan, rpm, resonance = build_report_plan(args)
-    beside, why_not = beside_plan(plan)
+    beside, why_not = (None, "left out (--no-lumped)") if args.no_lumped else beside_plan(plan)
     sweep, lumped = run_points(plan, beside, resonance, args)
     data = gather(plan, sweep, resonance, args, rpm, (beside, lumped, why_not))
     html, js = write_report(Path(args.out), data)
@@ -234,6 +234,9 @@ def add_report_parser(sub: argparse._SubParsersAction) -> None:
                    help="run the points on the existing Dask cluster of this scheduler")
     p.add_argument("--out", metavar="DIR", help="report folder (default out/report-<case>); "
                    "running again into it reuses the finished points")
+    p.add_argument("--no-lumped", action="store_true", help="leave out the lumped model "
+                   "beside the sector model against speed (its points cost about as much "
+                   "as the sector model's)")
     p.add_argument("--force", action="store_true", help="compute every point again")
     p.add_argument("--quiet", action="store_true", help="no progress, no report lines")
     p.set_defaults(func=cmd_report)

@@ -178,16 +178,17 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
     out["resonance"] = res
     warnings = []
     for row in rows:
-        where = f"{row['rpm']:g} rpm, {row['torque_Nm']:g} N m"
         if row["status"] != "complete":
-            warnings.append(f"{where}: {row['status'].replace('_', ' ')}"
+            warnings.append(f"{row['rpm']:g} rpm, {row['torque_Nm']:g} N m: "
+                            f"{row['status'].replace('_', ' ')}"
                             + (f" ({row['reason']})" if row["reason"] else ""))
-            continue
-        if row.get("settled") is False:
-            warnings.append(f"{where}: not settled after {row.get('cycles_done')} mesh cycles: "
-                            "its figures are of a transient, not a steady state")
-        if row.get("separations"):
-            warnings.append(f"{where}: contact lost {row['separations']} time(s) (rattle)")
+    warnings += _grouped(rows, lambda r: r.get("settled") is False,
+                         lambda r: r.get("cycles_done") or 0,
+                         "not settled after {} mesh cycles at {}: their figures are of a "
+                         "transient, not a steady state")
+    warnings += _grouped(rows, lambda r: bool(r.get("separations")),
+                         lambda r: r["separations"] or 0, "contact lost up to {} times a run "
+                         "(rattle) at {}")
     for key, what in (("safety_root_model", "root"), ("safety_contact_model", "flank")):
         for g, m in out[f"{key}_min"].items():
             if m is not None and m["value"] < 1.0:
@@ -203,6 +204,19 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
         warnings.append(f"the largest dynamic factor ({top['value']:.3f}) is at the top of "
                         f"the range, {hi:g} rpm: it may be larger above it")
     out["warnings"] = warnings
+    return out
+
+
+def _grouped(rows: list[dict[str, Any]], hit: Any, count: Any, words: str) -> list[str]:
+    """One warning per torque for the complete points where ``hit(row)``: ``words``
+    formatted with the largest ``count(row)`` and the speeds."""
+    out = []
+    for tq in dict.fromkeys(r["torque_Nm"] for r in rows):
+        mine = [r for r in rows if r["torque_Nm"] == tq and r["status"] == "complete" and hit(r)]
+        if mine:
+            speeds = ", ".join(f"{r['rpm']:,.6g}" for r in mine)
+            out.append(words.format(max(count(r) for r in mine),
+                                    f"{speeds} rpm ({tq:g} N m)"))
     return out
 
 

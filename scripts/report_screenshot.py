@@ -42,9 +42,11 @@ def quick_report(out: Path) -> None:
     top = max(parse_speeds(default_rpm(resonance_estimate(case, "sector").resonance_rpm)))
     rpm = f"{top / SPEEDS:g}:{top:g}/{SPEEDS}"
     cmd = [sys.executable, "-c", "from spurdyn.cli.command import entry; entry()", "report",
-           str(CASE), "--rpm", rpm, "--jobs", "2", "--quiet", "--out", str(out)]
+           str(CASE.relative_to(ROOT)), "--rpm", rpm, "--jobs", "2", "--quiet", "--out",
+           str(out.relative_to(ROOT))]
     print("spurdyn " + " ".join(cmd[3:]), flush=True)
-    subprocess.run(cmd, check=False, env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
+    subprocess.run(cmd, check=False, cwd=ROOT,
+                   env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
     if not (out / "report.html").is_file():
         sys.exit(f"no report.html in {out}")
 

@@ -137,7 +137,7 @@ def speed_figure(data: dict[str, Any]) -> str | None:
     for a in ax[1]:
         a.set_xlabel("speed of gear A (rpm)")
     fig.suptitle("sector model, settled steady states; the lumped model on the sector's mesh "
-                 "cycle beside (x, dotted). Grey lines: main resonance speeds, solid the "
+                 "cycle beside (x, dotted)\ngrey lines: main resonance speeds, solid the "
                  "model's, dashed ISO's; dotted 1/k: super-harmonic ones", fontsize=9)
     return png_uri(fig)
 

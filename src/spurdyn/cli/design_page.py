@@ -70,8 +70,9 @@ def img(uri: str | None, alt: str) -> str:
 
 
 def speed_figure(data: dict[str, Any]) -> str | None:
-    """Four panels against speed, a line per torque: dynamic factor (ISO's K_v dashed),
-    transmission error, peak stresses, the model's safety factors; resonances marked."""
+    """Four panels against speed, a line per torque: dynamic factor (ISO's K_v dashed, the
+    lumped model's dotted), transmission error, peak stresses, the model's safety factors;
+    resonances marked."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -116,20 +117,7 @@ def speed_figure(data: dict[str, Any]) -> str | None:
                       label=f"contact pressure, {tq:g} N m")
         ax[1, 1].plot(rpm, col("safety_contact_model", 0), "^--", color=c,
                       label=f"S_H A, {tq:g} N m")
-    lo, hi = min(data["rpm"]), max(data["rpm"])
-    for a in ax.flat:
-        for name, style in (("model_rpm", "-"), ("iso_rpm", "--")):
-            r = res.get(name)
-            if r is not None and lo * 0.75 <= r <= hi * 1.25:
-                a.axvline(r, color="0.4", ls=style, lw=1)
-        a.grid(alpha=0.3)
-        a.legend(fontsize=7)
-    for k, r in res.get("superharmonic_rpm", {}).items():
-        if lo <= r <= hi:   # the super-harmonic resonances: the mesh's k-th harmonic at f_n
-            ax[0, 0].axvline(r, color="0.6", ls=":", lw=1)
-            ax[0, 0].annotate(f"1/{k}", (r, 1), xycoords=("data", "axes fraction"),
-                              xytext=(2, -10), textcoords="offset points", fontsize=7,
-                              color="0.4")
+    _mark_resonances(ax, res, min(data["rpm"]), max(data["rpm"]))
     ax[0, 0].set_ylabel("dynamic factor")
     ax[0, 1].set_ylabel("transmission error (um)")
     ax[1, 0].set_ylabel("peak stress (MPa)")
@@ -140,6 +128,25 @@ def speed_figure(data: dict[str, Any]) -> str | None:
                  "cycle beside (x, dotted)\ngrey lines: main resonance speeds, solid the "
                  "model's, dashed ISO's; dotted 1/k: super-harmonic ones", fontsize=9)
     return png_uri(fig)
+
+
+def _mark_resonances(ax: Any, res: dict[str, Any], lo: float, hi: float) -> None:
+    """The main resonance speeds on every panel (grey, solid the model's, dashed ISO's)
+    where near the range ``lo``-``hi``, the super-harmonic ones (dotted, ``1/k``) on the
+    dynamic factor's where in it; a grid and a legend on every panel."""
+    for a in ax.flat:
+        for name, style in (("model_rpm", "-"), ("iso_rpm", "--")):
+            r = res.get(name)
+            if r is not None and lo * 0.75 <= r <= hi * 1.25:
+                a.axvline(r, color="0.4", ls=style, lw=1)
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
+    for k, r in res.get("superharmonic_rpm", {}).items():
+        if lo <= r <= hi:   # the mesh frequency's k-th harmonic at f_n
+            ax[0, 0].axvline(r, color="0.6", ls=":", lw=1)
+            ax[0, 0].annotate(f"1/{k}", (r, 1), xycoords=("data", "axes fraction"),
+                              xytext=(2, -10), textcoords="offset points", fontsize=7,
+                              color="0.4")
 
 
 def _where(m: dict[str, Any] | None, fmt: str = ".3f") -> str:

@@ -114,8 +114,10 @@ def beside_plan(plan: Any) -> tuple[Any, str | None]:
     from spurdyn.sector.rules import mesh_damping
     from spurdyn.simulators import DEFAULTS, MODELS
 
-    if plan.model != "sector":
-        return None, f"the lumped model is drawn beside the sector model (this report's is {plan.model})"
+    own = MODELS[plan.model]
+    if plan.model == BESIDE or not own.sector_stiffness(plan.case.run):
+        return None, ("the lumped model is drawn beside a model of whole gears whose mesh "
+                      f"stiffness is the sector model's mesh cycle, not beside the {own.title}")
     entry = MODELS[BESIDE]
     run = plan.case.run
     reset = {n: DEFAULTS[n] for n in entry.unread}      # the sector model's own settings

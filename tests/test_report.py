@@ -132,7 +132,8 @@ def test_lumped_model_beside(report):
     top = max(lumped["points"], key=lambda p: p["dynamic_factor"])
     assert data["verdict"]["dynamic_factor_max_lumped"]["value"] == top["dynamic_factor"]
     res = data["verdict"]["resonance"]
-    assert res["superharmonic_rpm"] == {str(k): res["model_rpm"] / k for k in (2, 3, 4)}
+    base = res["model_rpm"] if res["ring"] is None else res["ring"]["resonance_rpm"]
+    assert res["superharmonic_rpm"] == {str(k): base / k for k in (2, 3, 4)}
 
 
 def test_warnings_grouped_per_torque():
@@ -156,6 +157,28 @@ def test_warnings_grouped_per_torque():
     assert w[2] == "contact lost up to 7 times a run (rattle) at 2,000, 3,000 rpm (25 N m)"
     assert w[3] == "contact lost up to 1 times a run (rattle) at 2,000 rpm (50 N m)"
     assert len(w) == 4
+
+
+def test_ring_frequencies_of_a_made_signal():
+    """Damped rings of 8 kHz over single contact and 10 kHz over double, restarted at each
+    change of pairs (a 23-tooth mesh at 1,000 rpm, contact ratio 1.48), are read back
+    within 0.5 %, and the time-weighted mean is (2 - eps) f_1 + (eps - 1) f_2."""
+    import numpy as np
+
+    from spurdyn.cli.design_ring import mean_ring, zone_frequencies
+
+    eps, period = 1.48, 60.0 / (23 * 1000.0)
+    t = np.arange(0.0, 6 * period, 0.5e-6)
+    phase = (t / period) % 1.0
+    pairs = np.where(phase < eps - 1.0, 2, 1)
+    start = t - np.where(phase < eps - 1.0, phase, phase - (eps - 1.0)) * period
+    freq = np.where(pairs == 2, 10e3, 8e3)
+    age = t - start
+    force = 1000.0 + 50.0 * np.exp(-0.05 * 2 * np.pi * freq * age) * np.sin(2 * np.pi * freq * age)
+    found = zone_frequencies(t, force, pairs, 1000.0)
+    assert found[1] == pytest.approx(8e3, rel=5e-3) and found[2] == pytest.approx(10e3, rel=5e-3)
+    assert mean_ring(found, eps) == pytest.approx(0.52 * found[1] + 0.48 * found[2], rel=1e-12)
+    assert mean_ring(found, 2.1) is None and mean_ring({1: 8e3}, eps) is None
 
 
 def test_default_speeds_reach_the_resonance():

@@ -163,8 +163,11 @@ def _resonance_place(rpm: float | None, lo: float, hi: float) -> str | None:
     return "above the range" if rpm > hi else "below the range"
 
 
-def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...]) -> dict[str, Any]:
-    """The figures an engineer decides on, and the warnings in words."""
+def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...],
+            ring: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The figures an engineer decides on, and the warnings in words; the super-harmonic
+    resonance speeds from the ``ring`` measured on a run (:func:`ring_of`), else from the
+    estimate's ``n_res``."""
     out: dict[str, Any] = {"dynamic_factor_max": _extreme(rows, "dynamic_factor", None, True)}
     for key in ("safety_root_model", "safety_root_iso", "safety_contact_model",
                 "safety_contact_iso"):
@@ -172,7 +175,9 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
     lo, hi = min(rpms), max(rpms)
     res = {"model_rpm": resonance.resonance_rpm, "model_natural_frequency_hz":
            resonance.natural_frequency_hz, "iso_rpm": resonance.iso_resonance_rpm}
-    res["superharmonic_rpm"] = {str(k): resonance.resonance_rpm / k for k in SUPERHARMONIC_ORDERS}
+    res["ring"] = ring
+    base = ring["resonance_rpm"] if ring is not None else resonance.resonance_rpm
+    res["superharmonic_rpm"] = {str(k): base / k for k in SUPERHARMONIC_ORDERS}
     res["model_place"] = _resonance_place(res["model_rpm"], lo, hi)
     res["iso_place"] = _resonance_place(res["iso_rpm"], lo, hi)
     out["resonance"] = res
@@ -205,6 +210,24 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
                         f"the range, {hi:g} rpm: it may be larger above it")
     out["warnings"] = warnings
     return out
+
+
+def ring_of(plan: Any, rows: list[dict[str, Any]], eps: float, resonance: Any
+            ) -> dict[str, Any] | None:
+    """The pair's ring measured on the slowest complete point of the first torque
+    (:func:`spurdyn.cli.design_ring.measured_ring`) with that point's speed and summary,
+    or ``None`` (no such point, or its ring not readable)."""
+    from spurdyn.cli.design_ring import measured_ring
+
+    done = [r for r in rows if r["status"] == "complete" and r["summary"] is not None
+            and r["torque_Nm"] == plan.torque_values[0]]
+    if not done:
+        return None
+    row = min(done, key=lambda r: r["rpm"])
+    nc = plan.out.parent / Path(row["summary"]).parent / "result.nc"
+    ring = measured_ring(nc, eps, plan.case.pair.gear_a.teeth, resonance.natural_frequency_hz)
+    return None if ring is None else ring | {"rpm": row["rpm"], "torque_Nm": row["torque_Nm"],
+                                             "summary": row["summary"]}
 
 
 def _grouped(rows: list[dict[str, Any]], hit: Any, count: Any, words: str) -> list[str]:
@@ -315,7 +338,8 @@ def gather(plan: Any, sweep: Any, resonance: Any, args: argparse.Namespace, rpm:
     data = {
         "case": case.name, "model": plan.model, "version": __version__,
         "rpm": list(plan.rpms), "torques_Nm": list(plan.torque_values),
-        "verdict": verdict(rows, resonance, plan.rpms),
+        "verdict": verdict(rows, resonance, plan.rpms,
+                           ring_of(plan, rows, info["contact_ratio"], resonance)),
         "inputs": case_inputs(args.case, case, rows, info, _options(args), plan.model) | {
             "commands": commands(args.case, rpm, plan.torque_values, mesh, args.out)},
         "geometry": info,

@@ -172,8 +172,13 @@ def verdict_part(data: dict[str, Any]) -> str:
     rows.append(["mesh resonance, ISO 6336-1", f"{num(res['iso_rpm'], ',.0f')} rpm "
                  f"({res['iso_place'] or 'ISO does not apply'})", "n_E1, method B"])
     sup = ", ".join(f"{num(r, ',.0f')} (1/{k})" for k, r in res["superharmonic_rpm"].items())
-    rows.append(["super-harmonic resonances, model", f"{sup} rpm",
-                 "the mesh frequency's k-th harmonic at f_n"])
+    ring = res.get("ring")
+    where = ("the mesh frequency's k-th harmonic at f_n (the estimate: no ring measured)"
+             if ring is None else "the mesh frequency's k-th harmonic at the ring measured at "
+             f"{ring['rpm']:,.6g} rpm: {num(ring['single_contact_hz'], ',.0f')} Hz over single "
+             f"contact, {num(ring['double_contact_hz'], ',.0f')} Hz over double, "
+             f"{num(ring['mean_hz'], ',.0f')} Hz weighted by their times")
+    rows.append(["super-harmonic resonances, model", f"{sup} rpm", esc(where)])
     if "dynamic_factor_max_lumped" in v:
         rows.insert(1, ["largest dynamic factor, lumped model beside",
                         _where(v["dynamic_factor_max_lumped"]), "its point records"])

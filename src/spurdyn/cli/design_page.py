@@ -173,11 +173,9 @@ def verdict_part(data: dict[str, Any]) -> str:
                  f"({res['iso_place'] or 'ISO does not apply'})", "n_E1, method B"])
     sup = ", ".join(f"{num(r, ',.0f')} (1/{k})" for k, r in res["superharmonic_rpm"].items())
     ring = res.get("ring")
-    where = ("the mesh frequency's k-th harmonic at f_n (the estimate: no ring measured)"
-             if ring is None else "the mesh frequency's k-th harmonic at the ring measured at "
-             f"{ring['rpm']:,.6g} rpm: {num(ring['single_contact_hz'], ',.0f')} Hz over single "
-             f"contact, {num(ring['double_contact_hz'], ',.0f')} Hz over double, "
-             f"{num(ring['mean_hz'], ',.0f')} Hz weighted by their times")
+    where = ("k-th mesh harmonic at f_n (no ring read)" if ring is None else
+             f"k-th mesh harmonic at the ring read at {ring['rpm']:,.6g} rpm, "
+             f"{num(ring['mean_hz'], ',.0f')} Hz")
     rows.append(["super-harmonic resonances, model", f"{sup} rpm", esc(where)])
     if "dynamic_factor_max_lumped" in v:
         rows.insert(1, ["largest dynamic factor, lumped model beside",

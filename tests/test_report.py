@@ -4,8 +4,8 @@ rest still written, bad input is refused before any point runs; and the page che
 real browser (headless Chromium, skipped where none is installed).
 
 The points are real sector-model runs of the 23/47 example on a coarse 2 x 8 tooth mesh,
-run in this process (the local Dask cluster replaced by the serial backend, as
-test_sweep.py does), two speeds and one torque.
+and the lumped model's beside them, run in this process (the local Dask cluster replaced
+by the serial backend, as test_sweep.py does), two speeds and one torque.
 """
 
 from __future__ import annotations

@@ -24,8 +24,13 @@ from spurdyn.errors import InputError
 #: Exit statuses (those of ``spurdyn sweep``).
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
 
-#: The default speed range, as fractions of the case's speed of A, and its speeds.
-DEFAULT_RANGE, DEFAULT_SPEEDS = (0.25, 1.5), 6
+#: The default speeds: :data:`DEFAULT_SPEEDS` evenly spaced, the lowest one step above zero,
+#: up to :data:`RESONANCE_REACH` times the model's main mesh resonance speed, the step
+#: rounded to :data:`SPEED_STEP_ROUND` rpm (docs/report.md, "The default speeds").
+DEFAULT_SPEEDS, RESONANCE_REACH, SPEED_STEP_ROUND = 20, 1.3, 50.0
+
+#: The model drawn beside the report's (sector) model against speed.
+BESIDE = "lumped"
 
 #: The files a report writes in its folder (the sweep's store is ``SWEEP_DIR``).
 HTML_FILE, JSON_FILE, SWEEP_DIR = "report.html", "report.json", "sweep"
@@ -58,33 +63,71 @@ def _sweep_namespace(args: argparse.Namespace, rpm: str, out: Path) -> argparse.
     return ns
 
 
-def _default_rpm(case_spec: str) -> str:
-    """``--rpm`` when not given: :data:`DEFAULT_SPEEDS` speeds over :data:`DEFAULT_RANGE`
-    of the case's speed of A."""
-    from spurdyn.cli.sweep import resolve_sweep_case
-    from spurdyn.settings import RPM
-
-    case = resolve_sweep_case(case_spec, {}, {}, 1000.0)
-    rpm = case.run.speed_a / RPM
-    lo, hi = (round(rpm * f, 3) for f in DEFAULT_RANGE)
-    return f"{lo:g}:{hi:g}/{DEFAULT_SPEEDS}"
+def default_rpm(resonance_rpm: float) -> str:
+    """``--rpm`` when not given: :data:`DEFAULT_SPEEDS` speeds ``n = i s`` (``i = 1 ...
+    DEFAULT_SPEEDS``) whose step ``s`` is :data:`RESONANCE_REACH` times the main mesh
+    resonance speed ``resonance_rpm`` over :data:`DEFAULT_SPEEDS`, rounded to
+    :data:`SPEED_STEP_ROUND` rpm (at least that)."""
+    step = RESONANCE_REACH * resonance_rpm / DEFAULT_SPEEDS
+    step = max(SPEED_STEP_ROUND, round(step / SPEED_STEP_ROUND) * SPEED_STEP_ROUND)
+    return f"{step:g}:{step * DEFAULT_SPEEDS:g}/{DEFAULT_SPEEDS}"
 
 
-def build_report_plan(args: argparse.Namespace) -> tuple[Any, str]:
-    """Check the options, the case and the folder; the sweep plan and the ``--rpm`` used.
+def build_report_plan(args: argparse.Namespace) -> tuple[Any, str, Any]:
+    """Check the options, the case and the folder; the sweep plan, the ``--rpm`` used and
+    the resonance estimate (:func:`spurdyn.sweep.resonance.resonance_estimate`, from which
+    the default speeds come).
 
     Raises
     ------
     InputError
         Naming the option or case key (nothing is written).
     """
-    from spurdyn.cli.sweep import build_plan
+    from spurdyn.cli.sweep import build_plan, sweep_case
+    from spurdyn.sweep.resonance import resonance_estimate
+    from spurdyn.sweep.spec import parse_torques
 
     out = Path(args.out)
     check_report_out(out, args.force)
-    rpm = args.rpm if args.rpm is not None else _default_rpm(args.case)
+    rpm, resonance = args.rpm, None
+    if rpm is None:
+        torques = parse_torques(args.torque) if args.torque is not None else None
+        case, model, _ = sweep_case(_sweep_namespace(args, "1", out), torques, 1000.0)
+        resonance = resonance_estimate(case, model)
+        rpm = default_rpm(resonance.resonance_rpm)
     plan = build_plan(_sweep_namespace(args, rpm, out))
-    return replace(plan, run_pictures=False), rpm   # the page needs the numbers only
+    if resonance is None:
+        resonance = resonance_estimate(plan.case, plan.model)
+    return replace(plan, run_pictures=False), rpm, resonance  # the page needs the numbers
+
+
+def beside_plan(plan: Any) -> tuple[Any, str | None]:
+    """The lumped model's sweep beside the sector model's, or ``None`` and why not.
+
+    The same speeds, torques, pair and tooth mesh, in the same sweep store (its points are
+    the lumped model's keys, so they resume and are reused as the sector's); its stiffness
+    the sector model's quasi-static mesh cycle (``stiffness = "sector"``), its mesh damper
+    the sector run's ratio, its cycles and most cycles the sector run's (docs/lumped.md,
+    "With the sector model's stiffness"). No run folders: its figures are the points'.
+    """
+    from spurdyn.errors import InputError
+    from spurdyn.sector.rules import mesh_damping
+    from spurdyn.simulators import DEFAULTS, MODELS
+
+    own = MODELS[plan.model]
+    if plan.model == BESIDE or not own.sector_stiffness(plan.case.run):
+        return None, ("the lumped model is drawn beside a model of whole gears whose mesh "
+                      f"stiffness is the sector model's mesh cycle, not beside the {own.title}")
+    entry = MODELS[BESIDE]
+    run = plan.case.run
+    reset = {n: DEFAULTS[n] for n in entry.unread}      # the sector model's own settings
+    try:
+        run = run.with_(**reset).with_(stiffness="sector", damping_ratio=mesh_damping(run)[0])
+        entry.refuse(run, None, plan.case.pair)
+    except InputError as err:
+        return None, f"the lumped model cannot run this case: {err}"
+    return replace(plan, model=BESIDE, case=replace(plan.case, run=run), keep_runs=False,
+                   continuation=None), None
 
 
 class _PerPointLines:
@@ -126,22 +169,30 @@ def _backend(args: argparse.Namespace, todo: int) -> tuple[Any, str]:
     return cli_sweep.local_backend(jobs), f"{jobs} local worker{'s' if jobs > 1 else ''}"
 
 
-def run_points(plan: Any, args: argparse.Namespace) -> Any:
-    """Run the report's missing points through :func:`spurdyn.sweep.runner.run_sweep`."""
-    from spurdyn.sweep.resonance import resonance_estimate
+def run_points(plan: Any, beside: Any, resonance: Any, args: argparse.Namespace
+               ) -> tuple[Any, Any]:
+    """Run the report's missing points through :func:`spurdyn.sweep.runner.run_sweep`: the
+    model's, then those of the lumped model beside it (``beside``, or ``None``), on the
+    same workers; the two sweeps' reports (the second ``None`` without ``beside``)."""
     from spurdyn.sweep.runner import points_to_compute, run_sweep
 
-    resonance = resonance_estimate(plan.case, plan.model)
-    todo = len(points_to_compute(plan))
-    backend_cm, where = _backend(args, todo)
+    plans = [plan] + ([beside] if beside is not None else [])
+    todo = [len(points_to_compute(p)) for p in plans]
+    backend_cm, where = _backend(args, sum(todo))
     if not args.quiet:
-        print(f"spurdyn: report of {plan.case.name}: {len(plan.keys())} points, {todo} to "
-              f"compute on {where}", file=sys.stderr, flush=True)
+        counts = " and ".join(f"{len(p.keys())} {p.model} points ({n} to compute)"
+                              for p, n in zip(plans, todo))
+        print(f"spurdyn: report of {plan.case.name}: {counts} on {where}", file=sys.stderr,
+              flush=True)
     plain = not args.quiet and not sys.stderr.isatty()
+    sweeps = []
     with backend_cm as backend:
-        sweep = run_sweep(plan, _PerPointLines(backend, todo, plain), resonance=resonance,
-                          progress=not args.quiet)
-    return sweep, resonance
+        for p, n in zip(plans, todo):
+            sweeps.append(run_sweep(p, _PerPointLines(backend, n, plain), resonance=resonance,
+                                    progress=not args.quiet))
+            if sweeps[-1].interrupted:
+                break
+    return sweeps[0], (sweeps[1] if len(sweeps) > 1 else None)
 
 
 def cmd_report(args: argparse.Namespace) -> int:
@@ -151,9 +202,10 @@ def cmd_report(args: argparse.Namespace) -> int:
 
     if args.out is None:
         args.out = str(Path("out") / f"report-{Path(args.case).stem}")
-    plan, rpm = build_report_plan(args)
-    sweep, resonance = run_points(plan, args)
-    data = gather(plan, sweep, resonance, args, rpm)
+    plan, rpm, resonance = build_report_plan(args)
+    beside, why_not = (None, "left out (--no-lumped)") if args.no_lumped else beside_plan(plan)
+    sweep, lumped = run_points(plan, beside, resonance, args)
+    data = gather(plan, sweep, resonance, args, rpm, (beside, lumped, why_not))
     html, js = write_report(Path(args.out), data)
     if not args.quiet:
         print(f"-> {html}\n-> {js}")
@@ -173,8 +225,8 @@ def add_report_parser(sub: argparse._SubParsersAction) -> None:
         "docs/report.md.")
     p.add_argument("case", metavar="CASE", help="a TOML case file (or a preset name)")
     p.add_argument("--rpm", metavar="A:B/N", help="speeds of gear A (rpm): START:STOP/N, "
-                   "START:STOP:STEP or A,B,C (default: 6 speeds from 1/4 to 1.5 times the "
-                   "case's speed)")
+                   "START:STOP:STEP or A,B,C (default: 20 speeds up to 1.3 times the main "
+                   "mesh resonance speed of the model's mean mesh stiffness)")
     p.add_argument("--torque", metavar="T1,T2,...", help="driver torques (N m; default the "
                    "case's)")
     p.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")
@@ -184,9 +236,13 @@ def add_report_parser(sub: argparse._SubParsersAction) -> None:
                    help="run the points on the existing Dask cluster of this scheduler")
     p.add_argument("--out", metavar="DIR", help="report folder (default out/report-<case>); "
                    "running again into it reuses the finished points")
+    p.add_argument("--no-lumped", action="store_true", help="leave out the lumped model "
+                   "beside the sector model against speed (its points cost about as much "
+                   "as the sector model's)")
     p.add_argument("--force", action="store_true", help="compute every point again")
     p.add_argument("--quiet", action="store_true", help="no progress, no report lines")
     p.set_defaults(func=cmd_report)
 
 
-__all__ = ["add_report_parser", "build_report_plan", "check_report_out", "cmd_report"]
+__all__ = ["add_report_parser", "beside_plan", "build_report_plan", "check_report_out", "cmd_report",
+           "default_rpm"]

@@ -28,6 +28,10 @@ POINT_KEYS = ("dynamic_factor", "settled", "cycles_done", "separations",
               "safety_contact_model", "safety_contact_iso", "iso6336_k_v", "peak_force_N",
               "static_force_N", "n_dof", "wall_s")
 
+#: Orders ``k`` of the super-harmonic resonances marked: the speeds whose mesh frequency's
+#: k-th harmonic is the main resonance's ``f_n`` (``n_res / k``; docs/report.md).
+SUPERHARMONIC_ORDERS = (2, 3, 4)
+
 #: A resonance this close outside the speed range (fraction of its ends) is "near" it.
 NEAR = 0.25
 
@@ -66,12 +70,9 @@ def _clean(value: Any) -> Any:
 def point_rows(plan: Any, sweep: Any) -> list[dict[str, Any]]:
     """One row per speed point (speed-major): status and reason from the sweep, every
     figure of :data:`POINT_KEYS` from the point's ``summary.json`` (absent: ``None``)."""
-    from spurdyn.sweep.store import STATUS_CODES, run_path
+    from spurdyn.sweep.store import run_path
 
-    names = {code: name for name, code in STATUS_CODES.items()}
-    shape = (len(plan.rpms), len(plan.torque_values))
-    status = np.asarray(sweep.dataset["status"].values).reshape(shape)
-    reason = np.asarray(sweep.dataset["reason"].values, dtype=object).reshape(shape)
+    status, reason = _statuses(plan, sweep)
     rows = []
     for key in plan.keys():
         i, j = plan.rpms.index(key.rpm), plan.torque_values.index(key.torque)
@@ -79,7 +80,7 @@ def point_rows(plan: Any, sweep: Any) -> list[dict[str, Any]]:
         summary: dict[str, Any] = {}
         if (folder / "summary.json").is_file():
             summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
-        row = {"rpm": key.rpm, "torque_Nm": key.torque, "status": names[int(status[i, j])],
+        row = {"rpm": key.rpm, "torque_Nm": key.torque, "status": status[i, j],
                "reason": str(reason[i, j] or ""),
                "summary": str(folder.relative_to(plan.out.parent) / "summary.json")
                if summary else None}
@@ -88,6 +89,53 @@ def point_rows(plan: Any, sweep: Any) -> list[dict[str, Any]]:
         row["_sources"] = {k: summary.get(k) for k in ("mesh_damping", "body_damping")}
         rows.append(row)
     return rows
+
+
+#: Figures of a point of the lumped model beside: report key -> key of its point record
+#: (``DIR/sweep/points/<point>.json``, docs/sweep.md).
+BESIDE_KEYS = {"dynamic_factor": "dynamic_factor", "settled": "settled",
+               "cycles_done": "cycles_done", "separations": "separations",
+               "transmission_error_rms_m": "transmission_error_rms",
+               "transmission_error_pp_m": "transmission_error_pp", "wall_s": "wall_s"}
+
+
+def _statuses(plan: Any, sweep: Any) -> tuple[Any, Any]:
+    """The points' status names and reasons from the sweep's data set (speed x torque)."""
+    from spurdyn.sweep.store import STATUS_CODES
+
+    names = {code: name for name, code in STATUS_CODES.items()}
+    shape = (len(plan.rpms), len(plan.torque_values))
+    status = np.asarray(sweep.dataset["status"].values).reshape(shape)
+    reason = np.asarray(sweep.dataset["reason"].values, dtype=object).reshape(shape)
+    return np.vectorize(lambda c: names[int(c)], otypes=[object])(status), reason
+
+
+def beside(plan: Any, sweep: Any, why_not: str | None) -> dict[str, Any]:
+    """The lumped model's points beside the sector model's: per point its status and
+    reason (the sweep's), the figures of :data:`BESIDE_KEYS` from its point record
+    unchanged (``settled`` as a yes or no), and that record's path in ``DIR``; or why
+    there are none."""
+    from spurdyn.sweep.store import read_point, point_path
+
+    if plan is None or sweep is None:
+        return {"absent": why_not or "the lumped model's sweep did not run"}
+    status, reason = _statuses(plan, sweep)
+    rows = []
+    for key in plan.keys():
+        i, j = plan.rpms.index(key.rpm), plan.torque_values.index(key.torque)
+        record = read_point(plan.out, key) or {}
+        row = {"rpm": key.rpm, "torque_Nm": key.torque, "status": status[i, j],
+               "reason": str(reason[i, j] or ""),
+               "record": str(point_path(plan.out, key).relative_to(plan.out.parent))
+               if record else None}
+        row |= {k: record.get(src) for k, src in BESIDE_KEYS.items()}
+        if row["settled"] is not None:
+            row["settled"] = bool(row["settled"])
+        rows.append(row)
+    run = plan.case.run
+    return {"model": plan.model, "settings": {
+        "stiffness": run.stiffness, "damping_ratio": run.damping_ratio, "cycles": run.cycles,
+        "max_cycles": run.cycles_limit, "mesh": f"{run.nx}x{run.ny}"}, "points": rows}
 
 
 def _extreme(rows: list[dict[str, Any]], key: str, gear: int | None, largest: bool
@@ -115,8 +163,11 @@ def _resonance_place(rpm: float | None, lo: float, hi: float) -> str | None:
     return "above the range" if rpm > hi else "below the range"
 
 
-def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...]) -> dict[str, Any]:
-    """The figures an engineer decides on, and the warnings in words."""
+def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...],
+            ring: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The figures an engineer decides on, and the warnings in words; the super-harmonic
+    resonance speeds from the ``ring`` measured on a run (:func:`ring_of`), else from the
+    estimate's ``n_res``."""
     out: dict[str, Any] = {"dynamic_factor_max": _extreme(rows, "dynamic_factor", None, True)}
     for key in ("safety_root_model", "safety_root_iso", "safety_contact_model",
                 "safety_contact_iso"):
@@ -124,21 +175,25 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
     lo, hi = min(rpms), max(rpms)
     res = {"model_rpm": resonance.resonance_rpm, "model_natural_frequency_hz":
            resonance.natural_frequency_hz, "iso_rpm": resonance.iso_resonance_rpm}
+    res["ring"] = ring
+    base = ring["resonance_rpm"] if ring is not None else resonance.resonance_rpm
+    res["superharmonic_rpm"] = {str(k): base / k for k in SUPERHARMONIC_ORDERS}
     res["model_place"] = _resonance_place(res["model_rpm"], lo, hi)
     res["iso_place"] = _resonance_place(res["iso_rpm"], lo, hi)
     out["resonance"] = res
     warnings = []
     for row in rows:
-        where = f"{row['rpm']:g} rpm, {row['torque_Nm']:g} N m"
         if row["status"] != "complete":
-            warnings.append(f"{where}: {row['status'].replace('_', ' ')}"
+            warnings.append(f"{row['rpm']:g} rpm, {row['torque_Nm']:g} N m: "
+                            f"{row['status'].replace('_', ' ')}"
                             + (f" ({row['reason']})" if row["reason"] else ""))
-            continue
-        if row.get("settled") is False:
-            warnings.append(f"{where}: not settled after {row.get('cycles_done')} mesh cycles: "
-                            "its figures are of a transient, not a steady state")
-        if row.get("separations"):
-            warnings.append(f"{where}: contact lost {row['separations']} time(s) (rattle)")
+    warnings += _grouped(rows, lambda r: r.get("settled") is False,
+                         lambda r: r.get("cycles_done") or 0,
+                         "not settled after {} mesh cycles at {}: their figures are of a "
+                         "transient, not a steady state")
+    warnings += _grouped(rows, lambda r: bool(r.get("separations")),
+                         lambda r: r["separations"] or 0, "contact lost up to {} times a run "
+                         "(rattle) at {}")
     for key, what in (("safety_root_model", "root"), ("safety_contact_model", "flank")):
         for g, m in out[f"{key}_min"].items():
             if m is not None and m["value"] < 1.0:
@@ -154,6 +209,37 @@ def verdict(rows: list[dict[str, Any]], resonance: Any, rpms: tuple[float, ...])
         warnings.append(f"the largest dynamic factor ({top['value']:.3f}) is at the top of "
                         f"the range, {hi:g} rpm: it may be larger above it")
     out["warnings"] = warnings
+    return out
+
+
+def ring_of(plan: Any, rows: list[dict[str, Any]], eps: float, resonance: Any
+            ) -> dict[str, Any] | None:
+    """The pair's ring measured on the slowest complete point of the first torque
+    (:func:`spurdyn.cli.design_ring.measured_ring`) with that point's speed and summary,
+    or ``None`` (no such point, or its ring not readable)."""
+    from spurdyn.cli.design_ring import measured_ring
+
+    done = [r for r in rows if r["status"] == "complete" and r["summary"] is not None
+            and r["torque_Nm"] == plan.torque_values[0]]
+    if not done:
+        return None
+    row = min(done, key=lambda r: r["rpm"])
+    nc = plan.out.parent / Path(row["summary"]).parent / "result.nc"
+    ring = measured_ring(nc, eps, plan.case.pair.gear_a.teeth, resonance.natural_frequency_hz)
+    return None if ring is None else ring | {"rpm": row["rpm"], "torque_Nm": row["torque_Nm"],
+                                             "summary": row["summary"]}
+
+
+def _grouped(rows: list[dict[str, Any]], hit: Any, count: Any, words: str) -> list[str]:
+    """One warning per torque for the complete points where ``hit(row)``: ``words``
+    formatted with the largest ``count(row)`` and the speeds."""
+    out = []
+    for tq in dict.fromkeys(r["torque_Nm"] for r in rows):
+        mine = [r for r in rows if r["torque_Nm"] == tq and r["status"] == "complete" and hit(r)]
+        if mine:
+            speeds = ", ".join(f"{r['rpm']:,.6g}" for r in mine)
+            out.append(words.format(max(count(r) for r in mine),
+                                    f"{speeds} rpm ({tq:g} N m)"))
     return out
 
 
@@ -233,10 +319,11 @@ def mesh_cycle(args: argparse.Namespace, torques: tuple[float, ...]) -> dict[str
     return report
 
 
-def gather(plan: Any, sweep: Any, resonance: Any, args: argparse.Namespace, rpm: str
-           ) -> dict[str, Any]:
+def gather(plan: Any, sweep: Any, resonance: Any, args: argparse.Namespace, rpm: str,
+           lumped: tuple[Any, Any, str | None] = (None, None, None)) -> dict[str, Any]:
     """Every number of the page, by part (the dictionary ``report.json`` holds; keys that
-    start with ``_`` are the page's, not written)."""
+    start with ``_`` are the page's, not written); ``lumped`` the plan and sweep of the
+    lumped model beside, or why none (:func:`beside`)."""
     from spurdyn.case.pair_tables import MeshedPair
     from spurdyn.cli.report import pair_info
     from spurdyn.sweep.resonance import iso_kv_grid
@@ -253,7 +340,8 @@ def gather(plan: Any, sweep: Any, resonance: Any, args: argparse.Namespace, rpm:
     data = {
         "case": case.name, "model": plan.model, "version": __version__,
         "rpm": list(plan.rpms), "torques_Nm": list(plan.torque_values),
-        "verdict": verdict(rows, resonance, plan.rpms),
+        "verdict": verdict(rows, resonance, plan.rpms,
+                           ring_of(plan, rows, info["contact_ratio"], resonance)),
         "inputs": case_inputs(args.case, case, rows, info, _options(args), plan.model) | {
             "commands": commands(args.case, rpm, plan.torque_values, mesh, args.out)},
         "geometry": info,
@@ -261,12 +349,17 @@ def gather(plan: Any, sweep: Any, resonance: Any, args: argparse.Namespace, rpm:
         "speed": {"points": [{k: v for k, v in r.items() if not k.startswith("_")}
                              for r in rows],
                   "iso_k_v": None if kv is None else kv.tolist(),
+                  "lumped": beside(*lumped),
                   "resonance": resonance.attrs()},
         "rating": rating(rows, plan.torque_values),
         "limits": {"model": plan.model, "mesh": mesh, "n_dof": next(
             (r["n_dof"] for r in rows if r["n_dof"] is not None), None),
             "limits": list(LIMITS), "validation_pages": list(VALIDATION_PAGES)},
     }
+    lumped_points = data["speed"]["lumped"].get("points")
+    if lumped_points is not None:
+        data["verdict"]["dynamic_factor_max_lumped"] = _extreme(lumped_points, "dynamic_factor",
+                                                                None, True)
     data = _clean(data)
     data["_pictures"] = pictures(meshed, cycles, data["mesh_cycle"])
     return data

@@ -70,8 +70,9 @@ def img(uri: str | None, alt: str) -> str:
 
 
 def speed_figure(data: dict[str, Any]) -> str | None:
-    """Four panels against speed, a line per torque: dynamic factor (ISO's K_v dashed),
-    transmission error, peak stresses, the model's safety factors; resonances marked."""
+    """Four panels against speed, a line per torque: dynamic factor (ISO's K_v dashed, the
+    lumped model's dotted), transmission error, peak stresses, the model's safety factors;
+    resonances marked."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -98,6 +99,11 @@ def speed_figure(data: dict[str, Any]) -> str | None:
         if kv is not None:
             ax[0, 0].plot(data["rpm"], [float("nan") if r[j] is None else r[j] for r in kv],
                           "--", color=c, label=f"ISO 6336-1 K_v, {tq:g} N m")
+        lumped = [q for q in data["speed"]["lumped"].get("points", []) if q["torque_Nm"] == tq]
+        if any(q["dynamic_factor"] is not None for q in lumped):
+            ax[0, 0].plot([q["rpm"] for q in lumped], [float("nan") if q["dynamic_factor"] is None
+                                                       else q["dynamic_factor"] for q in lumped],
+                          "x:", color=c, label=f"lumped model, {tq:g} N m")
         ax[0, 1].plot(rpm, col("transmission_error_rms_m", scale=1e6), "o-", color=c,
                       label=f"RMS, {tq:g} N m")
         ax[0, 1].plot(rpm, col("transmission_error_pp_m", scale=1e6), "s:", color=c,
@@ -111,7 +117,23 @@ def speed_figure(data: dict[str, Any]) -> str | None:
                       label=f"contact pressure, {tq:g} N m")
         ax[1, 1].plot(rpm, col("safety_contact_model", 0), "^--", color=c,
                       label=f"S_H A, {tq:g} N m")
-    lo, hi = min(data["rpm"]), max(data["rpm"])
+    _mark_resonances(ax, res, min(data["rpm"]), max(data["rpm"]))
+    ax[0, 0].set_ylabel("dynamic factor")
+    ax[0, 1].set_ylabel("transmission error (um)")
+    ax[1, 0].set_ylabel("peak stress (MPa)")
+    ax[1, 1].set_ylabel("safety factor (model)")
+    for a in ax[1]:
+        a.set_xlabel("speed of gear A (rpm)")
+    fig.suptitle("sector model, settled steady states; the lumped model on the sector's mesh "
+                 "cycle beside (x, dotted)\ngrey lines: main resonance speeds, solid the "
+                 "model's, dashed ISO's; dotted 1/k: super-harmonic ones", fontsize=9)
+    return png_uri(fig)
+
+
+def _mark_resonances(ax: Any, res: dict[str, Any], lo: float, hi: float) -> None:
+    """The main resonance speeds on every panel (grey, solid the model's, dashed ISO's)
+    where near the range ``lo``-``hi``, the super-harmonic ones (dotted, ``1/k``) on the
+    dynamic factor's where in it; a grid and a legend on every panel."""
     for a in ax.flat:
         for name, style in (("model_rpm", "-"), ("iso_rpm", "--")):
             r = res.get(name)
@@ -119,15 +141,12 @@ def speed_figure(data: dict[str, Any]) -> str | None:
                 a.axvline(r, color="0.4", ls=style, lw=1)
         a.grid(alpha=0.3)
         a.legend(fontsize=7)
-    ax[0, 0].set_ylabel("dynamic factor")
-    ax[0, 1].set_ylabel("transmission error (um)")
-    ax[1, 0].set_ylabel("peak stress (MPa)")
-    ax[1, 1].set_ylabel("safety factor (model)")
-    for a in ax[1]:
-        a.set_xlabel("speed of gear A (rpm)")
-    fig.suptitle("sector model, settled steady states (grey lines: resonance speeds, "
-                 "solid the model's, dashed ISO's)", fontsize=9)
-    return png_uri(fig)
+    for k, r in res.get("superharmonic_rpm", {}).items():
+        if lo <= r <= hi:   # the mesh frequency's k-th harmonic at f_n
+            ax[0, 0].axvline(r, color="0.6", ls=":", lw=1)
+            ax[0, 0].annotate(f"1/{k}", (r, 1), xycoords=("data", "axes fraction"),
+                              xytext=(2, -10), textcoords="offset points", fontsize=7,
+                              color="0.4")
 
 
 def _where(m: dict[str, Any] | None, fmt: str = ".3f") -> str:
@@ -152,6 +171,15 @@ def verdict_part(data: dict[str, Any]) -> str:
                  f"({res['model_place'] or '&mdash;'})", "f_n of the mean mesh stiffness"])
     rows.append(["mesh resonance, ISO 6336-1", f"{num(res['iso_rpm'], ',.0f')} rpm "
                  f"({res['iso_place'] or 'ISO does not apply'})", "n_E1, method B"])
+    sup = ", ".join(f"{num(r, ',.0f')} (1/{k})" for k, r in res["superharmonic_rpm"].items())
+    ring = res.get("ring")
+    where = ("k-th mesh harmonic at f_n (no ring read)" if ring is None else
+             f"k-th mesh harmonic at the ring read at {ring['rpm']:,.6g} rpm, "
+             f"{num(ring['mean_hz'], ',.0f')} Hz")
+    rows.append(["super-harmonic resonances, model", f"{sup} rpm", esc(where)])
+    if "dynamic_factor_max_lumped" in v:
+        rows.insert(1, ["largest dynamic factor, lumped model beside",
+                        _where(v["dynamic_factor_max_lumped"]), "its point records"])
     warn = "".join(f"<li class=warn>{esc(w)}</li>" for w in v["warnings"])
     words = (f"<ul>{warn}</ul>" if warn else
              "<p class=ok>No warning: every point complete and settled, no contact loss, "
@@ -222,12 +250,16 @@ def cycle_part(data: dict[str, Any], cycle_uri: str | None) -> str:
 def speed_part(data: dict[str, Any], speed_uri: str | None) -> str:
     def pair(v: Any, fmt: str, s: float = 1.0) -> str:
         return "&mdash;" if v is None else " / ".join(num(x, fmt, s) for x in v)
+    lumped = {(q["rpm"], q["torque_Nm"]): q["dynamic_factor"]
+              for q in data["speed"]["lumped"].get("points", [])}
     rows = []
     for p in data["speed"]["points"]:
         st = p["status"] if p["status"] == "complete" else \
             f"<span class=warn>{esc(p['status'])}: {esc(p['reason'])}</span>"
         rows.append([f"{p['rpm']:,.6g}", f"{p['torque_Nm']:g}", st,
-                     num(p["dynamic_factor"], ".3f"), num(p["iso6336_k_v"], ".3f"),
+                     num(p["dynamic_factor"], ".3f"),
+                     num(lumped.get((p["rpm"], p["torque_Nm"])), ".3f"),
+                     num(p["iso6336_k_v"], ".3f"),
                      num(p["transmission_error_rms_m"], ".3f", 1e6),
                      num(p["transmission_error_pp_m"], ".3f", 1e6),
                      pair(p["root_stress_max_Pa"], ".1f", 1e-6),
@@ -235,9 +267,17 @@ def speed_part(data: dict[str, Any], speed_uri: str | None) -> str:
                      pair(p["safety_root_model"], ".2f"), pair(p["safety_contact_model"], ".2f"),
                      "&mdash;" if p["settled"] is None else ("yes" if p["settled"] else
                                                              "<span class=warn>no</span>")])
-    head = ["rpm A", "N m", "status", "K model", "ISO K_v", "TE rms (um)", "TE p-p (um)",
+    head = ["rpm A", "N m", "status", "K model", "K lumped", "ISO K_v", "TE rms (um)",
+            "TE p-p (um)",
             "root σ A / B (MPa)", "p max (MPa)", "S_F A / B", "S_H A / B", "settled"]
-    return ("<h2>5. Against speed</h2>" + img(speed_uri, "figures against speed")
+    lp = data["speed"]["lumped"]
+    note = (f"<p class=muted>No lumped model beside: {esc(lp['absent'])}.</p>" if "absent" in lp
+            else "<p class=muted>K lumped: the lumped model (two disks and the mesh spring) on "
+            "the sector model's quasi-static mesh cycle, with the same mesh damping ratio "
+            f"({num(lp['settings']['damping_ratio'], '.3g')}) and cycles ("
+            f"{lp['settings']['cycles']}, at most {lp['settings']['max_cycles']}); what the "
+            "two differ by is the bodies' elasticity and inertia beyond the mesh spring.</p>")
+    return ("<h2>5. Against speed</h2>" + img(speed_uri, "figures against speed") + note
             + table(head, rows, left=0))
 
 

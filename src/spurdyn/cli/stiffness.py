@@ -78,7 +78,8 @@ def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
     from spurdyn.case.fault_tables import parse_fault_option
     from spurdyn.cli.inputs import meshed_case
     from spurdyn.iso6336.rating import iso_pair, rate
-    from spurdyn.sector.statics import DEFAULT_POSITIONS, driving_pair, mesh_cycle, pairs_in_path
+    from spurdyn.lumped.sources import quasi_static_cycle
+    from spurdyn.sector.statics import DEFAULT_POSITIONS, driving_pair, pairs_in_path
 
     if args.positions is None:
         args.positions = DEFAULT_POSITIONS
@@ -97,8 +98,8 @@ def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
         return _faulty_report(args, case, faults, torques)
     cycles, rows = [], []
     for tq in torques:
-        mc = mesh_cycle(pair, tq, case.nx, case.ny, teeth=args.teeth, positions=args.positions,
-                        grading=case.grading)
+        mc = quasi_static_cycle(pair, tq, case.nx, case.ny, args.teeth, case.grading,
+                                args.positions)          # shared within a process (a report)
         cycles.append(mc)
         iso: dict[str, Any] = {}
         try:

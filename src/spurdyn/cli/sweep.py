@@ -138,6 +138,19 @@ def check_out(out: Path, force: bool) -> None:
             break
 
 
+def sweep_case(args: argparse.Namespace, torques: tuple[float, ...] | None, first_rpm: float
+               ) -> tuple[Any, str, dict[str, str]]:
+    """The case a sweep runs with its options applied and its model's defaults, the model
+    (``--model``, else the case file's) and how to name the options given; refused (one
+    line naming the key) where the model cannot run it."""
+    overrides, labels = _overrides(args, torques)
+    case = resolve_sweep_case(args.case, overrides, labels, first_rpm)
+    model = args.model or case.model          # --model, else the case file's [model] kind
+    entry = ENTRIES[model]
+    entry.refuse(case.run, case.labels(labels), case.pair)   # not ignored in silence
+    return replace(case, run=entry.with_defaults(case.run)), model, labels
+
+
 def build_plan(args: argparse.Namespace) -> SweepPlan:
     """Check every option and the case; the sweep to run (nothing is created)."""
     if args.model is not None and args.model not in MODELS:
@@ -146,12 +159,8 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     rpms = parse_speeds(args.rpm)
     torques = parse_torques(args.torque) if args.torque is not None else None
     check_count(rpms, torques)      # before any point is made
-    overrides, labels = _overrides(args, torques)
-    case = resolve_sweep_case(args.case, overrides, labels, rpms[0])
-    model = args.model or case.model          # --model, else the case file's [model] kind
+    case, model, labels = sweep_case(args, torques, rpms[0])
     entry = ENTRIES[model]
-    entry.refuse(case.run, case.labels(labels), case.pair)   # not ignored in silence
-    case = replace(case, run=entry.with_defaults(case.run))
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:
             raise InputError("--continuation", f"must be one of {', '.join(CONTINUATIONS)} "
@@ -343,4 +352,4 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_sweep)
 
 
-__all__ = ["add_sweep_parser", "build_plan", "check_out", "cmd_sweep", "resolve_sweep_case"]
+__all__ = ["add_sweep_parser", "build_plan", "check_out", "cmd_sweep", "resolve_sweep_case", "sweep_case"]

@@ -41,7 +41,6 @@ def sector_cycle(pair: GearPair, settings: RunSettings) -> Any:
     """The sector model's mesh cycle of the run's pair, mesh, torque and teeth as the lumped
     model's stiffness (:class:`spurdyn.lumped.cycle.SectorCycle`), cached per process."""
     from spurdyn.lumped.cycle import SectorCycle
-    from spurdyn.sector.statics import mesh_cycle
     from spurdyn.settings import refuse_sector_row_grading
 
     refuse_sector_row_grading(settings.row_grading)
@@ -54,12 +53,33 @@ def sector_cycle(pair: GearPair, settings: RunSettings) -> Any:
     if cycle is None:
         # K at or above a gear's teeth is the whole gear (the cycle takes one K for both)
         teeth = None if settings.teeth is None else min(settings.teeth, pair.gear_a.teeth, pair.gear_b.teeth)
-        mc = mesh_cycle(pair, settings.torque, settings.nx, settings.ny, teeth=teeth,
-                        grading=settings.grading)
+        mc = quasi_static_cycle(pair, settings.torque, settings.nx, settings.ny, teeth,
+                                settings.grading)
         cycle = SectorCycle.from_mesh_cycle(pair, mc)
         if key is not None:
             _TABLES[key] = cycle
     return cycle
+
+
+def quasi_static_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | None,
+                       grading: float, positions: int | None = None) -> Any:
+    """The sector model's quasi-static mesh cycle (:func:`spurdyn.sector.statics.mesh_cycle`,
+    its default positions unless given), cached per process: the lumped model's stiffness
+    and ``spurdyn stiffness`` (a report's page) share it. Its arrays are read, never
+    written, by those who take it."""
+    from spurdyn.sector.statics import DEFAULT_POSITIONS, mesh_cycle
+
+    positions = DEFAULT_POSITIONS if positions is None else int(positions)
+    key = ("mesh cycle", pair, float(torque), nx, ny, teeth, grading, positions)
+    try:
+        mc = _TABLES.get(key)
+    except TypeError:  # an unhashable pair: no caching
+        key, mc = None, None
+    if mc is None:
+        mc = mesh_cycle(pair, torque, nx, ny, teeth=teeth, positions=positions, grading=grading)
+        if key is not None:
+            _TABLES[key] = mc
+    return mc
 
 
 def hertz_table(pair: GearPair, settings: RunSettings) -> Any:
@@ -87,4 +107,4 @@ def hertz_table(pair: GearPair, settings: RunSettings) -> Any:
     return MeshStiffnessTable(roll, k, "pchip")
 
 
-__all__ = ["hertz_table", "sector_cycle", "tooth_table"]
+__all__ = ["hertz_table", "quasi_static_cycle", "sector_cycle", "tooth_table"]

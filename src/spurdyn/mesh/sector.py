@@ -21,7 +21,9 @@ there. Everything is in the gear's own frame, tooth 0 along +y, tooth ``k`` turn
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -65,6 +67,10 @@ class SectorMesh:
         The hub radius ``r_in`` (m).
     pitch_angle
         ``2 pi / z`` (rad).
+    seams, seam_normals
+        ``(S, 2)`` the node pairs of the cracks' two faces (face one, face two) and the unit
+        normal from face one into face two's side at each, in the gear's frame (none
+        without a crack).
     """
 
     nodes: NDArray[np.float64]
@@ -76,6 +82,8 @@ class SectorMesh:
     tooth: ToothMesh
     inner_radius: float
     pitch_angle: float
+    seams: NDArray[np.intp] = field(default_factory=lambda: np.zeros((0, 2), dtype=np.intp))
+    seam_normals: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
 
     @property
     def n_nodes(self) -> int:
@@ -191,7 +199,7 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
                 inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
                 cut_angle: float = DEFAULT_FILLET_CUT_ANGLE, first: int | None = None,
                 full_rim: bool = True, web: tuple[float, float] | None = None,
-                missing: frozenset[int] = frozenset()) -> SectorMesh:
+                missing: frozenset[int] = frozenset(), cracked: Mapping[int, Any] | None = None) -> SectorMesh:
     """Mesh ``teeth`` consecutive teeth of ``gear``, numbered from ``first`` (default: the
     middle one is 0), and their rim down to ``inner_radius`` (default
     :func:`default_inner_radius`). With ``full_rim`` the rim goes all the way round (the
@@ -202,6 +210,10 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
     close the ring. The teeth of ``missing`` (body numbers) are broken off at their root
     section: their cells keep the rim, whose top under the tooth becomes free surface, and
     their rows of :attr:`SectorMesh.tooth_nodes` hold -1 for the nodes that went with them.
+    ``cracked`` maps body teeth to their cracked meshes
+    (:class:`spurdyn.mesh.cracked.CrackedTooth`), which take the structured tooth's place on
+    its bottom row; their rows of ``tooth_nodes`` hold the structured nodes' places (-1 for
+    those the cracked mesh has not), and their cracks' faces become :attr:`SectorMesh.seams`.
 
     Raises
     ------
@@ -237,9 +249,11 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
     rim_is_web = np.zeros(rim_el.shape[0], dtype=bool)
     rim_is_web[:n_web * ncol] = True
     cells = ks if not full_rim or teeth == z else np.arange(int(ks[0]), int(ks[0]) + z)
-    xy, elements, hub, tooth_nodes, is_web = _place_cells(tooth, rim_xy, rim_el, rim_is_web, top_b, hub_local,
-                                                          ks, cells, pitch, missing)
-    nodes, elements, renum = _merge_nodes(xy, elements, 1e-9 * gear.tip_radius)
+    placed = _place_cells(tooth, rim_xy, rim_el, rim_is_web, top_b, hub_local, ks, cells, pitch, missing,
+                          cracked or {})
+    xy, elements, hub, raw_teeth, is_web, seams, normals = placed
+    # the cracks' faces lie on each other: kept apart
+    nodes, elements, renum = _merge_nodes(xy, elements, 1e-9 * gear.tip_radius, seams.ravel())
     det = jacobian_determinants(nodes, elements)
     if not np.all(det > 0.0):
         bad = int(np.argmin(det.min(axis=1)))
@@ -247,8 +261,9 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
                          "use a different nx x ny")
     width = np.where(is_web, float(web[1]) if web is not None else gear.face_width, gear.face_width)
     return SectorMesh(nodes=nodes, elements=elements, width=width, hub_nodes=np.unique(renum[hub]),
-                      teeth=ks.astype(np.intp), tooth_nodes=renum[tooth_nodes], tooth=tooth,
-                      inner_radius=r_in, pitch_angle=pitch)
+                      teeth=ks.astype(np.intp), tooth_nodes=np.where(raw_teeth >= 0, renum[raw_teeth], -1),
+                      tooth=tooth, inner_radius=r_in, pitch_angle=pitch,
+                      seams=renum[seams].reshape(-1, 2), seam_normals=normals)
 
 
 def _rim_radii(gear: Gear, r_top: NDArray[np.float64], r_in: float, h_row: float,
@@ -294,30 +309,36 @@ def _rim_cell(top: NDArray[np.float64], r: NDArray[np.float64]) -> tuple[
 def _place_cells(tooth: ToothMesh, rim_xy: NDArray[np.float64], rim_el: NDArray[np.intp],
                  rim_is_web: NDArray[np.bool_], top_b: NDArray[np.intp], hub_local: NDArray[np.intp],
                  ks: NDArray[np.int64], cells: NDArray[np.int64], pitch: float,
-                 missing: frozenset[int] = frozenset()) -> tuple[
-        NDArray[np.float64], NDArray[np.intp], NDArray[np.intp], NDArray[np.intp], NDArray[np.bool_]]:
+                 missing: frozenset[int] = frozenset(), cracked: Mapping[int, Any] | None = None) -> tuple[
+        NDArray[np.float64], NDArray[np.intp], NDArray[np.intp], NDArray[np.intp], NDArray[np.bool_],
+        NDArray[np.intp], NDArray[np.float64]]:
     """Every cell turned to its place, a tooth on those of ``ks`` (its elements left out on
-    those of ``missing``): ``(nodes, elements, hub nodes, each tooth's nodes, web elements)``,
-    the coincident nodes not yet merged."""
+    those of ``missing``, a cracked tooth's mesh on those of ``cracked``): ``(nodes,
+    elements, hub nodes, each tooth's nodes (-1: none), web elements, seams, their
+    normals)``, the coincident nodes not yet merged."""
     xy_parts, el_parts, tooth_maps, hub_parts, web_parts = [], [], [], [], []
+    seam_parts, normal_parts = [np.zeros((0, 2), dtype=np.intp)], [np.zeros((0, 2))]
     count = 0
-    n_rim, n_tooth = rim_xy.shape[0], tooth.n_nodes
+    n_rim = rim_xy.shape[0]
     for k in cells:
         ang = float(k) * pitch
         if k in ks:
+            body = (cracked or {}).get(int(k))
+            t_xy, t_el = (tooth.nodes, tooth.elements) if body is None else (body.nodes, body.elements)
+            # the structured tooth's nodes in the cell's tooth mesh
+            where = np.arange(tooth.n_nodes) if body is None else np.asarray(body.structured)
             # tooth nodes first, then the rim's, its top-under-tooth nodes mapped onto them
-            tmap = count + np.arange(n_tooth)
-            rmap = count + n_tooth + np.arange(n_rim)
-            rmap[top_b] = tmap[tooth.root_nodes]
-            xy_parts += [turn(tooth.nodes, ang), turn(rim_xy, ang)]
-            if int(k) in missing:
-                el_parts.append(rmap[rim_el])
-                web_parts.append(rim_is_web)
-            else:
-                el_parts += [tmap[tooth.elements], rmap[rim_el]]
-                web_parts += [np.zeros(tooth.n_elements, dtype=bool), rim_is_web]
-            tooth_maps.append(tmap)
-            count += n_tooth + n_rim
+            tmap = count + np.arange(t_xy.shape[0])
+            rmap = count + t_xy.shape[0] + np.arange(n_rim)
+            rmap[top_b] = tmap[where[tooth.root_nodes]]
+            xy_parts += [turn(t_xy, ang), turn(rim_xy, ang)]
+            el_parts += [rmap[rim_el]] if int(k) in missing else [tmap[t_el], rmap[rim_el]]
+            web_parts += [rim_is_web] if int(k) in missing else [np.zeros(t_el.shape[0], dtype=bool), rim_is_web]
+            tooth_maps.append(np.where(where >= 0, tmap[np.maximum(where, 0)], -1))
+            if body is not None:
+                seam_parts.append(tmap[np.asarray(body.seam)])
+                normal_parts.append(turn(np.asarray(body.normal, dtype=float), ang))
+            count += t_xy.shape[0] + n_rim
         else:
             rmap = count + np.arange(n_rim)
             xy_parts.append(turn(rim_xy, ang))
@@ -326,21 +347,25 @@ def _place_cells(tooth: ToothMesh, rim_xy: NDArray[np.float64], rim_el: NDArray[
             count += n_rim
         hub_parts.append(rmap[hub_local])
     return (np.vstack(xy_parts), np.vstack(el_parts), np.concatenate(hub_parts), np.vstack(tooth_maps),
-            np.concatenate(web_parts))
+            np.concatenate(web_parts), np.vstack(seam_parts), np.vstack(normal_parts))
 
 
-def _merge_nodes(xy: NDArray[np.float64], elements: NDArray[np.intp],
-                 tol: float) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp]]:
+def _merge_nodes(xy: NDArray[np.float64], elements: NDArray[np.intp], tol: float,
+                 apart: NDArray[np.intp] | None = None) -> tuple[NDArray[np.float64], NDArray[np.intp],
+                                                                 NDArray[np.intp]]:
     """Merge the nodes closer than ``tol`` (the duplicated tooth-bottom rows and the shared
-    radial edges): ``(nodes, elements, new number of each old node)``."""
+    radial edges), those of ``apart`` (a crack's faces) excepted: ``(nodes, elements, new
+    number of each old node)``."""
     used = np.unique(elements)
+    if apart is not None and apart.size:
+        used = np.setdiff1d(used, apart)
     tree = cKDTree(xy[used])
     rep = np.arange(xy.shape[0])
     for a, b in sorted(tree.query_pairs(tol)):
         ia, ib = used[a], used[b]
         lo, hi = min(rep[ia], rep[ib]), max(rep[ia], rep[ib])
         rep[rep == hi] = lo
-    keep_nodes = np.unique(rep[used])
+    keep_nodes = np.unique(rep[np.unique(elements)])
     new = -np.ones(xy.shape[0], dtype=np.intp)
     new[keep_nodes] = np.arange(keep_nodes.size)
     renum = new[rep]

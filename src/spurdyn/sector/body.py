@@ -10,8 +10,10 @@ exactly as the paper model's single tooth is.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -83,6 +85,19 @@ class SectorBody:
         f[self.mesh.tooth_dofs(k)] = turn(local, self.mesh.tooth_angle(k)).ravel()
         return f
 
+    @cached_property
+    def seam_loads(self) -> NDArray[np.float64]:
+        """``(2N, S)`` the nodal forces of a unit compressive force between each pair of a
+        crack's faces: along the normal on face two, against it on face one. Its transpose
+        maps displacements to the faces' openings (docs/faults.md)."""
+        seams, normals = self.mesh.seams, self.mesh.seam_normals
+        b = np.zeros((self.mesh.n_dof, seams.shape[0]))
+        cols = np.arange(seams.shape[0])
+        for face, sign in ((1, 1.0), (0, -1.0)):
+            for axis in (0, 1):
+                b[2 * seams[:, face] + axis, cols] = sign * normals[:, axis]
+        return b
+
     def solve(self, f: NDArray[np.float64]) -> NDArray[np.float64]:
         """Displacements (m) under the nodal forces ``f`` (columns allowed), the hub held."""
         f = np.asarray(f, dtype=float)
@@ -108,10 +123,12 @@ class SectorBody:
 
 def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = None,
                 inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
-                full_rim: bool = True, missing: frozenset[int] = frozenset()) -> SectorBody:
+                full_rim: bool = True, missing: frozenset[int] = frozenset(),
+                cracked: Mapping[int, Any] | None = None) -> SectorBody:
     """Mesh and assemble ``teeth`` teeth of ``gear`` from tooth ``first`` (on the
     full rim, or with the rim cut at free radial faces: :func:`spurdyn.mesh.sector.sector_mesh`),
-    the teeth of ``missing`` broken off at their root.
+    the teeth of ``missing`` broken off at their root, those of ``cracked`` on their cracked
+    meshes.
     A webbed blank puts the hub at its ``hub_radius`` and a web of its width below its
     ``rim_radius``."""
     blank = gear.blank
@@ -119,7 +136,7 @@ def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = No
     if inner_radius is None and web is not None:
         inner_radius = blank.hub_radius
     mesh = sector_mesh(gear, teeth, nx, ny, inner_radius, grading, first=first, web=web,
-                       full_rim=full_rim, missing=missing)
+                       full_rim=full_rim, missing=missing, cracked=cracked)
     hub = np.concatenate([2 * mesh.hub_nodes, 2 * mesh.hub_nodes + 1])
     free = np.setdiff1d(np.arange(mesh.n_dof), hub)
     tooth = mesh.tooth

@@ -113,7 +113,7 @@ def test_tables_refused_by_the_key_written(pair):
     cases = [
         ({"gear": "c", "tooth": 5, "kind": "missing"}, "fault[0].gear"),
         ({"gear": "a", "tooth": 28, "kind": "missing"}, "fault[0].tooth"),
-        ({"gear": "a", "tooth": 5, "kind": "crack"}, "fault[0].kind"),
+        ({"gear": "a", "tooth": 5, "kind": "chip"}, "fault[0].kind"),
         ({"gear": "a", "tooth": 5, "kind": "missing", "depth": 1e-5}, "fault[0].depth"),
         ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [0, 5], "depth": 1e-5}, "fault[0].roll_deg"),
         ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [20, 25], "depth": -1.0}, "fault[0].depth"),
@@ -134,14 +134,16 @@ def test_tables_refused_by_the_key_written(pair):
     assert f.roll == pytest.approx((math.radians(20), math.radians(24)))
 
 
-def test_command_refuses_faults_where_not_read_and_writes_the_table(tmp_path, capsys):
+def test_commands_refuse_faults_where_not_read_show_them_and_write_the_table(tmp_path, capsys):
     case = tmp_path / "broken.toml"
     case.write_text('[gear_a]\nteeth = 28\nmodule = 3.175e-3\nface_width = 6.35e-3\n\n'
                     '[run]\ntorque = 22.25\n\n[[fault]]\ngear = "a"\ntooth = 5\nkind = "missing"\n')
-    for command in (["run", str(case), "--out", str(tmp_path / "out")], ["info", str(case)]):
+    for command in (["run", str(case), "--out", str(tmp_path / "out")], ["mesh", str(case), "--png", str(tmp_path / "m.png")]):
         code, out, err = run(capsys, *command)
         assert code == 2 and err.strip().count("\n") == 0 and "fault" in err
-    assert not (tmp_path / "out").exists()
+    assert not (tmp_path / "out").exists() and not (tmp_path / "m.png").exists()
+    code, out, err = run(capsys, "info", str(case))
+    assert code == 0 and "gear A tooth 5: missing" in out
     table = tmp_path / "k.csv"
     code, out, err = run(capsys, "stiffness", str(case), "--mesh", f"{NX}x{NY}", "--positions",
                              str(POSITIONS), "--csv", str(table), "--json")

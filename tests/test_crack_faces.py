@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
-from spurdyn.mesh.sector import sector_mesh
+from spurdyn.mesh.sector import cell_mesh, sector_mesh
 from spurdyn.mesh.tooth import tooth_mesh
 from spurdyn.sector.statics import (contact_law, driving_pair, healthy_contacts, sector_bodies,
                                     solve_position)
@@ -35,26 +35,32 @@ class RowCrack:
     tip: int
 
 
-def row_crack(tooth, row: int, depth: int, side: str) -> RowCrack:
+def row_crack(gear, row: int, depth: int, side: str) -> RowCrack:
+    """The crack in tooth 0's cell (:func:`spurdyn.mesh.sector.cell_mesh`), as the sector
+    mesh takes a cracked cell."""
+    from scipy.spatial import cKDTree
+
+    tooth, cell = tooth_mesh(gear, NX, NY), cell_mesh(gear, NX, NY)
+    t_in = cKDTree(cell.nodes).query(tooth.nodes)[1]        # the tooth's nodes in the cell
     index = _index(tooth)
     j = 2 * row
     span = range(2 * tooth.nx, 2 * (tooth.nx - depth), -1) if side == "right" else range(0, 2 * depth)
     line = np.array([index[i, j] for i in span])
     tip = int(index[2 * (tooth.nx - depth), j] if side == "right" else index[2 * depth, j])
-    copies = tooth.n_nodes + np.arange(line.size)
-    nodes = np.vstack([tooth.nodes, tooth.nodes[line]])
-    elements = tooth.elements.copy()
+    copies = cell.n_nodes + np.arange(line.size)
+    nodes = np.vstack([cell.nodes, tooth.nodes[line]])
+    elements = cell.elements.copy()         # the tooth's elements first (in the tooth's order)
     cols = range(tooth.nx - depth, tooth.nx) if side == "right" else range(depth)
-    above = [ey * tooth.nx + ex for ey in range(row, tooth.ny) for ex in cols]
-    lookup = dict(zip(line.tolist(), copies.tolist()))
-    for e in above:
+    lookup = dict(zip(t_in[line].tolist(), copies.tolist()))
+    for e in [ey * tooth.nx + ex for ey in range(row, tooth.ny) for ex in cols]:
         elements[e] = [lookup.get(int(n), int(n)) for n in elements[e]]
-    ends = np.array([index[i, j] for i in span] + [tip])
-    tangent = np.gradient(tooth.nodes[ends], axis=0)[:-1]
+    ends = tooth.nodes[np.array([index[i, j] for i in span] + [tip])]
+    tangent = np.gradient(ends, axis=0)[:-1]
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     normal *= np.sign(normal[:, 1])[:, None]          # from below (face one) into above (two)
-    return RowCrack(nodes, elements, np.arange(tooth.n_nodes), np.column_stack([line, copies]), normal, tip)
+    return RowCrack(nodes, elements, np.arange(cell.n_nodes), np.column_stack([t_in[line], copies]),
+                    normal, int(t_in[tip]))
 
 
 def _index(tooth) -> np.ndarray:
@@ -82,8 +88,7 @@ def test_the_grid_is_read_back(pair):
 
 
 def test_a_cracked_cell_keeps_its_faces_apart(pair):
-    tooth = tooth_mesh(pair.gear_a, NX, NY)
-    crack = row_crack(tooth, 2, 2, "right")
+    crack = row_crack(pair.gear_a, 2, 2, "right")
     whole = sector_mesh(pair.gear_a, TEETH, NX, NY)
     mesh = sector_mesh(pair.gear_a, TEETH, NX, NY, cracked={0: crack})
     assert mesh.n_nodes == whole.n_nodes + crack.seam.shape[0]
@@ -114,8 +119,7 @@ def test_faces_open_in_tension_and_close_in_compression(pair, side, closes):
     in compression. A crack on the tension side opens and carries nothing; one on the
     compression side closes, carries compression, and its faces do not pass through each
     other."""
-    tooth = tooth_mesh(pair.gear_a, NX, NY)
-    crack = row_crack(tooth, 1, 2, side)
+    crack = row_crack(pair.gear_a, 1, 2, side)
     rho = 0.5 * (pair.start_roll_a + pair.end_roll_a)      # one pair near the pitch point
     js, f, e, c, f_all, law = _position(pair, ({0: crack}, {}), rho)
     n = len(js)

@@ -130,7 +130,7 @@ def _check_inside(tooth: ToothMesh, mouth: NDArray[np.float64], tip: NDArray[np.
 
 
 def crack_path(gear: Gear, tooth: ToothMesh, side: str, depth: float, angle: float | None = None,
-               start: float | None = None) -> NDArray[np.float64]:
+               start: float | None = None, region: ToothMesh | None = None) -> NDArray[np.float64]:
     """A straight root crack: its mouth on the fillet of one outline, its tip inside the tooth.
 
     Parameters
@@ -150,6 +150,10 @@ def crack_path(gear: Gear, tooth: ToothMesh, side: str, depth: float, angle: flo
         The mouth's radius (m) on the fillet part of the structured outline (between the
         fillet's cut under the tooth and the form radius); default the radius of ISO
         6336-3's 30 deg tangent point (:func:`mouth_radius`).
+    region
+        The structured mesh whose outline the crack must stay inside (default ``tooth``; the
+        sector model gives the tooth's whole cell, :func:`spurdyn.mesh.sector.cell_mesh`,
+        so that a crack may run on into the rim).
 
     Returns
     -------
@@ -177,7 +181,7 @@ def crack_path(gear: Gear, tooth: ToothMesh, side: str, depth: float, angle: flo
     sense = 1.0 if side == "right" else -1.0
     mouth = _point_at_radius(tooth, side, r)
     tip = mouth + depth * np.array([-sense * math.cos(angle), -math.sin(angle)])
-    _check_inside(tooth, mouth, tip)
+    _check_inside(tooth if region is None else region, mouth, tip)
     return np.array([mouth, tip])
 
 
@@ -281,12 +285,12 @@ def _structured_map(tooth: ToothMesh, nodes: NDArray[np.float64], split: int) ->
 
 def _sizes(tooth: ToothMesh, path: NDArray[np.float64], tip_size: float | None,
            size: float | None) -> tuple[float, float]:
-    """The element sizes: ``size`` by default half the structured outline's median edge
-    (corner to corner, so about one element per polygon side), ``tip_size`` by default ``TIP_SIZE_SHARE`` of the smaller of ``size`` and the
+    """The element sizes: ``size`` by default the structured outline's median edge (corner
+    to corner; gmsh's split into quads halves it, so about one element per polygon side), ``tip_size`` by default ``TIP_SIZE_SHARE`` of the smaller of ``size`` and the
     crack's length."""
     edges = ol.outline_edges(tooth)
     chords = np.hypot(*(tooth.nodes[edges[:, 2]] - tooth.nodes[edges[:, 0]]).T)
-    size = 0.5 * float(np.median(chords)) if size is None else _check_number("fault.size", size)
+    size = float(np.median(chords)) if size is None else _check_number("fault.size", size)
     depth = float(np.hypot(*(path[1] - path[0])))
     tip = TIP_SIZE_SHARE * min(size, depth) if tip_size is None else \
         _check_number("fault.tip_size", tip_size)

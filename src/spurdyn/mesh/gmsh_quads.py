@@ -52,8 +52,11 @@ def _set_options(gmsh: object) -> None:
     for name, value in (("General.Terminal", 0), ("Mesh.MeshSizeExtendFromBoundary", 0),
                         ("Mesh.MeshSizeFromPoints", 0), ("Mesh.MeshSizeFromCurvature", 0),
                         ("Mesh.Algorithm", 8), ("Mesh.RecombineAll", 1),
-                        ("Mesh.RecombinationAlgorithm", 3), ("Mesh.ElementOrder", 2),
-                        ("Mesh.SecondOrderIncomplete", 1)):
+                        # Blossom's recombination, then every element split into quads: the
+                        # full-quad Blossom (3) refuses a polygon whose sides it cannot halve,
+                        # as a tooth's whole cell down to the hub
+                        ("Mesh.RecombinationAlgorithm", 1), ("Mesh.ElementOrder", 2),
+                        ("Mesh.SecondOrderIncomplete", 1), ("Mesh.SubdivisionAlgorithm", 1)):
         gmsh.option.setNumber(name, value)
 
 

@@ -26,7 +26,7 @@ from spurdyn.geometry.fault import Fault, faulty_cycles
 from spurdyn.geometry.gear import Gear
 from spurdyn.mesh.tooth import tooth_mesh
 from spurdyn.geometry.pair import GearPair
-from spurdyn.sector.body import SectorBody
+from spurdyn.sector.body import SectorBody, body_cell
 from spurdyn.sector.statics import (DEFAULT_POSITIONS, Contact, Contacts, ContactLaw, contact_law, default_teeth,
                                     driving_pair, healthy_contacts, sector_bodies, sector_firsts, solve_position)
 
@@ -171,12 +171,15 @@ def _solve(law: ContactLaw, rolls: NDArray[np.float64], contacts: Contacts,
 
 
 def _cracked_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> Any:
-    """The cracked tooth of a crack fault, its crack from the loaded flank's fillet (the
-    tension side: both bodies are loaded on their right flanks)."""
+    """The cracked cell of a crack fault, its crack from the loaded flank's fillet (the
+    tension side: both bodies are loaded on their right flanks), free to run on into the
+    rim below the tooth."""
     from spurdyn.mesh.cracked import crack_path, cracked_tooth
 
+    cell = body_cell(gear, nx, ny, grading)
     tooth = tooth_mesh(gear, nx, ny, grading=grading)
-    return cracked_tooth(gear, tooth, crack_path(gear, tooth, "right", fault.depth, fault.angle, fault.start))
+    path = crack_path(gear, tooth, "right", fault.depth, fault.angle, fault.start, region=cell)
+    return cracked_tooth(gear, cell, path)
 
 
 def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], nx: int, ny: int,

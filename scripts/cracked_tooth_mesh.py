@@ -3,7 +3,7 @@ meshes and their compliance under a load on the tip, against the structured toot
 
 Usage::
 
-    python scripts/cracked_tooth_mesh.py          # print the page's table (markdown)
+    python scripts/cracked_tooth_mesh.py          # print the page's tables (markdown)
 
 The tooth is clamped along the whole curve under it (where the rim would hold it) and loaded
 by a uniform tangential traction along its tip circle, toward -x (the crack on the right
@@ -20,6 +20,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
+from spurdyn.errors import InputError
 from spurdyn.fem.assembly import assemble_stiffness
 from spurdyn.fem.element import edge_dweights, edge_weights
 from spurdyn.geometry.gear import Gear
@@ -95,8 +96,30 @@ def row(gear: Gear, tooth: ToothMesh, depth: float, share: float, size: float) -
             "tied": compliance(*tied(c), clamped, gear)}
 
 
+def deepest(gear: Gear, tooth: ToothMesh, angle: float) -> float:
+    """The longest crack from the default mouth at ``angle`` that crack_path accepts (m),
+    by bisection to a nanometre."""
+    lo, hi = 0.0, 10e-3
+    while hi - lo > 1e-9:
+        mid = 0.5 * (lo + hi)
+        try:
+            crack_path(gear, tooth, "right", mid, angle)
+            lo = mid
+        except InputError:
+            hi = mid
+    return lo
+
+
 def main() -> None:
     gear = paper_gear()
+    print("| fillet cut (deg) | cut radius (mm) | deepest at 45 deg (mm) | at 30 deg | at 15 deg |")
+    print("|---|---|---|---|---|")
+    for cut in (45.0, 30.0, 20.0, 10.0):
+        tooth = tooth_mesh(gear, cut_angle=math.radians(cut))
+        r_cut = float(np.hypot(*tooth.nodes[tooth.right_side[0]]))
+        d = [deepest(gear, tooth, math.radians(a)) * 1e3 for a in (45.0, 30.0, 15.0)]
+        print(f"| {cut:g} | {r_cut * 1e3:.3f} | {d[0]:.3f} | {d[1]:.3f} | {d[2]:.3f} |")
+    print()
     print("| cut (deg) | crack (mm) | size (mm) | elements | nodes | cracked (m/GN) | "
           "tied (m/GN) | cracked / tied |")
     print("|---|---|---|---|---|---|---|---|")

@@ -31,8 +31,8 @@ from spurdyn.mesh.tooth import ToothMesh
 DEFAULT_MOUTH_TANGENT = math.radians(30.0)
 #: Default angle of the crack below the line across the tooth (perpendicular to the centre
 #: line), running down and in toward the centre line (rad): the straight cracks of the
-#: literature (Tian 2004's 45 deg to the centre line; Belsak & Flasker 2007's measured
-#: paths leave the 30 deg point about as steeply).
+#: literature (Tian 2004's 45 deg to the centre line, the same line at 45 deg): a convention
+#: of those models, not a measured path.
 DEFAULT_CRACK_ANGLE = math.radians(45.0)
 #: Default element size near the tip, as a share of the smaller of the crack's length and
 #: the element size elsewhere.

@@ -25,7 +25,9 @@ from spurdyn.fem.assembly import assemble_stiffness
 from spurdyn.fem.element import edge_dweights, edge_weights
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.presets import paper_gear
-from spurdyn.mesh.cracked import CrackedTooth, crack_path, cracked_tooth, outline_ties
+from spurdyn.mesh.cracked import (
+    CrackedTooth, crack_path, cracked_tooth, default_size, outline_ties,
+)
 from spurdyn.mesh.tooth import ToothMesh, tooth_mesh
 
 #: The element edges of the Q8 order: (corner, mid-side, corner).
@@ -125,8 +127,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|")
     for cut, depth in CASES:
         tooth = tooth_mesh(gear, cut_angle=math.radians(cut))
-        chords = np.hypot(*np.diff(tooth.nodes[tooth.right_side[::2]], axis=0).T)
-        size = 0.5 * float(np.median(chords))
+        size = default_size(tooth)
         for share in SHARES:
             r = row(gear, tooth, depth * 1e-3, share, size)
             print(f"| {cut:g} | {depth:g} | {share * size * 1e3:.3f} | {r['elements']} | "

@@ -17,7 +17,7 @@ from spurdyn.fem.element import gauss_2d
 from spurdyn.geometry.presets import paper_gear
 from spurdyn.mesh import outline as ol
 from spurdyn.mesh.cracked import (
-    CrackedTooth, crack_path, cracked_tooth, mouth_radius, outline_ties,
+    CrackedTooth, crack_path, cracked_tooth, default_size, mouth_radius, outline_ties,
 )
 from spurdyn.mesh.tooth import tooth_mesh
 
@@ -126,8 +126,7 @@ def test_ties_reproduce_the_structured_edges(cracked, tooth):
 def compliances():
     """The table of docs/faults.md at two of its sizes: fillet cut 20 deg, crack 0.5 mm."""
     tooth = tooth_mesh(GEAR, cut_angle=math.radians(20.0))
-    chords = np.hypot(*np.diff(tooth.nodes[tooth.right_side[::2]], axis=0).T)
-    size = 0.5 * float(np.median(chords))
+    size = default_size(tooth)
     rows = [figures.row(GEAR, tooth, 0.5e-3, share, size) for share in (1.0, 0.5)]
     structured = figures.compliance(tooth.nodes, tooth.elements, tooth.root_nodes, GEAR)
     return rows, structured

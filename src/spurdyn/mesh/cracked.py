@@ -60,8 +60,9 @@ class CrackedTooth:
         ``(E, 8)`` Q8 elements, corners counter-clockwise then mid-sides; all Jacobians > 0.
     structured
         ``(n,)`` for every node of the structured mesh, the node of this mesh at the same
-        place (to ``SAME_PLACE`` of the tip radius), -1 if none. Every structured outline node
-        maps, except the mid-side node of the fillet edge the crack's mouth splits.
+        place (to ``SAME_PLACE`` of the tip radius), -1 if none (or two: a seam's twins).
+        Every structured outline node maps, except the mid-side node of the fillet edge the
+        crack's mouth splits.
     seam
         ``(S, 2)`` twin nodes (face one, face two) along the crack, mouth first, tip excluded;
         mid-side nodes included.
@@ -305,14 +306,19 @@ def _structured_map(tooth: ToothMesh, nodes: NDArray[np.float64], split: int) ->
     return out
 
 
-def _sizes(tooth: ToothMesh, path: NDArray[np.float64], tip_size: float | None,
-           size: float | None) -> tuple[float, float]:
-    """The element sizes: ``size`` by default half the structured outline's median edge
-    (corner to corner, so about one element per polygon side), ``tip_size`` by default ``TIP_SIZE_SHARE`` of the smaller of ``size`` and the
-    crack's length."""
+def default_size(tooth: ToothMesh) -> float:
+    """The default element size (m): half the structured outline's median edge, corner to
+    corner, so about one element per side of the polygon gmsh meshes."""
     edges = ol.outline_edges(tooth)
     chords = np.hypot(*(tooth.nodes[edges[:, 2]] - tooth.nodes[edges[:, 0]]).T)
-    size = 0.5 * float(np.median(chords)) if size is None else _check_number("fault.size", size)
+    return 0.5 * float(np.median(chords))
+
+
+def _sizes(tooth: ToothMesh, path: NDArray[np.float64], tip_size: float | None,
+           size: float | None) -> tuple[float, float]:
+    """The element sizes: ``size`` by default :func:`default_size`, ``tip_size`` by default ``TIP_SIZE_SHARE`` of the smaller of ``size`` and the
+    crack's length."""
+    size = default_size(tooth) if size is None else _check_number("fault.size", size)
     depth = float(np.hypot(*(path[1] - path[0])))
     tip = TIP_SIZE_SHARE * min(size, depth) if tip_size is None else \
         _check_number("fault.tip_size", tip_size)

@@ -204,7 +204,8 @@ def mesh_with_crack(curves: list[NDArray[np.float64]], mouth: int, tip: NDArray[
     points = np.array([c[0] for c in curves])
     origin = points.mean(axis=0)
     scale = 1.0 / size
-    gmsh.initialize(readConfigFiles=False)
+    # not interruptible: gmsh would install a SIGINT handler, which only the main thread may
+    gmsh.initialize(readConfigFiles=False, interruptible=False)
     try:
         _set_options(gmsh)
         gmsh.model.add("cracked tooth")

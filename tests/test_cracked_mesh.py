@@ -137,6 +137,7 @@ def test_crack_softens_the_tooth_and_converges(compliances):
     coarse, fine = rows
     for r in rows:
         assert r["cracked"] > 1.02 * r["tied"]           # a 0.5 mm root crack: about +3.3 %
+        assert r["cracked"] > 1.02 * structured
     # displacement elements are too stiff: refining softens, by far less than the crack does
     assert fine["cracked"] >= coarse["cracked"]
     assert (fine["cracked"] - coarse["cracked"]) < 0.05 * (fine["cracked"] - fine["tied"])

@@ -1,7 +1,9 @@
-"""gmsh's 8-node quadrilaterals in a polygon with an embedded straight line (a crack).
+"""gmsh's 8-node quadrilaterals in a region bounded by splines, with an embedded straight line
+(a crack).
 
-gmsh (the Python API of the package on the package index) meshes the polygon with the crack
-embedded, refining toward the crack's tip by a distance threshold; quads come from the
+gmsh (the Python API of the package on the package index) meshes the region with the crack
+embedded, refining toward the crack's tip by a distance threshold (the interior; the curves
+get even segment counts from the same sizes, :func:`_segments`); quads come from the
 Frontal-Delaunay for quads algorithm and the Blossom full-quad recombination (a mesh at twice
 the size, recombined, then split, so no triangle is left), made second order and incomplete
 (8 nodes). gmsh keeps global state and is not thread-safe: one mesh at a time.
@@ -47,7 +49,8 @@ class GmshQuads:
 
 
 def _set_options(gmsh: object) -> None:
-    """Quads only, second order incomplete (8 nodes), sizes from the field alone."""
+    """Quads only, second order incomplete (8 nodes), sizes from the field and the curves'
+    segment counts only (none from points, curvature or the boundary)."""
     for name, value in (("General.Terminal", 0), ("Mesh.MeshSizeExtendFromBoundary", 0),
                         ("Mesh.MeshSizeFromPoints", 0), ("Mesh.MeshSizeFromCurvature", 0),
                         ("Mesh.Algorithm", 8), ("Mesh.RecombineAll", 1),

@@ -184,3 +184,30 @@ def test_write_run_draws_a_sector_runs_pictures(tmp_path, short_case):
     for name in ("contact_force.png", "mesh.png", "mesh_cycle.png", "transmission_error.png"):
         assert (tmp_path / name).read_bytes()[:8] == PNG_MAGIC
     assert not (tmp_path / "root_stress.png").exists()
+
+
+def test_a_sector_runs_pictures_split_between_the_child_and_here_are_those_drawn_here(tmp_path, short_case,
+                                                                                      monkeypatch):
+    """:func:`write_run` draws a run of several pairs' pictures in two parts, one in the
+    forked child, one itself after the files: the same files, byte for byte, as all drawn
+    in this process; and ``plot_pair_pictures`` draws each part alone."""
+    from spurdyn.results import beside as beside_module
+
+    result = sector_like(5)
+    for name, fork in (("split", beside_module.can_fork()), ("here", False)):
+        monkeypatch.setattr(beside_module, "can_fork", lambda fork=fork: fork)
+        (tmp_path / name).mkdir()
+        write_run(result, short_case, tmp_path / name)
+    files = sorted(p.name for p in (tmp_path / "here").iterdir())
+    assert files == sorted(p.name for p in (tmp_path / "split").iterdir())
+    pictures = [f for f in files if f.endswith(".png")]
+    assert len(pictures) == 4
+    for f in pictures:
+        assert (tmp_path / "split" / f).read_bytes() == (tmp_path / "here" / f).read_bytes()
+    ds = result_to_dataset(result, short_case)
+    parts = []
+    for part in (0, 1):
+        (tmp_path / str(part)).mkdir()
+        parts.append({p.name for p in plot_pair_pictures(ds, tmp_path / str(part), part)})
+        assert {p.name for p in (tmp_path / str(part)).iterdir()} == parts[-1]
+    assert parts == [{"mesh_cycle.png"}, {"mesh.png", "transmission_error.png"}]   # no stress: none drawn

@@ -150,3 +150,27 @@ def test_the_store_gives_the_cyclic_modes_back_bit_for_bit(even, tmp_path, monke
     for name in ("y", "harm", "omega2", "coupling", "flex"):
         assert np.array_equal(getattr(first, name), getattr(again, name)), name
     assert isinstance(again, cyclic.CyclicGear)
+
+
+def test_the_statics_and_fillet_maps_a_block_of_rows_at_a_time_are_the_whole_fields(even, monkeypatch):
+    """The harmonics' static response formed :data:`cyclic.ROW_CHUNK` rows at a time (37
+    here: many blocks and a short last one) against it formed over all the rows at once,
+    as before the blocks (the fillets' maps then took a whole gear's field at every
+    tooth's fillets in one piece): the same to round-off, at rows all round the ring and
+    in the fillet maps of every tooth."""
+    from spurdyn.sector.fillets import GearFillets
+
+    monkeypatch.setenv("SPURDYN_MODE_CACHE", "off")       # the maps computed both times
+    red = reduce_gear(even, TOP)
+    rows = np.arange(0, even.mass.size, 3)
+    gear = type("Gear", (), {"block": even, "reduced": red})()
+    found = {}
+    chunk = 37
+    for size in (chunk, rows.size + 1):
+        monkeypatch.setattr(cyclic, "ROW_CHUNK", size)
+        fl = GearFillets(gear)
+        found[size] = (red.static_rows(even.first + 2, rows), fl._static, fl._modes)
+    assert rows.size % chunk and rows.size > 4 * chunk
+    for new, old in zip(found[chunk], found[rows.size + 1]):
+        assert new.shape == old.shape
+        np.testing.assert_allclose(new, old, rtol=0, atol=1e-13 * np.abs(old).max())

@@ -26,7 +26,8 @@ PAGE = DOCS / "faults_validation.md"
 DEPTHS = (0.25e-3, 0.5e-3, 1.0e-3, 1.5e-3, 2.0e-3, 3.0e-3)
 #: The energy model's crack angle to the centre line (rad), and the sector mesh's.
 ANGLE = math.radians(45.0)
-#: Tooth meshes of the study (nx, ny), and the crack-tip element sizes (of the crack length).
+#: Tooth meshes of the study (nx, ny), and the crack-tip element sizes (of the smaller of the
+#: crack's length and the element size elsewhere).
 MESHES = ((4, 14), (8, 28))
 TIP_SIZES = (0.2, 0.1, 0.05)
 
@@ -48,7 +49,7 @@ def sector_stiffness(pair: Any, depth: float | None, nx: int, ny: int, tip: floa
     cracked cell's mesh without the crack), the cracked cell's element count, and the
     largest compressive force between the crack's faces (N)."""
     from spurdyn.geometry.presets import PAPER_TORQUE
-    from spurdyn.mesh.cracked import crack_path, cracked_tooth
+    from spurdyn.mesh.cracked import crack_path, cracked_tooth, default_size
     from spurdyn.mesh.tooth import tooth_mesh
     from spurdyn.sector.body import body_cell
     from spurdyn.sector.statics import _active_set, contact_law, driving_pair, sector_bodies, solve_position
@@ -61,7 +62,8 @@ def sector_stiffness(pair: Any, depth: float | None, nx: int, ny: int, tip: floa
     g = dp.gear_a
     path = crack_path(g, tooth_mesh(g, nx, ny), "right", depth, math.pi / 2 - ANGLE, g.base_radius,
                       region=body_cell(g, nx, ny))
-    ct = cracked_tooth(g, body_cell(g, nx, ny), path, tip_size=tip * depth)
+    cell = body_cell(g, nx, ny)
+    ct = cracked_tooth(g, cell, path, tip_size=tip * min(depth, default_size(cell)))
     out = []
     for mesh in (ct, bonded(ct)):
         js, f, e, c, active = solve_position(law, dp.pitch_roll_a, bodies=sector_bodies(

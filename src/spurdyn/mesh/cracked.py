@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
 from spurdyn.fem.assembly import jacobian_determinants
+from spurdyn.fem.element import edge_weights
 from spurdyn.geometry.gear import Gear
 from spurdyn.mesh import outline as ol
 from spurdyn.mesh.gmsh_quads import GmshQuads, mesh_with_crack
@@ -30,8 +31,8 @@ from spurdyn.mesh.tooth import ToothMesh
 DEFAULT_MOUTH_TANGENT = math.radians(30.0)
 #: Default angle of the crack below the line across the tooth (perpendicular to the centre
 #: line), running down and in toward the centre line (rad): the straight cracks of the
-#: literature (Tian 2004's 45 deg to the centre line; Belsak & Flasker 2007's measured
-#: paths leave the 30 deg point about as steeply).
+#: literature (Tian 2004's 45 deg to the centre line, the same line at 45 deg): a convention
+#: of those models, not a measured path.
 DEFAULT_CRACK_ANGLE = math.radians(45.0)
 #: Default element size near the tip, as a share of the smaller of the crack's length and
 #: the element size elsewhere.
@@ -39,6 +40,10 @@ TIP_SIZE_SHARE = 0.1
 #: Least distance of the crack's tip from the outline, as a share of the crack's length:
 #: room for a few elements of the default tip size between the tip and the outline.
 TIP_CLEARANCE = 0.2
+#: Shares of the element size tried in turn when gmsh refuses one (:func:`_mesh`).
+RETRY_SHARES = (1.0, 0.9, 0.8, 0.7)
+#: Points of a structured edge's parabola through which gmsh draws a side of the outline.
+CURVE_POINTS = 9
 #: Two nodes closer than this share of the tip radius are at the same place.
 SAME_PLACE = 1e-12
 
@@ -55,8 +60,9 @@ class CrackedTooth:
         ``(E, 8)`` Q8 elements, corners counter-clockwise then mid-sides; all Jacobians > 0.
     structured
         ``(n,)`` for every node of the structured mesh, the node of this mesh at the same
-        place (to ``SAME_PLACE`` of the tip radius), -1 if none. Every structured outline node
-        maps, except the mid-side node of the fillet edge the crack's mouth splits.
+        place (to ``SAME_PLACE`` of the tip radius), -1 if none (or two: a seam's twins).
+        Every structured outline node maps, except the mid-side node of the fillet edge the
+        crack's mouth splits.
     seam
         ``(S, 2)`` twin nodes (face one, face two) along the crack, mouth first, tip excluded;
         mid-side nodes included.
@@ -217,15 +223,36 @@ def _polygon(tooth: ToothMesh, path: NDArray[np.float64]
     return np.array(points), np.array(sides), 2 * k + 1, k
 
 
+def _curves(tooth: ToothMesh, sides: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+    """Each polygon side drawn as ``CURVE_POINTS`` points of its structured edge's parabola."""
+    edges = ol.outline_edges(tooth)
+    return [ol.edge_point(tooth.nodes[edges[int(e)]], np.linspace(x0, x1, CURVE_POINTS))
+            for e, x0, x1 in sides]
+
+
 def _onto_outline(quads: GmshQuads, tooth: ToothMesh, points: NDArray[np.float64],
                   sides: NDArray[np.float64]) -> NDArray[np.float64]:
-    """gmsh's nodes with those on the outline put back on the structured quadratic edges:
-    a node at ``u`` along a side ``(edge, xi_0, xi_1)`` goes to ``x(xi_0 + u (xi_1 - xi_0))``,
-    the polygon's points exactly where they were given."""
+    """gmsh's nodes with those on the outline put exactly on the structured quadratic edges.
+
+    Along a side ``(edge, xi_0, xi_1)`` the nodes alternate corner, mid-side, corner (the
+    side's ends are the polygon's points, kept exactly). A corner goes to the nearest point
+    of the edge's parabola (gmsh's spline through the parabola's points is within a fraction
+    of a micrometre of it); a mid-side node to the parabola's point at the mean parameter of
+    its corners, so each element edge is a piece of the structured edge (module docstring of
+    :mod:`spurdyn.mesh.outline`).
+    """
     nodes = quads.nodes.copy()
     edges = ol.outline_edges(tooth)
-    for (idx, u), (e, x0, x1) in zip(quads.sides, sides):
-        nodes[idx] = ol.edge_point(tooth.nodes[edges[int(e)]], x0 + u * (x1 - x0))
+    for idx, (e, x0, x1) in zip(quads.sides, sides):
+        xyz = tooth.nodes[edges[int(e)]]
+        guess = np.linspace(x0, x1, 65)
+        pts = ol.edge_point(xyz, guess)
+        xi = np.array([ol.project(xyz, nodes[n], float(guess[np.argmin(np.hypot(
+            *(pts - nodes[n]).T))])) for n in idx])
+        order = np.argsort(xi) if x1 > x0 else np.argsort(-xi)
+        xi = np.concatenate([[x0], xi[order], [x1]])
+        xi[1::2] = 0.5 * (xi[:-1:2] + xi[2::2])
+        nodes[idx[order]] = ol.edge_point(xyz, xi[1:-1])
     from scipy.spatial import cKDTree
 
     dist, near = cKDTree(nodes).query(points)
@@ -283,14 +310,19 @@ def _structured_map(tooth: ToothMesh, nodes: NDArray[np.float64], split: int) ->
     return out
 
 
-def _sizes(tooth: ToothMesh, path: NDArray[np.float64], tip_size: float | None,
-           size: float | None) -> tuple[float, float]:
-    """The element sizes: ``size`` by default the structured outline's median edge (corner
-    to corner; gmsh's split into quads halves it, so about one element per polygon side), ``tip_size`` by default ``TIP_SIZE_SHARE`` of the smaller of ``size`` and the
-    crack's length."""
+def default_size(tooth: ToothMesh) -> float:
+    """The default element size (m): half the structured outline's median edge, corner to
+    corner, so about one element per side of the polygon gmsh meshes."""
     edges = ol.outline_edges(tooth)
     chords = np.hypot(*(tooth.nodes[edges[:, 2]] - tooth.nodes[edges[:, 0]]).T)
-    size = float(np.median(chords)) if size is None else _check_number("fault.size", size)
+    return 0.5 * float(np.median(chords))
+
+
+def _sizes(tooth: ToothMesh, path: NDArray[np.float64], tip_size: float | None,
+           size: float | None) -> tuple[float, float]:
+    """The element sizes: ``size`` by default :func:`default_size`, ``tip_size`` by default ``TIP_SIZE_SHARE`` of the smaller of ``size`` and the
+    crack's length."""
+    size = default_size(tooth) if size is None else _check_number("fault.size", size)
     depth = float(np.hypot(*(path[1] - path[0])))
     tip = TIP_SIZE_SHARE * min(size, depth) if tip_size is None else \
         _check_number("fault.tip_size", tip_size)
@@ -298,6 +330,59 @@ def _sizes(tooth: ToothMesh, path: NDArray[np.float64], tip_size: float | None,
         raise InputError("fault.tip_size", f"must not exceed the element size {size:g} m "
                          f"(got {tip:g})")
     return size, tip
+
+
+def _mesh(curves: list[NDArray[np.float64]], mouth: int, tip: NDArray[np.float64], size: float,
+          tip_size: float) -> GmshQuads:
+    """gmsh's mesh at ``size``, or at a slightly smaller size if gmsh's full-quad
+    recombination refuses it (it must halve every curve's 1D mesh, which some sizes beside
+    the polygon's sides do not allow); the last refusal is raised."""
+    for share in RETRY_SHARES[:-1]:
+        try:
+            return mesh_with_crack(curves, mouth, tip, share * size, min(tip_size, share * size))
+        except InputError:
+            continue
+    share = RETRY_SHARES[-1]
+    return mesh_with_crack(curves, mouth, tip, share * size, min(tip_size, share * size))
+
+
+def outline_ties(tooth: ToothMesh, cracked: CrackedTooth
+                 ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.float64]]:
+    """The cracked mesh's outline nodes that the structured mesh does not have, each as the
+    structured edge's quadratic interpolation of its three nodes.
+
+    gmsh's full-quad meshes split every structured outline edge into two or more element
+    edges, all on the structured edge's parabola. Tying each extra node's displacement to
+    ``sum_i N_i(xi) u_i`` over the structured edge's nodes ``(a, m, b)`` (their cracked-mesh
+    twins, ``structured``) makes the cracked tooth's trace on that edge the structured Q8
+    edge's, so the tooth joins a rim meshed for the structured tooth without a gap.
+
+    Returns
+    -------
+    nodes
+        ``(T,)`` the extra nodes of the cracked mesh.
+    parents
+        ``(T, 3)`` the cracked mesh's nodes at the structured edge's ``a``, ``m``, ``b``.
+        The fillet edge the mouth splits has no ``m``: its nodes are left out (a flank is
+        free surface; only the curve under the tooth must meet the rim).
+    weights
+        ``(T, 3)`` the edge's shape functions at the node.
+    """
+    edges = ol.outline_edges(tooth)
+    mapped = cracked.structured[edges]
+    r_tip = float(np.max(np.hypot(*tooth.nodes.T)))
+    poly = ol.polygon(tooth.nodes, edges)
+    own = np.setdiff1d(np.arange(cracked.nodes.shape[0]), cracked.structured)
+    near = own[[ol.distance(poly, x) < 1e-3 * r_tip for x in cracked.nodes[own]]]
+    out = []
+    for node in near:
+        k, xi, dist = ol.locate(tooth.nodes, edges, cracked.nodes[node])
+        if dist <= 1e-9 * r_tip and np.all(mapped[k] >= 0):
+            out.append((node, k, xi))
+    nodes = np.array([o[0] for o in out], dtype=np.intp)
+    parents = mapped[np.array([o[1] for o in out], dtype=np.intp)].reshape(-1, 3)
+    weights = np.array([edge_weights(o[2]) for o in out]).reshape(-1, 3)
+    return nodes, parents, weights
 
 
 def cracked_tooth(gear: Gear, tooth: ToothMesh, path: NDArray[np.float64],
@@ -333,7 +418,7 @@ def cracked_tooth(gear: Gear, tooth: ToothMesh, path: NDArray[np.float64],
     points, sides, mouth, split = _polygon(tooth, path)
     _check_inside(tooth, points[mouth], path[1])
     size, tip_size = _sizes(tooth, path, tip_size, size)
-    quads = mesh_with_crack(points, mouth, path[1], size, tip_size)
+    quads = _mesh(_curves(tooth, sides), mouth, path[1], size, tip_size)
     nodes = _onto_outline(quads, tooth, points, sides)
     elements = _counter_clockwise(nodes, quads.elements)
     if not np.all(jacobian_determinants(nodes, elements) > 0.0):

@@ -125,14 +125,22 @@ def locate(nodes: NDArray[np.float64], edges: NDArray[np.intp], point: NDArray[n
     dist = np.hypot(*(pts - point).transpose(2, 0, 1))
     k, j = np.unravel_index(int(np.argmin(dist)), dist.shape)
     xyz = nodes[edges[k]]
-    s = float(xi[j])
-    for _ in range(30):      # Newton on (x(s) - p) . x'(s) = 0; the edges are nearly straight
-        a, m, b = xyz
-        d1 = 0.5 * (b - a) + 2.0 * s * (0.5 * (a + b) - m)
-        d2 = 2.0 * (0.5 * (a + b) - m)
+    s = project(xyz, point, float(xi[j]))
+    return int(k), s, float(np.hypot(*(edge_point(xyz, s) - point)))
+
+
+def project(xyz: NDArray[np.float64], point: NDArray[np.float64], xi: float) -> float:
+    """The parameter in ``[-1, 1]`` of the point of one quadratic edge nearest ``point``,
+    by Newton's method on ``(x(s) - p) . x'(s) = 0`` from ``xi`` (the edges are nearly
+    straight, so a guess within the edge converges)."""
+    a, m, b = xyz
+    d2 = 2.0 * (0.5 * (a + b) - m)
+    s = xi
+    for _ in range(30):
+        d1 = 0.5 * (b - a) + s * d2
         r = edge_point(xyz, s) - point
         step = float(r @ d1) / float(d1 @ d1 + r @ d2)
         s = min(max(s - step, -1.0), 1.0)
         if abs(step) < 1e-15:
             break
-    return int(k), s, float(np.hypot(*(edge_point(xyz, s) - point)))
+    return s

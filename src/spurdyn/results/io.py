@@ -461,22 +461,29 @@ def write_run(result: Result, case: Case, directory: str | Path, *, png: bool = 
     ds = result_to_dataset(result, case)
     ds = ds.assign(root_stress_variables(ds))
 
+    pairs = "pair_force" in ds       # a model of several pairs: their forces, the TE, the teeth
+
     def picture() -> None:
         from spurdyn.results.plots import plot_contact_force
 
         plot_contact_force([ds], directory / PNG_FILE)
-        if "pair_force" in ds:       # a model of several pairs: their forces, the TE, the teeth
+        if pairs:
             from spurdyn.results.mesh_plot import plot_pair_pictures
 
-            plot_pair_pictures(ds, directory)
+            plot_pair_pictures(ds, directory, part=0)
 
     # The picture is drawn in a child process on the other core meanwhile (done when the
-    # block ends; without a child, drawn here after the rest).
+    # block ends; without a child, drawn here after the rest); a run of several pairs has
+    # the other part of its pictures drawn here after the files, about as long.
     with beside(picture) if png else nullcontext():
         write_netcdf(ds, directory / RESULT_FILE)
         write_csv(ds, directory / CSV_FILE)
         summary = summarize(ds)
         write_summary(summary, directory / SUMMARY_FILE)
+        if png and pairs:
+            from spurdyn.results.mesh_plot import plot_pair_pictures
+
+            plot_pair_pictures(ds, directory, part=1)
     if vtu and "frame_u" in ds:
         from spurdyn.results.vtu import write_vtu_series
 

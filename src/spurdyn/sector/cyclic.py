@@ -37,6 +37,10 @@ from spurdyn.sector.reduction import Reduction
 from spurdyn.sector.system import GearBlock, rotation_field
 
 
+#: Rows of a ring's field formed at once from a harmonic's cell field (:meth:`CyclicGear._ring_response`).
+ROW_CHUNK = 2048
+
+
 def turn_matrix(angle: float) -> NDArray[np.float64]:
     """``(2, 2)`` ``Q`` turning a vector clockwise by ``angle`` (``v' = Q v``, as
     :func:`spurdyn.mesh.sector.turn` turns points)."""
@@ -250,8 +254,12 @@ class CyclicGear(Reduction):
                     self._lu[h] = found
             solve, t = found
             y = t @ solve(loads)
-            v = cell.at(rows, y, h, shift)
-            out += (1.0 if h == 0 or 2 * h == cell.z else 2.0) * np.real(v)
+            weight = 1.0 if h == 0 or 2 * h == cell.z else 2.0
+            # the harmonic's complex field a block of rows at a time: over a whole gear's
+            # fillets at once its temporaries took some 180 MB (docs/performance.md)
+            for lo in range(0, rows.size, ROW_CHUNK):
+                part = slice(lo, lo + ROW_CHUNK)
+                out[part] += weight * np.real(cell.at(rows[part], y, h, shift))
         return out / cell.z
 
     def static_response(self, k: int, side: int = 0) -> NDArray[np.float64]:

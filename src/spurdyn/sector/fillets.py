@@ -131,32 +131,47 @@ class GearFillets:
         blk = self.block = gear.block
         body = blk.body
         self.teeth = blk.first + np.arange(blk.count)
-        edges, holding = boundary_edges(body.mesh.elements), incidence(body.mesh)
-        surfaces = [tooth_fillets(body.mesh, int(k), blk.gear.form_radius, blk.gear.material, edges, holding)
-                    for k in self.teeth]
-        self.radius, self.side = surfaces[0].radius, surfaces[0].side
+        self._edges, self._holding = boundary_edges(body.mesh.elements), incidence(body.mesh)
+        first = self._surface(int(self.teeth[0]))
+        self.radius, self.side = first.radius, first.side
+        self.reduced = getattr(gear, "reduced", None)
+        if self.reduced is None:
+            self._ops, self._rows = self._operators(first)
+            return
+        # the maps from the mode store when a run before made them for the same body and
+        # modes (a whole ring's static response costs its harmonics' solves); every tooth's
+        # stress operator is made only to make them (72 teeth: ~0.5 s of a design pair's run)
+        mesh, mat = body.mesh, blk.gear.material
+        key = store.digest("fillets", store.code_revision(__name__, type(self.reduced).__module__),
+                           mesh.nodes, mesh.elements, mesh.width, mesh.hub_nodes, mat.young,
+                           mat.poisson, blk.first, blk.count, blk.gear.form_radius,
+                           self.reduced.omega2, self.reduced.coupling)
+        found = store.load(key)
+        if found is None:
+            self._ops, self._rows = self._operators(first)
+            found = dict(zip(("modes", "static"), self._modal_maps()))
+            store.save(key, **found)
+        self._modes, self._static = found["modes"], found["static"]
+
+    def _surface(self, k: int) -> RootSurface:
+        """:func:`tooth_fillets` of the body's tooth ``k``."""
+        blk = self.block
+        return tooth_fillets(blk.body.mesh, k, blk.gear.form_radius, blk.gear.material, self._edges,
+                             self._holding)
+
+    def _operators(self, first: RootSurface) -> tuple[list[NDArray[np.float64]], list[NDArray[np.intp]]]:
+        """Every tooth's :func:`tangential_operator` on the free DOFs (a held hub DOF moves
+        by nothing) and the free DOFs it reads; ``first`` the first tooth's surface."""
+        body = self.block.body
         free_of = np.full(body.mesh.n_dof, -1, dtype=np.intp)
         free_of[body.free_dofs] = np.arange(body.free_dofs.size)
-        # the operators on the free DOFs (a held hub DOF moves by nothing)
-        self._ops, self._rows = [], []
-        for s in surfaces:
-            op, rows = tangential_operator(s), free_of[s.dofs]
-            self._ops.append(op[:, rows >= 0])
-            self._rows.append(rows[rows >= 0])
-        self.reduced = getattr(gear, "reduced", None)
-        if self.reduced is not None:
-            # the maps from the mode store when a run before made them for the same body and
-            # modes (a whole ring's static response costs its harmonics' solves)
-            mesh, mat = body.mesh, blk.gear.material
-            key = store.digest("fillets", store.code_revision(__name__, type(self.reduced).__module__),
-                               mesh.nodes, mesh.elements, mesh.width, mesh.hub_nodes, mat.young,
-                               mat.poisson, blk.first, blk.count, blk.gear.form_radius,
-                               self.reduced.omega2, self.reduced.coupling)
-            found = store.load(key)
-            if found is None:
-                found = dict(zip(("modes", "static"), self._modal_maps()))
-                store.save(key, **found)
-            self._modes, self._static = found["modes"], found["static"]
+        ops, rows = [], []
+        for i, k in enumerate(self.teeth):
+            s = first if i == 0 else self._surface(int(k))
+            op, at = tangential_operator(s), free_of[s.dofs]
+            ops.append(op[:, at >= 0])
+            rows.append(at[at >= 0])
+        return ops, rows
 
     def _modal_maps(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """``T_k Phi`` ``(K, n, m)`` and the static maps ``T_k K^-1 E_j`` of unit loads in

@@ -32,7 +32,8 @@ from scipy.spatial import cKDTree
 from spurdyn.errors import InputError
 from spurdyn.fem.assembly import jacobian_determinants
 from spurdyn.geometry.gear import DEFAULT_FILLET_CUT_ANGLE, Gear
-from spurdyn.mesh.cracked_cell import cracked_cell, edge_ties
+from spurdyn.mesh.cracked import outline_ties
+from spurdyn.mesh.cracked_cell import cracked_cell
 from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, ToothMesh, tooth_mesh
 
 #: Largest turn of the fillet's tangent over one element of a tooth space (rad).
@@ -383,12 +384,11 @@ def _place_cells(cell: _Cell, ks: NDArray[np.int64], cells: NDArray[np.int64], p
         ang = float(k) * pitch
         body = (cracked or {}).get(int(k)) if k in ks else None
         if body is not None:
-            _, _, t_in, r_in = _joined(cell)
-            xy, el, hub, teeth, web = cracked_cell(body, t_in, r_in, cell.index, cell.r_in, cell.web_radius, count)
+            xy, el, hub, teeth, web = cracked_cell(body, _joined(cell)[2], cell.r_in, cell.web_radius, count)
             seam_parts.append(count + np.asarray(body.seam))
             normal_parts.append(turn(np.asarray(body.normal, dtype=float), ang))
-            ties, weights = edge_ties(body, _cell_tooth(cell), cell.r_in)
-            tie_parts.append(count + ties)
+            tied, parents, weights = outline_ties(_cell_tooth(cell), body)
+            tie_parts.append(count + np.column_stack([tied, parents]))
             weight_parts.append(weights)
         else:
             xy, el, hub, teeth, web = _plain_cell(cell, count, k in ks, int(k) in missing)

@@ -90,10 +90,12 @@ def fault_from_table(table: Any, where: str, pair: GearPair) -> Fault:
 
 
 def _crack(table: dict[str, Any], where: str, pair: GearPair, gear: str, tooth: int) -> Fault:
-    """A crack's fault; its path checked against its gear's outline by the mesher (which
-    refuses a mouth off the fillet or a tip outside the tooth, named as written here)."""
+    """A crack's fault; its path checked against its tooth's cell on the default mesh by
+    the mesher (which refuses a mouth off the fillet or a tip outside the cell, named as
+    written here); the run checks it again on its own mesh."""
     from spurdyn.mesh.cracked import crack_path
     from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY, tooth_mesh
+    from spurdyn.sector.body import body_cell
 
     depth = _positive(table, "depth", where, None, (pair.gear_a if gear == "a" else pair.gear_b).tip_radius)
     angle = None
@@ -107,7 +109,8 @@ def _crack(table: dict[str, Any], where: str, pair: GearPair, gear: str, tooth: 
     g = pair.gear_a if gear == "a" else pair.gear_b
     written = {"fault.depth": "depth", "fault.start": "start_radius", "fault.angle": "angle_deg"}
     try:
-        crack_path(g, tooth_mesh(g, DEFAULT_NX, DEFAULT_NY), "right", depth, angle, start)
+        crack_path(g, tooth_mesh(g, DEFAULT_NX, DEFAULT_NY), "right", depth, angle, start,
+                   region=body_cell(g, DEFAULT_NX, DEFAULT_NY))
     except InputError as err:
         raise InputError(f"{where}.{written.get(err.field, 'depth')}", err.reason) from None
     return Fault(gear=gear, tooth=tooth, kind="crack", depth=depth, angle=angle, start=start)

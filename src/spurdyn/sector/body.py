@@ -116,6 +116,13 @@ class SectorBody:
                 b[2 * seams[:, face] + axis, cols] = sign * normals[:, axis]
         return b
 
+    @cached_property
+    def seam_response(self) -> NDArray[np.float64]:
+        """``K⁻¹ B``: the displacements under the unit compressions of :attr:`seam_loads`,
+        solved once (the crack's blocks of the contact problem do not change with the
+        position)."""
+        return self.solve(self.seam_loads)
+
     def solve(self, f: NDArray[np.float64]) -> NDArray[np.float64]:
         """Displacements (m) under the nodal forces ``f`` (columns allowed), the hub held."""
         f = np.asarray(f, dtype=float)

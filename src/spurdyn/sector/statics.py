@@ -202,14 +202,23 @@ def _active_set(c: NDArray[np.float64], g: NDArray[np.float64], w: float,
     raise RuntimeError("the contact active set did not settle")     # pragma: no cover
 
 
+def _blocks(body: SectorBody, loads: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``[L B]ᵀ K⁻¹ [L B]`` of the contacts' loads ``L`` and the body's crack faces ``B``,
+    the faces' responses solved once (:attr:`SectorBody.seam_response`)."""
+    u = body.solve(loads)
+    if not body.mesh.seams.shape[0]:
+        return loads.T @ u
+    b, ub = body.seam_loads, body.seam_response
+    return np.block([[loads.T @ u, loads.T @ ub], [b.T @ u, b.T @ ub]])
+
+
 def _with_seams(body_a: SectorBody, body_b: SectorBody, la: NDArray[np.float64], lb: NDArray[np.float64],
                 strip: NDArray[np.float64]) -> NDArray[np.float64]:
     """The compliance of the contacts (columns ``la``, ``lb`` on the two bodies, the strips'
     ``strip`` on the diagonal) and of the cracks' faces of either body after them
     (:attr:`SectorBody.seam_loads`): each body's blocks from its own flexibility."""
     n, sa, sb = la.shape[1], body_a.mesh.seams.shape[0], body_b.mesh.seams.shape[0]
-    ca = body_a.compliance(np.column_stack([la, body_a.seam_loads]) if sa else la)
-    cb = body_b.compliance(np.column_stack([lb, body_b.seam_loads]) if sb else lb)
+    ca, cb = _blocks(body_a, la), _blocks(body_b, lb)
     c = np.zeros((n + sa + sb, n + sa + sb))
     c[:n, :n] = ca[:n, :n] + cb[:n, :n] + np.diag(strip)
     for cg, faces in ((ca, slice(n, n + sa)), (cb, slice(n + sa, n + sa + sb))):

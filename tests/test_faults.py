@@ -113,7 +113,7 @@ def test_tables_refused_by_the_key_written(pair):
     cases = [
         ({"gear": "c", "tooth": 5, "kind": "missing"}, "fault[0].gear"),
         ({"gear": "a", "tooth": 28, "kind": "missing"}, "fault[0].tooth"),
-        ({"gear": "a", "tooth": 5, "kind": "crack"}, "fault[0].kind"),
+        ({"gear": "a", "tooth": 5, "kind": "chip"}, "fault[0].kind"),
         ({"gear": "a", "tooth": 5, "kind": "missing", "depth": 1e-5}, "fault[0].depth"),
         ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [0, 5], "depth": 1e-5}, "fault[0].roll_deg"),
         ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [20, 25], "depth": -1.0}, "fault[0].depth"),
@@ -134,14 +134,16 @@ def test_tables_refused_by_the_key_written(pair):
     assert f.roll == pytest.approx((math.radians(20), math.radians(24)))
 
 
-def test_command_refuses_faults_where_not_read_and_writes_the_table(tmp_path, capsys):
+def test_commands_refuse_faults_where_not_read_show_them_and_write_the_table(tmp_path, capsys):
     case = tmp_path / "broken.toml"
     case.write_text('[gear_a]\nteeth = 28\nmodule = 3.175e-3\nface_width = 6.35e-3\n\n'
                     '[run]\ntorque = 22.25\n\n[[fault]]\ngear = "a"\ntooth = 5\nkind = "missing"\n')
-    for command in (["run", str(case), "--out", str(tmp_path / "out")], ["info", str(case)]):
+    for command in (["run", str(case), "--out", str(tmp_path / "out")], ["mesh", str(case), "--png", str(tmp_path / "m.png")]):
         code, out, err = run(capsys, *command)
         assert code == 2 and err.strip().count("\n") == 0 and "fault" in err
-    assert not (tmp_path / "out").exists()
+    assert not (tmp_path / "out").exists() and not (tmp_path / "m.png").exists()
+    code, out, err = run(capsys, "info", str(case))
+    assert code == 0 and "gear A tooth 5: missing" in out
     table = tmp_path / "k.csv"
     code, out, err = run(capsys, "stiffness", str(case), "--mesh", f"{NX}x{NY}", "--positions",
                              str(POSITIONS), "--csv", str(table), "--json")
@@ -151,3 +153,66 @@ def test_command_refuses_faults_where_not_read_and_writes_the_table(tmp_path, ca
     assert rows[0].split(",")[:3] == ["torque_Nm", "angle_deg", "mesh_stiffness_N_per_m"]
     assert len(rows) - 1 == len(report["torques"][0]["angle_deg"])
     assert report["torques"][0]["mesh_stiffness_min_N_per_m"] == 0.0
+
+
+def _crack_position(pair, depth: float, bond: bool = False):
+    """The pitch point's solve with the pinion's tooth 0 cracked from its loaded fillet at the
+    base circle, 45 deg to the centre line (its faces joined again with ``bond``)."""
+    from dataclasses import replace as dc_replace
+
+    from spurdyn.mesh.cracked import crack_path, cracked_tooth
+    from spurdyn.mesh.tooth import tooth_mesh
+    from spurdyn.sector.body import body_cell
+    from spurdyn.sector.statics import contact_law, driving_pair, sector_bodies, solve_position
+
+    dp = driving_pair(pair)
+    g = dp.gear_a
+    cell = body_cell(g, NX, NY)
+    path = crack_path(g, tooth_mesh(g, NX, NY), "right", depth, math.radians(45.0), g.base_radius,
+                      region=cell)
+    ct = cracked_tooth(g, cell, path)
+    if bond:
+        back = np.arange(ct.nodes.shape[0])
+        back[ct.seam[:, 1]] = ct.seam[:, 0]
+        ct = dc_replace(ct, elements=back[ct.elements], seam=np.zeros((0, 2), dtype=np.intp),
+                        normal=np.zeros((0, 2)))
+    law = contact_law(dp, PAPER_TORQUE, sector_bodies(dp, 4, NX, NY))
+    bodies = sector_bodies(dp, 4, NX, NY, cracked=({0: ct}, {}))
+    return solve_position(law, dp.pitch_roll_a, bodies=bodies), law
+
+
+def test_a_root_crack_softens_the_tooth_and_opens(pair):
+    """The cracked cell's own mesh, the crack's faces bonded, is the structured cell within
+    its mesh difference; cracked, the tooth is softer the deeper the crack, and the faces,
+    on the tension side, open."""
+    from spurdyn.sector.statics import solve_position
+
+    (js, f, e_bond, c, active), law = _crack_position(pair, 1.0e-3, bond=True)
+    e_struct = solve_position(law, pair.pitch_roll_a)[2]
+    assert abs(e_bond / e_struct - 1.0) < 0.05
+    approach = []
+    for depth in (0.5e-3, 1.0e-3):
+        (js, f, e, c, active), _ = _crack_position(pair, depth)
+        assert c.shape[0] > len(js) and not active[len(js):].any()     # faces open
+        approach.append(e)
+    assert e_bond < approach[0] < approach[1]
+
+
+def test_crack_tables_refused_by_the_key_written(pair):
+    good = {"gear": "a", "tooth": 3, "kind": "crack", "depth": 1.0e-3, "start_radius": pair.gear_a.base_radius}
+    (fault,) = faults_from_dict({"fault": [good]}, pair)
+    assert fault.kind == "crack" and fault.depth == 1.0e-3 and fault.angle is None
+    for change, key in (({"depth": 0.05}, "fault[0].depth"), ({"angle_deg": 95.0}, "fault[0].angle_deg"),
+                        ({"start_radius": 0.05}, "fault[0].start_radius"), ({"roll_deg": [20, 24]}, "fault[0].roll_deg")):
+        with pytest.raises(InputError) as err:
+            faults_from_dict({"fault": [{**good, **change}]}, pair)
+        assert err.value.field == key
+
+
+def test_a_cracked_tooth_over_the_revolution(pair, healthy):
+    rev = _run(pair, Fault("a", 5, "crack", depth=1.0e-3, start=pair.gear_a.base_radius))
+    assert rev.faulty
+    outside = ~np.isin(rev.cycle, rev.faulty)
+    assert np.array_equal(rev.stiffness[outside], healthy.stiffness[outside])
+    assert 0.0 < rev.summary()["mesh_stiffness_dip"] < 0.5
+    assert rev.stiffness.min() < healthy.stiffness.min()

@@ -25,6 +25,7 @@ page (``docs/``)                module                 what
 ``validation_sweep.md``         ``sweep``              the dynamic factor against speed (section 7)
 ``stiffness.md`` (printed)      ``stiffness``          the tables of the stiffness page
 ``engineer_defaults.md``        ``engineer``           bare case files by default: settled, rated
+``faults_validation.md``        ``faults``             a root crack against the energy method
 ==============================  =====================  ===============================================
 
 What they share (the pages' folder, writing a page and keeping its figures, a run timed,
@@ -49,6 +50,7 @@ PAGES = {
     "validation_sweep": "sweep",
     "stiffness": "stiffness",
     "engineer_defaults": "engineer",
+    "faults_validation": "faults",
 }
 
 __all__ = ["PAGES"]

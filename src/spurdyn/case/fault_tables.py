@@ -16,11 +16,14 @@ from spurdyn.errors import InputError
 from spurdyn.geometry.fault import KINDS, PLANNED_KINDS, Fault, active_rolls
 from spurdyn.geometry.pair import GearPair
 
-FAULT_KEYS = {"gear", "tooth", "kind", "roll_deg", "depth", "width_fraction"}
+FAULT_KEYS = {"gear", "tooth", "kind", "roll_deg", "depth", "width_fraction", "angle_deg", "start_radius"}
 #: The keys each kind reads beyond ``gear``, ``tooth`` and ``kind``.
-KIND_KEYS = {"missing": set(), "spall": {"roll_deg", "depth", "width_fraction"}}
+KIND_KEYS = {"missing": set(), "spall": {"roll_deg", "depth", "width_fraction"},
+             "crack": {"depth", "angle_deg", "start_radius"}}
 #: Deepest spall (m): beyond it a pit is a broken tooth (``kind = "missing"``).
 MAX_SPALL_DEPTH = 1e-3
+#: Steepest crack below the horizontal (deg): a crack along the tooth is not a root crack.
+MAX_CRACK_ANGLE_DEG = 80.0
 
 
 def _value(table: dict[str, Any], key: str, where: str) -> Any:
@@ -79,9 +82,38 @@ def fault_from_table(table: Any, where: str, pair: GearPair) -> Fault:
         raise InputError(f"{where}.{extra[0]}", f"is not read for kind = {kind!r}")
     if kind == "missing":
         return Fault(gear=gear, tooth=tooth, kind=kind)
+    if kind == "crack":
+        return _crack(table, where, pair, gear, tooth)
     return Fault(gear=gear, tooth=tooth, kind=kind, roll=_spall_roll(table, where, pair, gear),
                  depth=_positive(table, "depth", where, None, MAX_SPALL_DEPTH),
                  width_fraction=_positive(table, "width_fraction", where, 1.0, 1.0))
+
+
+def _crack(table: dict[str, Any], where: str, pair: GearPair, gear: str, tooth: int) -> Fault:
+    """A crack's fault; its path checked against its tooth's cell on the default mesh by
+    the mesher (which refuses a mouth off the fillet or a tip outside the cell, named as
+    written here); the run checks it again on its own mesh."""
+    from spurdyn.mesh.cracked import crack_path
+    from spurdyn.mesh.tooth import DEFAULT_NX, DEFAULT_NY, tooth_mesh
+    from spurdyn.sector.body import body_cell
+
+    depth = _positive(table, "depth", where, None, (pair.gear_a if gear == "a" else pair.gear_b).tip_radius)
+    angle = None
+    if "angle_deg" in table:
+        value = table["angle_deg"]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0.0 <= value <= MAX_CRACK_ANGLE_DEG:
+            raise InputError(f"{where}.angle_deg", f"must be a number from 0 to {MAX_CRACK_ANGLE_DEG:g} "
+                             f"(got {value!r})")
+        angle = math.radians(float(value))
+    start = _positive(table, "start_radius", where, None, math.inf) if "start_radius" in table else None
+    g = pair.gear_a if gear == "a" else pair.gear_b
+    written = {"fault.depth": "depth", "fault.start": "start_radius", "fault.angle": "angle_deg"}
+    try:
+        crack_path(g, tooth_mesh(g, DEFAULT_NX, DEFAULT_NY), "right", depth, angle, start,
+                   region=body_cell(g, DEFAULT_NX, DEFAULT_NY))
+    except InputError as err:
+        raise InputError(f"{where}.{written.get(err.field, 'depth')}", err.reason) from None
+    return Fault(gear=gear, tooth=tooth, kind="crack", depth=depth, angle=angle, start=start)
 
 
 def faults_from_dict(data: dict[str, Any], pair: GearPair) -> tuple[Fault, ...]:

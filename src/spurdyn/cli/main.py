@@ -69,7 +69,7 @@ def _info_contact(args: argparse.Namespace, case: MeshedPair) -> tuple[str, floa
 def cmd_info(args: argparse.Namespace) -> int:
     from spurdyn.cli.report import format_info, pair_info
 
-    case = meshed_case(args)
+    case = meshed_case(args, faults=True)       # shown: the tooth, the kind, the size
     contact, force = _info_contact(args, case)
     info = pair_info(case, contact, force)
     print(json.dumps(info, indent=2) if args.json else format_info(info))

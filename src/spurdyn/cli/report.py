@@ -8,6 +8,7 @@ from typing import Any, Callable, Sequence
 from spurdyn.model.stiffness import iso_6336_stiffness, pair_stiffness
 from spurdyn.model.tooth import build_tooth
 from spurdyn.case.pair_tables import MeshedPair
+from spurdyn.geometry.fault import Fault, active_rolls
 from spurdyn.model.system import system_for
 from spurdyn.settings import PAPER_DT, RunSettings
 from spurdyn.solvers.check import DT_FRACTION, default_dt, stable_step
@@ -151,7 +152,18 @@ def pair_info(case: MeshedPair, contact: str = "point", force: float | None = No
         "pair_stiffness_pitch_N_per_mm_um": float(stiff[4]) / (ka * 1e3) * 1e-6,
         "iso_6336_single_pair_N_per_m": iso_single,
         "iso_6336_mesh_N_per_m": iso_mesh,
+        "active_roll_deg": _per(lambda k: [math.degrees(v) for v in active_rolls(pair, k)]),
+        "faults": [_fault_words(f) for f in case.faults],
     }
+
+
+def _fault_words(f: Fault) -> str:
+    """One fault in words, SI with degrees for its roll."""
+    what = {"missing": "missing", "crack": f"a root crack {f.depth * 1e3:.3g} mm long",
+            "spall": (f"a spall {f.depth * 1e6:.3g} um deep over {100 * f.width_fraction:.3g} % of the "
+                      f"face, roll {math.degrees(f.roll[0]):.3g}-{math.degrees(f.roll[1]):.3g} deg"
+                      if f.roll is not None else "a spall")}[f.kind]
+    return f"gear {f.gear.upper()} tooth {f.tooth}: {what}"
 
 
 def _um(x: float) -> str:
@@ -223,5 +235,10 @@ def format_info(info: dict[str, Any]) -> str:
         f"c_gamma_alpha b {info['iso_6336_mesh_N_per_m']:.3e} N/m (see docs/stiffness.md)",
         f"  start of contact {k['start_of_contact']:.3e}, single-contact zone "
         f"{k['single_contact_start']:.3e} to {k['single_contact_end']:.3e}, end {k['end_of_contact']:.3e} N/m",
+        f"  active flanks' roll: gear A {info['active_roll_deg'][a][0]:.2f}-{info['active_roll_deg'][a][1]:.2f}, "
+        f"gear B {info['active_roll_deg'][b][0]:.2f}-{info['active_roll_deg'][b][1]:.2f} deg",
     ]
+    if info["faults"]:
+        lines += ["", "faults (spurdyn stiffness follows them over the revolution; docs/faults.md)",
+                  *(f"  {words}" for words in info["faults"])]
     return "\n".join(lines)

@@ -4,10 +4,11 @@ Teeth are numbered round each whole gear in the order they enter the mesh: tooth
 each gear is the one entering the path of contact at the start of the first mesh cycle
 (the two meet there), tooth ``k`` enters ``k`` mesh cycles after it.
 
-Kinds built so far: a **missing** tooth (broken off at its root) and a **spall** (a pit
-over a stretch of the flank's roll, of a depth, over a fraction of the face width). The
-kinds the case file knows but no model computes yet are refused by name where they are
-read (:data:`PLANNED_KINDS`).
+Kinds built so far: a **missing** tooth (broken off at its root), a **spall** (a pit
+over a stretch of the flank's roll, of a depth, over a fraction of the face width) and a
+root **crack** (straight, from the fillet of the loaded flank into the tooth, through the
+face width). The kinds the case file knows but no model computes yet are refused by name
+where they are read (:data:`PLANNED_KINDS`).
 """
 
 from __future__ import annotations
@@ -18,9 +19,9 @@ from dataclasses import dataclass
 from spurdyn.geometry.pair import GearPair
 
 #: Fault kinds a model computes.
-KINDS = ("missing", "spall")
+KINDS = ("missing", "spall", "crack")
 #: Fault kinds a case file may name that no model computes yet (refused by name).
-PLANNED_KINDS = ("crack", "chip")
+PLANNED_KINDS = ("chip",)
 
 
 @dataclass(frozen=True)
@@ -39,9 +40,14 @@ class Fault:
         A spall's stretch of the faulty flank: its gear's own roll angles (rad) at the
         pit's two ends, ``roll[0] < roll[1]``; ``None`` for a missing tooth.
     depth
-        A spall's depth normal to the flank (m); 0 for a missing tooth.
+        A spall's depth normal to the flank, a crack's length (m); 0 for a missing tooth.
     width_fraction
-        The share of the face width the spall covers, ``(0, 1]``; 1 for a missing tooth.
+        The share of the face width the spall covers, ``(0, 1]``; 1 for the other kinds.
+    angle
+        A crack's angle below the horizontal toward the tooth's centre line (rad); ``None``:
+        the mesher's default (:func:`spurdyn.mesh.cracked.crack_path`).
+    start
+        The radius of a crack's mouth on the fillet (m); ``None``: the mesher's default.
     """
 
     gear: str
@@ -50,6 +56,8 @@ class Fault:
     roll: tuple[float, float] | None = None
     depth: float = 0.0
     width_fraction: float = 1.0
+    angle: float | None = None
+    start: float | None = None
 
     def covers(self, roll: float) -> bool:
         """Whether the faulty flank's point at its gear's roll angle ``roll`` (rad) lies in

@@ -21,7 +21,9 @@ there. Everything is in the gear's own frame, tooth 0 along +y, tooth ``k`` turn
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,6 +32,8 @@ from scipy.spatial import cKDTree
 from spurdyn.errors import InputError
 from spurdyn.fem.assembly import jacobian_determinants
 from spurdyn.geometry.gear import DEFAULT_FILLET_CUT_ANGLE, Gear
+from spurdyn.mesh.cracked import outline_ties
+from spurdyn.mesh.cracked_cell import cracked_cell
 from spurdyn.mesh.tooth import DEFAULT_GRADING, DEFAULT_NX, DEFAULT_NY, ToothMesh, tooth_mesh
 
 #: Largest turn of the fillet's tangent over one element of a tooth space (rad).
@@ -65,6 +69,15 @@ class SectorMesh:
         The hub radius ``r_in`` (m).
     pitch_angle
         ``2 pi / z`` (rad).
+    seams, seam_normals
+        ``(S, 2)`` the node pairs of the cracks' two faces (face one, face two) and the unit
+        normal from face one into face two's side at each, in the gear's frame (none
+        without a crack).
+    ties, tie_weights
+        ``(T, 4)`` a cracked cell's nodes on its edges with the neighbouring cells that the
+        neighbours' quadratic edges do not have, each with that edge's three nodes, and
+        ``(T, 3)`` the edge's shape functions there: the node moves with the edge
+        (``u = sum w u_edge``), so the cells stay joined.
     """
 
     nodes: NDArray[np.float64]
@@ -76,6 +89,10 @@ class SectorMesh:
     tooth: ToothMesh
     inner_radius: float
     pitch_angle: float
+    seams: NDArray[np.intp] = field(default_factory=lambda: np.zeros((0, 2), dtype=np.intp))
+    seam_normals: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
+    ties: NDArray[np.intp] = field(default_factory=lambda: np.zeros((0, 4), dtype=np.intp))
+    tie_weights: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
 
     @property
     def n_nodes(self) -> int:
@@ -187,32 +204,30 @@ def _rim_rows(depth: float, h: float) -> NDArray[np.float64]:
     return tau
 
 
-def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_NY,
-                inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
-                cut_angle: float = DEFAULT_FILLET_CUT_ANGLE, first: int | None = None,
-                full_rim: bool = True, web: tuple[float, float] | None = None,
-                missing: frozenset[int] = frozenset()) -> SectorMesh:
-    """Mesh ``teeth`` consecutive teeth of ``gear``, numbered from ``first`` (default: the
-    middle one is 0), and their rim down to ``inner_radius`` (default
-    :func:`default_inner_radius`). With ``full_rim`` the rim goes all the way round (the
-    cells without a tooth end at the teeth's bottom curve, a free surface), so the sector has
-    no cut ends; without it the rim stops half a pitch beyond the first and last teeth, at
-    free radial faces. ``web = (rim_radius, web_width)`` makes the elements below
-    ``rim_radius`` a web of that axial width (:attr:`SectorMesh.width`). All ``z`` teeth
-    close the ring. The teeth of ``missing`` (body numbers) are broken off at their root
-    section: their cells keep the rim, whose top under the tooth becomes free surface, and
-    their rows of :attr:`SectorMesh.tooth_nodes` hold -1 for the nodes that went with them.
+@dataclass(frozen=True)
+class _Cell:
+    """What every cell of a gear is made of: its tooth, its rim's grid (node ``(i, j)``, i
+    across left to right, j from the hub up) with coordinates and elements, which rim
+    elements are web, the rim's top nodes under the tooth (``top_b``) and the hub radius."""
 
-    Raises
-    ------
-    InputError
-        If ``teeth`` is not from 1 to ``z``, the hub radius is not below the root circle,
-        or an element would have a non-positive Jacobian.
-    """
-    z = gear.teeth
-    if isinstance(teeth, bool) or not isinstance(teeth, (int, np.integer)) or not 1 <= teeth <= z:
-        raise InputError("model.teeth", f"must be a whole number from 1 to the gear's {z} teeth "
-                         f"(got {teeth!r})")
+    tooth: ToothMesh
+    index: NDArray[np.intp]
+    rim_xy: NDArray[np.float64]
+    rim_el: NDArray[np.intp]
+    rim_is_web: NDArray[np.bool_]
+    top_b: NDArray[np.intp]
+    first_b: int
+    r_in: float
+    web_radius: float
+
+    @property
+    def hub_local(self) -> NDArray[np.intp]:
+        return self.index[:, 0][self.index[:, 0] >= 0]
+
+
+def _cell(gear: Gear, nx: int, ny: int, inner_radius: float | None, grading: float, cut_angle: float,
+          web: tuple[float, float] | None) -> _Cell:
+    """One cell's tooth and rim (:func:`sector_mesh`'s arguments)."""
     r_in = default_inner_radius(gear) if inner_radius is None else float(inner_radius)
     if not 0.0 < r_in < gear.root_radius - 1e-6:
         raise InputError("model.rim_inner_radius", f"must lie between 0 and the root radius "
@@ -229,17 +244,77 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
     h_row = (gear.tip_radius - gear.root_radius) / ny
     r, n_web = _rim_radii(gear, top[:, 1][:, None], r_in, h_row, web)
     index, rim_xy, rim_el, ncol = _rim_cell(top, r)
-    # the rim's top nodes under the tooth are the tooth's bottom nodes
-    top_b = index[first_b:first_b + 2 * nx + 1, -1]
-    hub_local = index[:, 0][index[:, 0] >= 0]
-    ks = np.arange(teeth) + (-((teeth - 1) // 2) if first is None else int(first))
-    pitch = 2.0 * math.pi / z
     rim_is_web = np.zeros(rim_el.shape[0], dtype=bool)
     rim_is_web[:n_web * ncol] = True
+    # the rim's top nodes under the tooth are the tooth's bottom nodes
+    top_b = index[first_b:first_b + 2 * nx + 1, -1]
+    return _Cell(tooth, index, rim_xy, rim_el, rim_is_web, top_b, first_b, r_in,
+                 float(web[0]) if web is not None else 0.0)
+
+
+def _joined(cell: _Cell) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]:
+    """The cell's tooth and rim as one mesh: ``(nodes, elements, each tooth node's number,
+    each rim node's number)``, the rim's top under the tooth the tooth's bottom."""
+    tooth = cell.tooth
+    rmap = tooth.n_nodes + np.arange(cell.rim_xy.shape[0])
+    rmap[cell.top_b] = tooth.root_nodes
+    xy = np.vstack([tooth.nodes, cell.rim_xy])
+    elements = np.vstack([tooth.elements, rmap[cell.rim_el]])
+    used = np.unique(elements)
+    new = -np.ones(xy.shape[0], dtype=np.intp)
+    new[used] = np.arange(used.size)
+    return xy[used], new[elements], new[np.arange(tooth.n_nodes)], new[rmap]
+
+
+def cell_mesh(gear: Gear, nx: int = DEFAULT_NX, ny: int = DEFAULT_NY, inner_radius: float | None = None,
+              grading: float = DEFAULT_GRADING, cut_angle: float = DEFAULT_FILLET_CUT_ANGLE,
+              web: tuple[float, float] | None = None) -> ToothMesh:
+    """Tooth 0's cell of :func:`sector_mesh` (its tooth on its stretch of rim, down to the
+    hub) as one structured mesh in a :class:`ToothMesh`'s shape: ``root_nodes`` the hub's,
+    each side the cell's radial edge from the hub, the rim's top curve to the tooth and the
+    tooth's outline to the tip. The region a root crack may run in
+    (:func:`spurdyn.mesh.cracked.crack_path`), and what a cracked cell is meshed from."""
+    return _cell_tooth(_cell(gear, nx, ny, inner_radius, grading, cut_angle, web))
+
+
+def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_NY,
+                inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
+                cut_angle: float = DEFAULT_FILLET_CUT_ANGLE, first: int | None = None,
+                full_rim: bool = True, web: tuple[float, float] | None = None,
+                missing: frozenset[int] = frozenset(), cracked: Mapping[int, Any] | None = None) -> SectorMesh:
+    """Mesh ``teeth`` consecutive teeth of ``gear``, numbered from ``first`` (default: the
+    middle one is 0), and their rim down to ``inner_radius`` (default
+    :func:`default_inner_radius`). With ``full_rim`` the rim goes all the way round (the
+    cells without a tooth end at the teeth's bottom curve, a free surface), so the sector has
+    no cut ends; without it the rim stops half a pitch beyond the first and last teeth, at
+    free radial faces. ``web = (rim_radius, web_width)`` makes the elements below
+    ``rim_radius`` a web of that axial width (:attr:`SectorMesh.width`). All ``z`` teeth
+    close the ring. The teeth of ``missing`` (body numbers) are broken off at their root
+    section: their cells keep the rim, whose top under the tooth becomes free surface, and
+    their rows of :attr:`SectorMesh.tooth_nodes` hold -1 for the nodes that went with them.
+    ``cracked`` maps body teeth to their cracked meshes
+    (:class:`spurdyn.mesh.cracked.CrackedTooth`), which take the structured tooth's place on
+    its bottom row; their rows of ``tooth_nodes`` hold the structured nodes' places (-1 for
+    those the cracked mesh has not), and their cracks' faces become :attr:`SectorMesh.seams`.
+
+    Raises
+    ------
+    InputError
+        If ``teeth`` is not from 1 to ``z``, the hub radius is not below the root circle,
+        or an element would have a non-positive Jacobian.
+    """
+    z = gear.teeth
+    if isinstance(teeth, bool) or not isinstance(teeth, (int, np.integer)) or not 1 <= teeth <= z:
+        raise InputError("model.teeth", f"must be a whole number from 1 to the gear's {z} teeth "
+                         f"(got {teeth!r})")
+    cell = _cell(gear, nx, ny, inner_radius, grading, cut_angle, web)
+    ks = np.arange(teeth) + (-((teeth - 1) // 2) if first is None else int(first))
+    pitch = 2.0 * math.pi / z
     cells = ks if not full_rim or teeth == z else np.arange(int(ks[0]), int(ks[0]) + z)
-    xy, elements, hub, tooth_nodes, is_web = _place_cells(tooth, rim_xy, rim_el, rim_is_web, top_b, hub_local,
-                                                          ks, cells, pitch, missing)
-    nodes, elements, renum = _merge_nodes(xy, elements, 1e-9 * gear.tip_radius)
+    placed = _place_cells(cell, ks, cells, pitch, missing, cracked or {})
+    xy, elements, hub, raw_teeth, is_web, seams, normals, ties, weights = placed
+    # the cracks' faces lie on each other: kept apart
+    nodes, elements, renum = _merge_nodes(xy, elements, 1e-9 * gear.tip_radius, seams.ravel())
     det = jacobian_determinants(nodes, elements)
     if not np.all(det > 0.0):
         bad = int(np.argmin(det.min(axis=1)))
@@ -247,8 +322,10 @@ def sector_mesh(gear: Gear, teeth: int, nx: int = DEFAULT_NX, ny: int = DEFAULT_
                          "use a different nx x ny")
     width = np.where(is_web, float(web[1]) if web is not None else gear.face_width, gear.face_width)
     return SectorMesh(nodes=nodes, elements=elements, width=width, hub_nodes=np.unique(renum[hub]),
-                      teeth=ks.astype(np.intp), tooth_nodes=renum[tooth_nodes], tooth=tooth,
-                      inner_radius=r_in, pitch_angle=pitch)
+                      teeth=ks.astype(np.intp), tooth_nodes=np.where(raw_teeth >= 0, renum[raw_teeth], -1),
+                      tooth=cell.tooth, inner_radius=cell.r_in, pitch_angle=pitch,
+                      seams=renum[seams].reshape(-1, 2), seam_normals=normals,
+                      ties=renum[ties].reshape(-1, 4), tie_weights=weights)
 
 
 def _rim_radii(gear: Gear, r_top: NDArray[np.float64], r_in: float, h_row: float,
@@ -291,60 +368,89 @@ def _rim_cell(top: NDArray[np.float64], r: NDArray[np.float64]) -> tuple[
     return index, rim_xy, rim_el, ncol
 
 
-def _place_cells(tooth: ToothMesh, rim_xy: NDArray[np.float64], rim_el: NDArray[np.intp],
-                 rim_is_web: NDArray[np.bool_], top_b: NDArray[np.intp], hub_local: NDArray[np.intp],
-                 ks: NDArray[np.int64], cells: NDArray[np.int64], pitch: float,
-                 missing: frozenset[int] = frozenset()) -> tuple[
-        NDArray[np.float64], NDArray[np.intp], NDArray[np.intp], NDArray[np.intp], NDArray[np.bool_]]:
+def _place_cells(cell: _Cell, ks: NDArray[np.int64], cells: NDArray[np.int64], pitch: float,
+                 missing: frozenset[int] = frozenset(), cracked: Mapping[int, Any] | None = None) -> tuple[
+        NDArray[np.float64], NDArray[np.intp], NDArray[np.intp], NDArray[np.intp], NDArray[np.bool_],
+        NDArray[np.intp], NDArray[np.float64], NDArray[np.intp], NDArray[np.float64]]:
     """Every cell turned to its place, a tooth on those of ``ks`` (its elements left out on
-    those of ``missing``): ``(nodes, elements, hub nodes, each tooth's nodes, web elements)``,
-    the coincident nodes not yet merged."""
-    xy_parts, el_parts, tooth_maps, hub_parts, web_parts = [], [], [], [], []
+    those of ``missing``, a cracked cell's mesh on those of ``cracked``): ``(nodes,
+    elements, hub nodes, each tooth's nodes (-1: none), web elements, seams, their
+    normals, ties, their weights)``, the coincident nodes not yet merged."""
+    parts: list[list[Any]] = [[], [], [], [], []]        # nodes, elements, hub, tooth, web
+    seam_parts, normal_parts = [np.zeros((0, 2), dtype=np.intp)], [np.zeros((0, 2))]
+    tie_parts, weight_parts = [np.zeros((0, 4), dtype=np.intp)], [np.zeros((0, 3))]
     count = 0
-    n_rim, n_tooth = rim_xy.shape[0], tooth.n_nodes
     for k in cells:
         ang = float(k) * pitch
-        if k in ks:
-            # tooth nodes first, then the rim's, its top-under-tooth nodes mapped onto them
-            tmap = count + np.arange(n_tooth)
-            rmap = count + n_tooth + np.arange(n_rim)
-            rmap[top_b] = tmap[tooth.root_nodes]
-            xy_parts += [turn(tooth.nodes, ang), turn(rim_xy, ang)]
-            if int(k) in missing:
-                el_parts.append(rmap[rim_el])
-                web_parts.append(rim_is_web)
-            else:
-                el_parts += [tmap[tooth.elements], rmap[rim_el]]
-                web_parts += [np.zeros(tooth.n_elements, dtype=bool), rim_is_web]
-            tooth_maps.append(tmap)
-            count += n_tooth + n_rim
+        body = (cracked or {}).get(int(k)) if k in ks else None
+        if body is not None:
+            xy, el, hub, teeth, web = cracked_cell(body, _joined(cell)[2], cell.r_in, cell.web_radius, count)
+            seam_parts.append(count + np.asarray(body.seam))
+            normal_parts.append(turn(np.asarray(body.normal, dtype=float), ang))
+            tied, parents, weights = outline_ties(_cell_tooth(cell), body)
+            tie_parts.append(count + np.column_stack([tied, parents]))
+            weight_parts.append(weights)
         else:
-            rmap = count + np.arange(n_rim)
-            xy_parts.append(turn(rim_xy, ang))
-            el_parts.append(rmap[rim_el])
-            web_parts.append(rim_is_web)
-            count += n_rim
-        hub_parts.append(rmap[hub_local])
-    return (np.vstack(xy_parts), np.vstack(el_parts), np.concatenate(hub_parts), np.vstack(tooth_maps),
-            np.concatenate(web_parts))
+            xy, el, hub, teeth, web = _plain_cell(cell, count, k in ks, int(k) in missing)
+        for part, item in zip(parts, (turn(xy, ang), el, hub, teeth, web)):
+            if item is not None:
+                part.append(item)
+        count += xy.shape[0]
+    return (np.vstack(parts[0]), np.vstack(parts[1]), np.concatenate(parts[2]), np.vstack(parts[3]),
+            np.concatenate(parts[4]), np.vstack(seam_parts), np.vstack(normal_parts),
+            np.vstack(tie_parts), np.vstack(weight_parts))
 
 
-def _merge_nodes(xy: NDArray[np.float64], elements: NDArray[np.intp],
-                 tol: float) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp]]:
+def _plain_cell(cell: _Cell, count: int, toothed: bool, missing: bool) -> tuple[Any, ...]:
+    """A cell's nodes (in tooth 0's place), elements, hub nodes, tooth nodes (``None``
+    without a tooth) and web flags, numbered from ``count``: tooth nodes first, then the
+    rim's, its top-under-tooth nodes mapped onto the tooth's bottom."""
+    tooth, n_rim = cell.tooth, cell.rim_xy.shape[0]
+    if not toothed:
+        rmap = count + np.arange(n_rim)
+        return cell.rim_xy, rmap[cell.rim_el], rmap[cell.hub_local], None, cell.rim_is_web
+    tmap = count + np.arange(tooth.n_nodes)
+    rmap = count + tooth.n_nodes + np.arange(n_rim)
+    rmap[cell.top_b] = tmap[tooth.root_nodes]
+    xy = np.vstack([tooth.nodes, cell.rim_xy])
+    if missing:
+        return xy, rmap[cell.rim_el], rmap[cell.hub_local], tmap, cell.rim_is_web
+    return (xy, np.vstack([tmap[tooth.elements], rmap[cell.rim_el]]), rmap[cell.hub_local], tmap,
+            np.concatenate([np.zeros(tooth.n_elements, dtype=bool), cell.rim_is_web]))
+
+
+def _cell_tooth(cell: _Cell) -> ToothMesh:
+    """The structured cell as one mesh in a :class:`ToothMesh`'s shape (:func:`cell_mesh`)."""
+    nodes, elements, t_in, r_in = _joined(cell)
+    tooth, top, b = cell.tooth, cell.index[:, -1], cell.first_b
+    right = np.concatenate([r_in[cell.index[-1, :]], r_in[top[-2:b + 2 * tooth.nx:-1]], t_in[tooth.right_side]])
+    left = np.concatenate([r_in[cell.index[0, :]], r_in[top[1:b]], t_in[tooth.left_side]])
+    return ToothMesh(nodes=nodes, elements=elements, root_nodes=r_in[cell.index[:, 0]], right_side=right,
+                     left_side=left, tip_nodes=t_in[tooth.tip_nodes], nx=tooth.nx, ny=tooth.ny,
+                     grading=tooth.grading)
+
+
+def _merge_nodes(xy: NDArray[np.float64], elements: NDArray[np.intp], tol: float,
+                 apart: NDArray[np.intp] | None = None) -> tuple[NDArray[np.float64], NDArray[np.intp],
+                                                                 NDArray[np.intp]]:
     """Merge the nodes closer than ``tol`` (the duplicated tooth-bottom rows and the shared
-    radial edges): ``(nodes, elements, new number of each old node)``."""
+    radial edges), those of ``apart`` (a crack's faces) excepted: ``(nodes, elements, new
+    number of each old node)``."""
     used = np.unique(elements)
+    if apart is not None and apart.size:
+        used = np.setdiff1d(used, apart)
     tree = cKDTree(xy[used])
     rep = np.arange(xy.shape[0])
     for a, b in sorted(tree.query_pairs(tol)):
         ia, ib = used[a], used[b]
         lo, hi = min(rep[ia], rep[ib]), max(rep[ia], rep[ib])
         rep[rep == hi] = lo
-    keep_nodes = np.unique(rep[used])
+    keep_nodes = np.unique(rep[np.unique(elements)])
     new = -np.ones(xy.shape[0], dtype=np.intp)
     new[keep_nodes] = np.arange(keep_nodes.size)
     renum = new[rep]
     return xy[keep_nodes], renum[elements], renum
 
 
-__all__ = ["DEFAULT_RIM_DEPTHS", "RIM_GROWTH", "SectorMesh", "default_inner_radius", "sector_mesh", "turn"]
+__all__ = ["DEFAULT_RIM_DEPTHS", "RIM_GROWTH", "SectorMesh", "cell_mesh", "default_inner_radius", "sector_mesh",
+           "turn"]

@@ -10,8 +10,10 @@ exactly as the paper model's single tooth is.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -21,8 +23,8 @@ from spurdyn.contact.strip_numpy import strip_rows
 from spurdyn.fem.assembly import assemble_stiffness
 from spurdyn.fem.factor import factor_spd
 from spurdyn.geometry.gear import Gear
-from spurdyn.mesh.sector import SectorMesh, sector_mesh, turn
-from spurdyn.mesh.tooth import DEFAULT_GRADING
+from spurdyn.mesh.sector import SectorMesh, cell_mesh, sector_mesh, turn
+from spurdyn.mesh.tooth import DEFAULT_GRADING, ToothMesh
 from spurdyn.model.flank import Flank, make_flank
 
 
@@ -58,9 +60,27 @@ class SectorBody:
         return k
 
     @cached_property
+    def ties(self) -> sp.csr_matrix | None:
+        """``T`` with ``u = T u`` where a node is tied to an edge (``SectorMesh.ties``: a
+        cracked cell's nodes on its neighbours' edges): their rows the edge's shape
+        functions, their columns empty; ``None`` without ties."""
+        ties, w = self.mesh.ties, self.mesh.tie_weights
+        if not ties.size:
+            return None
+        n = self.mesh.n_dof
+        tied = np.concatenate([2 * ties[:, 0], 2 * ties[:, 0] + 1])
+        keep = np.setdiff1d(np.arange(n), tied)
+        rows = np.concatenate([keep] + [2 * ties[:, 0] + a for a in (0, 1) for _ in range(3)])
+        cols = np.concatenate([keep] + [2 * ties[:, 1 + e] + a for a in (0, 1) for e in range(3)])
+        vals = np.concatenate([np.ones(keep.size)] + [w[:, e] for _ in (0, 1) for e in range(3)])
+        return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+    @cached_property
     def free_stiffness(self) -> sp.csr_matrix:
-        """``(n, n)`` the stiffness of the free DOFs (:attr:`free_dofs`), hub held."""
-        return self.stiffness[self._free][:, self._free].tocsr()
+        """``(n, n)`` the stiffness of the free DOFs (:attr:`free_dofs`), hub held (and the
+        tied nodes moving with their edges: ``Tᵀ K T``)."""
+        k = self.stiffness if self.ties is None else (self.ties.T @ self.stiffness @ self.ties)
+        return k[self._free][:, self._free].tocsr()
 
     @cached_property
     def _lu(self) -> object:
@@ -83,9 +103,33 @@ class SectorBody:
         f[self.mesh.tooth_dofs(k)] = turn(local, self.mesh.tooth_angle(k)).ravel()
         return f
 
+    @cached_property
+    def seam_loads(self) -> NDArray[np.float64]:
+        """``(2N, S)`` the nodal forces of a unit compressive force between each pair of a
+        crack's faces: along the normal on face two, against it on face one. Its transpose
+        maps displacements to the faces' openings (docs/faults.md)."""
+        seams, normals = self.mesh.seams, self.mesh.seam_normals
+        b = np.zeros((self.mesh.n_dof, seams.shape[0]))
+        cols = np.arange(seams.shape[0])
+        for face, sign in ((1, 1.0), (0, -1.0)):
+            for axis in (0, 1):
+                b[2 * seams[:, face] + axis, cols] = sign * normals[:, axis]
+        return b
+
+    @cached_property
+    def seam_response(self) -> NDArray[np.float64]:
+        """``K⁻¹ B``: the displacements under the unit compressions of :attr:`seam_loads`,
+        solved once (the crack's blocks of the contact problem do not change with the
+        position)."""
+        return self.solve(self.seam_loads)
+
     def solve(self, f: NDArray[np.float64]) -> NDArray[np.float64]:
         """Displacements (m) under the nodal forces ``f`` (columns allowed), the hub held."""
         f = np.asarray(f, dtype=float)
+        if self.ties is not None:
+            u = np.zeros_like(f)
+            u[self._free] = self._lu.solve(np.ascontiguousarray((self.ties.T @ f)[self._free]))
+            return self.ties @ u
         u = np.zeros_like(f)
         u[self._free] = self._lu.solve(np.ascontiguousarray(f[self._free]))
         return u
@@ -106,25 +150,43 @@ class SectorBody:
         return loads.T @ self.solve(loads)
 
 
-def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = None,
-                inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
-                full_rim: bool = True, missing: frozenset[int] = frozenset()) -> SectorBody:
-    """Mesh and assemble ``teeth`` teeth of ``gear`` from tooth ``first`` (on the
-    full rim, or with the rim cut at free radial faces: :func:`spurdyn.mesh.sector.sector_mesh`),
-    the teeth of ``missing`` broken off at their root.
-    A webbed blank puts the hub at its ``hub_radius`` and a web of its width below its
-    ``rim_radius``."""
+def _hub_and_web(gear: Gear, inner_radius: float | None) -> tuple[float | None, tuple[float, float] | None]:
+    """A webbed blank puts the hub at its ``hub_radius`` and a web of its width below its
+    ``rim_radius``: ``(inner_radius, web)`` for :func:`~spurdyn.mesh.sector.sector_mesh`."""
     blank = gear.blank
     web = (blank.rim_radius, blank.web_width) if blank is not None and blank.webbed else None
     if inner_radius is None and web is not None:
         inner_radius = blank.hub_radius
+    return inner_radius, web
+
+
+def body_cell(gear: Gear, nx: int, ny: int, grading: float = DEFAULT_GRADING,
+              inner_radius: float | None = None) -> ToothMesh:
+    """Tooth 0's cell of :func:`sector_body`'s mesh (:func:`~spurdyn.mesh.sector.cell_mesh`):
+    where a root crack runs and what a cracked cell is meshed from."""
+    inner_radius, web = _hub_and_web(gear, inner_radius)
+    return cell_mesh(gear, nx, ny, inner_radius, grading, web=web)
+
+
+def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = None,
+                inner_radius: float | None = None, grading: float = DEFAULT_GRADING,
+                full_rim: bool = True, missing: frozenset[int] = frozenset(),
+                cracked: Mapping[int, Any] | None = None) -> SectorBody:
+    """Mesh and assemble ``teeth`` teeth of ``gear`` from tooth ``first`` (on the
+    full rim, or with the rim cut at free radial faces: :func:`spurdyn.mesh.sector.sector_mesh`),
+    the teeth of ``missing`` broken off at their root, those of ``cracked`` on their cracked
+    meshes.
+    A webbed blank puts the hub at its ``hub_radius`` and a web of its width below its
+    ``rim_radius``."""
+    inner_radius, web = _hub_and_web(gear, inner_radius)
     mesh = sector_mesh(gear, teeth, nx, ny, inner_radius, grading, first=first, web=web,
-                       full_rim=full_rim, missing=missing)
-    hub = np.concatenate([2 * mesh.hub_nodes, 2 * mesh.hub_nodes + 1])
+                       full_rim=full_rim, missing=missing, cracked=cracked)
+    # held: the hub's DOFs and the tied nodes' (they follow their edges)
+    hub = np.concatenate([2 * mesh.hub_nodes, 2 * mesh.hub_nodes + 1, 2 * mesh.ties[:, 0], 2 * mesh.ties[:, 0] + 1])
     free = np.setdiff1d(np.arange(mesh.n_dof), hub)
     tooth = mesh.tooth
     flank = make_flank(tooth, gear, tooth.nodes, np.zeros(2), 0.0, 5)
     return SectorBody(gear=gear, mesh=mesh, flank=flank, _free=free)
 
 
-__all__ = ["SectorBody", "sector_body"]
+__all__ = ["SectorBody", "body_cell", "sector_body"]

@@ -23,8 +23,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.geometry.fault import Fault, faulty_cycles
+from spurdyn.geometry.gear import Gear
+from spurdyn.mesh.tooth import tooth_mesh
 from spurdyn.geometry.pair import GearPair
-from spurdyn.sector.body import SectorBody
+from spurdyn.sector.body import SectorBody, body_cell
 from spurdyn.sector.statics import (DEFAULT_POSITIONS, Contact, Contacts, ContactLaw, contact_law, default_teeth,
                                     driving_pair, healthy_contacts, sector_bodies, sector_firsts, solve_position)
 
@@ -105,6 +107,7 @@ class _Cycle:
     missing: tuple[frozenset[int], frozenset[int]]
     spalls: tuple[tuple[Fault, ...], tuple[Fault, ...]]
     touched: bool
+    cracked: tuple[dict[int, Fault], dict[int, Fault]] = ({}, {})
 
 
 def _place(faults: tuple[Fault, ...], driver: str, c: int, firsts: tuple[int, int], teeth: int,
@@ -112,6 +115,7 @@ def _place(faults: tuple[Fault, ...], driver: str, c: int, firsts: tuple[int, in
     """The faults of ``faults`` in cycle ``c``'s sectors (module docstring)."""
     missing: tuple[set[int], set[int]] = (set(), set())
     spalls: tuple[list[Fault], list[Fault]] = ([], [])
+    cracked: tuple[dict[int, Fault], dict[int, Fault]] = ({}, {})
     touched = False
     for f in faults:
         g = 0 if f.gear == driver else 1
@@ -119,9 +123,14 @@ def _place(faults: tuple[Fault, ...], driver: str, c: int, firsts: tuple[int, in
         if m is None:
             continue
         touched = True
-        (missing[g].add(m) if f.kind == "missing" else spalls[g].append(f))
+        if f.kind == "missing":
+            missing[g].add(m)
+        elif f.kind == "crack":
+            cracked[g][m] = f
+        else:
+            spalls[g].append(f)
     return _Cycle((frozenset(missing[0]), frozenset(missing[1])), (tuple(spalls[0]), tuple(spalls[1])),
-                  touched)
+                  touched, cracked)
 
 
 def _contacts(c: int, place: _Cycle, zs: tuple[int, int]) -> Contacts:
@@ -147,14 +156,30 @@ def _solve(law: ContactLaw, rolls: NDArray[np.float64], contacts: Contacts,
     """Mesh stiffness, transmission error and pair forces at the driver's ``rolls``."""
     k, te = np.zeros(rolls.size), np.full(rolls.size, np.nan)
     force = np.zeros((rolls.size, law.pairs))
+    faces = bodies[0].mesh.seams.shape[0] + bodies[1].mesh.seams.shape[0]
     for i, rho in enumerate(rolls):
         js, f, e, c, active = solve_position(law, float(rho), contacts, bodies)
         force[i, js] = f
         if active.any():
             idx = np.flatnonzero(active)
-            k[i] = float(np.sum(np.linalg.inv(c[np.ix_(idx, idx)])))
+            # the tangent stiffness with the crack's closed faces held: the pairs' block of
+            # the active set's inverse (the faces' rows eliminated)
+            pairs = idx < c.shape[0] - faces
+            k[i] = float(np.sum(np.linalg.inv(c[np.ix_(idx, idx)])[np.ix_(pairs, pairs)]))
             te[i] = e
     return k, te, force
+
+
+def _cracked_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> Any:
+    """The cracked cell of a crack fault, its crack from the loaded flank's fillet (the
+    tension side: both bodies are loaded on their right flanks), free to run on into the
+    rim below the tooth."""
+    from spurdyn.mesh.cracked import crack_path, cracked_tooth
+
+    cell = body_cell(gear, nx, ny, grading)
+    tooth = tooth_mesh(gear, nx, ny, grading=grading)
+    path = crack_path(gear, tooth, "right", fault.depth, fault.angle, fault.start, region=cell)
+    return cracked_tooth(gear, cell, path)
 
 
 def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], nx: int, ny: int,
@@ -175,6 +200,8 @@ def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], 
     n_cycles = faulty_cycles(zs[turning], zs[1 - turning], len({f.gear for f in faults}) == 2)
     pitch = 2.0 * math.pi / zs[0]
     rolls = dp.start_roll_a + pitch * np.arange(positions) / (positions - 1)
+    meshes = {f: _cracked_mesh(dp.gear_a if f.gear == pair.driver else dp.gear_b, f, nx, ny, grading)
+              for f in faults if f.kind == "crack"}
     base = _solve(law, rolls, healthy_contacts, healthy)
     parts, faulty = [], []
     for c in range(n_cycles):
@@ -183,8 +210,9 @@ def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], 
             parts.append(base)
             continue
         faulty.append(c)
-        bodies = healthy if not any(place.missing) else sector_bodies(dp, k_teeth, nx, ny, grading=grading,
-                                                                       missing=place.missing)
+        cracked = tuple({m: meshes[f] for m, f in place.cracked[g].items()} for g in (0, 1))
+        bodies = healthy if not any(place.missing) and not any(cracked) else sector_bodies(
+            dp, k_teeth, nx, ny, grading=grading, missing=place.missing, cracked=cracked)
         parts.append(_solve(law, rolls, _contacts(c, place, zs), bodies))
     return _assemble(parts, base, rolls, faulty, gear, turning, zs, law, k_teeth, healthy, torque)
 

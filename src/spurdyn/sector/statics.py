@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from collections.abc import Mapping
 from typing import Any, Callable
 
 import numpy as np
@@ -169,18 +170,21 @@ class MeshCycle:
         }
 
 
-def _active_set(c: NDArray[np.float64], g: NDArray[np.float64], w: float) -> tuple[NDArray[np.float64], float, NDArray[np.bool_]]:
-    """Forces ``F >= 0`` and approach ``e`` with ``sum F = w`` and ``(C F + g)_j = e`` where
-    ``F_j > 0``, ``>= e`` elsewhere (the pairs' complementarity), by an active-set loop."""
+def _active_set(c: NDArray[np.float64], g: NDArray[np.float64], w: float,
+                coupled: NDArray[np.bool_] | None = None) -> tuple[NDArray[np.float64], float, NDArray[np.bool_]]:
+    """Forces ``F >= 0`` and approach ``e`` with ``sum F = w`` over the ``coupled`` rows (the
+    pairs; all without it) and ``(C F + g)_j = e`` (pairs) or ``= 0`` (a crack's faces)
+    where ``F_j > 0``, ``>=`` elsewhere (the complementarity), by an active-set loop."""
     n = g.size
-    active = np.ones(n, dtype=bool)
+    on_e = np.ones(n) if coupled is None else np.asarray(coupled, dtype=float)
+    active = on_e > 0.0
     for _ in range(4 * n + 4):
         idx = np.flatnonzero(active)
         m = idx.size
         a = np.zeros((m + 1, m + 1))
         a[:m, :m] = c[np.ix_(idx, idx)]
-        a[:m, m] = -1.0
-        a[m, :m] = 1.0
+        a[:m, m] = -on_e[idx]
+        a[m, :m] = on_e[idx]
         rhs = np.concatenate([-g[idx], [w]])
         sol = np.linalg.solve(a, rhs)
         f = np.zeros(n)
@@ -189,13 +193,37 @@ def _active_set(c: NDArray[np.float64], g: NDArray[np.float64], w: float) -> tup
         if (f[idx] < 0).any():
             active[idx[np.argmin(f[idx])]] = False
             continue
-        gap = c @ f + g - e
+        gap = c @ f + g - e * on_e
         closed = (~active) & (gap < -1e-15 * max(abs(e), 1e-30))
         if closed.any():
             active[np.flatnonzero(closed)[np.argmin(gap[closed])]] = True
             continue
         return f, e, active
     raise RuntimeError("the contact active set did not settle")     # pragma: no cover
+
+
+def _blocks(body: SectorBody, loads: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``[L B]ᵀ K⁻¹ [L B]`` of the contacts' loads ``L`` and the body's crack faces ``B``,
+    the faces' responses solved once (:attr:`SectorBody.seam_response`)."""
+    u = body.solve(loads)
+    if not body.mesh.seams.shape[0]:
+        return loads.T @ u
+    b, ub = body.seam_loads, body.seam_response
+    return np.block([[loads.T @ u, loads.T @ ub], [b.T @ u, b.T @ ub]])
+
+
+def _with_seams(body_a: SectorBody, body_b: SectorBody, la: NDArray[np.float64], lb: NDArray[np.float64],
+                strip: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The compliance of the contacts (columns ``la``, ``lb`` on the two bodies, the strips'
+    ``strip`` on the diagonal) and of the cracks' faces of either body after them
+    (:attr:`SectorBody.seam_loads`): each body's blocks from its own flexibility."""
+    n, sa, sb = la.shape[1], body_a.mesh.seams.shape[0], body_b.mesh.seams.shape[0]
+    ca, cb = _blocks(body_a, la), _blocks(body_b, lb)
+    c = np.zeros((n + sa + sb, n + sa + sb))
+    c[:n, :n] = ca[:n, :n] + cb[:n, :n] + np.diag(strip)
+    for cg, faces in ((ca, slice(n, n + sa)), (cb, slice(n + sa, n + sa + sb))):
+        c[:n, faces], c[faces, :n], c[faces, faces] = cg[:n, n:], cg[n:, :n], cg[n:, n:]
+    return c
 
 
 @dataclass(frozen=True)
@@ -241,8 +269,9 @@ def solve_position(law: ContactLaw, rho: float, contacts: Contacts = healthy_con
         list[int], NDArray[np.float64], float, NDArray[np.float64], NDArray[np.bool_]]:
     """The pairs on the path at the driver's roll ``rho`` of pair 0, their forces, the
     approach ``e``, and the compliance matrix and active set of their ``contacts`` (module
-    docstring; one contact per pair unless a fault splits one); ``bodies`` replace the
-    law's (a faulty sector)."""
+    docstring; one contact per pair unless a fault splits one) and, after them, of the
+    bodies' cracks' face pairs (docs/faults.md); ``bodies`` replace the law's (a faulty
+    sector)."""
     dp, w = law.pair, law.load
     body_a, body_b = law.bodies if bodies is None else bodies
     ga, gb = dp.gear_a, dp.gear_b
@@ -262,15 +291,20 @@ def solve_position(law: ContactLaw, rho: float, contacts: Contacts = healthy_con
     c = np.zeros((0, 0))
     active = np.zeros(0, dtype=bool)
     e = math.nan
+    seams = body_a.mesh.seams.shape[0] + body_b.mesh.seams.shape[0]
+    coupled = np.arange(len(parts) + seams) < len(parts)
     for _ in range(50 if parts else 0):
         b = np.atleast_1d(half_width(f, rho_a, rho_b, law.estar, law.width * share))
         la = np.column_stack([body_a.load(j, float(r), float(bb)) for (j, _, _), r, bb in zip(parts, ra, b)])
         lb = np.column_stack([body_b.load(-j, float(r), float(bb)) for (j, _, _), r, bb in zip(parts, rb, b)])
-        c = body_a.compliance(la) + body_b.compliance(lb) + np.diag(law.c_h / share)
+        if seams:
+            c = _with_seams(body_a, body_b, la, lb, law.c_h / share)
+        else:
+            c = body_a.compliance(la) + body_b.compliance(lb) + np.diag(law.c_h / share)
         c = 0.5 * (c + c.T)            # symmetric to round-off (Maxwell-Betti)
-        f_new, e, active = _active_set(c, g, w)
-        done = np.max(np.abs(f_new - f)) <= FORCE_TOL * w
-        f = f_new
+        f_new, e, active = _active_set(c, np.concatenate([g, np.zeros(seams)]), w, coupled)
+        done = np.max(np.abs(f_new[:len(parts)] - f)) <= FORCE_TOL * w
+        f = f_new[:len(parts)]
         if done:
             break
     pair_f = np.zeros(len(js))
@@ -297,15 +331,16 @@ def sector_firsts(dp: GearPair, teeth: int) -> tuple[int, int]:
 
 def sector_bodies(dp: GearPair, teeth: int, nx: int, ny: int,
                   inner_radius: tuple[float | None, float | None] = (None, None), grading: float = 1.0,
-                  missing: tuple[frozenset[int], frozenset[int]] = (frozenset(), frozenset())) -> tuple[
+                  missing: tuple[frozenset[int], frozenset[int]] = (frozenset(), frozenset()),
+                  cracked: tuple[Mapping[int, Any], Mapping[int, Any]] = ({}, {})) -> tuple[
         SectorBody, SectorBody]:
     """The two sectors of the driving pair ``dp`` (:func:`sector_firsts`), the body teeth of
-    ``missing`` broken off."""
+    ``missing`` broken off, those of ``cracked`` on their cracked meshes."""
     first_a, first_b = sector_firsts(dp, teeth)
     return (sector_body(dp.gear_a, teeth, nx, ny, first=first_a, inner_radius=inner_radius[0],
-                        grading=grading, missing=missing[0]),
+                        grading=grading, missing=missing[0], cracked=cracked[0]),
             sector_body(dp.gear_b, teeth, nx, ny, first=first_b, inner_radius=inner_radius[1],
-                        grading=grading, missing=missing[1]))
+                        grading=grading, missing=missing[1], cracked=cracked[1]))
 
 
 def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | None = None,

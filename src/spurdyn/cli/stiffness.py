@@ -88,7 +88,7 @@ def stiffness_report(args: argparse.Namespace) -> dict[str, Any]:
                          f"(got {args.positions})")
     case = meshed_case(args, faults=True)
     pair = case.pair
-    faults = case.faults + tuple(parse_fault_option(text, pair) for text in (args.fault or ()))
+    faults = case.faults + tuple(parse_fault_option(text, pair) for text in (getattr(args, "fault", None) or ()))
     torques = _torques(args, pair)
     refuse_sector_row_grading(case.row_grading)   # a case file's [mesh] row_grading
     if args.teeth is not None and not pairs_in_path(driving_pair(pair)) <= args.teeth:

@@ -72,13 +72,18 @@ def meshed_case(args: argparse.Namespace, faults: bool = False) -> MeshedPair:
     return case
 
 
+def output_target(text: str, suffix: str, flag: str) -> Path:
+    """The file an option names for writing, its suffix and folder checked before any work."""
+    path = Path(text)
+    if path.suffix.lower() != suffix:
+        raise InputError(flag, f"must name a {suffix} file (got {text!r})")
+    if not path.parent.exists():
+        raise InputError(flag, f"folder {str(path.parent)!r} does not exist")
+    return path
+
+
 def png_target(text: str) -> Path:
-    png = Path(text)
-    if png.suffix.lower() != ".png":
-        raise InputError("--png", f"must name a .png file (got {text!r})")
-    if not png.parent.exists():
-        raise InputError("--png", f"folder {str(png.parent)!r} does not exist")
-    return png
+    return output_target(text, ".png", "--png")
 
 
-__all__ = ["case_torque", "meshed_case", "png_target", "resolve_pair"]
+__all__ = ["case_torque", "meshed_case", "output_target", "png_target", "resolve_pair"]

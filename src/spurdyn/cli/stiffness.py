@@ -163,9 +163,9 @@ def cmd_stiffness(args: argparse.Namespace) -> int:
 
         png = png_target(args.png)
     if args.csv:
-        from spurdyn.cli.stiffness_faults import csv_target
+        from spurdyn.cli.inputs import output_target
 
-        csv_path = csv_target(args.csv)
+        csv_path = output_target(args.csv, ".csv", "--csv")
     report = stiffness_report(args)
     cycles = report.pop("_cycles")
     if csv_path is not None:

@@ -10,7 +10,6 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from spurdyn.errors import InputError
 from spurdyn.sector.faulty import Revolution
 from spurdyn.sector.statics import MeshCycle
 
@@ -34,16 +33,6 @@ def revolution_row(rev: Revolution) -> dict[str, Any]:
     }
 
 
-def csv_target(text: str) -> Path:
-    """The ``--csv`` file, its folder checked before any work."""
-    path = Path(text)
-    if path.suffix.lower() != ".csv":
-        raise InputError("--csv", f"must name a .csv file (got {text!r})")
-    if not path.parent.exists():
-        raise InputError("--csv", f"folder {str(path.parent)!r} does not exist")
-    return path
-
-
 def write_csv(path: Path, runs: Sequence[Revolution | MeshCycle]) -> None:
     """``k(theta)`` by torque: a revolution's positions, or a healthy cycle's (its angle
     the driver's roll from the start of the path, its healthy stiffness its own)."""
@@ -60,4 +49,4 @@ def write_csv(path: Path, runs: Sequence[Revolution | MeshCycle]) -> None:
                               f"{e:.9g}" if math.isfinite(e) else "", f"{h:.9g}"])
 
 
-__all__ = ["CSV_COLUMNS", "csv_target", "revolution_row", "write_csv"]
+__all__ = ["CSV_COLUMNS", "revolution_row", "write_csv"]

@@ -216,3 +216,18 @@ def test_a_cracked_tooth_over_the_revolution(pair, healthy):
     assert np.array_equal(rev.stiffness[outside], healthy.stiffness[outside])
     assert 0.0 < rev.summary()["mesh_stiffness_dip"] < 0.5
     assert rev.stiffness.min() < healthy.stiffness.min()
+
+
+def test_a_revolution_too_long_is_refused_before_any_work(pair):
+    """Faults on both gears of 28 and 29 teeth follow them over 812 mesh cycles, 228 of
+    them with a fault in the sectors: at 101 positions a cycle refused by its count of
+    positions, naming the faults, before a sector is meshed."""
+    from dataclasses import replace as dc_replace
+
+    from spurdyn.sector.faulty import MAX_FAULTY_POSITIONS
+
+    unequal = dc_replace(pair, gear_b=dc_replace(pair.gear_b, teeth=29), centre_distance=None)
+    faults = (Fault("a", 1, "missing"), Fault("b", 2, "missing"))
+    with pytest.raises(InputError) as err:
+        faulty_revolution(unequal, PAPER_TORQUE, faults, NX, NY, positions=101)
+    assert err.value.field == "fault" and f"{MAX_FAULTY_POSITIONS:,}" in err.value.reason

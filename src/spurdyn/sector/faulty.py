@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from spurdyn.errors import InputError
 from spurdyn.geometry.fault import Fault, faulty_cycles
 from spurdyn.geometry.gear import Gear
 from spurdyn.mesh.tooth import tooth_mesh
@@ -182,6 +183,23 @@ def _cracked_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) ->
     return cracked_tooth(gear, cell, path)
 
 
+#: Most positions a faulty revolution may solve unasked: each a contact problem of the
+#: faulty sectors (5-50 ms on the paper's pair at 4 x 14), so some minutes at most.
+MAX_FAULTY_POSITIONS = 20_000
+
+
+def _check_work(faults: tuple[Fault, ...], driver: str, n_cycles: int, firsts: tuple[int, int], teeth: int,
+                zs: tuple[int, int], positions: int) -> None:
+    """Refuse, before any work, a revolution whose faulty cycles hold more positions than
+    :data:`MAX_FAULTY_POSITIONS` (faults on both gears of coprime tooth counts follow the
+    two gears until they meet again: their product of cycles)."""
+    touched = sum(_place(faults, driver, c, firsts, teeth, zs).touched for c in range(n_cycles))
+    if touched * positions > MAX_FAULTY_POSITIONS:
+        raise InputError("fault", f"the faults' revolution ({n_cycles:,} mesh cycles, {touched:,} of them "
+                         f"with a fault in the mesh) would solve {touched * positions:,} positions (limit "
+                         f"{MAX_FAULTY_POSITIONS:,}): give fewer --positions, or the faults of one gear at a time")
+
+
 def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], nx: int, ny: int,
                       teeth: int | None = None, positions: int = DEFAULT_POSITIONS,
                       grading: float = 1.0) -> Revolution:
@@ -192,12 +210,13 @@ def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], 
     zs = (dp.gear_a.teeth, dp.gear_b.teeth)
     k_teeth = default_teeth(dp) if teeth is None else int(teeth)
     firsts = sector_firsts(dp, k_teeth)
-    healthy = sector_bodies(dp, k_teeth, nx, ny, grading=grading)
-    law = contact_law(pair, torque, healthy)
     gears = {f.gear for f in faults}
     gear = gears.pop() if len(gears) == 1 else pair.driver
     turning = 0 if gear == pair.driver else 1
     n_cycles = faulty_cycles(zs[turning], zs[1 - turning], len({f.gear for f in faults}) == 2)
+    _check_work(faults, pair.driver, n_cycles, firsts, k_teeth, zs, positions)
+    healthy = sector_bodies(dp, k_teeth, nx, ny, grading=grading)
+    law = contact_law(pair, torque, healthy)
     pitch = 2.0 * math.pi / zs[0]
     rolls = dp.start_roll_a + pitch * np.arange(positions) / (positions - 1)
     meshes = {f: _cracked_mesh(dp.gear_a if f.gear == pair.driver else dp.gear_b, f, nx, ny, grading)
@@ -237,4 +256,4 @@ def _assemble(parts: list[tuple[NDArray[np.float64], ...]], base: tuple[NDArray[
                       n_dof=healthy[0].mesh.n_dof + healthy[1].mesh.n_dof)
 
 
-__all__ = ["Revolution", "faulty_revolution"]
+__all__ = ["MAX_FAULTY_POSITIONS", "Revolution", "faulty_revolution"]

@@ -219,7 +219,7 @@ def test_a_cracked_tooth_over_the_revolution(pair, healthy):
 
 
 def test_a_revolution_too_long_is_refused_before_any_work(pair):
-    """Faults on both gears of 28 and 29 teeth follow them over 812 mesh cycles, 228 of
+    """Faults on both gears of 28 and 29 teeth follow them over 812 mesh cycles, 212 of
     them with a fault in the sectors: at 101 positions a cycle refused by its count of
     positions, naming the faults, before a sector is meshed."""
     from dataclasses import replace as dc_replace

@@ -108,7 +108,7 @@ class _Cycle:
     missing: tuple[frozenset[int], frozenset[int]]
     spalls: tuple[tuple[Fault, ...], tuple[Fault, ...]]
     touched: bool
-    cracked: tuple[dict[int, Fault], dict[int, Fault]] = ({}, {})
+    cracked: tuple[dict[int, Fault], dict[int, Fault]]
 
 
 def _place(faults: tuple[Fault, ...], driver: str, c: int, firsts: tuple[int, int], teeth: int,
@@ -188,12 +188,10 @@ def _cracked_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) ->
 MAX_FAULTY_POSITIONS = 20_000
 
 
-def _check_work(faults: tuple[Fault, ...], driver: str, n_cycles: int, firsts: tuple[int, int], teeth: int,
-                zs: tuple[int, int], positions: int) -> None:
-    """Refuse, before any work, a revolution whose faulty cycles hold more positions than
-    :data:`MAX_FAULTY_POSITIONS` (faults on both gears of coprime tooth counts follow the
-    two gears until they meet again: their product of cycles)."""
-    touched = sum(_place(faults, driver, c, firsts, teeth, zs).touched for c in range(n_cycles))
+def _check_work(n_cycles: int, touched: int, positions: int) -> None:
+    """Refuse, before any work, a revolution whose ``touched`` faulty cycles hold more
+    positions than :data:`MAX_FAULTY_POSITIONS` (faults on both gears of coprime tooth
+    counts follow the two gears until they meet again: their product of cycles)."""
     if touched * positions > MAX_FAULTY_POSITIONS:
         raise InputError("fault", f"the faults' revolution ({n_cycles:,} mesh cycles, {touched:,} of them "
                          f"with a fault in the mesh) would solve {touched * positions:,} positions (limit "
@@ -214,7 +212,8 @@ def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], 
     gear = gears.pop() if len(gears) == 1 else pair.driver
     turning = 0 if gear == pair.driver else 1
     n_cycles = faulty_cycles(zs[turning], zs[1 - turning], len({f.gear for f in faults}) == 2)
-    _check_work(faults, pair.driver, n_cycles, firsts, k_teeth, zs, positions)
+    places = [_place(faults, pair.driver, c, firsts, k_teeth, zs) for c in range(n_cycles)]
+    _check_work(n_cycles, sum(p.touched for p in places), positions)
     healthy = sector_bodies(dp, k_teeth, nx, ny, grading=grading)
     law = contact_law(pair, torque, healthy)
     pitch = 2.0 * math.pi / zs[0]
@@ -223,8 +222,7 @@ def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], 
               for f in faults if f.kind == "crack"}
     base = _solve(law, rolls, healthy_contacts, healthy)
     parts, faulty = [], []
-    for c in range(n_cycles):
-        place = _place(faults, pair.driver, c, firsts, k_teeth, zs)
+    for c, place in enumerate(places):
         if not place.touched:
             parts.append(base)
             continue

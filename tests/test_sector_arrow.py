@@ -19,7 +19,7 @@ def _arrow(m: int, seed: int):
     s[0, 1:] = s[1:, 0] = c
     # the other fields as a run's (the same compiled signature), unread here
     gear = ModalGear(c / d, 1.0 / d, j - float(c @ (c / d)), np.zeros(m), np.ones(m), np.zeros((1, 1, 1, m)),
-                     np.zeros((1, 1, 1, 1, 1)), np.zeros(5), 0, 1)
+                     np.zeros((1, 1, 1, 1, 1)), np.zeros(5), 0, 1, 1)
     return s, gear
 
 

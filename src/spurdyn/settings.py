@@ -243,6 +243,10 @@ class RunSettings:
         Keep the second-order elastic torque ``-(dw/dtheta)^T K w`` on the disks.
     name
         A name for the run.
+    faults
+        The case's faults (:class:`spurdyn.geometry.fault.Fault`, its ``[[fault]]``
+        tables): the sector model carries them on its whole gears (docs/faults.md, "Faults
+        in motion").
     """
 
     # Every model reads these.
@@ -288,6 +292,7 @@ class RunSettings:
     # The sector model's own.
     bodies: str = _setting("modal", "sector")
     back_flanks: bool | None = _setting(None, "sector")
+    faults: tuple[Any, ...] = _setting((), "sector", keys=("fault",))
 
     def __post_init__(self) -> None:
         """Refuse a setting out of its range, naming its key, in the order of the fields' checks."""

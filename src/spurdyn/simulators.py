@@ -463,13 +463,18 @@ def simulate_lumped(pair: GearPair, settings: RunSettings,
     return result
 
 
+#: Why the FE and the lumped model refuse a case's faults.
+FAULTS_REASON = ("the sector model carries faults (--model sector); `spurdyn stiffness` follows a faulty "
+                 "gear over its revolution")
+
 #: Model name -> its entry, in the order of :data:`~spurdyn.settings.MODEL_NAMES`.
 MODELS: dict[str, ModelEntry] = {
     "fe": FEEntry("fe", "spurdyn.solvers.loop:simulate", "paper's FE model",
-                  reasons={"stiffness": FE_STIFFNESS_REASON, "cycles": FE_CYCLES_REASON,
+                  reasons={"faults": FAULTS_REASON, "stiffness": FE_STIFFNESS_REASON, "cycles": FE_CYCLES_REASON,
                            "teeth": TEETH_REASON.format(model="the paper's FE model")},
-                  strict=("cycles", "teeth", "stiffness"), keeps_frames=True),
-    "lumped": LumpedEntry("lumped", "spurdyn.simulators:simulate_lumped", "lumped model"),
+                  strict=("cycles", "teeth", "stiffness", "faults"), keeps_frames=True),
+    "lumped": LumpedEntry("lumped", "spurdyn.simulators:simulate_lumped", "lumped model",
+                          reasons={"faults": FAULTS_REASON}, strict=("faults",)),
     "sector": SectorEntry("sector", "spurdyn.solvers.sector.run:simulate_sector", "sector model",
                           reasons={"dt": SECTOR_DT_REASON, "integrator": SECTOR_INTEGRATOR_REASON,
                                    "contact": SECTOR_CONTACT_REASON,

@@ -152,10 +152,8 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     ------
     InputError
         Unknown keys, wrong types, non-physical values, a ``dt`` above the stable step,
-        an angle beyond ``theta_s`` plus :data:`spurdyn.solvers.check.ANGLE_MARGIN`,
-        ``[[fault]]`` tables (the dynamic models do not carry faults yet).
+        an angle beyond ``theta_s`` plus :data:`spurdyn.solvers.check.ANGLE_MARGIN`.
     """
-    refuse_faults(meshed_pair, "the dynamic models")
     overrides = dict(overrides or {})
     labels = dict(labels or {})
     table = {} if run_table is None else run_table
@@ -180,7 +178,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
         grading=grading, row_grading=row_grading,
         **_run_options(src, base),
-        name=name,
+        name=name, faults=tuple(meshed_pair.faults),
     )
     try:
         run = RunSettings(**settings)

@@ -148,6 +148,9 @@ def sweep_case(args: argparse.Namespace, torques: tuple[float, ...] | None, firs
     model = args.model or case.model          # --model, else the case file's [model] kind
     entry = ENTRIES[model]
     entry.refuse(case.run, case.labels(labels), case.pair)   # not ignored in silence
+    if case.run.faults:
+        raise InputError("fault", "not read by `spurdyn sweep` or `spurdyn report` yet: `spurdyn run "
+                         "--model sector` runs a faulty pair, `spurdyn stiffness` follows it over its revolution")
     return replace(case, run=entry.with_defaults(case.run)), model, labels
 
 

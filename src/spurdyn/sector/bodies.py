@@ -56,27 +56,54 @@ def _tooth_frames(reduced: Reduction, sides: int = 1) -> tuple[NDArray[np.float6
     (``Phi_k^T T_k b = (T_k^T Phi_k)^T b`` for a load ``b`` on tooth 0's right flank, ``T_k``
     the turn to tooth ``k``'s flank and, on a left flank, the mirror before it), and the
     static flexibility between two flanks in their frames, ``T_i^T E_i^T K^-1 E_j T_j``:
-    ``(count, sides, sides, f, f)`` by the teeth's distance round a whole ring (the same for
-    every pair of teeth that far apart), ``(count, sides, count, sides, f, f)`` on a sector.
-    ``sides`` 1 keeps the right (drive) flanks, 2 the left (back) ones as well."""
+    ``(count, sides, sides, f, f)`` by the teeth's distance round a ring of identical teeth
+    (the same for every pair of teeth that far apart), ``(count, sides, count, sides, f, f)``
+    on a sector or a faulty whole gear, zeros on a missing tooth. ``sides`` 1 keeps the
+    right (drive) flanks, 2 the left (back) ones as well."""
     blk = reduced.block
     teeth = [blk.first + t for t in range(blk.count)]
-    n_side = blk.flank_dofs(teeth[0]).size // 2
+    present = [k for k in teeth if k not in blk.missing]
+    n_side = blk.flank_dofs(present[0]).size // 2
     turns = [[np.kron(np.eye(n_side), blk.turn_of(k, s)) for s in range(sides)] for k in teeth]
     # every flank's modes at once, each node's vector turned back by its flank's Q (Q^T v)
-    dofs = np.concatenate([blk.flank_dofs(k, s) for k in teeth for s in range(sides)])
-    phi = reduced.phi_rows(dofs).reshape(len(teeth), sides, n_side, 2, reduced.m)
-    q = np.array([[blk.turn_of(k, s) for s in range(sides)] for k in teeth])
-    modes = np.einsum("tsba,tsnbm->tsnam", q, phi).reshape(len(teeth), sides, 2 * n_side, reduced.m)
-    if blk.whole:
+    dofs = np.concatenate([blk.flank_dofs(k, s) for k in present for s in range(sides)])
+    phi = reduced.phi_rows(dofs).reshape(len(present), sides, n_side, 2, reduced.m)
+    q = np.array([[blk.turn_of(k, s) for s in range(sides)] for k in present])
+    modes = np.zeros((len(teeth), sides, 2 * n_side, reduced.m))
+    modes[[teeth.index(k) for k in present]] = np.einsum("tsba,tsnbm->tsnam", q, phi).reshape(
+        len(present), sides, 2 * n_side, reduced.m)
+    if blk.cyclic:
         ring = {(s, t): reduced.flank_flex(s, t) for s in range(sides) for t in range(sides)}
         flex = np.array([[[turns[d][s].T @ ring[s, t][d] @ turns[0][t] for t in range(sides)]
                           for s in range(sides)] for d in range(blk.count)])
     else:
-        flex = np.array([[[[turns[i][s].T @ reduced.static_response(teeth[j], t)[blk.flank_dofs(teeth[i], s)] @ turns[j][t]
-                            for t in range(sides)] for j in range(blk.count)] for s in range(sides)]
-                         for i in range(blk.count)])
+        flex = _pair_flex(reduced, sides, turns)
     return modes, flex
+
+
+def _pair_flex(reduced: Reduction, sides: int, turns: list[list[NDArray[np.float64]]]) -> NDArray[np.float64]:
+    """``(count, sides, count, sides, f, f)`` the static flexibility between every two flanks
+    in their frames (:func:`_tooth_frames`), a flank's response solved once (on a whole gear
+    by the body's factor, not kept: a ring's worth of responses is some hundred MB)."""
+    blk = reduced.block
+    count, f = blk.count, turns[0][0].shape[0]
+    present = [t for t in range(count) if blk.first + t not in blk.missing]
+    flex = np.zeros((count, sides, count, sides, f, f))
+    rows = np.concatenate([blk.flank_dofs(blk.first + i, s) for i in present for s in range(sides)])
+    for j in present:
+        for t in range(sides):
+            if blk.whole:
+                dofs = blk.flank_dofs(blk.first + j, t)
+                rhs = np.zeros((blk.mass.size, dofs.size))
+                rhs[dofs, np.arange(dofs.size)] = 1.0
+                resp = blk.body.solve_free(rhs)[rows]
+            else:
+                resp = reduced.static_response(blk.first + j, t)[rows]
+            resp = resp.reshape(len(present), sides, f, f)
+            for a, i in enumerate(present):
+                for s in range(sides):
+                    flex[i, s, j, t] = turns[i][s].T @ resp[a, s] @ turns[j][t]
+    return flex
 
 
 def arrow_solve(u: NDArray[np.float64], dinv: NDArray[np.float64], schur: float,
@@ -190,10 +217,15 @@ class ModalBody:
         blk = self.block
         fl = blk.body.flank
         geo = np.array([fl.r0, fl.r_tip, float(fl.ny), fl.base_radius, blk.gear.half_angle_base])
+        flex = self._flex
+        if not blk.cyclic:
+            # by the pair of teeth, ``(i, j)`` at ``i count + j``
+            c, sd, f = blk.count, flex.shape[1], flex.shape[-1]
+            flex = flex.transpose(0, 2, 1, 3, 4, 5).reshape(c * c, sd, sd, f, f)
         return ModalGear(np.ascontiguousarray(self.u), np.ascontiguousarray(self.dinv), self.schur,
                          np.ascontiguousarray(self.damp), np.ascontiguousarray(self.reduced.omega2),
-                         np.ascontiguousarray(self._modes), np.ascontiguousarray(self._flex), geo,
-                         blk.first, blk.count)
+                         np.ascontiguousarray(self._modes), np.ascontiguousarray(flex), geo,
+                         blk.first, blk.count, int(blk.cyclic))
 
     def forces(self, q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.zeros_like(q)
@@ -221,7 +253,7 @@ class ModalBody:
         """``b_i^T R b_j`` of the pairs' loads: the static flexibility in the teeth's frames
         less the modes' part, ``b_i^T Phi Omega^-2 Phi^T b_j`` (the rows' own)."""
         at, sd = rows.teeth, rows.sides
-        if self.block.whole:
+        if self.block.cyclic:
             flex = self._flex[(at[:, None] - at[None, :]) % self.block.count, sd[:, None], sd[None, :]]
         else:
             flex = self._flex[at[:, None], sd[:, None], at[None, :], sd[None, :]]

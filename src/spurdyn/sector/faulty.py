@@ -171,7 +171,7 @@ def _solve(law: ContactLaw, rolls: NDArray[np.float64], contacts: Contacts,
     return k, te, force
 
 
-def _cracked_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> Any:
+def cracked_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> Any:
     """The cracked cell of a crack fault, its crack from the loaded flank's fillet (the
     tension side: both bodies are loaded on their right flanks), free to run on into the
     rim below the tooth."""
@@ -218,7 +218,7 @@ def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], 
     law = contact_law(pair, torque, healthy)
     pitch = 2.0 * math.pi / zs[0]
     rolls = dp.start_roll_a + pitch * np.arange(positions) / (positions - 1)
-    meshes = {f: _cracked_mesh(dp.gear_a if f.gear == pair.driver else dp.gear_b, f, nx, ny, grading)
+    meshes = {f: cracked_mesh(dp.gear_a if f.gear == pair.driver else dp.gear_b, f, nx, ny, grading)
               for f in faults if f.kind == "crack"}
     base = _solve(law, rolls, healthy_contacts, healthy)
     parts, faulty = [], []
@@ -254,4 +254,4 @@ def _assemble(parts: list[tuple[NDArray[np.float64], ...]], base: tuple[NDArray[
                       n_dof=healthy[0].mesh.n_dof + healthy[1].mesh.n_dof)
 
 
-__all__ = ["MAX_FAULTY_POSITIONS", "Revolution", "faulty_revolution"]
+__all__ = ["MAX_FAULTY_POSITIONS", "Revolution", "cracked_mesh", "faulty_revolution"]

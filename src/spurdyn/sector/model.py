@@ -28,7 +28,9 @@ from spurdyn.model.loading import check_history, hub_torques, static_force
 from spurdyn.sector.bodies import FullBody, ModalBody
 from spurdyn.sector.cache import cached
 from spurdyn.sector.cyclic import statics_body
+from spurdyn.geometry.fault import faulty_cycles
 from spurdyn.sector.damper import mesh_damper_table
+from spurdyn.sector.fault_bodies import GearFaults, cracked_meshes, gear_faults
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
 from spurdyn.sector.reduced import reduce_gear
@@ -93,22 +95,23 @@ class SectorModel:
         self.pair, self.settings = pair, settings
         ga, gb = dp.gear_a, dp.gear_b
         self.ra, self.rb = ga.base_radius, gb.base_radius
-        self.cycles = int(with_defaults(settings).cycles)
-        self.most = cycles_limit(settings)
+        # a faulty pair repeats after a revolution: it runs whole ones, at least FAULTY_PERIODS
+        self.period = faulty_cycles_of(dp, pair.driver, settings.faults)
+        self.cycles, self.most = _whole_periods(int(with_defaults(settings).cycles), cycles_limit(settings),
+                                                self.period)
         self.speed = float(settings.speed_a if pair.driver == "a" else settings.speed_b)
         self.pitch = pitch = 2.0 * math.pi / ga.teeth
         self.per_cycle = per_cycle
         self.h = pitch / self.speed / per_cycle
         # the cycles' worth of teeth the run carries (a guard stops the run where they are left)
-        cover = cover_cycles(settings)
+        cover = max(cover_cycles(settings), self.most)
         self.back = back = back_flanks_on(dp, settings)
         (first_a, count_a), (first_b, count_b) = teeth_for(dp, cover, back, settings.teeth)
         mesh_keys = (settings.nx, settings.ny, settings.grading)
+        self.faults = faults = _faults(pair, settings, ((first_a, count_a), (first_b, count_b)))
         self.blocks = blocks = tuple(
-            cached(("block", gear, sense, first, count, *mesh_keys),
-                   lambda gear=gear, sense=sense, first=first, count=count:
-                   gear_block(gear, sense, first, count, *mesh_keys))
-            for gear, sense, first, count in ((ga, 1.0, first_a, count_a), (gb, -1.0, first_b, count_b)))
+            _block(dp, g, sense, first, count, mesh_keys, faults[g] if faults else None)
+            for g, (sense, first, count) in enumerate(((1.0, first_a, count_a), (-1.0, first_b, count_b))))
         self.load = static_force(pair, settings.torque)
         self.estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young,
                                        gb.material.poisson)
@@ -131,14 +134,18 @@ class SectorModel:
         if modes:
             top = KEEP_FREQUENCY if modes is True else float(modes)
             self.gears: tuple[Any, Any] = tuple(
-                ModalBody(cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top),
+                ModalBody(cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top,
+                                  blk.missing, faults[g].cracks if faults else ()),
                                  lambda blk=blk: reduce_gear(blk, top)), self.gp, self.bp, rayleigh,
                           2 if back else 1)
-                for blk in blocks)
+                for g, blk in enumerate(blocks))
         else:
             self.gears = tuple(FullBody(blk, self.gp, self.bp, rayleigh) for blk in blocks)
-        # the quasi-static cycle's bodies: a cyclic reduction's flank flexibility, or the FE body
-        bodies = (statics_body(self.gears[0]), statics_body(self.gears[1]))
+        # the quasi-static cycle's bodies: a cyclic reduction's flank flexibility, or the FE body;
+        # a faulty gear's healthy twin (the start and the mesh damper are the healthy pair's)
+        bodies = tuple(_block(dp, g, blk.sense, blk.first, blk.count, mesh_keys, None).body
+                       if faults and faults[g].any else statics_body(self.gears[g])
+                       for g, blk in enumerate(blocks))
         self.na = na = self.gears[0].n
         self.n = n = na + self.gears[1].n
         self.parts = (slice(0, na), slice(na, n))
@@ -255,16 +262,43 @@ class SectorModel:
         on = np.flatnonzero((rolls >= self.roll_0 - self.reach) & (rolls <= self.roll_1 + self.reach))
         if not on.size:
             return None
+        if self.faults:
+            on = on[self.made(c_teeth[on] + offset, c_side[on])]
+            if not on.size:
+                return None
         g0, slope, r_a, r_b = self.table.at(rolls[on])
         hw = half_widths_at(self.dp, (r_a, r_b), f[on], self.estar, self.width)
         sd = c_side[on]
         sgn = np.where(sd == 1, -1.0, 1.0)        # d roll / d theta_A
         k = c_teeth[on] + offset
+        if self.faults:
+            g0 = g0 + self.pit_gaps(k, sd, rolls[on])
         # d gap / d theta: the base circles' and, off the path, the corner's
         sides = tuple((coef, self.gears[g].rows(kg, self.blocks[g].flank_loads(r, hw), sd))
                       for g, (kg, coef, r) in enumerate(((k, sgn * (slope - ra), r_a),
                                                           (-k + sd, sgn * rb, r_b))))
         return Rows(on, g0 - sgn * slope * theta_a + self.jn * sd, sides)
+
+    def _at(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+        """The contacts' places in each whole body (from its first tooth) for the driver's
+        body teeth ``k`` on flanks ``sd``."""
+        b0, b1 = self.blocks
+        return (k - b0.first) % b0.count, (-k + sd - b1.first) % b1.count
+
+    def made(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> NDArray[np.bool_]:
+        """Whether the contacts of the driver's body teeth ``k`` on flanks ``sd`` are made
+        (neither tooth missing; twin in ``rows_compiled.contact_rows``)."""
+        at0, at1 = self._at(k, sd)
+        return (self.faults[0].gone[at0] == 0) & (self.faults[1].gone[at1] == 0)
+
+    def pit_gaps(self, k: NDArray[np.intp], sd: NDArray[np.intp], rolls: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The pits' extra gaps (m) of those contacts at their rolls on the path ``rolls``
+        (twin: ``rows_compiled.pit_gap``)."""
+        out = np.zeros(rolls.size)
+        for gf, at in zip(self.faults, self._at(k, sd)):
+            pit = gf.pits[at, sd]
+            out += np.where((pit[:, 0] <= rolls) & (rolls <= pit[:, 1]), pit[:, 2], 0.0)
+        return out
 
     def gap_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included)."""
@@ -312,8 +346,10 @@ class SectorModel:
         """``(gear A, gear B, contacts, gap table, config)``: the typed packs of
         :mod:`spurdyn.sector.packs` the compiled loops read (modal bodies of whole gears)."""
         xq, wq = strip_quadrature()
+        faults = self.faults or tuple(_no_faults(blk.count) for blk in self.blocks)
         contacts = SectorContacts(np.asarray(self.c_teeth, np.int64), np.asarray(self.c_side, np.int64),
-                                  int(offset), xq, wq, self.c_table)
+                                  int(offset), xq, wq, self.c_table, faults[0].pits, faults[1].pits,
+                                  faults[0].gone, faults[1].gone)
         cfg = SectorConfig(*(float(x) for x in (
             self.roll_0, self.roll_1, self.reach, self.pitch, self.ra, self.rb, self.estar, self.width,
             self.c_h, self.am, self.af, self.beta, self.gamma, self.h, self.bp, self.gp, self.sigma, self.jn,
@@ -327,4 +363,59 @@ class SectorModel:
                 f"(its speed left {self.speed * 60 / (2 * math.pi):,.0f} rpm by too much)")
 
 
-__all__ = ["SectorModel", "Start"]
+#: Fewest periods (revolutions) a faulty run takes: the settled test compares the last two.
+FAULTY_PERIODS = 2
+
+
+def _whole_periods(cycles: int, most: int, period: int) -> tuple[int, int]:
+    """A run's cycles and most cycles as whole periods, at least :data:`FAULTY_PERIODS` of
+    them where the period is more than a mesh cycle (a faulty pair)."""
+    if period == 1:
+        return cycles, most
+    cycles = max(-(-cycles // period), FAULTY_PERIODS) * period
+    return cycles, max(-(-most // period) * period, cycles)
+
+
+def _no_faults(count: int) -> GearFaults:
+    """A healthy gear's (the compiled loops' packs of every run have the fields)."""
+    return GearFaults(frozenset(), (), np.zeros((count, 2, 3)), np.zeros(count, np.int64))
+
+
+def _faults(pair: GearPair, settings: RunSettings, bodies: tuple[tuple[int, int], tuple[int, int]]) -> Any:
+    """The run's faults on its whole gears (:mod:`spurdyn.sector.fault_bodies`), ``None``
+    without faults; a faulty run on a sector of teeth refused (a fault comes round)."""
+    if not settings.faults:
+        return None
+    dp = driving_pair(pair)
+    if any(count < gear.teeth for (_, count), gear in zip(bodies, (dp.gear_a, dp.gear_b))):
+        raise InputError("fault", f"a faulty gear runs whole: give cycles of {WHOLE_FROM_CYCLES} or more "
+                         "and no fewer teeth than the gears have")
+    if settings.bodies != "modal":
+        raise InputError("fault", "a faulty gear runs on modal bodies: give bodies = \"modal\"")
+    return gear_faults(dp, pair.driver, tuple(settings.faults), (bodies[0][0], bodies[1][0]))
+
+
+def faulty_cycles_of(dp: GearPair, driver: str, faults: Any) -> int:
+    """The mesh cycles after which a faulty pair repeats (the faulty gear's revolution, both
+    gears' meeting again with faults on both); 1 for a healthy pair."""
+    if not faults:
+        return 1
+    gears = {f.gear for f in faults}
+    turning = dp.gear_a if gears == {driver} else dp.gear_b
+    other = dp.gear_b if turning is dp.gear_a else dp.gear_a
+    return faulty_cycles(turning.teeth, other.teeth, len(gears) == 2)
+
+
+def _block(dp: GearPair, g: int, sense: float, first: int, count: int, mesh_keys: tuple[Any, ...],
+           faults: GearFaults | None) -> Any:
+    """Gear ``g``'s block (cached per process), with its faults' missing and cracked teeth."""
+    gear = dp.gear_a if g == 0 else dp.gear_b
+    if faults is None or not (faults.missing or faults.cracks):
+        return cached(("block", gear, sense, first, count, *mesh_keys), lambda: gear_block(gear, sense, first, count,
+                                                                                          *mesh_keys))
+    return cached(("block", gear, sense, first, count, *mesh_keys, faults.missing, faults.cracks),
+                  lambda: gear_block(gear, sense, first, count, *mesh_keys, missing=faults.missing,
+                                     cracked=cracked_meshes(dp, faults, g, *mesh_keys)))
+
+
+__all__ = ["SectorModel", "Start", "faulty_cycles_of"]

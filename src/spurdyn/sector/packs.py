@@ -20,10 +20,11 @@ from collections import namedtuple
 #: (:func:`spurdyn.sector.bodies.arrow_solve`); ``damp`` and ``omega2`` the modes' damping and ``omega^2``,
 #: ``modes`` ``(count, sides, f, m)`` the modes at each flank in its own frame, ``flex``
 #: ``(count, sides, sides, f, f)`` the static flexibility between two flanks by the teeth's
-#: distance round the ring, ``geo`` the flank's ``(r0, r_tip, ny, r_b, half base angle)``,
-#: ``first`` and ``count`` the body's teeth.
+#: distance round the ring (``ring`` 1) or ``(count^2, sides, sides, f, f)`` by the pair of
+#: teeth ``(i, j)`` at ``i count + j`` (``ring`` 0: a faulty gear's teeth differ), ``geo`` the
+#: flank's ``(r0, r_tip, ny, r_b, half base angle)``, ``first`` and ``count`` the body's teeth.
 ModalGear = namedtuple("ModalGear", ["u", "dinv", "schur", "damp", "omega2", "modes", "flex", "geo", "first",
-                                     "count"])
+                                     "count", "ring"])
 
 #: The rigid gap's table (``GapTable.compiled``): rolls, gaps, slopes and contact radii.
 GapArrays = namedtuple("GapArrays", ["rho", "gap", "slope", "r_a", "r_b"])
@@ -31,8 +32,13 @@ GapArrays = namedtuple("GapArrays", ["rho", "gap", "slope", "r_a", "r_b"])
 #: The contacts of a sector run: contact ``i`` is the driver's tooth ``teeth[i]`` on its
 #: flank ``sides[i]`` (0 drive, 1 back), ``offset`` the driver's body tooth of pair 0 (a
 #: continuation runs on); ``xq``, ``wq`` the strip's quadrature; ``c_table`` the mesh
-#: damper's coefficient over a pitch (:func:`~spurdyn.sector.damper.mesh_damper_table`).
-SectorContacts = namedtuple("SectorContacts", ["teeth", "sides", "offset", "xq", "wq", "c_table"])
+#: damper's coefficient over a pitch (:func:`~spurdyn.sector.damper.mesh_damper_table`);
+#: ``pits0``, ``pits1`` ``(count, sides, 3)`` per body tooth and flank of each gear the
+#: contact's rolls ``(lo, hi)`` on its path over which its gap is ``depth`` wider (a spall's
+#: pit; zeros on a healthy flank); ``gone0``, ``gone1`` ``(count,)`` 1 on a missing tooth
+#: (its contacts are not made).
+SectorContacts = namedtuple("SectorContacts", ["teeth", "sides", "offset", "xq", "wq", "c_table", "pits0",
+                                               "pits1", "gone0", "gone1"])
 
 #: The scalars of a sector run (SI units): the path's rolls ``roll_0``, ``roll_1`` and the
 #: ``reach`` beyond them, the ``pitch``, the base radii ``ra``, ``rb``, Hertz's ``estar``, the

@@ -147,10 +147,11 @@ def _first_flank_loads(block: GearBlock) -> NDArray[np.float64]:
 
 
 def _flank_loads(block: GearBlock) -> NDArray[np.float64]:
-    """The unit normal loads at :func:`_radii` of every tooth's drive flank, a column each."""
-    loads = np.zeros((block.mass.size, block.count * FLANK_SHAPES))
-    for t in range(block.count):
-        tooth = block.first + t
+    """The unit normal loads at :func:`_radii` of every tooth's drive flank, a column each
+    (none for a missing tooth's)."""
+    teeth = [block.first + t for t in range(block.count) if block.first + t not in block.missing]
+    loads = np.zeros((block.mass.size, len(teeth) * FLANK_SHAPES))
+    for t, tooth in enumerate(teeth):
         for i, r in enumerate(_radii(block)):
             loads[block.flank_dofs(tooth), t * FLANK_SHAPES + i] = block.flank_load(tooth, float(r), 0.0)
     return loads

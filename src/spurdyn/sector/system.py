@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 import scipy.sparse as sp
@@ -91,6 +91,10 @@ class GearBlock:
     _free_of: NDArray[np.intp] = field(repr=False)
     _side_of: NDArray[np.intp] = field(repr=False)
     _left: NDArray[np.intp] = field(repr=False)
+    #: Body teeth broken off (their flanks carry no contact), and whether a tooth is on a
+    #: cracked mesh: a gear with either is not a ring of identical cells.
+    missing: frozenset[int] = frozenset()
+    cracked: bool = False
 
     @property
     def gear(self) -> Gear:
@@ -109,6 +113,12 @@ class GearBlock:
     @property
     def whole(self) -> bool:
         return self.count == self.gear.teeth
+
+    @property
+    def cyclic(self) -> bool:
+        """A whole ring of identical teeth: a flank's flexibility depends on the teeth's
+        distance alone (a faulty gear's does not)."""
+        return self.whole and not self.missing and not self.cracked
 
     def tooth(self, k: int) -> int:
         """The body's number of the gear's tooth ``k`` (round the ring on a whole gear)."""
@@ -276,16 +286,20 @@ def teeth_for(pair: GearPair, cycles: float, back: bool = False,
 
 
 def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: int,
-               grading: float) -> GearBlock:
+               grading: float, missing: frozenset[int] = frozenset(),
+               cracked: Mapping[int, Any] | None = None) -> GearBlock:
     """Mesh and assemble the gear's body of ``count`` teeth from tooth ``first``
-    (all of them if ``count`` is the gear's number of teeth) and build its block."""
+    (all of them if ``count`` is the gear's number of teeth) and build its block; the body
+    teeth of ``missing`` broken off, those of ``cracked`` on their cracked meshes
+    (:func:`~spurdyn.sector.body.sector_body`)."""
     count = min(count, gear.teeth)
-    body = sector_body(gear, count, nx, ny, first=first, grading=grading)
+    body = sector_body(gear, count, nx, ny, first=first, grading=grading, missing=missing, cracked=cracked)
     mesh = body.mesh
     m_full = np.zeros(mesh.n_dof)
     for width in np.unique(mesh.width):
         sel = mesh.width == width
         m_full += assemble_lumped_mass(mesh.nodes, mesh.elements[sel], gear.material, float(width))
+    m_full = _tied_masses(m_full, mesh.ties, mesh.tie_weights)
     s_full = rotation_field(mesh.nodes, sense)
     j_body = float(s_full @ (m_full * s_full))
     # The gear's whole inertia is the paper model's disk and tooth; what the meshed body
@@ -301,7 +315,25 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
                      rot=s_full[free], inertia=j_hub + j_body, hub_inertia=j_hub,
                      body_inertia=j_body,
                      _free_of=free_of, _side_of=side_of,
-                     _left=mirror_nodes(mesh.tooth.nodes, body.flank.side_nodes))
+                     _left=mirror_nodes(mesh.tooth.nodes, body.flank.side_nodes),
+                     missing=frozenset(int(k) for k in missing), cracked=bool(cracked))
+
+
+def _tied_masses(m_full: NDArray[np.float64], ties: NDArray[np.intp],
+                 weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The lumped masses with a tied node's (held: it follows its edge, ``u_t = sum w_j
+    u_j``) moved to its edge's three nodes: the diagonal of ``T^T M T`` scaled to the tied
+    mass (``m_t w_j^2 / sum w^2``, positive where a quadratic edge's weights are not; the
+    total mass kept)."""
+    if not ties.size:
+        return m_full
+    out = m_full.copy()
+    share = weights**2 / np.sum(weights**2, axis=1, keepdims=True)
+    for axis in (0, 1):
+        for e in range(3):
+            np.add.at(out, 2 * ties[:, 1 + e] + axis, m_full[2 * ties[:, 0] + axis] * share[:, e])
+        out[2 * ties[:, 0] + axis] = 0.0
+    return out
 
 
 def mirror_nodes(nodes: NDArray[np.float64], side: NDArray[np.intp]) -> NDArray[np.intp]:

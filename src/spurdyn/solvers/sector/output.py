@@ -77,7 +77,10 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     roll_a = rolls[np.arange(n), top]
     roll = np.column_stack([roll_a, np.asarray(dp.roll_b_from_roll_a(roll_a))])
     torque = record.torque[sel]
-    fig = cycle_figures(t, mesh, te, per_cycle, model.cycles, most)
+    # a faulty pair repeats after its period (a revolution): its settled test and window by periods
+    period = model.period
+    fig = cycle_figures(t, mesh, te, per_cycle * period, -(-model.cycles // period),
+                        None if most is None else -(-most // period))
     swap = pair.driver == "b"
 
     def ab(x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -87,12 +90,18 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     on = (rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach)
     out = sector_record(model, teeth, back is not None, float(theta[-1, 0]) if n else 0.0,
                         steady_record(fig, per_cycle * h, float(model.cycle.force.max()), model.cycle.stiffness_mean))
+    if period > 1:
+        # in mesh cycles as every run's; the lists per period (a revolution), which it names
+        st = out["steady"]
+        st.update(cycles=model.cycles, cycles_done=max(n - 1, 0) // per_cycle, max_cycles=most,
+                  last_cycles=st["last_cycles"] * period, period_mesh_cycles=period)
     back_force = None
     if back is not None:
         back_force = back[1][sel]
         out["back_pair_teeth"] = back[0].tolist()
     contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep)
-    stress = root_stress(model, record, n_kept, offset)
+    # a faulty gear's fillets differ tooth by tooth (missing, cracked): not recovered yet
+    stress = None if model.faults else root_stress(model, record, n_kept, offset)
     en = record.energy
     if en is not None:
         out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}

@@ -150,7 +150,10 @@ def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
         roll = cfg.roll_0 + theta + teeth[i] * cfg.pitch
         if sides[i]:
             roll = cfg.sigma - roll
-        if roll >= cfg.roll_0 - cfg.reach and roll <= cfg.roll_1 + cfg.reach:
+        k = teeth[i] + con.offset
+        gone = (con.gone0[(k - gear0.first) % gear0.count] != 0
+                or con.gone1[(-k + sides[i] - gear1.first) % gear1.count] != 0)
+        if roll >= cfg.roll_0 - cfg.reach and roll <= cfg.roll_1 + cfg.reach and not gone:
             on_all[p] = i
             p += 1
     on = on_all[:p].copy()
@@ -183,6 +186,7 @@ def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
         k = teeth[i] + con.offset
         at0[a] = (k - gear0.first) % gear0.count
         at1[a] = (-k + sd[a] - gear1.first) % gear1.count
+        const[a] += pit_gap(con.pits0[at0[a], sd[a]], rho) + pit_gap(con.pits1[at1[a], sd[a]], rho)
         flank_load(gear0.geo, r_a, hw, con.xq, con.wq, loads0[a])
         flank_load(gear1.geo, r_b, hw, con.xq, con.wq, loads1[a])
     # a strip's load touches a few of the flank's nodes: the products run over those alone
@@ -190,8 +194,8 @@ def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
     idx1, cnt1 = _nonzeros(loads1)
     rows0 = _modal_rows(loads0, idx0, cnt0, gear0.modes, at0, sd)
     rows1 = _modal_rows(loads1, idx1, cnt1, gear1.modes, at1, sd)
-    res = (_static_pairs(loads0, idx0, cnt0, gear0.flex, at0, sd, gear0.count)
-           + _static_pairs(loads1, idx1, cnt1, gear1.flex, at1, sd, gear1.count))
+    res = (_static_pairs(loads0, idx0, cnt0, gear0.flex, at0, sd, gear0.count, gear0.ring)
+           + _static_pairs(loads1, idx1, cnt1, gear1.flex, at1, sd, gear1.count, gear1.ring))
     res -= (rows0 / gear0.omega2) @ rows0.T + (rows1 / gear1.omega2) @ rows1.T
     return on, const, coef0, coef1, rows0, rows1, res
 
@@ -227,14 +231,22 @@ def _modal_rows(loads, idx, cnt, modes, at, sd):
 
 
 @njit
-def _static_pairs(loads, idx, cnt, flex, at, sd, count):
+def pit_gap(pit, rho):
+    """The extra gap (m) of a flank's pit ``(lo, hi, depth)`` at the contact's roll ``rho``
+    (twin of ``SectorModel.pit_gaps``)."""
+    return pit[2] if pit[0] <= rho <= pit[1] else 0.0
+
+
+@njit
+def _static_pairs(loads, idx, cnt, flex, at, sd, count, ring):
     """``(p, p)`` ``b_a^T E^T K^-1 E b_c`` of the pairs' loads through the static blocks
-    ``flex`` by the teeth's distance round the ring, over the loads' nonzeros."""
+    ``flex`` by the teeth's distance round the ring (``ring`` 1) or by the pair of teeth
+    (0), over the loads' nonzeros."""
     p = loads.shape[0]
     res = np.zeros((p, p))
     for a in range(p):
         for c in range(p):
-            fl = flex[(at[a] - at[c]) % count, sd[a], sd[c]]
+            fl = flex[(at[a] - at[c]) % count if ring else at[a] * count + at[c], sd[a], sd[c]]
             acc = 0.0
             for t in range(cnt[a]):
                 i = idx[a, t]

@@ -173,12 +173,13 @@ def drive(stepper: SectorStepper, end: int, every: int, progress: Progress | Non
 
 
 def settle(stepper: SectorStepper, progress: Progress | None) -> tuple[str, str, int, int]:
-    """Drive ``stepper`` over the run's cycles, then one more at a time until the last two
-    settle (:func:`~spurdyn.solvers.steady.settled_after`) or the run's limit; ``(status,
-    reason, rows kept, cycles run)``."""
+    """Drive ``stepper`` over the run's cycles, then one more period at a time (a mesh cycle;
+    a faulty pair's revolution, ``model.period`` cycles) until the last two periods settle
+    (:func:`~spurdyn.solvers.steady.settled_after`) or the run's limit; ``(status, reason,
+    rows kept, cycles run)``."""
     model, record = stepper.model, stepper.record
-    per_cycle, pitch = model.per_cycle, model.pitch
-    target = model.cycles           # the cycles the run goes to: more, one at a time
+    per_cycle, pitch, period = model.per_cycle, model.pitch, model.period
+    target = model.cycles           # the cycles the run goes to: more, a period at a time
     n_steps = per_cycle * target
     every = max(n_steps // 100, 1)
     while True:
@@ -186,15 +187,16 @@ def settle(stepper: SectorStepper, progress: Progress | None) -> tuple[str, str,
         if status != "complete":
             kept = stepper.reached + 1 if reason.startswith("interrupted") else stepper.index + 1
             return status, reason, kept, target
-        lo, hi = max(target - 2, 0) * per_cycle, n_steps + 1       # the last two cycles
-        if target >= model.most or settled_after(
+        periods = target // period
+        lo, hi = (target - min(periods, 2) * period) * per_cycle, n_steps + 1       # the last two periods
+        if target + period > model.most or settled_after(
                 record.force[lo:hi].sum(axis=1),
-                model.ra * record.theta[lo:hi, 0] - model.rb * record.theta[lo:hi, 1], per_cycle,
-                min(target, 2)):
+                model.ra * record.theta[lo:hi, 0] - model.rb * record.theta[lo:hi, 1], per_cycle * period,
+                min(periods, 2)):
             return status, reason, n_steps + 1, target
-        record.extend(model, n_steps, per_cycle)        # not settled, and it may go on
-        target += 1
-        n_steps += per_cycle
+        record.extend(model, n_steps, per_cycle * period)        # not settled, and it may go on
+        target += period
+        n_steps += per_cycle * period
 
 
 __all__ = ["STEPPERS", "SectorRecord", "SectorStepper", "drive", "make_stepper", "settle"]

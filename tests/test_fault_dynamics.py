@@ -1,0 +1,106 @@
+"""Faults in the sector model's dynamic runs (docs/faults.md, "Faults in motion"): the
+faulty gear's flexibility by the pair of teeth, the compiled loop against the NumPy one, a
+missing tooth's contacts never made, a pit of no depth the healthy run, the refusals."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from spurdyn.errors import InputError
+from spurdyn.geometry.fault import Fault
+from spurdyn.geometry.pair import GearPair
+from spurdyn.geometry.presets import paper_pair
+from spurdyn.sector.bodies import _pair_flex, _tooth_frames
+from spurdyn.sector.fault_bodies import body_tooth
+from spurdyn.sector.model import SectorModel
+from spurdyn.sector.reduced import reduce_gear
+from spurdyn.sector.system import gear_block
+from spurdyn.settings import RPM
+from spurdyn.solvers.check import run_settings
+from spurdyn.solvers.sector.run import simulate_sector
+from spurdyn.solvers.sector.stepper import SectorRecord, make_stepper
+
+PAIR = paper_pair()
+#: A pair of few teeth: a faulty run takes two of its revolutions
+SMALL = GearPair(gear_a=replace(PAIR.gear_a, teeth=18), gear_b=replace(PAIR.gear_b, teeth=18), driver="a")
+MESH = dict(nx=2, ny=4)
+SPALL = Fault("a", 1, "spall", roll=(math.radians(18.0), math.radians(24.0)), depth=2e-6)
+
+
+def _run(faults: tuple[Fault, ...], backend: str = "numba") -> object:
+    s = run_settings(SMALL, 8000 * RPM, 22.25, model="sector", cycles=1, max_cycles=1, faults=faults,
+                     backend=backend, **MESH)
+    return simulate_sector(SMALL, s)
+
+
+def test_the_flexibility_by_pairs_of_teeth_is_the_rings_by_distance_on_a_healthy_gear():
+    gear = PAIR.gear_a
+    blk = gear_block(gear, 1.0, -(gear.teeth // 2), gear.teeth, 2, 4, 1.0)
+    reduced = reduce_gear(blk, 60e3)
+    _, ring = _tooth_frames(reduced, 2)
+    f = ring.shape[-1]
+    turns = [[np.kron(np.eye(f // 2), blk.turn_of(blk.first + t, s)) for s in range(2)] for t in range(blk.count)]
+    pairs = _pair_flex(reduced, 2, turns)
+    for i in (0, 3, 27):
+        for j in (0, 5, 27):
+            for s in range(2):
+                for t in range(2):
+                    want = ring[(i - j) % blk.count, s, t]
+                    assert np.abs(pairs[i, s, j, t] - want).max() <= 1e-9 * np.abs(want).max()
+
+
+def test_the_compiled_faulty_steps_are_the_numpy_ones():
+    # the first three mesh cycles, which meet the missing tooth and the pit
+    s = run_settings(PAIR, 8000 * RPM, 22.25, model="sector", cycles=3, faults=(Fault("a", 2, "missing"), SPALL),
+                     **MESH)
+    model = SectorModel.build(PAIR, s)
+    n = 3 * model.per_cycle
+    forces = []
+    for backend in ("numba", "numpy"):
+        record = SectorRecord(model, model.per_cycle * model.cycles)
+        stepper = make_stepper(model, record, "implicit", backend)
+        assert stepper.steps(n) == ""
+        forces.append(record.force[:n + 1])
+    fast, slow = forces
+    assert np.nanmax(fast) > 0.0
+    assert np.nanmax(np.abs(fast - slow)) <= 1e-9 * np.nanmax(fast)
+
+
+@pytest.mark.slow
+def test_a_missing_teeths_contacts_are_never_made_and_a_pit_of_no_depth_is_healthy():
+    gone = _run((Fault("a", 2, "missing"),))
+    # the driver's contact -2 meets the missing tooth in cycle 2
+    col = int(np.flatnonzero(np.asarray(gone.info["pair_teeth"]) == -2)[0])
+    assert np.nanmax(gone.pair_force[:, col]) == 0.0
+    assert np.nanmax(gone.pair_force) > 0.0
+    # two revolutions of the faulty gear, the second repeating the first to the settled test
+    steady = gone.info["steady"]
+    assert steady["cycles_done"] == 36 and steady["period_mesh_cycles"] == 18
+    flat = _run((Fault("a", 1, "spall", roll=SPALL.roll, depth=0.0),))
+    s = run_settings(SMALL, 8000 * RPM, 22.25, model="sector", cycles=36, max_cycles=36, **MESH)
+    healthy = simulate_sector(SMALL, s)
+    assert np.array_equal(healthy.pair_force, flat.pair_force, equal_nan=True)
+
+
+def test_a_fault_sits_on_the_body_tooth_that_meets_it():
+    # the driver's fault tooth k on its body tooth -k, the driven gear's on +k, round the ring
+    assert body_tooth(5, 0, -14, 28) == -5
+    assert body_tooth(20, 0, -14, 28) == 8
+    assert body_tooth(5, 1, -14, 28) == 5
+    assert body_tooth(20, 1, -14, 28) == -8
+
+
+@pytest.mark.parametrize("faults, settings, key", [
+    ((Fault("a", 1, "spall", roll=SPALL.roll, depth=1e-6, width_fraction=0.5),), {}, "fault"),
+    ((Fault("a", 1, "missing"),), {"bodies": "full"}, "fault"),
+])
+def test_what_a_faulty_dynamic_run_refuses(faults, settings, key):
+    kw = {"cycles": 3, **MESH, **settings}
+    s = run_settings(PAIR, 8000 * RPM, 22.25, model="sector", faults=faults, **kw)
+    with pytest.raises(InputError) as err:
+        SectorModel.build(PAIR, s)
+    assert err.value.field == key

@@ -321,6 +321,7 @@ def test_bad_inputs_are_refused_naming_the_argument():
     refused("teeth", fm0, np.ones(64), 0)
     refused("records", na4, [np.ones(64), np.ones(32)], 5)
     refused("records", na4, [], 5)
+    refused("records", na4, 3.0, 5)
     refused("z_a", mesh_marks, 10.0, 5.0, 0)
     refused("f_b", mesh_marks, 10.0, -5.0, 20)
     refused("sidebands", sideband_energy_ratio, spectrum(np.ones(64), 1e-3), 400.0, 100.0)

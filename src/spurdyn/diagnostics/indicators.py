@@ -110,8 +110,8 @@ def na4_trend(records: Sequence[ArrayLike] | ArrayLike, teeth: int,
     shaft_orders
         Shaft orders ``1 .. S`` removed with the mesh harmonics.
     """
-    if len(records) == 0:
-        raise InputError("records", "is empty: give at least one average")
+    if not hasattr(records, "__len__") or len(records) == 0:
+        raise InputError("records", "must be one average or a list of them, oldest first")
     one = np.ndim(records[0]) == 0                 # a single average, not a list of them
     rows = ([as_signal(records, "records", least=4)] if one else
             [as_signal(r, f"records[{j}]", least=4) for j, r in enumerate(records)])

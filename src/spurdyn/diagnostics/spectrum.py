@@ -107,8 +107,8 @@ def window_response(window: Window, n: int, offset: ArrayLike) -> NDArray[np.flo
     """
     w = window_values(window, n)
     d = np.atleast_1d(np.asarray(offset, dtype=np.float64))
-    phase = np.exp(-2j * np.pi * np.outer(d, np.arange(n)) / n)
-    return np.abs(phase @ w) / np.sum(w)
+    step = -2j * np.pi * np.arange(n) / n           # one offset at a time: memory O(n)
+    return np.array([abs(np.dot(w, np.exp(step * di))) for di in d]) / np.sum(w)
 
 
 def scalloping_loss(window: Window, n: int) -> float:

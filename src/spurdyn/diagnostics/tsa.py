@@ -120,22 +120,21 @@ def mesh_orders(points: int, teeth: int, harmonics: int | None = None) -> NDArra
 def _orders_mask(points: int, teeth: int, shaft_orders: int, sidebands: int) -> NDArray[np.bool_]:
     """The orders of the regular signal (mean, shaft orders ``1 .. S``, mesh harmonics),
     and the mesh harmonics' sidebands ``k z +- 1 .. J``: the DFT bins to remove."""
-    keep = np.zeros(points // 2 + 1, dtype=bool)
-    keep[: count(shaft_orders, "shaft_orders", 0) + 1] = True
-    for q in mesh_orders(points, teeth):
-        for j in range(-count(sidebands, "sidebands", 0), sidebands + 1):
-            if 0 <= q + j < keep.size:
-                keep[q + j] = True
-    return keep
+    chosen = np.zeros(points // 2 + 1, dtype=bool)
+    chosen[: count(shaft_orders, "shaft_orders", 0) + 1] = True
+    j = np.arange(-count(sidebands, "sidebands", 0), sidebands + 1)
+    orders = (mesh_orders(points, teeth)[:, None] + j[None, :]).ravel()
+    chosen[orders[(orders >= 0) & (orders < chosen.size)]] = True
+    return chosen
 
 
 def _remove(tsa: ArrayLike, teeth: int, shaft_orders: int, sidebands: int,
-            keep_removed: bool = False) -> NDArray[np.float64]:
-    """The average less (or, ``keep_removed``, only) the orders of :func:`_orders_mask`."""
+            only: bool = False) -> NDArray[np.float64]:
+    """The average less the orders of :func:`_orders_mask` (``only``: those orders alone)."""
     y = as_signal(tsa, "tsa", least=4)
     spec = np.fft.rfft(y)
     mask = _orders_mask(y.size, teeth, shaft_orders, sidebands)
-    spec[mask if not keep_removed else ~mask] = 0.0
+    spec[~mask if only else mask] = 0.0
     return np.fft.irfft(spec, n=y.size)
 
 
@@ -143,7 +142,7 @@ def regular_signal(tsa: ArrayLike, teeth: int,
                    shaft_orders: int = SHAFT_ORDERS) -> NDArray[np.float64]:
     """Regular signal: the average's mean, shaft orders ``1 .. S`` and mesh harmonics
     ``k z`` (all up to ``N/2``), nothing else (Stewart 1977; Lebold et al. 2000)."""
-    return _remove(tsa, teeth, shaft_orders, 0, keep_removed=True)
+    return _remove(tsa, teeth, shaft_orders, 0, only=True)
 
 
 def residual_signal(tsa: ArrayLike, teeth: int,

@@ -138,6 +138,22 @@ def test_sideband_energy_ratio_of_amplitude_modulation(depth):
     assert sideband_energy_ratio(spec, fm, fs, sidebands=1) == pytest.approx(depth, abs=1e-12)
 
 
+@pytest.mark.parametrize("depth", [0.0, 0.3, 0.9])
+def test_sideband_energy_ratio_on_the_averages_orders_has_no_leakage(depth):
+    """The same modulation over one revolution of a 20-tooth gear: on the average's orders
+    SER = m exactly, where a spectrum of that one revolution, its bins a shaft frequency
+    apart, reads the mesh tone's leakage into the sidebands (Hann: half the tone each side)."""
+    from spurdyn.diagnostics import order_sideband_energy_ratio
+
+    n, z = 512, 20
+    theta = 2 * np.pi * np.arange(n) / n
+    x = 1.3 * (1 + depth * np.cos(theta)) * np.cos(z * theta + 0.4)
+    assert order_sideband_energy_ratio(x, z) == pytest.approx(depth, abs=1e-12)
+    spec = spectrum(x, 1.0 / n)                         # one revolution a second: shaft on bin 1
+    assert abs(sideband_energy_ratio(spec, z, 1.0, sidebands=1) - depth) > 0.3
+    assert np.isnan(order_sideband_energy_ratio(x[:64], 30))     # the sidebands beyond its orders
+
+
 # -- 3. the time-synchronous average -------------------------------------------------------
 
 @pytest.mark.parametrize("revolutions", [16, 64])

@@ -4,11 +4,13 @@ missing tooth's contacts never made, a pit of no depth the healthy run, the refu
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import replace
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.fault import Fault
@@ -104,3 +106,51 @@ def test_what_a_faulty_dynamic_run_refuses(faults, settings, key):
     with pytest.raises(InputError) as err:
         SectorModel.build(PAIR, s)
     assert err.value.field == key
+
+
+SMALL_TOML = """[gear_a]
+teeth = 18
+module = 0.003175
+face_width = 0.00635
+
+[mesh]
+nx = 2
+ny = 4
+
+[run]
+torque = 22.25
+speed_a_rpm = 8000
+"""
+
+
+@pytest.mark.slow
+def test_a_faulty_runs_sensors_indicators_and_picture(tmp_path, capsys):
+    from cli_helpers import run
+
+    healthy, faulty = tmp_path / "healthy.toml", tmp_path / "faulty.toml"
+    healthy.write_text(SMALL_TOML)
+    faulty.write_text(SMALL_TOML + '\n[[fault]]\ngear = "a"\ntooth = 4\nkind = "missing"\n')
+    out = {}
+    for name, case, more in (("h", healthy, ["--cycles", "36", "--max-cycles", "36"]), ("f", faulty, [])):
+        code, _, err = run(capsys, "run", case, "--model", "sector", "--out", tmp_path / name, *more)
+        assert code in (0, 1), err
+        out[name] = json.loads((tmp_path / name / "summary.json").read_text())
+    # the stored case carries the fault, and the summary's settings show it
+    assert out["f"]["settings"]["fault"] == [{"gear": "a", "tooth": 4, "kind": "missing"}]
+    assert (tmp_path / "f" / "vibration.png").exists()
+    ds = xr.open_dataset(tmp_path / "f" / "result.nc")
+    # the hub's acceleration is its speed's rate; the bearing's force the mesh force's components
+    a = ds["hub_acceleration_a"].values
+    t, w = ds["time"].values, ds["omega_a"].values
+    central = (w[2:] - w[:-2]) / (t[2:] - t[:-2])
+    assert np.abs(a[1:-1] - central).max() <= 1e-9 * np.abs(central).max()
+    alpha = PAIR.working_pressure_angle
+    assert np.allclose(ds["bearing_force_separating"].values, np.nan_to_num(ds["mesh_force"].values) * math.sin(alpha))
+    ds.close()
+    # a missing tooth's impacts make the mesh force impulsive and modulated by the shaft: its
+    # kurtosis, FM0 and sideband energy well above the healthy pair's (whose mesh force repeats
+    # every mesh cycle: no shaft orders but the mesh's)
+    vf, vh = (out[k]["vibration"]["signals"]["mesh_force"] for k in ("f", "h"))
+    assert vf["revolutions"] >= 1 and vh["revolutions"] >= 1
+    assert vf["kurtosis"] > 3.0 * vh["kurtosis"] and vf["fm0"] > 3.0 * vh["fm0"]
+    assert vh["sideband_energy_ratio"] < 0.01 < 1.0 < vf["sideband_energy_ratio"]

@@ -116,6 +116,22 @@ def _crack(table: dict[str, Any], where: str, pair: GearPair, gear: str, tooth: 
     return Fault(gear=gear, tooth=tooth, kind="crack", depth=depth, angle=angle, start=start)
 
 
+def fault_to_table(fault: Fault) -> dict[str, Any]:
+    """The ``[[fault]]`` table :func:`fault_from_table` reads back as ``fault`` (a stored
+    case's, which stands on its own)."""
+    table: dict[str, Any] = {"gear": fault.gear, "tooth": fault.tooth, "kind": fault.kind}
+    if fault.kind == "spall":
+        table.update(roll_deg=[math.degrees(r) for r in fault.roll], depth=fault.depth,
+                     width_fraction=fault.width_fraction)
+    elif fault.kind == "crack":
+        table["depth"] = fault.depth
+        if fault.angle is not None:
+            table["angle_deg"] = math.degrees(fault.angle)
+        if fault.start is not None:
+            table["start_radius"] = fault.start
+    return table
+
+
 def faults_from_dict(data: dict[str, Any], pair: GearPair) -> tuple[Fault, ...]:
     """The case file's ``[[fault]]`` tables; a tooth with two faults of one kind refused."""
     tables = data.get("fault", [])
@@ -159,4 +175,5 @@ def _option_value(key: str, raw: str) -> Any:
         raise InputError("--fault", f"{key} must be a number (got {raw!r})") from None
 
 
-__all__ = ["FAULT_KEYS", "MAX_SPALL_DEPTH", "fault_from_table", "faults_from_dict", "parse_fault_option"]
+__all__ = ["FAULT_KEYS", "MAX_SPALL_DEPTH", "fault_from_table", "fault_to_table", "faults_from_dict",
+           "parse_fault_option"]

@@ -449,7 +449,7 @@ def case_to_dict(case: Case) -> dict[str, Any]:
     if run.torque_history is not None:   # inline: the stored case stands on its own
         run_table["torque_history"] = history_to_table(run.torque_history)
         run_table["torque_history_periodic"] = run.torque_history.periodic
-    return {
+    out = {
         "gear_a": gear_to_dict(case.pair.gear_a),
         "gear_b": gear_to_dict(case.pair.gear_b),
         "pair": {"centre_distance": case.pair.centre_distance, "driver": case.pair.driver},
@@ -459,3 +459,8 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         "run": run_table,
         "model": {"kind": case.model},
     }
+    if run.faults:
+        from spurdyn.case.fault_tables import fault_to_table
+
+        out["fault"] = [fault_to_table(f) for f in run.faults]
+    return out

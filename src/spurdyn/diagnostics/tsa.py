@@ -105,6 +105,20 @@ def order_amplitudes(tsa: ArrayLike) -> NDArray[np.float64]:
     return a
 
 
+def order_sideband_energy_ratio(tsa: ArrayLike, teeth: int, sidebands: int = 6, harmonic: int = 1) -> float:
+    """The sideband energy ratio of a revolution's average read on its shaft orders:
+    ``sum_{j=1..J} (A_{kz+j} + A_{kz-j}) / A_{kz}`` (the spectrum's
+    :func:`~spurdyn.diagnostics.marks.sideband_energy_ratio` without its leakage: the
+    average is one period, so every order sits on its own bin). NaN where the mesh
+    harmonic's amplitude is zero or a sideband lies beyond the average's orders."""
+    a = order_amplitudes(tsa)
+    z = count(teeth, "teeth", 1) * count(harmonic, "harmonic", 1)
+    j = count(sidebands, "sidebands", 1)
+    if z + j >= a.size or z - j < 1 or a[z] == 0.0:
+        return math.nan
+    return float((a[z - j:z].sum() + a[z + 1:z + j + 1].sum()) / a[z])
+
+
 def mesh_orders(points: int, teeth: int, harmonics: int | None = None) -> NDArray[np.int64]:
     """Shaft orders ``k z`` of the mesh harmonics ``k = 1 .. H`` resolved by ``points`` per
     revolution (``k z <= N/2``); ``H`` all of them if not given."""

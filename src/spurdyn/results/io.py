@@ -43,6 +43,7 @@ from spurdyn.results.headline import headline
 from spurdyn.results.keys import run_conditions, select, settings_of
 from spurdyn.results.pairs import info_figures, pair_variables
 from spurdyn.results.stress import root_stress_variables, stress_summary
+from spurdyn.results.vibration import result_sensors, vibration_figures
 from spurdyn.settings import PAPER_MODEL
 
 RESULT_FILE = "result.nc"
@@ -117,6 +118,7 @@ def result_to_dataset(result: Result, case: Case) -> xr.Dataset:
         coords["pair"] = xr.Variable(("pair",), np.asarray(result.info["pair_teeth"], np.int32), {
             "units": "1", "long_name": "the driver's tooth of the pair (the driven gear's is its "
             "negative; 0 enters the path at the start, negative ones later)"})
+    data_vars.update(result_sensors(result, case.pair.working_pressure_angle))
     return xr.Dataset(data_vars, coords=coords, attrs=_dataset_attrs(result, case))
 
 
@@ -430,14 +432,14 @@ def summarize(ds: xr.Dataset) -> dict[str, Any]:
     # root stress along the fillets (runs with tooth frames) and ISO's nominal stresses
     summary.update(stress_summary(ds, case_from_run(ds)))
     summary.update(info_figures(ds, info, complete))
+    summary.update(vibration_figures(ds, info, (int(case["gear_a"]["teeth"]), int(case["gear_b"]["teeth"]))))
     conditions = run_conditions(model, "steady" in info, "root_stress" in ds, case)
     return _jsonable(select(summary, model, conditions))
 
 
 def write_csv(ds: xr.Dataset, path: Path) -> None:
     """Write ``angle_deg,time_s,contact_force_N``, one row per saved step."""
-    # The lines of csv.writer (CRLF; numbers need no quoting), built at once from Python
-    # floats: half the time of a writer row by row over NumPy scalars.
+    # csv.writer's lines (CRLF) built at once from floats: half a row-by-row writer's time
     columns = (ds[name].values.tolist() for name in ("angle_deg", "time", "contact_force"))
     with open(path, "w", newline="", encoding="utf-8") as fh:
         fh.write("angle_deg,time_s,contact_force_N\r\n")

@@ -180,6 +180,9 @@ KEYS: tuple[Key, ...] = (
        _STEADY_MODELS, *_S),
     _k("back_flanks", "-", "whether the back flanks were contacts, the normal backlash, and "
                            "their peak force and steps in contact", ("sector",)),
+    _k("vibration", "-", "condition indicators (RMS, kurtosis, crest factor, FM0, FM4, NA4, sideband energy "
+                         "ratio) of the sensors' signals over the settled window's whole revolutions of the "
+                         "faulty gear (docs/faults.md)", ("sector",), OPTIONAL),
     _k("body_damping", "-", "the bodies' Rayleigh damping and whose it was", ("sector",)),
     _k("mesh_damping", "-", "the mesh damper's ratio and whose it was (model default or run)",
        ("sector",)),

@@ -118,15 +118,17 @@ def plot_pair_pictures(ds: xr.Dataset, directory: str | Path, part: int | None =
     (the whole run), and where the run holds what they draw ``mesh_cycle.png`` and
     ``transmission_error.png`` (the last settled mesh cycle,
     :mod:`spurdyn.results.cycle_plot`) and ``root_stress.png`` (each tooth's root stress,
-    :mod:`spurdyn.results.teeth_stress_plot`). ``part`` 0 draws the root stress and the mesh
-    cycle alone, 1 the mesh and the transmission error (two parts about as long, drawn in
+    :mod:`spurdyn.results.teeth_stress_plot`) and ``vibration.png`` (a diagnostics study's
+    view, :mod:`spurdyn.results.vibration_plot`). ``part`` 0 draws the root stress, the mesh
+    cycle and the vibration alone, 1 the mesh and the transmission error (two parts about as long, drawn in
     two processes by :func:`spurdyn.results.io.write_run`), ``None`` all. Returns the
     files written."""
     from spurdyn.results.cycle_plot import MESH_CYCLE_PNG, TE_PNG, plot_mesh_cycle, plot_transmission_error
     from spurdyn.results.teeth_stress_plot import ROOT_STRESS_PNG, plot_teeth_stress
+    from spurdyn.results.vibration_plot import VIBRATION_PNG, plot_vibration
 
     directory = Path(directory)
-    parts = ({ROOT_STRESS_PNG: plot_teeth_stress, MESH_CYCLE_PNG: plot_mesh_cycle},
+    parts = ({ROOT_STRESS_PNG: plot_teeth_stress, MESH_CYCLE_PNG: plot_mesh_cycle, VIBRATION_PNG: plot_vibration},
              {MESH_PNG: plot_mesh, TE_PNG: plot_transmission_error})
     draw = {**parts[0], **parts[1]} if part is None else parts[part]
     drawn = [plot(ds, directory / name) for name, plot in draw.items()]

@@ -98,7 +98,7 @@ class SectorModel:
         # a faulty pair repeats after a revolution: it runs whole ones, at least FAULTY_PERIODS
         self.period = faulty_cycles_of(dp, pair.driver, settings.faults)
         self.cycles, self.most = _whole_periods(int(with_defaults(settings).cycles), cycles_limit(settings),
-                                                self.period)
+                                                self.period, settings.max_cycles is None)
         self.speed = float(settings.speed_a if pair.driver == "a" else settings.speed_b)
         self.pitch = pitch = 2.0 * math.pi / ga.teeth
         self.per_cycle = per_cycle
@@ -367,13 +367,15 @@ class SectorModel:
 FAULTY_PERIODS = 2
 
 
-def _whole_periods(cycles: int, most: int, period: int) -> tuple[int, int]:
+def _whole_periods(cycles: int, most: int, period: int, default_most: bool) -> tuple[int, int]:
     """A run's cycles and most cycles as whole periods, at least :data:`FAULTY_PERIODS` of
-    them where the period is more than a mesh cycle (a faulty pair)."""
+    them where the period is more than a mesh cycle (a faulty pair), and unless the run
+    gives its most, room for two more (the first period is the start's transient)."""
     if period == 1:
         return cycles, most
     cycles = max(-(-cycles // period), FAULTY_PERIODS) * period
-    return cycles, max(-(-most // period) * period, cycles)
+    most = max(-(-most // period) * period, cycles)
+    return cycles, max(most, cycles + 2 * period) if default_most else most
 
 
 def _no_faults(count: int) -> GearFaults:

@@ -117,6 +117,9 @@ def _result(model: SectorModel, stepper: SectorStepper, record: SectorRecord, st
                 bodies="modal" if model.modes else "full",
                 modes=[g.n - 1 for g in model.gears] if model.modes else None, coordinates=model.n,
                 backend=backend)
+    if settings.faults:     # the gear a diagnostics study follows: the faulty one (the driver's with both)
+        gears = {f.gear for f in settings.faults}
+        info["fault_gear"] = gears.pop() if len(gears) == 1 else model.pair.driver
     return sector_result(model, record, n_kept=n_kept, status=status, reason=reason, wall=wall, most=model.most,
                          keep=keep, back_keep=back_keep if model.back else None, info=info,
                          offset=start.offset)

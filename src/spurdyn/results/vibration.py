@@ -1,0 +1,149 @@
+"""What sensors see of a sector run, and the condition indicators a gear-diagnostics study
+reads from it (docs/faults.md, section 9; the processing: docs/diagnostics.md).
+
+The signals, in ``result.nc`` along ``time``:
+
+- ``hub_acceleration_a``, ``hub_acceleration_b``: each hub's angular acceleration (what an
+  encoder's speed differentiated or a torsional accelerometer reads), the central
+  differences of the hub's speed (second order; one-sided at the ends);
+- ``mesh_force`` (the pairs' total normal force, written by :mod:`spurdyn.results.pairs`);
+- ``bearing_force_separating`` and ``bearing_force_transverse``: the force each hub's
+  bearing carries, along the line of centres (pushing the gears apart) and across it, from
+  the contacts' forces on their two lines of action: ``(F_d + F_b) sin alpha_w`` and
+  ``(F_d - F_b) cos alpha_w``, ``F_d`` the drive flanks' total and ``F_b`` the back flanks'
+  (the two hubs' are equal and opposite; the bodies' own inertia, whose centre of mass the
+  deformation moves by micrometres, is left out).
+
+The indicators (``summary.json``'s ``vibration``) are taken over the settled window's whole
+revolutions of the faulty gear (of the driver on a healthy pair), each signal's
+time-synchronous average on that gear's turn; absent where the window holds no whole
+revolution.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from spurdyn import diagnostics as dg
+
+#: The sensors' variables this module adds: name -> (units, long name).
+SENSOR_VARIABLES = {
+    "hub_acceleration_a": ("rad s-2", "angular acceleration of gear A's hub (central differences of omega_a)"),
+    "hub_acceleration_b": ("rad s-2", "angular acceleration of gear B's hub (central differences of omega_b)"),
+    "bearing_force_separating": ("N", "force on each hub's bearing along the line of centres, pushing the "
+                                      "gears apart: (F_drive + F_back) sin(alpha_w)"),
+    "bearing_force_transverse": ("N", "force on each hub's bearing across the line of centres: "
+                                      "(F_drive - F_back) cos(alpha_w)"),
+}
+#: The signals the indicators are computed for.
+SIGNALS = ("mesh_force", "hub_acceleration_a", "hub_acceleration_b", "bearing_force_transverse")
+#: Sidebands each side of the mesh frequency the sideband energy ratio sums.
+SER_SIDEBANDS = 6
+
+
+def sensor_variables(time: NDArray[np.float64], omega: NDArray[np.float64], drive: NDArray[np.float64],
+                     back: NDArray[np.float64] | None, alpha_w: float) -> dict[str, xr.Variable]:
+    """The variables of :data:`SENSOR_VARIABLES` from the hubs' speeds ``omega`` ``(n, 2)``
+    (rad/s, A's and B's), the drive flanks' total force ``drive`` ``(n,)`` and the back
+    flanks' ``back`` (N; ``None`` without back contacts) at ``time`` (s)."""
+    data: dict[str, NDArray[np.float64]] = {}
+    for g, name in enumerate(("hub_acceleration_a", "hub_acceleration_b")):
+        data[name] = np.gradient(omega[:, g], time) if time.size > 1 else np.full(time.size, np.nan)
+    fd = np.nan_to_num(drive)
+    fb = np.zeros_like(fd) if back is None else np.nan_to_num(back)
+    data["bearing_force_separating"] = (fd + fb) * math.sin(alpha_w)
+    data["bearing_force_transverse"] = (fd - fb) * math.cos(alpha_w)
+    return {k: xr.Variable(("time",), v, {"units": SENSOR_VARIABLES[k][0], "long_name": SENSOR_VARIABLES[k][1]})
+            for k, v in data.items()}
+
+
+def result_sensors(result: Any, alpha_w: float) -> dict[str, xr.Variable]:
+    """:func:`sensor_variables` of a sector run's :class:`~spurdyn.result.Result` (none for
+    another model's, or a run without samples)."""
+    if result.info.get("model") != "sector" or result.pair_force is None or not len(result.time):
+        return {}
+    back = None if result.back_force is None else np.nansum(np.asarray(result.back_force, float), axis=1)
+    return sensor_variables(np.asarray(result.time, float), np.asarray(result.omega, float),
+                            np.nansum(np.asarray(result.pair_force, float), axis=1), back, alpha_w)
+
+
+def window(ds: xr.Dataset, steady: dict[str, Any], teeth: int) -> NDArray[np.bool_]:
+    """The samples the indicators read: every revolution after the first (the start's
+    transient) of a run of two and more (a revolution: a faulty pair's period, else the
+    ``teeth`` mesh cycles of the gear followed), else the settled window."""
+    time = ds["time"].values.astype(float)
+    lo = float(steady["window_s"][0])
+    turn = int(steady.get("period_mesh_cycles", teeth))
+    done = int(steady["cycles_done"])
+    if done >= 2 * turn:
+        # from a mesh cycle before the first revolution's end: a whole revolution after it
+        # whatever the gear's lag on its nominal turn
+        lo = min(lo, float(time[-1]) * (turn - 1) / done)
+    return time >= lo - 1e-15
+
+
+def synchronous(signal: NDArray[np.float64], angle: NDArray[np.float64], teeth: int) -> dg.SynchronousAverage:
+    """The time-synchronous average of ``signal`` over the whole revolutions from the
+    window's start (``angle``'s first value; rad), turned so that its point ``i`` is at the
+    gear's angle ``2 pi i / N`` round a revolution (the average is periodic: turned by the
+    nearest point)."""
+    points = tsa_points(angle, teeth)
+    tsa = dg.synchronous_average(signal, angle - angle[0], points)
+    shift = int(round((float(angle[0]) % (2.0 * math.pi)) / (2.0 * math.pi) * points)) % points
+    return dg.SynchronousAverage(np.roll(tsa.signal, shift), tsa.revolutions)
+
+
+def tsa_points(angle: NDArray[np.float64], teeth: int) -> int:
+    """Points a revolution of the time-synchronous average: the power of two at or above the
+    samples a revolution (no aliasing in the resampling) and four a tooth."""
+    per_rev = angle.size * 2.0 * math.pi / max(abs(float(angle[-1] - angle[0])), 1e-300)
+    return int(2 ** math.ceil(math.log2(max(per_rev, 4 * teeth))))
+
+
+def signal_indicators(signal: NDArray[np.float64], angle: NDArray[np.float64], teeth: int) -> dict[str, Any]:
+    """The indicators of one signal over whole revolutions of the gear of ``teeth`` teeth
+    turning by ``angle`` (rad): RMS, kurtosis and crest factor of the signal about its
+    mean; FM0, FM4, NA4 and the sideband energy ratio (six shaft orders each side of the
+    mesh order) of its time-synchronous average."""
+    x = signal - signal.mean()
+    tsa = synchronous(signal, angle, teeth)
+    finite = {
+        "rms": dg.rms(x), "kurtosis": dg.kurtosis(x), "crest_factor": dg.crest_factor(x),
+        "fm0": dg.fm0(tsa.signal, teeth), "fm4": dg.fm4(tsa.signal, teeth), "na4": dg.na4(tsa.signal, teeth),
+        # on the average's shaft orders: a record of a revolution or two puts a spectrum's
+        # bins a shaft frequency apart, the sidebands in the mesh tone's leakage
+        "sideband_energy_ratio": dg.order_sideband_energy_ratio(tsa.signal, teeth, SER_SIDEBANDS),
+    }
+    out: dict[str, Any] = {k: (float(v) if math.isfinite(v) else None) for k, v in finite.items()}
+    out["revolutions"] = int(tsa.revolutions)
+    return out
+
+
+def vibration_figures(ds: xr.Dataset, info: dict[str, Any], teeth: tuple[int, int]) -> dict[str, Any]:
+    """``{"vibration": ...}`` for ``summary.json``: per signal of :data:`SIGNALS` the
+    indicators of :func:`signal_indicators` over the settled window's whole revolutions of
+    the faulty gear (the driver on a healthy pair; ``teeth`` A's and B's); empty where the
+    window holds less than one revolution or the run has no sensors' signals."""
+    steady = info.get("steady")
+    if steady is None or any(name not in ds for name in SIGNALS):
+        return {}
+    gear = info.get("fault_gear") or info.get("driver", "a")
+    g = 0 if gear == "a" else 1
+    sel = window(ds, steady, teeth[g])
+    angle = ds[f"theta_{gear}"].values.astype(float)[sel]
+    time = ds["time"].values.astype(float)[sel]
+    if angle.size < 8 or abs(angle[-1] - angle[0]) < 2.0 * math.pi:
+        return {}
+    f_shaft = abs(angle[-1] - angle[0]) / (time[-1] - time[0]) / (2.0 * math.pi)
+    signals = {name: signal_indicators(ds[name].values.astype(float)[sel], angle, teeth[g]) for name in SIGNALS}
+    return {"vibration": {"gear": gear, "shaft_frequency_Hz": f_shaft, "mesh_frequency_Hz": teeth[g] * f_shaft,
+                          "window_s": [float(time[0]), float(time[-1])], "signals": signals}}
+
+
+__all__ = ["SENSOR_VARIABLES", "SIGNALS", "result_sensors", "sensor_variables", "signal_indicators",
+           "synchronous", "tsa_points", "vibration_figures", "window"]

@@ -14,6 +14,7 @@ import pytest
 
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
+from spurdyn.geometry.fault import Fault
 from spurdyn.settings import (MODEL_NAMES, RPM, RunSettings, TorqueHistory, setting_keys,
                               settings_read_by)
 from spurdyn.simulators import DEFAULTS, MODELS
@@ -32,6 +33,7 @@ OTHER = {
     "max_cycles": 3, "teeth": 5, "start": "rest", "ramp_cycles": 2.0,
     "torque_history": TorqueHistory((0.0, 1.0), (1.0, 1.0)), "start_state": (0.0, 0.0),
     "stiffness": "sector", "bodies": "full", "back_flanks": True,
+    "faults": (Fault("a", 1, "missing"),),
 }
 #: What a setting needs beside it (RunSettings refuses it alone).
 COMPANIONS = {"max_cycles": {"cycles": 2}, "start": {"cycles": 2}, "torque_history": {"cycles": 2},
@@ -71,7 +73,7 @@ def test_each_model_refuses_what_it_does_not_read(model, name):
     keys = setting_keys(name)
     if not keys:                                # no case key: only given in Python
         return
-    flag = "--" + keys[0].split(".")[1].replace("_", "-")
+    flag = "--" + keys[0].split(".")[-1].replace("_", "-")      # a table of its own ("fault") too
     labels = {keys[0]: flag}
     with pytest.raises(InputError) as err:
         entry.refuse(_given(name, value), labels, PAIR)

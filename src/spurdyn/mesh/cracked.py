@@ -29,6 +29,9 @@ from spurdyn.mesh.tooth import ToothMesh
 #: mouth (rad): ISO 6336-3's critical section of the tooth root, where tooth-root cracks
 #: start (the 30 deg tangent points of method B).
 DEFAULT_MOUTH_TANGENT = math.radians(30.0)
+#: Least share of the fillet part (from the mesh's cut under the tooth to the form radius)
+#: the default mouth lies above the cut.
+DEFAULT_MOUTH_MARGIN = 0.05
 #: Default angle of the crack below the line across the tooth (perpendicular to the centre
 #: line), running down and in toward the centre line (rad): the straight cracks of the
 #: literature (Tian 2004's 45 deg to the centre line, the same line at 45 deg): a convention
@@ -155,7 +158,8 @@ def crack_path(gear: Gear, tooth: ToothMesh, side: str, depth: float, angle: flo
     start
         The mouth's radius (m) on the fillet part of the structured outline (between the
         fillet's cut under the tooth and the form radius); default the radius of ISO
-        6336-3's 30 deg tangent point (:func:`mouth_radius`).
+        6336-3's 30 deg tangent point (:func:`mouth_radius`), or where that lies at or below
+        the cut (gears of few teeth) :data:`DEFAULT_MOUTH_MARGIN` of the fillet part above it.
     region
         The structured mesh whose outline the crack must stay inside (default ``tooth``; the
         sector model gives the tooth's whole cell, :func:`spurdyn.mesh.sector.cell_mesh`,
@@ -179,7 +183,12 @@ def crack_path(gear: Gear, tooth: ToothMesh, side: str, depth: float, angle: flo
     if not angle < math.pi / 2.0:
         raise InputError("fault.angle", f"must lie below 90 deg (got {math.degrees(angle):g})")
     r_cut = float(np.hypot(*tooth.nodes[tooth.right_side[0]]))
-    r = mouth_radius(gear) if start is None else _check_number("fault.start", start)
+    if start is None:
+        # ISO's point, raised into the fillet part where the mesh's cut lies above it (on an
+        # 18-tooth gear of the paper's rack by 3.4 um): a default the mesher takes
+        r = max(mouth_radius(gear), r_cut + DEFAULT_MOUTH_MARGIN * (gear.form_radius - r_cut))
+    else:
+        r = _check_number("fault.start", start)
     if not r_cut < r < gear.form_radius:
         raise InputError("fault.start", f"the mouth's radius {r * 1e3:.4g} mm is off the "
                          f"fillet part of the tooth's mesh: give one between "

@@ -262,7 +262,7 @@ def _onto_outline(quads: GmshQuads, tooth: ToothMesh, points: NDArray[np.float64
     return nodes
 
 
-def _counter_clockwise(nodes: NDArray[np.float64], elements: NDArray[np.intp]) -> NDArray[np.intp]:
+def counter_clockwise(nodes: NDArray[np.float64], elements: NDArray[np.intp]) -> NDArray[np.intp]:
     """The elements with their nodes counter-clockwise (clockwise ones renumbered)."""
     c = nodes[elements[:, :4]]
     area = 0.5 * np.sum(c[:, :, 0] * np.roll(c[:, :, 1], -1, axis=1)
@@ -271,18 +271,18 @@ def _counter_clockwise(nodes: NDArray[np.float64], elements: NDArray[np.intp]) -
     return np.where((area < 0.0)[:, None], flipped, elements)
 
 
-def _split_seam(nodes: NDArray[np.float64], elements: NDArray[np.intp], crack: NDArray[np.intp],
-                normal: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.intp],
-                                                      NDArray[np.intp]]:
-    """Double the crack's nodes but the tip: the elements on the normal's side take the twins.
+def split_seam(nodes: NDArray[np.float64], elements: NDArray[np.intp], seam: NDArray[np.intp],
+               normal: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.intp],
+                                                     NDArray[np.intp]]:
+    """Double the nodes ``seam`` of a straight crack (its nodes but the tips, in order): the
+    elements on the side ``normal`` points to take the twins.
 
     Returns the nodes with the twins appended, the elements, and the ``(S, 2)`` seam.
     Raises ``RuntimeError`` if an element touching the crack lies on both of its sides.
     """
-    seam = crack[:-1]
     twin = np.full(nodes.shape[0], -1, dtype=np.intp)
     twin[seam] = nodes.shape[0] + np.arange(seam.size)
-    side = (nodes - nodes[crack[0]]) @ normal               # signed distance from the crack
+    side = (nodes - nodes[seam[0]]) @ normal               # signed distance from the crack
     touching = np.flatnonzero(np.any(twin[elements] >= 0, axis=1))
     tol = 1e-9 * np.ptp(nodes, axis=0).max()
     s = side[elements[touching]]
@@ -420,14 +420,14 @@ def cracked_tooth(gear: Gear, tooth: ToothMesh, path: NDArray[np.float64],
     size, tip_size = _sizes(tooth, path, tip_size, size)
     quads = _mesh(_curves(tooth, sides), mouth, path[1], size, tip_size)
     nodes = _onto_outline(quads, tooth, points, sides)
-    elements = _counter_clockwise(nodes, quads.elements)
+    elements = counter_clockwise(nodes, quads.elements)
     if not np.all(jacobian_determinants(nodes, elements) > 0.0):
         raise InputError("fault.size", "an element of the cracked mesh has a non-positive "
                          "Jacobian; try another element size")
     d = (path[1] - points[mouth]) / np.hypot(*(path[1] - points[mouth]))
     n = np.array([-d[1], d[0]])
     n = -n if n[1] < 0.0 else n                                     # toward the tip circle
-    nodes, elements, seam = _split_seam(nodes, elements, quads.crack, n)
+    nodes, elements, seam = split_seam(nodes, elements, quads.crack[:-1], n)
     return CrackedTooth(nodes=nodes, elements=elements,
                         structured=_structured_map(tooth, nodes, split), seam=seam,
                         normal=np.tile(n, (seam.shape[0], 1)), tip=int(quads.crack[-1]))

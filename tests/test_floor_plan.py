@@ -39,6 +39,7 @@ FLOORS = (
     ("iso6336",),
     ("energy",),
     ("mesh",),
+    ("fracture",),
     ("settings",),
     ("model",),
     ("contact",),

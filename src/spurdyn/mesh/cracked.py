@@ -272,10 +272,15 @@ def counter_clockwise(nodes: NDArray[np.float64], elements: NDArray[np.intp]) ->
 
 
 def split_seam(nodes: NDArray[np.float64], elements: NDArray[np.intp], seam: NDArray[np.intp],
-               normal: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.intp],
-                                                     NDArray[np.intp]]:
+               normal: NDArray[np.float64], ends: NDArray[np.float64] | None = None
+               ) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp]]:
     """Double the nodes ``seam`` of a straight crack (its nodes but the tips, in order): the
     elements on the side ``normal`` points to take the twins.
+
+    An element touching the crack with nodes on both sides of its line is refused, unless
+    ``ends`` (the crack's ``(2, 2)`` ends) is given and its nodes alongside the crack (between
+    the ends) lie on one side: an element at the last node before a tip may reach across the
+    line's extension ahead of the tip.
 
     Returns the nodes with the twins appended, the elements, and the ``(S, 2)`` seam.
     Raises ``RuntimeError`` if an element touching the crack lies on both of its sides.
@@ -286,9 +291,15 @@ def split_seam(nodes: NDArray[np.float64], elements: NDArray[np.intp], seam: NDA
     touching = np.flatnonzero(np.any(twin[elements] >= 0, axis=1))
     tol = 1e-9 * np.ptp(nodes, axis=0).max()
     s = side[elements[touching]]
-    two = s.max(axis=1) > tol
-    if np.any(two & (s.min(axis=1) < -tol)):
+    both = (s.max(axis=1) > tol) & (s.min(axis=1) < -tol)
+    if ends is not None and np.any(both):
+        along = (nodes - ends[0]) @ (ends[1] - ends[0]) / float(np.sum((ends[1] - ends[0]) ** 2))
+        beside = (along > -1e-9) & (along < 1.0 + 1e-9)
+        s[both] = np.where(beside[elements[touching[both]]], s[both], 0.0)
+        both = (s.max(axis=1) > tol) & (s.min(axis=1) < -tol)
+    if np.any(both):
         raise RuntimeError("an element straddles the crack")
+    two = s.max(axis=1) > tol
     out = elements.copy()
     rows = out[touching[two]]
     out[touching[two]] = np.where(twin[rows] >= 0, twin[rows], rows)

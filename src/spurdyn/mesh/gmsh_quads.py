@@ -163,13 +163,19 @@ def _size_field(gmsh: object, tip_tags: list[int], size: float, tip_size: float)
     field.setAsBackgroundMesh(threshold)
 
 
-def boundary_nodes(elements: NDArray[np.intp]) -> NDArray[np.intp]:
-    """The nodes of the element edges that belong to one element only (the outline)."""
+def boundary_edges(elements: NDArray[np.intp]) -> NDArray[np.intp]:
+    """The element edges that belong to one element only (the outline, a crack's faces),
+    ``(B, 3)``: corner, mid-side, corner, counter-clockwise around their element."""
     trips = np.concatenate([elements[:, [0, 4, 1]], elements[:, [1, 5, 2]],
                             elements[:, [2, 6, 3]], elements[:, [3, 7, 0]]])
     key = np.sort(trips[:, [0, 2]], axis=1)
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    return np.unique(trips[counts[inverse.ravel()] == 1])
+    return trips[counts[inverse.ravel()] == 1]
+
+
+def boundary_nodes(elements: NDArray[np.intp]) -> NDArray[np.intp]:
+    """The nodes of the element edges that belong to one element only (the outline)."""
+    return np.unique(boundary_edges(elements))
 
 
 def _side_nodes(nodes: NDArray[np.float64], elements: NDArray[np.intp],

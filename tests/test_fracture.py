@@ -17,6 +17,7 @@ from spurdyn.fracture import (
     stress_intensity, tangential_stress,
 )
 from spurdyn.fracture import handbook as hb
+from spurdyn.fracture.correlation import displacement_correlation, quarter_points
 from spurdyn.fracture.williams import williams_fields
 
 WIDTH = 0.01
@@ -172,3 +173,24 @@ def test_growth_direction_limits():
             pytest.approx(0.0, abs=1e-12 * (abs(k_i) + abs(k_ii)))
         grid = np.linspace(-math.pi + 1e-3, math.pi - 1e-3, 2001)
         assert equivalent_k(k_i, k_ii) >= max(tangential_stress(k_i, k_ii, t) for t in grid)
+
+
+def test_displacement_correlation_on_the_exact_field(strips):
+    """On quarter-point edges the faces' opening of an exact near-tip field is the element's
+    sqrt(r) term, so the correlation gives K_I and K_II back to round-off: its formula's
+    check (its error on a solved strip is the mesh's, docs/fracture.md, section 5)."""
+    plate = _strip(strips, 0.3)
+    tip = int(plate.tips[0])
+    nodes = quarter_points(plate.nodes, plate.elements, tip)
+    x = nodes - nodes[tip]
+    x[plate.seam[:, 0], 1] = -0.0               # the lower face: theta = -pi
+    x[tip] = (1.0, 0.0)
+    k_i, k_ii = 2.0e6, 0.7e6
+    u = k_i * williams_fields(x, "I", STEEL)[0] + k_ii * williams_fields(x, "II", STEEL)[0]
+    u[tip] = 0.0
+    found = displacement_correlation(nodes, u.ravel(), STEEL, tip, plate.ahead[0], plate.seam,
+                                     plate.normal)
+    assert found == pytest.approx((k_i, k_ii), rel=1e-9)
+    with pytest.raises(InputError, match="seam"):
+        displacement_correlation(plate.nodes, u.ravel(), STEEL, tip, plate.ahead[0],
+                                 plate.seam, plate.normal)

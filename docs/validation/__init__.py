@@ -26,6 +26,7 @@ page (``docs/``)                module                 what
 ``stiffness.md`` (printed)      ``stiffness``          the tables of the stiffness page
 ``engineer_defaults.md``        ``engineer``           bare case files by default: settled, rated
 ``faults_validation.md``        ``faults``             a root crack against the energy method
+``fracture.md`` (printed)       ``fracture``           stress intensity factors against the handbooks
 ==============================  =====================  ===============================================
 
 What they share (the pages' folder, writing a page and keeping its figures, a run timed,
@@ -51,6 +52,7 @@ PAGES = {
     "stiffness": "stiffness",
     "engineer_defaults": "engineer",
     "faults_validation": "faults",
+    "fracture": "fracture",
 }
 
 __all__ = ["PAGES"]

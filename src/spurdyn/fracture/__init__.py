@@ -1,9 +1,9 @@
-"""Fracture mechanics on the Q8 meshes: stress intensity factors at a crack tip by the
-interaction integral (:mod:`~spurdyn.fracture.integral`, on the auxiliary fields of
-:mod:`~spurdyn.fracture.williams`) and by displacement correlation on quarter-point elements
-(:mod:`~spurdyn.fracture.correlation`), the direction of growth (:mod:`~spurdyn.fracture.direction`),
-the handbook's cracked strips and plates they are checked on (:mod:`~spurdyn.fracture.plate`,
-:mod:`~spurdyn.fracture.handbook`). docs/fracture.md."""
+"""Fracture mechanics on the Q8 meshes (docs/fracture.md): stress intensity factors at a
+crack tip by the interaction integral (:mod:`~spurdyn.fracture.integral`, on the auxiliary
+fields of :mod:`~spurdyn.fracture.williams`) and by displacement correlation on quarter-point
+elements (:mod:`~spurdyn.fracture.correlation`), the direction of growth
+(:mod:`~spurdyn.fracture.direction`), the handbook's cracked strips and plates they are
+checked on (:mod:`~spurdyn.fracture.plate`, :mod:`~spurdyn.fracture.handbook`)."""
 
 from spurdyn.fracture.correlation import displacement_correlation, quarter_points
 from spurdyn.fracture.direction import equivalent_k, growth_angle, tangential_stress

@@ -32,9 +32,9 @@ __all__ = ["CrackedPlate", "centre_crack_plate", "edge_crack_strip", "end_load",
 #: Points of each straight side gmsh draws (a spline through them is the straight line).
 SIDE_POINTS = 3
 #: The elements at a tip must lie within this many tip sizes of it. Their farthest node is
-#: 1.5 to 5.5 tip sizes away in the meshes of docs/fracture.md, but gmsh's quads at times
-#: ignore the size field at a tip (a centre crack along the x axis in a 40 a square at size
-#: 2 a: 24 and 44 tip sizes), which the guard catches.
+#: 1.5 to 8.5 tip sizes away in the meshes measured (docs/fracture.md, section 7), but
+#: gmsh's quads at times ignore the size field at a tip (a centre crack along the x axis in
+#: a 40 a square at size 2 a: 24 and 44 tip sizes), which the guard catches.
 TIP_GUARD = 10.0
 
 

@@ -19,6 +19,9 @@ from spurdyn.fracture import (
 from spurdyn.fracture import handbook as hb
 from spurdyn.fracture.correlation import displacement_correlation, quarter_points
 from spurdyn.fracture.williams import williams_fields
+from spurdyn.geometry.presets import paper_gear
+from spurdyn.mesh.cracked import crack_path, cracked_tooth
+from spurdyn.mesh.tooth import tooth_mesh
 
 WIDTH = 0.01
 STRESS = 100e6
@@ -194,3 +197,28 @@ def test_displacement_correlation_on_the_exact_field(strips):
     with pytest.raises(InputError, match="seam"):
         displacement_correlation(plate.nodes, u.ravel(), STEEL, tip, plate.ahead[0],
                                  plate.seam, plate.normal)
+
+
+def test_exact_field_on_the_cracked_tooth():
+    """The exact field's test on the cracked tooth of the sector's faults (mesh/cracked.py),
+    in the same domains: its tip, the crack's direction from its path and its seam's sides
+    are what stress_intensity and the faces' angles read."""
+    gear = paper_gear()
+    tooth = tooth_mesh(gear)
+    path = crack_path(gear, tooth, "right", 0.1e-3)
+    cracked = cracked_tooth(gear, tooth, path, tip_size=0.005e-3)
+    ahead = (path[1] - path[0]) / np.hypot(*(path[1] - path[0]))
+    rot = np.array([[ahead[0], ahead[1]], [-ahead[1], ahead[0]]])
+    x = (cracked.nodes - cracked.nodes[cracked.tip]) @ rot.T
+    lower = 0 if cracked.normal[0] @ rot[1] > 0.0 else 1
+    x[cracked.seam[:, lower], 1] = -0.0          # theta = -pi; round-off off the line set
+    x[cracked.seam[:, 1 - lower], 1] = 0.0       # to +pi on the other face
+    x[cracked.tip] = (1.0, 0.0)
+    k_i, k_ii = 2.0e6, -1.0e6
+    local = k_i * williams_fields(x, "I", gear.material)[0] \
+        + k_ii * williams_fields(x, "II", gear.material)[0]
+    local[cracked.tip] = 0.0
+    k = stress_intensity(cracked.nodes, cracked.elements, (local @ rot).ravel(), gear.material,
+                         cracked.tip, ahead, rings=(3, 4))
+    assert np.allclose(k.k_i, k_i, rtol=3e-3)
+    assert np.allclose(k.k_ii, k_ii, rtol=3e-3)

@@ -8,8 +8,9 @@ checked on (:mod:`~spurdyn.fracture.plate`, :mod:`~spurdyn.fracture.handbook`)."
 from spurdyn.fracture.correlation import displacement_correlation, quarter_points
 from spurdyn.fracture.direction import equivalent_k, growth_angle, tangential_stress
 from spurdyn.fracture.integral import DEFAULT_RINGS, TipFactors, element_rings, stress_intensity
-from spurdyn.fracture.plate import CrackedPlate, centre_crack_plate, edge_crack_strip, end_load, \
-    solve
+from spurdyn.fracture.plate import (
+    CrackedPlate, centre_crack_plate, edge_crack_strip, end_load, solve,
+)
 
 __all__ = ["DEFAULT_RINGS", "CrackedPlate", "TipFactors", "centre_crack_plate",
            "displacement_correlation", "edge_crack_strip", "element_rings", "end_load",

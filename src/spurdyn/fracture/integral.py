@@ -105,7 +105,7 @@ def _ring_integral(xy: NDArray[np.float64], ue: NDArray[np.float64], qe: NDArray
     grad = rot @ np.einsum("egnj,eni->egij", dndx, ue) @ rot.T
     dq = np.einsum("egnj,en->egj", dndx, qe) @ rot.T
     eps = np.stack([grad[..., 0, 0], grad[..., 1, 1], grad[..., 0, 1] + grad[..., 1, 0]], -1)
-    s = eps @ plane_stress_matrix(material).T
+    s = eps @ plane_stress_matrix(material).T              # isotropic: D of the turned strain
     sig = np.stack([np.stack([s[..., 0], s[..., 2]], -1), np.stack([s[..., 2], s[..., 1]], -1)], -2)
     x = (np.einsum("gn,enk->egk", _N, xy) - tip_xy) @ rot.T
     weight = det * _WEIGHTS

@@ -24,8 +24,9 @@ from spurdyn.fem.element import edge_dweights, edge_weights
 from spurdyn.fem.factor import factor_spd
 from spurdyn.fem.material import Material
 from spurdyn.mesh.cracked import RETRY_SHARES, counter_clockwise, split_seam
-from spurdyn.mesh.gmsh_quads import GmshQuads, boundary_edges, mesh_with_crack, \
-    mesh_with_inner_crack
+from spurdyn.mesh.gmsh_quads import (
+    GmshQuads, boundary_edges, element_edges, mesh_with_crack, mesh_with_inner_crack,
+)
 
 __all__ = ["CrackedPlate", "centre_crack_plate", "edge_crack_strip", "end_load", "solve"]
 
@@ -77,6 +78,7 @@ def _sides(corners: NDArray[np.float64]) -> list[NDArray[np.float64]]:
 
 
 def _positive(key: str, value: float) -> float:
+    """``value`` as a float, refused naming ``key`` unless a finite length above 0."""
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0.0 \
             or not math.isfinite(value):
         raise InputError(key, f"must be a positive length in m (got {value!r})")
@@ -85,12 +87,15 @@ def _positive(key: str, value: float) -> float:
 
 def _finish(quads: GmshQuads, inner: slice, ahead: NDArray[np.float64], width: float,
             height: float, tip_size: float) -> CrackedPlate:
-    """The mesh checked and counter-clockwise, the crack's nodes ``crack[inner]`` doubled."""
+    """The mesh counter-clockwise, the crack's nodes ``crack[inner]`` doubled; refused
+    (``size``) for an element of Jacobian <= 0, a crack the elements do not follow, or a tip
+    gmsh did not refine to (:data:`TIP_GUARD`)."""
     elements = counter_clockwise(quads.nodes, quads.elements)
     if not np.all(jacobian_determinants(quads.nodes, elements) > 0.0):
         raise InputError("size", "an element has a non-positive Jacobian; try another size")
     _check_conforms(elements, quads.crack)
-    for tip in np.delete(quads.crack, np.arange(quads.crack.size)[inner]):
+    tips = np.delete(quads.crack, np.arange(quads.crack.size)[inner])
+    for tip in tips:
         around = quads.nodes[elements[np.any(elements == tip, axis=1)]]
         if np.max(np.hypot(*(around - quads.nodes[tip]).transpose(2, 0, 1))) > \
                 TIP_GUARD * tip_size:
@@ -104,7 +109,6 @@ def _finish(quads: GmshQuads, inner: slice, ahead: NDArray[np.float64], width: f
     except RuntimeError as error:
         raise InputError("size", "gmsh's elements do not follow the crack; try another "
                          "size") from error
-    tips = np.delete(quads.crack, np.arange(quads.crack.size)[inner])
     return CrackedPlate(nodes=nodes, elements=elements, seam=seam, normal=normal, tips=tips,
                         ahead=ahead, width=width, height=height)
 
@@ -112,9 +116,7 @@ def _finish(quads: GmshQuads, inner: slice, ahead: NDArray[np.float64], width: f
 def _check_conforms(elements: NDArray[np.intp], crack: NDArray[np.intp]) -> None:
     """Refuse a mesh whose element edges do not run along the whole crack, each piece of it
     an edge of two elements (gmsh has been seen to lose a piece of an embedded line)."""
-    trips = np.concatenate([elements[:, [0, 4, 1]], elements[:, [1, 5, 2]],
-                            elements[:, [2, 6, 3]], elements[:, [3, 7, 0]]])
-    have = np.sort(trips[:, [0, 2]], axis=1)
+    have = np.sort(element_edges(elements)[:, [0, 2]], axis=1)
     pieces = np.sort(np.stack([crack[:-2:2], crack[2::2]], axis=1), axis=1)
     count = [(have == piece).all(axis=1).sum() for piece in pieces]
     if crack.size % 2 == 0 or any(c != 2 for c in count):

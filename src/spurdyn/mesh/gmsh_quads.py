@@ -163,11 +163,17 @@ def _size_field(gmsh: object, tip_tags: list[int], size: float, tip_size: float)
     field.setAsBackgroundMesh(threshold)
 
 
+def element_edges(elements: NDArray[np.intp]) -> NDArray[np.intp]:
+    """Every element's four edges, ``(4 E, 3)``: corner, mid-side, corner, in the element's
+    order (each inner edge twice, once from either element)."""
+    return np.concatenate([elements[:, [0, 4, 1]], elements[:, [1, 5, 2]],
+                           elements[:, [2, 6, 3]], elements[:, [3, 7, 0]]])
+
+
 def boundary_edges(elements: NDArray[np.intp]) -> NDArray[np.intp]:
     """The element edges that belong to one element only (the outline, a crack's faces),
     ``(B, 3)``: corner, mid-side, corner, counter-clockwise around their element."""
-    trips = np.concatenate([elements[:, [0, 4, 1]], elements[:, [1, 5, 2]],
-                            elements[:, [2, 6, 3]], elements[:, [3, 7, 0]]])
+    trips = element_edges(elements)
     key = np.sort(trips[:, [0, 2]], axis=1)
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
     return trips[counts[inverse.ravel()] == 1]

@@ -40,6 +40,7 @@ FLOORS = (
     ("iso6336",),
     ("energy",),
     ("mesh",),
+    ("fracture",),
     ("settings",),
     ("model",),
     ("contact",),

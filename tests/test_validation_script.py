@@ -241,7 +241,7 @@ def test_the_report_still_takes_its_options():
 
 @pytest.mark.parametrize("page", ["contact_validation", "implicit_validation", "sector_validation",
                                   "sector_dynamics_validation", "sector_rk4_validation",
-                                  "stress_validation", "validation_sweep", "stiffness"])
+                                  "stress_validation", "validation_sweep", "stiffness", "fracture"])
 def test_every_generator_imports_and_shows_its_options(page):
     """Each page's generator imports (its spurdyn names among them) and answers ``--help``
     without running anything."""

@@ -26,7 +26,8 @@ page (``docs/``)                module                 what
 ``stiffness.md`` (printed)      ``stiffness``          the tables of the stiffness page
 ``engineer_defaults.md``        ``engineer``           bare case files by default: settled, rated
 ``faults_validation.md``        ``faults``             a root crack against the energy method
-``faults_dynamics_validation.md`` ``fault_dynamics``   a root crack at speed: sidebands, indicators
+``faults_dynamics.md``          ``fault_dynamics``     a root crack at speed: sidebands, indicators
+``fracture.md`` (printed)       ``fracture``           stress intensity factors against the handbooks
 ==============================  =====================  ===============================================
 
 What they share (the pages' folder, writing a page and keeping its figures, a run timed,
@@ -52,7 +53,8 @@ PAGES = {
     "stiffness": "stiffness",
     "engineer_defaults": "engineer",
     "faults_validation": "faults",
-    "faults_dynamics_validation": "fault_dynamics",
+    "faults_dynamics": "fault_dynamics",
+    "fracture": "fracture",
 }
 
 __all__ = ["PAGES"]

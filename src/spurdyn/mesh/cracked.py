@@ -271,7 +271,7 @@ def _onto_outline(quads: GmshQuads, tooth: ToothMesh, points: NDArray[np.float64
     return nodes
 
 
-def _counter_clockwise(nodes: NDArray[np.float64], elements: NDArray[np.intp]) -> NDArray[np.intp]:
+def counter_clockwise(nodes: NDArray[np.float64], elements: NDArray[np.intp]) -> NDArray[np.intp]:
     """The elements with their nodes counter-clockwise (clockwise ones renumbered)."""
     c = nodes[elements[:, :4]]
     area = 0.5 * np.sum(c[:, :, 0] * np.roll(c[:, :, 1], -1, axis=1)
@@ -280,24 +280,35 @@ def _counter_clockwise(nodes: NDArray[np.float64], elements: NDArray[np.intp]) -
     return np.where((area < 0.0)[:, None], flipped, elements)
 
 
-def _split_seam(nodes: NDArray[np.float64], elements: NDArray[np.intp], crack: NDArray[np.intp],
-                normal: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.intp],
-                                                      NDArray[np.intp]]:
-    """Double the crack's nodes but the tip: the elements on the normal's side take the twins.
+def split_seam(nodes: NDArray[np.float64], elements: NDArray[np.intp], seam: NDArray[np.intp],
+               normal: NDArray[np.float64], ends: NDArray[np.float64] | None = None
+               ) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp]]:
+    """Double the nodes ``seam`` of a straight crack (its nodes but the tips, in order): the
+    elements on the side ``normal`` points to take the twins.
+
+    An element touching the crack with nodes on both sides of its line is refused, unless
+    ``ends`` (the crack's ``(2, 2)`` ends) is given and its nodes alongside the crack (between
+    the ends) lie on one side: an element at the last node before a tip may reach across the
+    line's extension ahead of the tip.
 
     Returns the nodes with the twins appended, the elements, and the ``(S, 2)`` seam.
     Raises ``RuntimeError`` if an element touching the crack lies on both of its sides.
     """
-    seam = crack[:-1]
     twin = np.full(nodes.shape[0], -1, dtype=np.intp)
     twin[seam] = nodes.shape[0] + np.arange(seam.size)
-    side = (nodes - nodes[crack[0]]) @ normal               # signed distance from the crack
+    side = (nodes - nodes[seam[0]]) @ normal               # signed distance from the crack
     touching = np.flatnonzero(np.any(twin[elements] >= 0, axis=1))
     tol = 1e-9 * np.ptp(nodes, axis=0).max()
     s = side[elements[touching]]
-    two = s.max(axis=1) > tol
-    if np.any(two & (s.min(axis=1) < -tol)):
+    both = (s.max(axis=1) > tol) & (s.min(axis=1) < -tol)
+    if ends is not None and np.any(both):
+        along = (nodes - ends[0]) @ (ends[1] - ends[0]) / float(np.sum((ends[1] - ends[0]) ** 2))
+        beside = (along > -1e-9) & (along < 1.0 + 1e-9)
+        s[both] = np.where(beside[elements[touching[both]]], s[both], 0.0)
+        both = (s.max(axis=1) > tol) & (s.min(axis=1) < -tol)
+    if np.any(both):
         raise RuntimeError("an element straddles the crack")
+    two = s.max(axis=1) > tol
     out = elements.copy()
     rows = out[touching[two]]
     out[touching[two]] = np.where(twin[rows] >= 0, twin[rows], rows)
@@ -429,14 +440,14 @@ def cracked_tooth(gear: Gear, tooth: ToothMesh, path: NDArray[np.float64],
     size, tip_size = _sizes(tooth, path, tip_size, size)
     quads = _mesh(_curves(tooth, sides), mouth, path[1], size, tip_size)
     nodes = _onto_outline(quads, tooth, points, sides)
-    elements = _counter_clockwise(nodes, quads.elements)
+    elements = counter_clockwise(nodes, quads.elements)
     if not np.all(jacobian_determinants(nodes, elements) > 0.0):
         raise InputError("fault.size", "an element of the cracked mesh has a non-positive "
                          "Jacobian; try another element size")
     d = (path[1] - points[mouth]) / np.hypot(*(path[1] - points[mouth]))
     n = np.array([-d[1], d[0]])
     n = -n if n[1] < 0.0 else n                                     # toward the tip circle
-    nodes, elements, seam = _split_seam(nodes, elements, quads.crack, n)
+    nodes, elements, seam = split_seam(nodes, elements, quads.crack[:-1], n)
     return CrackedTooth(nodes=nodes, elements=elements,
                         structured=_structured_map(tooth, nodes, split), seam=seam,
                         normal=np.tile(n, (seam.shape[0], 1)), tip=int(quads.crack[-1]))

@@ -12,6 +12,7 @@ the size, recombined, then split, so no triangle is left), made second order and
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -65,24 +66,62 @@ def _geometry(gmsh: object, curves: list[NDArray[np.float64]], mouth: int,
     Every line gets an even number of segments (:func:`_segments`); the crack's shrink
     geometrically toward the tip."""
     geo = gmsh.model.geo
-    points = np.array([c[0] for c in curves])
-    tags = [geo.addPoint(float(x), float(y), 0.0) for x, y in points]
+    tags, surface, sides = _outline(gmsh, curves)
+    tip_tag = geo.addPoint(float(tip[0]), float(tip[1]), 0.0)
+    crack = geo.addLine(tags[mouth], tip_tag)
+    geo.synchronize()
+    _count_sides(gmsh, curves, sides, tip[None], size, tip_size)
+    _grade(gmsh, crack, curves[mouth][0], tip, tip[None], size, tip_size)
+    gmsh.model.mesh.embed(1, [crack], 2, surface)
+    return sides, crack, tip_tag
+
+
+def _grade(gmsh: object, line: int, p: NDArray[np.float64], q: NDArray[np.float64],
+           tips: NDArray[np.float64], size: float, tip_size: float) -> None:
+    """An even number of segments on the line ``p q`` shrinking geometrically toward ``q``."""
+    n, h_p, h_q = _segments(p, q, tips, size, tip_size)
+    ratio = (h_q / h_p) ** (1.0 / max(n - 1, 1))
+    gmsh.model.mesh.setTransfiniteCurve(line, n + 1, "Progression", ratio)
+
+
+def _outline(gmsh: object, curves: list[NDArray[np.float64]]) -> tuple[list[int], int, list[int]]:
+    """The region inside ``curves`` (splines): its corners' tags, its surface's and its
+    sides'."""
+    geo = gmsh.model.geo
+    tags = [geo.addPoint(float(c[0, 0]), float(c[0, 1]), 0.0) for c in curves]
     sides = []
     for i, c in enumerate(curves):
         inner = [geo.addPoint(float(x), float(y), 0.0) for x, y in c[1:-1]]
         sides.append(geo.addSpline([tags[i]] + inner + [tags[(i + 1) % len(tags)]]))
     surface = geo.addPlaneSurface([geo.addCurveLoop(sides)])
-    tip_tag = geo.addPoint(float(tip[0]), float(tip[1]), 0.0)
-    crack = geo.addLine(tags[mouth], tip_tag)
-    geo.synchronize()
+    return tags, surface, sides
+
+
+def _count_sides(gmsh: object, curves: list[NDArray[np.float64]], sides: list[int],
+                 tips: NDArray[np.float64], size: float, tip_size: float) -> None:
+    """Every side's even segment count; after the last ``synchronize``, which would reset
+    it."""
     for c, side in zip(curves, sides):
-        n, _, _ = _segments(c[0], c[-1], tip, size, tip_size)
+        n, _, _ = _segments(c[0], c[-1], tips, size, tip_size)
         gmsh.model.mesh.setTransfiniteCurve(side, n + 1)
-    n, h_mouth, h_tip = _segments(points[mouth], tip, tip, size, tip_size)
-    ratio = (h_tip / h_mouth) ** (1.0 / max(n - 1, 1))
-    gmsh.model.mesh.setTransfiniteCurve(crack, n + 1, "Progression", ratio)
-    gmsh.model.mesh.embed(1, [crack], 2, surface)
-    return sides, crack, tip_tag
+
+
+def _inner_geometry(gmsh: object, curves: list[NDArray[np.float64]], ends: NDArray[np.float64],
+                    size: float, tip_size: float) -> list[int]:
+    """The region with a crack whose two ends lie inside it embedded, as two lines from its
+    middle, each graded toward its end; returns the ends' tags."""
+    geo = gmsh.model.geo
+    _, surface, sides = _outline(gmsh, curves)
+    middle = 0.5 * (ends[0] + ends[1])
+    m = geo.addPoint(float(middle[0]), float(middle[1]), 0.0)
+    tips = [geo.addPoint(float(x), float(y), 0.0) for x, y in ends]
+    lines = [geo.addLine(m, t) for t in tips]
+    geo.synchronize()
+    _count_sides(gmsh, curves, sides, ends, size, tip_size)
+    for line, end in zip(lines, ends):
+        _grade(gmsh, line, middle, end, ends, size, tip_size)
+    gmsh.model.mesh.embed(1, lines, 2, surface)
+    return tips
 
 
 def _size_at(distance: NDArray[np.float64], size: float, tip_size: float) -> NDArray[np.float64]:
@@ -94,7 +133,8 @@ def _size_at(distance: NDArray[np.float64], size: float, tip_size: float) -> NDA
 def _segments(p: NDArray[np.float64], q: NDArray[np.float64], tip: NDArray[np.float64],
               size: float, tip_size: float) -> tuple[int, float, float]:
     """An even number of segments for the line ``p q`` (about ``int ds / h``), and the sizes
-    the field asks at its ends.
+    the field asks at its ends; ``tip`` is one tip ``(2,)`` or several ``(k, 2)``, the size
+    set by the nearest.
 
     Even because gmsh's full-quad recombination meshes the surface on every other node of
     each curve's 1D mesh, then splits the quads: an odd count stops it ("1D mesh cannot be
@@ -102,16 +142,18 @@ def _segments(p: NDArray[np.float64], q: NDArray[np.float64], tip: NDArray[np.fl
     """
     s = np.linspace(0.0, 1.0, 65)
     pts = p + s[:, None] * (q - p)
-    h = _size_at(np.hypot(*(pts - tip).T), size, tip_size)
+    tips = np.atleast_2d(tip)
+    h = _size_at(np.min(np.hypot(*(pts[None] - tips[:, None]).transpose(2, 0, 1)), axis=0),
+                 size, tip_size)
     count = float(np.hypot(*(q - p)) * np.mean(1.0 / h))
     return 2 * max(1, int(np.ceil(0.5 * count))), float(h[0]), float(h[-1])
 
 
-def _size_field(gmsh: object, tip_tag: int, size: float, tip_size: float) -> None:
-    """Element size ``tip_size`` at the tip, growing linearly to ``size``."""
+def _size_field(gmsh: object, tip_tags: list[int], size: float, tip_size: float) -> None:
+    """Element size ``tip_size`` at the tips, growing linearly to ``size``."""
     field = gmsh.model.mesh.field
     distance = field.add("Distance")
-    field.setNumbers(distance, "PointsList", [tip_tag])
+    field.setNumbers(distance, "PointsList", tip_tags)
     threshold = field.add("Threshold")
     field.setNumber(threshold, "InField", distance)
     field.setNumber(threshold, "SizeMin", tip_size)
@@ -121,13 +163,25 @@ def _size_field(gmsh: object, tip_tag: int, size: float, tip_size: float) -> Non
     field.setAsBackgroundMesh(threshold)
 
 
-def boundary_nodes(elements: NDArray[np.intp]) -> NDArray[np.intp]:
-    """The nodes of the element edges that belong to one element only (the outline)."""
-    trips = np.concatenate([elements[:, [0, 4, 1]], elements[:, [1, 5, 2]],
-                            elements[:, [2, 6, 3]], elements[:, [3, 7, 0]]])
+def element_edges(elements: NDArray[np.intp]) -> NDArray[np.intp]:
+    """Every element's four edges, ``(4 E, 3)``: corner, mid-side, corner, in the element's
+    order (each inner edge twice, once from either element)."""
+    return np.concatenate([elements[:, [0, 4, 1]], elements[:, [1, 5, 2]],
+                           elements[:, [2, 6, 3]], elements[:, [3, 7, 0]]])
+
+
+def boundary_edges(elements: NDArray[np.intp]) -> NDArray[np.intp]:
+    """The element edges that belong to one element only (the outline, a crack's faces),
+    ``(B, 3)``: corner, mid-side, corner, counter-clockwise around their element."""
+    trips = element_edges(elements)
     key = np.sort(trips[:, [0, 2]], axis=1)
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    return np.unique(trips[counts[inverse.ravel()] == 1])
+    return trips[counts[inverse.ravel()] == 1]
+
+
+def boundary_nodes(elements: NDArray[np.intp]) -> NDArray[np.intp]:
+    """The nodes of the element edges that belong to one element only (the outline)."""
+    return np.unique(boundary_edges(elements))
 
 
 def _side_nodes(nodes: NDArray[np.float64], elements: NDArray[np.intp],
@@ -162,13 +216,13 @@ def _crack_nodes(nodes: NDArray[np.float64], mouth: NDArray[np.float64], tip: ND
 
 
 def _read(gmsh: object, curves: list[NDArray[np.float64]], scale: float,
-          origin: NDArray[np.float64]) -> GmshQuads:
+          origin: NDArray[np.float64], key: str) -> GmshQuads:
     """The mesh gmsh made, nodes renumbered from 0, back in the caller's units."""
     mesh = gmsh.model.mesh
     types = set(mesh.getElementTypes(2))
     if types != {GMSH_QUAD8}:
         names = sorted(mesh.getElementProperties(t)[0] for t in types)
-        raise InputError("fault.size", f"gmsh left elements other than 8-node quads "
+        raise InputError(key, f"gmsh left elements other than 8-node quads "
                          f"({', '.join(names)}); try another element size")
     tags, xyz, _ = mesh.getNodes()
     index = np.full(int(tags.max()) + 1, -1, dtype=np.intp)
@@ -191,9 +245,7 @@ def mesh_with_crack(curves: list[NDArray[np.float64]], mouth: int, tip: NDArray[
     ``mouth``'s first point to ``tip`` embedded, element size ``size`` refined to
     ``tip_size`` at the tip.
 
-    gmsh works in coordinates scaled to the element size's order (its tolerances are
-    absolute); the nodes come back in the caller's units. gmsh is started and always
-    finalized here.
+    gmsh is started and always finalized here (:func:`_generate`).
 
     Raises
     ------
@@ -201,6 +253,48 @@ def mesh_with_crack(curves: list[NDArray[np.float64]], mouth: int, tip: NDArray[
         ``fault.size`` if gmsh fails (its full-quad recombination refuses a curve it cannot
         halve when the size is large beside the polygon's sides) or leaves an element other
         than an 8-node quad.
+    """
+    points = np.array([c[0] for c in curves])
+
+    def build(gmsh: object, scaled: list[NDArray[np.float64]], at: Callable,
+              h_tip: float) -> list[int]:
+        _, _, tip_tag = _geometry(gmsh, scaled, mouth, at(tip), 1.0, h_tip)
+        return [tip_tag]
+
+    quads = _generate(curves, build, size, tip_size, "fault.size", "the cracked tooth")
+    return GmshQuads(nodes=quads.nodes, elements=quads.elements, sides=quads.sides,
+                     crack=_crack_nodes(quads.nodes, points[mouth], tip))
+
+
+def mesh_with_inner_crack(curves: list[NDArray[np.float64]], ends: NDArray[np.float64],
+                          size: float, tip_size: float, key: str) -> GmshQuads:
+    """Mesh the region inside ``curves`` (as :func:`mesh_with_crack`) with a crack whose two
+    ends ``ends`` ``(2, 2)`` both lie inside it, refined to ``tip_size`` at both; the crack's
+    nodes run from ``ends[0]`` to ``ends[1]``.
+
+    Raises
+    ------
+    InputError
+        ``key`` if gmsh fails or leaves an element other than an 8-node quad.
+    """
+    ends = np.asarray(ends, dtype=float)
+
+    def build(gmsh: object, scaled: list[NDArray[np.float64]], at: Callable,
+              h_tip: float) -> list[int]:
+        return _inner_geometry(gmsh, scaled, at(ends), 1.0, h_tip)
+
+    quads = _generate(curves, build, size, tip_size, key, "the region")
+    return GmshQuads(nodes=quads.nodes, elements=quads.elements, sides=quads.sides,
+                     crack=_crack_nodes(quads.nodes, ends[0], ends[1]))
+
+
+def _generate(curves: list[NDArray[np.float64]], build: Callable, size: float, tip_size: float,
+              key: str, what: str) -> GmshQuads:
+    """Start gmsh, let ``build(gmsh, scaled curves, to scaled, scaled tip size)`` draw the
+    geometry and return the tips' tags, refine to them, mesh, read, and always finalize gmsh.
+
+    gmsh works in coordinates scaled to the element size's order (its tolerances are
+    absolute); the nodes come back in the caller's units.
     """
     import gmsh      # imported when used: loading gmsh's library takes a moment
 
@@ -211,17 +305,15 @@ def mesh_with_crack(curves: list[NDArray[np.float64]], mouth: int, tip: NDArray[
     gmsh.initialize(readConfigFiles=False, interruptible=False)
     try:
         _set_options(gmsh)
-        gmsh.model.add("cracked tooth")
-        _, _, tip_tag = _geometry(gmsh, [(c - origin) * scale for c in curves], mouth,
-                                          (tip - origin) * scale, 1.0, tip_size * scale)
-        _size_field(gmsh, tip_tag, 1.0, tip_size * scale)
+        gmsh.model.add(what)
+        tips = build(gmsh, [(c - origin) * scale for c in curves],
+                     lambda x: (np.asarray(x) - origin) * scale, tip_size * scale)
+        _size_field(gmsh, tips, 1.0, tip_size * scale)
         try:
             gmsh.model.mesh.generate(2)
         except Exception as error:      # gmsh raises a bare Exception with its last message
-            raise InputError("fault.size", f"gmsh could not mesh the cracked tooth ({error}); "
+            raise InputError(key, f"gmsh could not mesh {what} ({error}); "
                              "try a smaller element size") from error
-        quads = _read(gmsh, curves, scale, origin)
+        return _read(gmsh, curves, scale, origin, key)
     finally:
         gmsh.finalize()
-    return GmshQuads(nodes=quads.nodes, elements=quads.elements, sides=quads.sides,
-                     crack=_crack_nodes(quads.nodes, points[mouth], tip))

@@ -232,3 +232,15 @@ def test_a_revolution_too_long_is_refused_before_any_work(pair):
     with pytest.raises(InputError) as err:
         faulty_revolution(unequal, PAPER_TORQUE, faults, NX, NY, positions=101)
     assert err.value.field == "fault" and f"{MAX_FAULTY_POSITIONS:,}" in err.value.reason
+
+
+def test_run_takes_a_fault_option_beside_the_tables(tmp_path, capsys):
+    case = tmp_path / "pair.toml"
+    case.write_text('[gear_a]\nteeth = 28\nmodule = 3.175e-3\nface_width = 6.35e-3\n\n[run]\ntorque = 22.25\n'
+                    'speed_a_rpm = 1000\n')
+    for extra, words in ((["--model", "fe", "--fault", "gear=a,tooth=5,kind=missing"], "sector model carries"),
+                         (["--fault", "gear=a,tooth=28,kind=missing"], "0 to 27"),
+                         (["--fault", "gear=a,tooth=5"], "kind")):
+        code, out, err = run(capsys, "run", str(case), "--out", str(tmp_path / "out"), *extra)
+        assert code == 2 and err.count("\n") == 1 and "--fault" in err and words in err, err
+    assert not (tmp_path / "out").exists()

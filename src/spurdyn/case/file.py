@@ -156,6 +156,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     """
     overrides = dict(overrides or {})
     labels = dict(labels or {})
+    faults = meshed_pair.faults + _option_faults(overrides.pop("fault", ()), meshed_pair.pair)
     table = {} if run_table is None else run_table
     if not isinstance(table, dict):
         raise InputError("run", "must be a table")
@@ -178,7 +179,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
         grading=grading, row_grading=row_grading,
         **_run_options(src, base),
-        name=name, faults=tuple(meshed_pair.faults),
+        name=name, faults=faults,
     )
     try:
         run = RunSettings(**settings)
@@ -194,6 +195,13 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         check_run(pair, run, system, _step_field(src, overrides, labels, scale_b))
     return Case(name=name, pair=pair, run=run, description=description,
                 written=frozenset(f"run.{key}" for key in table))
+
+
+def _option_faults(texts: Any, pair: GearPair) -> tuple[Any, ...]:
+    """The faults of ``--fault`` options (:func:`~spurdyn.case.fault_tables.parse_fault_option`)."""
+    from spurdyn.case.fault_tables import parse_fault_option
+
+    return tuple(parse_fault_option(text, pair) for text in texts)
 
 
 def _mesh_density(meshed_pair: MeshedPair, overrides: Mapping[str, Any],

@@ -116,6 +116,9 @@ def run_overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str
     if mesh is not None:
         overrides["mesh.nx"], overrides["mesh.ny"] = mesh
         labels["mesh.nx"] = labels["mesh.ny"] = "--mesh"
+    if getattr(args, "fault", None):     # beside the case's [[fault]] tables
+        overrides["fault"] = tuple(args.fault)
+        labels["fault"] = "--fault"
     return overrides, labels
 
 
@@ -268,6 +271,9 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--speed-a", type=float, metavar="RPM", help="initial speed of gear A (rpm); B keeps the case's ratio unless --speed-b is given")
     run.add_argument("--speed-b", type=float, metavar="RPM", help="initial speed of gear B (rpm)")
     run.add_argument("--torque", type=float, metavar="NM", help="external torque on the driver (N m)")
+    run.add_argument("--fault", action="append", metavar="SPEC",
+                     help="a fault beside the case's [[fault]] tables, the keys of one, e.g. "
+                     "gear=a,tooth=5,kind=crack,depth=1e-3 (the sector model; docs/faults.md)")
     run.add_argument("--angle", type=float, metavar="DEG",
                      help="rotation of A to simulate (deg; default the whole angle of action)")
     run.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")

@@ -181,3 +181,30 @@ def test_a_faulty_runs_balances_are_as_tight_as_a_healthy_ones():
     p = e[:, 4:6]
     assert (np.abs(impulse).max(axis=0) > 1e-3 * np.abs(p[0])).all()
     np.testing.assert_allclose(p - p[0], impulse, rtol=0, atol=1e-9 * np.abs(p[0]).max())
+
+
+def test_the_crack_faces_openings_at_a_static_state_are_the_static_solves():
+    """At the modal coordinates of a static state (``eta = Omega^-2 Phi^T f``) the modes' and
+    the residual flexibility's parts of the faces' openings sum to ``B^T K^-1 f``."""
+    from spurdyn.solvers.sector.crack_faces import FaceMap
+
+    s = run_settings(SMALL, 8000 * RPM, 22.25, model="sector", cycles=1, faults=(Fault("a", 0, "crack", depth=1e-3),),
+                     **MESH)
+    model = SectorModel.build(SMALL, s)
+    force = np.zeros(model.c_teeth.size)
+    rows = model.rows_at(0.3 * model.pitch, force)
+    f = np.linspace(200.0, 400.0, rows.on.size)
+    modal = rows.sides[0][1]
+    assert 0 in modal.teeth - (0 - model.blocks[0].first)      # the cracked tooth is loaded
+    fm = FaceMap(model, 0)
+    eta = (f @ modal.modal) / fm.omega2
+    got = fm.openings(eta, modal, f)
+    blk = model.blocks[0]
+    load = np.zeros(blk.mass.size)
+    for fc, at, side, ld in zip(f, modal.teeth, modal.sides, modal.loads):
+        k = blk.first + int(at)
+        load[blk.flank_dofs(k, int(side))] += fc * (ld.reshape(-1, 2) @ blk.turn_of(k, int(side)).T).ravel()
+    body = blk.body
+    want = body.seam_loads[body.free_dofs].T @ body.solve_free(load)
+    assert np.abs(want).max() > 0.0
+    assert np.abs(got - want).max() <= 1e-9 * np.abs(want).max()

@@ -15,6 +15,7 @@ from spurdyn.sector.rules import mesh_damping
 from spurdyn.sector.system import REACH
 from spurdyn.settings import DEFAULT_RAMP_CYCLES
 from spurdyn.solvers.sector.teeth import pair_pressures, root_stress
+from spurdyn.solvers.sector.crack_faces import face_openings
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
 if TYPE_CHECKING:  # annotations only
@@ -102,6 +103,9 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep)
     # a faulty gear's fillets differ tooth by tooth (missing, cracked): not recovered yet
     stress = None if model.faults else root_stress(model, record, n_kept, offset)
+    faces = face_openings(model, record, n_kept, offset)
+    if faces is not None:       # free in motion: how far they opened, or passed through
+        out["crack_faces"] = faces
     en = record.energy
     if en is not None:
         out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}

@@ -16,7 +16,7 @@ around it (one more cycle at a time until the run's settled test passes).
 from __future__ import annotations
 
 import importlib
-from typing import Any, Callable
+from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray

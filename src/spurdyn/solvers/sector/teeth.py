@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+from threadpoolctl import threadpool_limits
 
 from spurdyn.contact.hertz import peak_pressure
 from spurdyn.model.root import peaks
@@ -16,6 +17,10 @@ from spurdyn.result import ToothStress
 from spurdyn.sector.fillets import GearFillets
 from spurdyn.sector.rules import STRESS_SAMPLES, stress_steps
 from spurdyn.sector.system import half_widths_at
+
+#: Samples whose rows and stresses are formed at once: bounds the rows' modes of their flank
+#: loads, ``(pairs, f, m)`` (a design pair's 53-tooth gear, 3 pairs a sample: ~10 MB).
+STRESS_CHUNK = 64
 
 if TYPE_CHECKING:  # annotations only
     from spurdyn.sector.model import SectorModel
@@ -58,6 +63,19 @@ def pair_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: NDAr
             "contact_pressure_max": p_max, "contact_half_width": b_max}
 
 
+def fillet_stress(model: SectorModel, fillets: list[GearFillets], states: NDArray[np.float64],
+                  force: NDArray[np.float64], offset: int = 0) -> list[NDArray[np.float64]]:
+    """Per gear ``(S, K, n)`` the stress along every tooth's fillets (its ``fillets``) in the
+    states ``states`` ``(S, n_q)`` under the contacts' forces ``force`` ``(S, C)``: the
+    pairs' rows of all of them at once (:meth:`SectorModel.rows_many`) through the
+    fillets' maps (:meth:`GearFillets.stress_many`)."""
+    found = model.rows_many(states[:, 0], force, offset)
+    sample, rows = found if found is not None else (None, None)
+    f_on = force[sample, rows.on] if rows is not None else None
+    return [f.stress_many(states[:, model.parts[g]], sample, rows.sides[g][1] if rows is not None else None, f_on)
+            for g, f in enumerate(fillets)]
+
+
 def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: int = 0) -> ToothStress | None:
     """The root stress of every tooth of the driver and the driven gear (``model.dp``'s
     order) at the run's sampled steps below ``n_kept``: per sample and tooth the largest
@@ -70,13 +88,13 @@ def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: i
         return None
     fillets = [GearFillets(g) for g in model.gears]
     stress = [np.empty((steps.size,) + (f.teeth.size, f.radius.size)) for f in fillets]
-    for s, (i, q) in enumerate(zip(steps, states)):
-        force = record.force[i]
-        rows = model.rows_at(float(q[0]), force, offset)
-        on = rows.on if rows is not None else np.zeros(0, np.intp)
-        for g, f in enumerate(fillets):
-            elastic = rows.sides[g][1] if rows is not None else None
-            stress[g][s] = f.stress(q[model.parts[g]], elastic, force[on])
+    # BLAS on one thread, as in the run's steps: the products are small and another process
+    # may hold the other core (two threads then wait on each other: several times slower)
+    with threadpool_limits(limits=1, user_api="blas"):
+        for lo in range(0, steps.size, STRESS_CHUNK):
+            at = slice(lo, min(lo + STRESS_CHUNK, steps.size))
+            for g, sig in enumerate(fillet_stress(model, fillets, states[at], record.force[steps[at]], offset)):
+                stress[g][at] = sig
     values = []
     for f, sig in zip(fillets, stress):
         flat = peaks(sig.reshape(-1, f.radius.size), f.radius)
@@ -85,4 +103,4 @@ def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: i
                        values=(values[0], values[1]), per_cycle=min(STRESS_SAMPLES, model.per_cycle))
 
 
-__all__ = ["contact_pressures", "pair_pressures", "root_stress"]
+__all__ = ["contact_pressures", "fillet_stress", "pair_pressures", "root_stress"]

@@ -203,6 +203,13 @@ class GearFillets:
             return modes, mapped(blk.first)
         return modes, np.stack([mapped(j) for j in self.teeth], axis=1)
 
+    def _static_maps(self, tooth: int, side: int) -> NDArray[np.float64]:
+        """``(K, n, f)`` every tooth's fillet stress under unit loads on flank ``side`` of the
+        body's tooth ``tooth`` (from its first): round a whole ring by the teeth's distance."""
+        if self.block.whole:
+            return self._static[(np.arange(self.teeth.size) - tooth) % self.teeth.size, side]
+        return self._static[:, tooth, side]
+
     def stress(self, q: NDArray[np.float64], rows: Any = None,
                force: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
         """``(K, n)`` the tangential stress (Pa) along every tooth's fillets for the gear's
@@ -217,17 +224,11 @@ class GearFillets:
             return self._modes @ eta
         eta -= (force @ rows.modal) / self.reduced.omega2
         out = self._modes @ eta
-        count = self.teeth.size
         for fp, tp, sp_, w in zip(force, rows.teeth, rows.sides, rows.loads):
             if fp == 0.0:
                 continue
-            if self.block.whole:
-                maps = self._static[(np.arange(count) - tp) % count, sp_]
-            else:
-                maps = self._static[:, tp, sp_]
-            out += fp * (maps @ w)
+            out += fp * (self._static_maps(tp, sp_) @ w)
         return out
-
 
     def stress_many(self, q: NDArray[np.float64], sample: NDArray[np.intp] | None = None, rows: Any = None,
                     force: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
@@ -255,12 +256,9 @@ class GearFillets:
         key = rows.teeth[live] * 2 + rows.sides[live] if live.size else live
         for k in np.unique(key):
             e = live[key == k]
-            tp, sp_ = divmod(int(k), 2)
-            if self.block.whole:
-                maps = self._static[(np.arange(count) - tp) % count, sp_]
-            else:
-                maps = self._static[:, tp, sp_]
+            maps = self._static_maps(*divmod(int(k), 2))
             out += forces(e) @ (rows.loads[e] @ maps.reshape(count * n, -1).T)
         return out.reshape(-1, count, n)
+
 
 __all__ = ["GearFillets", "boundary_edges", "incidence", "tangential_operator", "tooth_fillets"]

@@ -19,7 +19,8 @@ from spurdyn.sector.model import SectorModel
 from spurdyn.sector.rules import STRESS_SAMPLES, stress_steps
 from spurdyn.settings import RPM
 from spurdyn.solvers.check import run_settings
-from spurdyn.solvers.sector.teeth import STRESS_CHUNK, fillet_stress
+from spurdyn.solvers.sector import teeth
+from spurdyn.solvers.sector.teeth import MOST_SAMPLES, fillet_stress, sample_runs
 
 PAIR = paper_pair()
 MESH = dict(nx=2, ny=8)
@@ -170,24 +171,40 @@ def runs():
     return {"modal": _run("modal", seen), "modal_recovered": seen["args"]}
 
 
-def test_a_runs_root_stress_is_its_samples_one_at_a_time(runs):
-    """The run's root stress (its samples' rows and stresses formed STRESS_CHUNK samples at
-    a time) against the reference state by state and its peaks: the stresses to round-off,
-    their radii the same."""
+def test_a_runs_root_stress_is_its_samples_one_at_a_time(runs, monkeypatch):
+    """The run's root stress, its samples' rows and stresses formed a few pairs at a time
+    (a budget of 8 pairs here: 50-odd runs of samples), against the reference state by state
+    and its peaks: the stresses to round-off, their radii the same."""
     model, record, n_kept, offset = runs["modal_recovered"]
     steps = stress_steps(model.per_cycle, record.gap.size - 1)
     steps = steps[steps < n_kept]
-    assert steps.size > STRESS_CHUNK
+    per_pair = teeth.ROWS_BYTES // teeth.pair_budget(model)
+    monkeypatch.setattr(teeth, "ROWS_BYTES", 8 * per_pair)
+    got = teeth.root_stress(model, record, n_kept, offset)
+    assert len(sample_runs(model.near_many(record.states[:steps.size, 0], offset), 8)) > 20
     fillets = [GearFillets(g) for g in model.gears]
     ref = _stress_by_sample(model, fillets, record.states[:steps.size], record.force[steps], offset)
-    ts = runs["modal"].tooth_stress
-    np.testing.assert_array_equal(ts.time, steps * model.h)
+    np.testing.assert_array_equal(got.time, steps * model.h)
     for g, fl in enumerate(fillets):
         want = [v.reshape(steps.size, -1) for v in peaks(ref[g].reshape(-1, fl.radius.size), fl.radius)]
         peak = np.abs(want[0]).max()
         for j in (0, 2):
-            np.testing.assert_allclose(ts.values[g][j], want[j], rtol=0, atol=1e-12 * peak)
-            np.testing.assert_array_equal(ts.values[g][j + 1], want[j + 1])
+            for ts in (got, runs["modal"].tooth_stress):
+                np.testing.assert_allclose(ts.values[g][j], want[j], rtol=0, atol=1e-12 * peak)
+                np.testing.assert_array_equal(ts.values[g][j + 1], want[j + 1])
+
+
+def test_the_samples_runs_hold_the_budgets_pairs():
+    """Consecutive runs covering every sample, each within the pairs' budget (a sample over
+    it alone) and MOST_SAMPLES samples."""
+    pairs = np.array([3, 3, 3, 0, 5, 9, 1, 0, 0] + [1] * (2 * MOST_SAMPLES))
+    runs = sample_runs(pairs, 6)
+    assert runs[:5] == [slice(0, 2), slice(2, 4), slice(4, 5), slice(5, 6), slice(6, 14)]
+    assert [r.start for r in runs[1:]] == [r.stop for r in runs[:-1]] and runs[-1].stop == pairs.size
+    assert all(pairs[r].sum() <= 6 or r.stop - r.start == 1 for r in runs)
+    big = sample_runs(pairs, 10**9)
+    assert [r.stop - r.start for r in big] == [MOST_SAMPLES, MOST_SAMPLES, pairs.size - 2 * MOST_SAMPLES]
+    assert sample_runs(pairs[:0], 6) == []
 
 
 @pytest.mark.slow

@@ -276,6 +276,11 @@ class SectorModel:
             return None
         return sample, self._pair_rows(on, rolls[sample, on], f[sample, on], theta_a[sample], offset)
 
+    def near_many(self, theta_a: NDArray[np.float64], offset: int = 0) -> NDArray[np.intp]:
+        """``(S,)`` how many contacts :meth:`rows_many` gives in each state of the driver's
+        turns ``theta_a`` ``(S,)``: those near their paths (and made)."""
+        return self._rolls(np.asarray(theta_a, dtype=float)[:, None], offset)[1].sum(axis=1)
+
     def _rolls(self, theta_a: Any, offset: int) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """Every contact's roll at the driver's turn ``theta_a`` (a number, or ``(S, 1)``
         for several) and whether it is near its path and made (:meth:`made`)."""

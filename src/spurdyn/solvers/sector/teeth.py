@@ -18,9 +18,12 @@ from spurdyn.sector.fillets import GearFillets
 from spurdyn.sector.rules import STRESS_SAMPLES, stress_steps
 from spurdyn.sector.system import half_widths_at
 
-#: Samples whose rows and stresses are formed at once: bounds the rows' modes of their flank
-#: loads, ``(pairs, f, m)`` (a design pair's 53-tooth gear, 3 pairs a sample: ~10 MB).
-STRESS_CHUNK = 64
+#: Bytes the pairs' modal rows of the samples formed at once may take: a modal body's rows
+#: are its flank modes at each pair's load, ``f x m`` numbers a pair (58 x 514 on a design
+#: pair's 53-tooth gear, 238 kB), gathered before they are summed.
+ROWS_BYTES = 8 * 2**20
+#: Most samples formed at once (whole bodies, which gather nothing).
+MOST_SAMPLES = 256
 
 if TYPE_CHECKING:  # annotations only
     from spurdyn.sector.model import SectorModel
@@ -63,6 +66,27 @@ def pair_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: NDAr
             "contact_pressure_max": p_max, "contact_half_width": b_max}
 
 
+def pair_budget(model: SectorModel) -> int:
+    """The pairs whose rows may be formed at once (:data:`ROWS_BYTES`; on whole bodies
+    :data:`MOST_SAMPLES` samples' worth of every contact)."""
+    if not model.modes:
+        return MOST_SAMPLES * model.c_teeth.size
+    per_pair = max(8 * blk.flank_dofs(blk.first).size * (gear.n - 1) for gear, blk in zip(model.gears, model.blocks))
+    return max(ROWS_BYTES // per_pair, 1)
+
+
+def sample_runs(pairs: NDArray[np.intp], budget: int) -> list[slice]:
+    """Runs of consecutive samples, each of at most ``budget`` of their ``pairs`` (one
+    sample a run if it has more) and :data:`MOST_SAMPLES` samples."""
+    out, lo, total = [], 0, 0
+    for i, count in enumerate(pairs.tolist()):
+        if i > lo and (total + count > budget or i - lo == MOST_SAMPLES):
+            out.append(slice(lo, i))
+            lo, total = i, 0
+        total += count
+    return out + [slice(lo, len(pairs))] if len(pairs) else out
+
+
 def fillet_stress(model: SectorModel, fillets: list[GearFillets], states: NDArray[np.float64],
                   force: NDArray[np.float64], offset: int = 0) -> list[NDArray[np.float64]]:
     """Per gear ``(S, K, n)`` the stress along every tooth's fillets (its ``fillets``) in the
@@ -91,8 +115,7 @@ def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: i
     # BLAS on one thread, as in the run's steps: the products are small and another process
     # may hold the other core (two threads then wait on each other: several times slower)
     with threadpool_limits(limits=1, user_api="blas"):
-        for lo in range(0, steps.size, STRESS_CHUNK):
-            at = slice(lo, min(lo + STRESS_CHUNK, steps.size))
+        for at in sample_runs(model.near_many(states[:, 0], offset), pair_budget(model)):
             for g, sig in enumerate(fillet_stress(model, fillets, states[at], record.force[steps[at]], offset)):
                 stress[g][at] = sig
     values = []
@@ -103,4 +126,4 @@ def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: i
                        values=(values[0], values[1]), per_cycle=min(STRESS_SAMPLES, model.per_cycle))
 
 
-__all__ = ["contact_pressures", "fillet_stress", "pair_pressures", "root_stress"]
+__all__ = ["contact_pressures", "fillet_stress", "pair_budget", "pair_pressures", "root_stress", "sample_runs"]

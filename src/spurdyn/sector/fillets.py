@@ -203,6 +203,13 @@ class GearFillets:
             return modes, mapped(blk.first)
         return modes, np.stack([mapped(j) for j in self.teeth], axis=1)
 
+    def _static_maps(self, tooth: int, side: int) -> NDArray[np.float64]:
+        """``(K, n, f)`` every tooth's fillet stress under unit loads on flank ``side`` of the
+        body's tooth ``tooth`` (from its first): round a whole ring by the teeth's distance."""
+        if self.block.whole:
+            return self._static[(np.arange(self.teeth.size) - tooth) % self.teeth.size, side]
+        return self._static[:, tooth, side]
+
     def stress(self, q: NDArray[np.float64], rows: Any = None,
                force: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
         """``(K, n)`` the tangential stress (Pa) along every tooth's fillets for the gear's
@@ -217,16 +224,41 @@ class GearFillets:
             return self._modes @ eta
         eta -= (force @ rows.modal) / self.reduced.omega2
         out = self._modes @ eta
-        count = self.teeth.size
         for fp, tp, sp_, w in zip(force, rows.teeth, rows.sides, rows.loads):
             if fp == 0.0:
                 continue
-            if self.block.whole:
-                maps = self._static[(np.arange(count) - tp) % count, sp_]
-            else:
-                maps = self._static[:, tp, sp_]
-            out += fp * (maps @ w)
+            out += fp * (self._static_maps(tp, sp_) @ w)
         return out
+
+    def stress_many(self, q: NDArray[np.float64], sample: NDArray[np.intp] | None = None, rows: Any = None,
+                    force: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+        """:meth:`stress` of several states at once: ``(S, K, n)`` for the gear's coordinates
+        ``q`` ``(S, 1 + d)`` and, on a modal body, the pairs' rows of all of them
+        (:meth:`~spurdyn.sector.model.SectorModel.rows_many`: entry ``e`` a pair in state
+        ``sample[e]``, ``None`` for no contact) and their forces ``force`` ``(E,)``. The
+        same sums as :meth:`stress`, as matrix products over the states."""
+        u = q[:, 1:]
+        count, n = self.teeth.size, self.radius.size
+        if self.reduced is None:
+            return np.stack([u[:, r] @ op.T for op, r in zip(self._ops, self._rows)], axis=1)
+        eta = u.copy()
+        live = np.zeros(0, np.intp) if rows is None else np.flatnonzero(force != 0.0)
+
+        def forces(e: NDArray[np.intp]) -> sp.csr_matrix:
+            """``(S, e)`` the entries' forces in their states' rows: the sums over a state's pairs."""
+            return sp.csr_matrix((force[e], (sample[e], np.arange(e.size))), shape=(eta.shape[0], e.size))
+
+        if live.size:
+            # the loads' modal part, Omega^-2 Phi^T f, state by state
+            eta -= (forces(live) @ rows.modal[live]) / self.reduced.omega2
+        out = eta @ self._modes.reshape(count * n, -1).T
+        # the static part: one map for all the entries on the same tooth and flank
+        key = rows.teeth[live] * 2 + rows.sides[live] if live.size else live
+        for k in np.unique(key):
+            e = live[key == k]
+            maps = self._static_maps(*divmod(int(k), 2))
+            out += forces(e) @ (rows.loads[e] @ maps.reshape(count * n, -1).T)
+        return out.reshape(-1, count, n)
 
 
 __all__ = ["GearFillets", "boundary_edges", "incidence", "tangential_operator", "tooth_fillets"]

@@ -256,23 +256,53 @@ class SectorModel:
         (:func:`~spurdyn.sector.system.back_roll_sum`), running backwards as the
         driver turns, and its gap the mirror image's plus the backlash (docs/sector.md, 6.7);
         ``offset`` the driver's body tooth of pair 0 (a continuation runs on)."""
-        c_teeth, c_side, pitch, ra, rb = self.c_teeth, self.c_side, self.pitch, self.ra, self.rb
-        rolls = self.roll_0 + theta_a + c_teeth * pitch
-        rolls = np.where(c_side == 1, self.sigma - rolls, rolls)
-        on = np.flatnonzero((rolls >= self.roll_0 - self.reach) & (rolls <= self.roll_1 + self.reach))
+        rolls, near = self._rolls(theta_a, offset)
+        on = np.flatnonzero(near)
         if not on.size:
             return None
+        return self._pair_rows(on, rolls[on], f[on], theta_a, offset)
+
+    def rows_many(self, theta_a: NDArray[np.float64], f: NDArray[np.float64],
+                  offset: int = 0) -> tuple[NDArray[np.intp], Rows] | None:
+        """:meth:`rows_at` of several states at once, the driver's turns ``theta_a`` ``(S,)``
+        and forces ``f`` ``(S, C)``: ``(sample, rows)``, one entry a contact near its path in
+        a state, ``rows.on`` its index in ``c_teeth`` and ``sample`` its state's (in the
+        states' order, each state's contacts in :meth:`rows_at`'s); entry by entry the same
+        numbers as :meth:`rows_at`. ``None`` where no contact is near."""
+        theta_a = np.asarray(theta_a, dtype=float)
+        rolls, near = self._rolls(theta_a[:, None], offset)
+        sample, on = np.nonzero(near)
+        if not on.size:
+            return None
+        return sample, self._pair_rows(on, rolls[sample, on], f[sample, on], theta_a[sample], offset)
+
+    def near_many(self, theta_a: NDArray[np.float64], offset: int = 0) -> NDArray[np.intp]:
+        """``(S,)`` how many contacts :meth:`rows_many` gives in each state of the driver's
+        turns ``theta_a`` ``(S,)``: those near their paths (and made)."""
+        return self._rolls(np.asarray(theta_a, dtype=float)[:, None], offset)[1].sum(axis=1)
+
+    def _rolls(self, theta_a: Any, offset: int) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Every contact's roll at the driver's turn ``theta_a`` (a number, or ``(S, 1)``
+        for several) and whether it is near its path and made (:meth:`made`)."""
+        rolls = self.roll_0 + theta_a + self.c_teeth * self.pitch
+        rolls = np.where(self.c_side == 1, self.sigma - rolls, rolls)
+        near = (rolls >= self.roll_0 - self.reach) & (rolls <= self.roll_1 + self.reach)
         if self.faults:
-            on = on[self.made(c_teeth[on] + offset, c_side[on])]
-            if not on.size:
-                return None
-        g0, slope, r_a, r_b = self.table.at(rolls[on])
-        hw = half_widths_at(self.dp, (r_a, r_b), f[on], self.estar, self.width)
-        sd = c_side[on]
+            near &= self.made(self.c_teeth + offset, self.c_side)
+        return rolls, near
+
+    def _pair_rows(self, on: NDArray[np.intp], rolls: NDArray[np.float64], f: NDArray[np.float64],
+                   theta_a: Any, offset: int) -> Rows:
+        """The :class:`Rows` of the contacts ``on`` at their ``rolls`` under their forces
+        ``f``, the driver at ``theta_a`` (a number, or one per contact)."""
+        ra, rb = self.ra, self.rb
+        g0, slope, r_a, r_b = self.table.at(rolls)
+        hw = half_widths_at(self.dp, (r_a, r_b), f, self.estar, self.width)
+        sd = self.c_side[on]
         sgn = np.where(sd == 1, -1.0, 1.0)        # d roll / d theta_A
-        k = c_teeth[on] + offset
+        k = self.c_teeth[on] + offset
         if self.faults:
-            g0 = g0 + self.pit_gaps(k, sd, rolls[on])
+            g0 = g0 + self.pit_gaps(k, sd, rolls)
         # d gap / d theta: the base circles' and, off the path, the corner's
         sides = tuple((coef, self.gears[g].rows(kg, self.blocks[g].flank_loads(r, hw), sd))
                       for g, (kg, coef, r) in enumerate(((k, sgn * (slope - ra), r_a),

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+from threadpoolctl import threadpool_limits
 
 from spurdyn.contact.hertz import peak_pressure
 from spurdyn.model.root import peaks
@@ -16,6 +17,13 @@ from spurdyn.result import ToothStress
 from spurdyn.sector.fillets import GearFillets
 from spurdyn.sector.rules import STRESS_SAMPLES, stress_steps
 from spurdyn.sector.system import half_widths_at
+
+#: Bytes the pairs' modal rows of the samples formed at once may take: a modal body's rows
+#: are its flank modes at each pair's load, ``f x m`` numbers a pair (58 x 514 on a design
+#: pair's 53-tooth gear, 238 kB), gathered before they are summed.
+ROWS_BYTES = 8 * 2**20
+#: Most samples formed at once (whole bodies, which gather nothing).
+MOST_SAMPLES = 256
 
 if TYPE_CHECKING:  # annotations only
     from spurdyn.sector.model import SectorModel
@@ -58,6 +66,40 @@ def pair_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: NDAr
             "contact_pressure_max": p_max, "contact_half_width": b_max}
 
 
+def pair_budget(model: SectorModel) -> int:
+    """The pairs whose rows may be formed at once (:data:`ROWS_BYTES`; on whole bodies
+    :data:`MOST_SAMPLES` samples' worth of every contact)."""
+    if not model.modes:
+        return MOST_SAMPLES * model.c_teeth.size
+    per_pair = max(8 * blk.flank_dofs(blk.first).size * (gear.n - 1) for gear, blk in zip(model.gears, model.blocks))
+    return max(ROWS_BYTES // per_pair, 1)
+
+
+def sample_runs(pairs: NDArray[np.intp], budget: int) -> list[slice]:
+    """Runs of consecutive samples, each of at most ``budget`` of their ``pairs`` (one
+    sample a run if it has more) and :data:`MOST_SAMPLES` samples."""
+    out, lo, total = [], 0, 0
+    for i, count in enumerate(pairs.tolist()):
+        if i > lo and (total + count > budget or i - lo == MOST_SAMPLES):
+            out.append(slice(lo, i))
+            lo, total = i, 0
+        total += count
+    return out + [slice(lo, len(pairs))] if len(pairs) else out
+
+
+def fillet_stress(model: SectorModel, fillets: list[GearFillets], states: NDArray[np.float64],
+                  force: NDArray[np.float64], offset: int = 0) -> list[NDArray[np.float64]]:
+    """Per gear ``(S, K, n)`` the stress along every tooth's fillets (its ``fillets``) in the
+    states ``states`` ``(S, n_q)`` under the contacts' forces ``force`` ``(S, C)``: the
+    pairs' rows of all of them at once (:meth:`SectorModel.rows_many`) through the
+    fillets' maps (:meth:`GearFillets.stress_many`)."""
+    found = model.rows_many(states[:, 0], force, offset)
+    sample, rows = found if found is not None else (None, None)
+    f_on = force[sample, rows.on] if rows is not None else None
+    return [f.stress_many(states[:, model.parts[g]], sample, rows.sides[g][1] if rows is not None else None, f_on)
+            for g, f in enumerate(fillets)]
+
+
 def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: int = 0) -> ToothStress | None:
     """The root stress of every tooth of the driver and the driven gear (``model.dp``'s
     order) at the run's sampled steps below ``n_kept``: per sample and tooth the largest
@@ -70,13 +112,12 @@ def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: i
         return None
     fillets = [GearFillets(g) for g in model.gears]
     stress = [np.empty((steps.size,) + (f.teeth.size, f.radius.size)) for f in fillets]
-    for s, (i, q) in enumerate(zip(steps, states)):
-        force = record.force[i]
-        rows = model.rows_at(float(q[0]), force, offset)
-        on = rows.on if rows is not None else np.zeros(0, np.intp)
-        for g, f in enumerate(fillets):
-            elastic = rows.sides[g][1] if rows is not None else None
-            stress[g][s] = f.stress(q[model.parts[g]], elastic, force[on])
+    # BLAS on one thread, as in the run's steps: the products are small and another process
+    # may hold the other core (two threads then wait on each other: several times slower)
+    with threadpool_limits(limits=1, user_api="blas"):
+        for at in sample_runs(model.near_many(states[:, 0], offset), pair_budget(model)):
+            for g, sig in enumerate(fillet_stress(model, fillets, states[at], record.force[steps[at]], offset)):
+                stress[g][at] = sig
     values = []
     for f, sig in zip(fillets, stress):
         flat = peaks(sig.reshape(-1, f.radius.size), f.radius)
@@ -85,4 +126,4 @@ def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: i
                        values=(values[0], values[1]), per_cycle=min(STRESS_SAMPLES, model.per_cycle))
 
 
-__all__ = ["contact_pressures", "pair_pressures", "root_stress"]
+__all__ = ["contact_pressures", "fillet_stress", "pair_budget", "pair_pressures", "root_stress", "sample_runs"]

@@ -208,3 +208,15 @@ def test_the_crack_faces_openings_at_a_static_state_are_the_static_solves():
     want = body.seam_loads[body.free_dofs].T @ body.solve_free(load)
     assert np.abs(want).max() > 0.0
     assert np.abs(got - want).max() <= 1e-9 * np.abs(want).max()
+
+
+def test_a_tied_nodes_mass_goes_to_its_edge_kept_whole_and_positive():
+    from spurdyn.sector.body import tied_masses
+
+    m = np.array([1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 0.5, 0.5])        # four nodes, node 3 tied
+    ties = np.array([[3, 0, 1, 2]])
+    w = np.array([[-0.125, 0.375, 0.75]])       # a quadratic edge's weights at a quarter: one negative
+    out = tied_masses(m, ties, w)
+    assert out.sum() == pytest.approx(m.sum(), rel=1e-15)
+    assert (out[:6] >= m[:6]).all() and out[6:].sum() == 0.0
+    assert np.allclose(out[:6:2] - m[:6:2], 0.5 * w[0] ** 2 / np.sum(w[0] ** 2))

@@ -189,4 +189,21 @@ def sector_body(gear: Gear, teeth: int, nx: int, ny: int, first: int | None = No
     return SectorBody(gear=gear, mesh=mesh, flank=flank, _free=free)
 
 
-__all__ = ["SectorBody", "body_cell", "sector_body"]
+def tied_masses(m_full: NDArray[np.float64], ties: NDArray[np.intp],
+                 weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The lumped masses with a tied node's (held: it follows its edge, ``u_t = sum w_j
+    u_j``) moved to its edge's three nodes: the diagonal of ``T^T M T`` scaled to the tied
+    mass (``m_t w_j^2 / sum w^2``, positive where a quadratic edge's weights are not; the
+    total mass kept)."""
+    if not ties.size:
+        return m_full
+    out = m_full.copy()
+    share = weights**2 / np.sum(weights**2, axis=1, keepdims=True)
+    for axis in (0, 1):
+        for e in range(3):
+            np.add.at(out, 2 * ties[:, 1 + e] + axis, m_full[2 * ties[:, 0] + axis] * share[:, e])
+        out[2 * ties[:, 0] + axis] = 0.0
+    return out
+
+
+__all__ = ["SectorBody", "body_cell", "sector_body", "tied_masses"]

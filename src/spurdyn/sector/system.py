@@ -44,7 +44,7 @@ from spurdyn.fem.assembly import assemble_lumped_mass
 from spurdyn.geometry.corner import corner_contacts
 from spurdyn.geometry.gear import Gear
 from spurdyn.geometry.pair import GearPair
-from spurdyn.sector.body import SectorBody, sector_body
+from spurdyn.sector.body import SectorBody, sector_body, tied_masses
 from spurdyn.sector.packs import GapArrays
 from spurdyn.sector.statics import pairs_in_path
 
@@ -299,7 +299,7 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
     for width in np.unique(mesh.width):
         sel = mesh.width == width
         m_full += assemble_lumped_mass(mesh.nodes, mesh.elements[sel], gear.material, float(width))
-    m_full = _tied_masses(m_full, mesh.ties, mesh.tie_weights)
+    m_full = tied_masses(m_full, mesh.ties, mesh.tie_weights)
     s_full = rotation_field(mesh.nodes, sense)
     j_body = float(s_full @ (m_full * s_full))
     # The gear's whole inertia is the paper model's disk and tooth; what the meshed body
@@ -317,23 +317,6 @@ def gear_block(gear: Gear, sense: float, first: int, count: int, nx: int, ny: in
                      _free_of=free_of, _side_of=side_of,
                      _left=mirror_nodes(mesh.tooth.nodes, body.flank.side_nodes),
                      missing=frozenset(int(k) for k in missing), cracked=bool(cracked))
-
-
-def _tied_masses(m_full: NDArray[np.float64], ties: NDArray[np.intp],
-                 weights: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The lumped masses with a tied node's (held: it follows its edge, ``u_t = sum w_j
-    u_j``) moved to its edge's three nodes: the diagonal of ``T^T M T`` scaled to the tied
-    mass (``m_t w_j^2 / sum w^2``, positive where a quadratic edge's weights are not; the
-    total mass kept)."""
-    if not ties.size:
-        return m_full
-    out = m_full.copy()
-    share = weights**2 / np.sum(weights**2, axis=1, keepdims=True)
-    for axis in (0, 1):
-        for e in range(3):
-            np.add.at(out, 2 * ties[:, 1 + e] + axis, m_full[2 * ties[:, 0] + axis] * share[:, e])
-        out[2 * ties[:, 0] + axis] = 0.0
-    return out
 
 
 def mirror_nodes(nodes: NDArray[np.float64], side: NDArray[np.intp]) -> NDArray[np.intp]:

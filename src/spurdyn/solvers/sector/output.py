@@ -91,11 +91,6 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     on = (rolls >= dp.start_roll_a - reach) & (rolls <= dp.end_roll_a + reach)
     out = sector_record(model, teeth, back is not None, float(theta[-1, 0]) if n else 0.0,
                         steady_record(fig, per_cycle * h, float(model.cycle.force.max()), model.cycle.stiffness_mean))
-    if period > 1:
-        # in mesh cycles as every run's; the lists per period (a revolution), which it names
-        st = out["steady"]
-        st.update(cycles=model.cycles, cycles_done=max(n - 1, 0) // per_cycle, max_cycles=most,
-                  last_cycles=st["last_cycles"] * period, period_mesh_cycles=period)
     back_force = None
     if back is not None:
         back_force = back[1][sel]
@@ -103,9 +98,7 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep)
     # a faulty gear's fillets differ tooth by tooth (missing, cracked): not recovered yet
     stress = None if model.faults else root_stress(model, record, n_kept, offset)
-    faces = face_openings(model, record, n_kept, offset)
-    if faces is not None:       # free in motion: how far they opened, or passed through
-        out["crack_faces"] = faces
+    _fault_records(model, out, record, n_kept, offset, most)
     en = record.energy
     if en is not None:
         out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
@@ -121,6 +114,20 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         info={**out, **(info or {}), "static_cycle": static_cycle(model)}, pair_force=forces,
         pair_roll=np.where(on, rolls, np.nan), back_force=back_force, transmission_error=te, tooth_stress=stress,
         **contact)
+
+
+def _fault_records(model: SectorModel, out: dict[str, Any], record: SectorRecord, n_kept: int, offset: int,
+                   most: int | None) -> None:
+    """A faulty run's own in its record ``out``: its steady figures in mesh cycles as every
+    run's (their lists per period, a revolution, which it names) and how far a crack's free
+    faces opened or passed through each other."""
+    if model.period > 1:
+        st = out["steady"]
+        st.update(cycles=model.cycles, cycles_done=max(n_kept - 1, 0) // model.per_cycle, max_cycles=most,
+                  last_cycles=st["last_cycles"] * model.period, period_mesh_cycles=model.period)
+    faces = face_openings(model, record, n_kept, offset)
+    if faces is not None:
+        out["crack_faces"] = faces
 
 
 def static_cycle(model: SectorModel) -> dict[str, NDArray[np.float64]]:

@@ -88,6 +88,17 @@ def test_a_missing_teeths_contacts_are_never_made_and_a_pit_of_no_depth_is_healt
     assert np.array_equal(healthy.pair_force, flat.pair_force, equal_nan=True)
 
 
+def test_a_missing_tooth_at_the_start_carries_nothing_and_has_no_flank():
+    # fault tooth 0 is pair 0 at the start: the static start's load goes to the others
+    s = run_settings(PAIR, 8000 * RPM, 22.25, model="sector", cycles=3, faults=(Fault("a", 0, "missing"),), **MESH)
+    model = SectorModel.build(PAIR, s)
+    start = model.start()
+    assert start.force[np.searchsorted(model.teeth, 0)] == 0.0
+    assert start.force.sum() == pytest.approx(model.load, rel=1e-9)
+    with pytest.raises(IndexError):
+        model.blocks[0].flank_dofs(0)
+
+
 def test_a_fault_sits_on_the_body_tooth_that_meets_it():
     # the driver's fault tooth k on its body tooth -k, the driven gear's on +k, round the ring
     assert body_tooth(5, 0, -14, 28) == -5

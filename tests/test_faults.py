@@ -240,7 +240,9 @@ def test_run_takes_a_fault_option_beside_the_tables(tmp_path, capsys):
                     'speed_a_rpm = 1000\n')
     for extra, words in ((["--model", "fe", "--fault", "gear=a,tooth=5,kind=missing"], "sector model carries"),
                          (["--fault", "gear=a,tooth=28,kind=missing"], "0 to 27"),
-                         (["--fault", "gear=a,tooth=5"], "kind")):
+                         (["--fault", "gear=a,tooth=5"], "kind"),
+                         (["--fault", "gear=a,tooth=5,kind=missing", "--fault", "gear=a,tooth=5,kind=missing"],
+                          "takes no other fault")):
         code, out, err = run(capsys, "run", str(case), "--out", str(tmp_path / "out"), *extra)
         assert code == 2 and err.count("\n") == 1 and "--fault" in err and words in err, err
     assert not (tmp_path / "out").exists()

@@ -138,13 +138,21 @@ def faults_from_dict(data: dict[str, Any], pair: GearPair) -> tuple[Fault, ...]:
     if not isinstance(tables, list):
         raise InputError("fault", "must be an array of tables: [[fault]] gear = \"a\" tooth = 5 ...")
     faults = tuple(fault_from_table(t, f"fault[{i}]", pair) for i, t in enumerate(tables))
-    seen: set[tuple[str, int]] = set()
-    for i, f in enumerate(faults):
-        if f.kind == "missing" and (f.gear, f.tooth) in seen:
-            raise InputError(f"fault[{i}].tooth", f"tooth {f.tooth} of gear_{f.gear} is already missing")
-        if f.kind == "missing":
-            seen.add((f.gear, f.tooth))
+    check_faults(faults, [f"fault[{i}].tooth" for i in range(len(faults))])
     return faults
+
+
+def check_faults(faults: tuple[Fault, ...], keys: list[str]) -> None:
+    """Refuse, naming fault ``i``'s ``keys[i]``, a tooth missing twice, a missing tooth with
+    another fault, or a tooth cracked twice (spalls may be several on a flank)."""
+    seen: dict[tuple[str, int], set[str]] = {}
+    for f, key in zip(faults, keys):
+        kinds = seen.setdefault((f.gear, f.tooth), set())
+        if "missing" in kinds or (f.kind == "missing" and kinds):
+            raise InputError(key, f"tooth {f.tooth} of gear_{f.gear} is missing: it takes no other fault")
+        if f.kind == "crack" and "crack" in kinds:
+            raise InputError(key, f"tooth {f.tooth} of gear_{f.gear} is already cracked: one crack a tooth")
+        kinds.add(f.kind)
 
 
 def parse_fault_option(text: str, pair: GearPair) -> Fault:
@@ -175,5 +183,5 @@ def _option_value(key: str, raw: str) -> Any:
         raise InputError("--fault", f"{key} must be a number (got {raw!r})") from None
 
 
-__all__ = ["FAULT_KEYS", "MAX_SPALL_DEPTH", "fault_from_table", "fault_to_table", "faults_from_dict",
+__all__ = ["FAULT_KEYS", "MAX_SPALL_DEPTH", "check_faults", "fault_from_table", "fault_to_table", "faults_from_dict",
            "parse_fault_option"]

@@ -156,7 +156,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
     """
     overrides = dict(overrides or {})
     labels = dict(labels or {})
-    faults = meshed_pair.faults + _option_faults(overrides.pop("fault", ()), meshed_pair.pair)
+    faults = _option_faults(overrides.pop("fault", ()), meshed_pair)
     table = {} if run_table is None else run_table
     if not isinstance(table, dict):
         raise InputError("run", "must be a table")
@@ -197,11 +197,16 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
                 written=frozenset(f"run.{key}" for key in table))
 
 
-def _option_faults(texts: Any, pair: GearPair) -> tuple[Any, ...]:
-    """The faults of ``--fault`` options (:func:`~spurdyn.case.fault_tables.parse_fault_option`)."""
-    from spurdyn.case.fault_tables import parse_fault_option
+def _option_faults(texts: Any, meshed_pair: MeshedPair) -> tuple[Any, ...]:
+    """The case's faults and those of ``--fault`` options after them
+    (:func:`~spurdyn.case.fault_tables.parse_fault_option`), checked together."""
+    from spurdyn.case.fault_tables import check_faults, parse_fault_option
 
-    return tuple(parse_fault_option(text, pair) for text in texts)
+    given = tuple(parse_fault_option(text, meshed_pair.pair) for text in texts)
+    if given:
+        own = meshed_pair.faults
+        check_faults(own + given, [f"fault[{i}].tooth" for i in range(len(own))] + ["--fault"] * len(given))
+    return meshed_pair.faults + given
 
 
 def _mesh_density(meshed_pair: MeshedPair, overrides: Mapping[str, Any],

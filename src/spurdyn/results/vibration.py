@@ -14,10 +14,10 @@ The signals, in ``result.nc`` along ``time``:
   (the two hubs' are equal and opposite; the bodies' own inertia, whose centre of mass the
   deformation moves by micrometres, is left out).
 
-The indicators (``summary.json``'s ``vibration``) are taken over the settled window's whole
-revolutions of the faulty gear (of the driver on a healthy pair), each signal's
-time-synchronous average on that gear's turn; absent where the window holds no whole
-revolution.
+The indicators (``summary.json``'s ``vibration``) are taken over the whole revolutions of
+the faulty gear (of the driver on a healthy pair) from the last mesh cycle of its first
+(:func:`window`), each signal's time-synchronous average on that gear's turn; absent where
+the run holds no whole revolution there.
 """
 
 from __future__ import annotations
@@ -73,9 +73,10 @@ def result_sensors(result: Any, alpha_w: float) -> dict[str, xr.Variable]:
 
 
 def window(ds: xr.Dataset, steady: dict[str, Any], teeth: int) -> NDArray[np.bool_]:
-    """The samples the indicators read: every revolution after the first (the start's
-    transient) of a run of two and more (a revolution: a faulty pair's period, else the
-    ``teeth`` mesh cycles of the gear followed), else the settled window."""
+    """The samples the indicators read: from the last mesh cycle of the first revolution
+    (the start's transient before it) of a run of two and more (a revolution: a faulty
+    pair's period, else the ``teeth`` mesh cycles of the gear followed), else the settled
+    window."""
     time = ds["time"].values.astype(float)
     lo = float(steady["window_s"][0])
     turn = int(steady.get("period_mesh_cycles", teeth))

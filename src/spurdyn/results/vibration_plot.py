@@ -58,7 +58,7 @@ def plot_vibration(ds: xr.Dataset, png: str | Path) -> Path | None:
         top = (HARMONICS + 0.5) * z * f_shaft
         keep = spec.frequency <= top
         amp = spec.amplitude[keep]
-        floor = 1e-6 * float(np.max(amp)) if np.max(amp) > 0 else 1.0    # eight decades at most
+        floor = 1e-6 * float(np.max(amp)) if np.max(amp) > 0 else 1.0    # six decades at most
         ax.semilogy(spec.frequency[keep], np.maximum(amp, floor), lw=0.7)
         mesh_f = marks.frequency[kind == "mesh"]
         for f in mesh_f:

@@ -104,7 +104,7 @@ class SectorModel:
         self.per_cycle = per_cycle
         self.h = pitch / self.speed / per_cycle
         # the cycles' worth of teeth the run carries (a guard stops the run where they are left)
-        cover = max(cover_cycles(settings), self.most)
+        cover = max(cover_cycles(settings), cover_cycles(settings, self.most))
         self.back = back = back_flanks_on(dp, settings)
         (first_a, count_a), (first_b, count_b) = teeth_for(dp, cover, back, settings.teeth)
         mesh_keys = (settings.nx, settings.ny, settings.grading)
@@ -215,14 +215,16 @@ class SectorModel:
         if self.settings.start == "rest":
             return Start(q, v, acc, qdd, force, 0, None)
         dp = self.dp
-        js, f0, e0, _, _ = solve_position(self.law, dp.start_roll_a)
+        # a missing tooth's pair carries nothing: the others share the load
+        js, f0, e0, _, _ = solve_position(self.law, dp.start_roll_a, self._made_contacts)
         rolls0 = [dp.start_roll_a + j * self.pitch for j in js]
         hw0 = half_widths(dp, rolls0, f0, self.estar, self.width)     # the strips of the static forces
         for g, blk in enumerate(self.blocks):
             sign = 1 if g == 0 else -1
             loads = np.zeros(blk.mass.size)
             for j, r, b, fj in zip(js, contact_radii(dp, rolls0)[g], hw0, f0):
-                loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
+                if fj:
+                    loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
             q[self.parts[g]][1:] = self.gears[g].static(loads)
         q[0] = e0 / ra
         force[np.searchsorted(self.teeth, js)] = f0      # the drive flanks come first
@@ -329,6 +331,12 @@ class SectorModel:
             pit = gf.pits[at, sd]
             out += np.where((pit[:, 0] <= rolls) & (rolls <= pit[:, 1]), pit[:, 2], 0.0)
         return out
+
+    def _made_contacts(self, js: list[int], roll_a: NDArray[np.float64], roll_b: NDArray[np.float64]) -> list[Any]:
+        """The static start's contacts (:data:`~spurdyn.sector.statics.Contacts`): every pair
+        on the path whose teeth are both there."""
+        made = self.made(np.asarray(js, np.intp), np.zeros(len(js), np.intp)) if self.faults else [True] * len(js)
+        return [(j, 1.0, 0.0) for j, ok in zip(js, made) if ok]
 
     def gap_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included)."""

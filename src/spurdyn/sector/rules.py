@@ -101,11 +101,12 @@ def cycles_limit(settings: RunSettings) -> int:
     return int(settings.cycles_limit or cycles)
 
 
-def cover_cycles(settings: RunSettings) -> int:
+def cover_cycles(settings: RunSettings, most: int | None = None) -> int:
     """The mesh cycles' worth of teeth a sector run carries contacts for: its
-    :func:`cycles_limit`, and under a torque history half as many more (at least 2), as the
-    gears may run ahead of their nominal speed (docs/sector.md, 6.8)."""
-    most = cycles_limit(settings)
+    :func:`cycles_limit` (or ``most`` where the run goes further: a faulty pair's whole
+    revolutions), and under a torque history half as many more (at least 2), as the gears
+    may run ahead of their nominal speed (docs/sector.md, 6.8)."""
+    most = cycles_limit(settings) if most is None else most
     return most if settings.torque_history is None else most + max(2, -(-most // 2))
 
 

@@ -134,6 +134,8 @@ class GearBlock:
         image across the tooth's centre line), root to tip."""
         nodes = self.body.flank.side_nodes if side == 0 else self._left
         dofs = self.body.mesh.tooth_dofs(self.tooth(k)).reshape(-1, 2)[nodes]
+        if (dofs < 0).any():        # a missing tooth's nodes went with it
+            raise IndexError(f"tooth {k} has no flank: it is missing")
         return self._free_of[dofs.ravel()]
 
     def flank_load(self, k: int, r: float, b: float, side: int = 0) -> NDArray[np.float64]:

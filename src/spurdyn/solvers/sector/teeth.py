@@ -71,7 +71,8 @@ def pair_budget(model: SectorModel) -> int:
     :data:`MOST_SAMPLES` samples' worth of every contact)."""
     if not model.modes:
         return MOST_SAMPLES * model.c_teeth.size
-    per_pair = max(8 * blk.flank_dofs(blk.first).size * (gear.n - 1) for gear, blk in zip(model.gears, model.blocks))
+    # a flank load's 2 (2 ny + 1) numbers (BodyBlock.flank_loads) by the body's modes
+    per_pair = max(8 * 2 * (2 * blk.body.flank.ny + 1) * (gear.n - 1) for gear, blk in zip(model.gears, model.blocks))
     return max(ROWS_BYTES // per_pair, 1)
 
 

@@ -30,6 +30,9 @@ PAIR = paper_pair()
 #: A pair of few teeth: a faulty run takes two of its revolutions
 SMALL = GearPair(gear_a=replace(PAIR.gear_a, teeth=18), gear_b=replace(PAIR.gear_b, teeth=18), driver="a")
 MESH = dict(nx=2, ny=4)
+#: A crack's mouth splits the fillet's first flank edge; at 2 x 4 on the 18-tooth gear that edge
+#: reaches the lowest contacts (refused), at 2 x 6 it does not
+CRACK_MESH = dict(nx=2, ny=6)
 SPALL = Fault("a", 1, "spall", roll=(math.radians(18.0), math.radians(24.0)), depth=2e-6)
 
 
@@ -107,6 +110,14 @@ def test_a_fault_sits_on_the_body_tooth_that_meets_it():
     assert body_tooth(20, 1, -14, 28) == -8
 
 
+def test_a_crack_opening_on_a_loaded_flank_edge_is_refused():
+    s = run_settings(SMALL, 8000 * RPM, 22.25, model="sector", cycles=1, faults=(Fault("a", 0, "crack", depth=1e-3),),
+                     **MESH)
+    with pytest.raises(InputError) as err:
+        SectorModel.build(SMALL, s)
+    assert err.value.field == "fault" and "finer mesh" in err.value.reason
+
+
 @pytest.mark.parametrize("faults, settings, key", [
     ((Fault("a", 1, "spall", roll=SPALL.roll, depth=1e-6, width_fraction=0.5),), {}, "fault"),
     ((Fault("a", 1, "missing"),), {"bodies": "full"}, "fault"),
@@ -176,7 +187,7 @@ def test_a_faulty_runs_balances_are_as_tight_as_a_healthy_ones():
     largest strain energy (the healthy run's bound, test_sector_dynamics)."""
     faults = (Fault("a", 1, "missing"), Fault("a", 0, "crack", depth=1.0e-3))
     s = run_settings(SMALL, 1000 * RPM, 60.0, model="sector", cycles=1, rho_inf=1.0, faults=faults,
-                     damping_ratio=0.0, rayleigh_mass=0.0, rayleigh_stiffness=0.0, backend="numpy", **MESH)
+                     damping_ratio=0.0, rayleigh_mass=0.0, rayleigh_stiffness=0.0, backend="numpy", **CRACK_MESH)
     model = SectorModel.build(SMALL, s, dt=2 * math.pi / SMALL.gear_a.teeth / s.speed_a / 800)
     record = SectorRecord(model, model.per_cycle * model.cycles, energy=True)
     stepper = make_stepper(model, record, "implicit", "numpy", energy=True)
@@ -200,7 +211,7 @@ def test_the_crack_faces_openings_at_a_static_state_are_the_static_solves():
     from spurdyn.solvers.sector.crack_faces import FaceMap
 
     s = run_settings(SMALL, 8000 * RPM, 22.25, model="sector", cycles=1, faults=(Fault("a", 0, "crack", depth=1e-3),),
-                     **MESH)
+                     **CRACK_MESH)
     model = SectorModel.build(SMALL, s)
     force = np.zeros(model.c_teeth.size)
     rows = model.rows_at(0.3 * model.pitch, force)

@@ -20,6 +20,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from spurdyn.contact.strip_numpy import strip_rows
+from spurdyn.errors import InputError
 from spurdyn.fem.assembly import assemble_stiffness
 from spurdyn.fem.factor import factor_spd
 from spurdyn.geometry.gear import Gear
@@ -100,7 +101,12 @@ class SectorBody:
         # the mating flank pushes into the tooth, against the outward normal
         np.add.at(local, nodes, -w[:, None] * normal[None, :])
         f = np.zeros(self.mesh.n_dof)
-        f[self.mesh.tooth_dofs(k)] = turn(local, self.mesh.tooth_angle(k)).ravel()
+        dofs, values = self.mesh.tooth_dofs(k), turn(local, self.mesh.tooth_angle(k)).ravel()
+        absent = dofs < 0           # a cracked tooth's mesh has no node where its mouth splits an edge
+        if np.any(values[absent] != 0.0):
+            raise InputError("fault", f"a crack on tooth {k} opens on the flank's edge a contact loads "
+                             f"({r * 1e3:.4g} mm) on this mesh: give a finer mesh (--mesh) or a lower start_radius")
+        f[dofs[~absent]] = values[~absent]
         return f
 
     @cached_property

@@ -97,6 +97,24 @@ def gear_faults(dp: GearPair, driver: str, faults: tuple[Fault, ...], firsts: tu
     return out[0], out[1]
 
 
+def check_cracked_flanks(blocks: tuple[Any, Any], faults: tuple[GearFaults, GearFaults],
+                         low: tuple[float, float], half_width: float) -> None:
+    """Refuse (``fault``) a cracked tooth whose mesh has no node where its contacts load its
+    flank: the crack's mouth splits a fillet edge that reaches the lowest contact radius
+    ``low`` of its gear (a strip of ``half_width`` there), on a coarse mesh or a high mouth."""
+    from spurdyn.contact.strip_numpy import strip_weights
+
+    for blk, gf, r in zip(blocks, faults, low):
+        body = blk.body
+        for k, fault in gf.cracks:
+            absent = body.mesh.tooth_dofs(k).reshape(-1, 2)[body.flank.side_nodes][:, 0] < 0
+            w = strip_weights(body.flank, body.flank_coordinate(np.array([r])), np.array([half_width]))[0]
+            if np.any(w[absent] > 0.0):
+                raise InputError("fault", f"the crack on tooth {fault.tooth} of gear {fault.gear} opens on the "
+                                 f"flank's edge the contacts load ({r * 1e3:.4g} mm and up) on this mesh: give a "
+                                 "finer mesh (--mesh) or a lower start_radius")
+
+
 def cracked_meshes(dp: GearPair, faults: GearFaults, g: int, nx: int, ny: int, grading: float) -> dict[int, Any]:
     """The cracked meshes of gear ``g``'s cracked body teeth."""
     from spurdyn.sector.faulty import cracked_mesh
@@ -105,4 +123,4 @@ def cracked_meshes(dp: GearPair, faults: GearFaults, g: int, nx: int, ny: int, g
     return {k: cracked_mesh(gear, f, nx, ny, grading) for k, f in faults.cracks}
 
 
-__all__ = ["GearFaults", "body_tooth", "cracked_meshes", "gear_faults"]
+__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults"]

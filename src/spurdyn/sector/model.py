@@ -30,7 +30,7 @@ from spurdyn.sector.cache import cached
 from spurdyn.sector.cyclic import statics_body
 from spurdyn.geometry.fault import faulty_cycles
 from spurdyn.sector.damper import mesh_damper_table
-from spurdyn.sector.fault_bodies import GearFaults, cracked_meshes, gear_faults
+from spurdyn.sector.fault_bodies import GearFaults, check_cracked_flanks, cracked_meshes, gear_faults
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
 from spurdyn.sector.reduced import reduce_gear
@@ -116,6 +116,11 @@ class SectorModel:
         self.estar = effective_modulus(ga.material.young, ga.material.poisson, gb.material.young,
                                        gb.material.poisson)
         self.width = min(ga.face_width, gb.face_width)
+        if faults:      # the lowest contacts, off the path by the reach, under 5 times the load
+            ends = np.array([dp.start_roll_a - REACH * pitch, dp.end_roll_a + REACH * pitch])
+            radii = contact_radii(dp, ends)
+            wide = float(np.max(half_widths(dp, ends, np.full(2, 5.0 * self.load), self.estar, self.width)))
+            check_cracked_flanks(blocks, faults, (float(radii[0].min()), float(radii[1].min())), wide)
         # the driver's teeth that come near the path: 0 .. P at the start, one more a cycle (of
         # as many as the run may go on to; the result keeps those of the cycles it ran)
         self.teeth = teeth = np.arange(-cover - 1, pairs_in_path(dp) + 1)

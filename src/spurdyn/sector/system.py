@@ -132,10 +132,17 @@ class GearBlock:
         """``(2 (2 ny + 1),)`` free-DOF numbers of tooth ``k``'s right flank (``side`` 0, the
         drive flank) or left flank (1, the back flank, node for node the right one's mirror
         image across the tooth's centre line), root to tip."""
+        if self.tooth(k) in self.missing:       # its nodes went with it, but the rim's
+            raise IndexError(f"tooth {k} has no flank: it is missing")
         nodes = self.body.flank.side_nodes if side == 0 else self._left
         dofs = self.body.mesh.tooth_dofs(self.tooth(k)).reshape(-1, 2)[nodes]
-        if (dofs < 0).any():        # a missing tooth's nodes went with it
-            raise IndexError(f"tooth {k} has no flank: it is missing")
+        absent = dofs[:, 0] < 0
+        if absent.any():
+            # a cracked tooth's mesh has no node where the crack's mouth splits the fillet's
+            # edge: the nearest node kept along the side stands in (below the active profile,
+            # where the strips' weights are zero; docs/faults.md, section 8)
+            kept = np.flatnonzero(~absent)
+            dofs[absent] = dofs[kept[np.abs(kept[None, :] - np.flatnonzero(absent)[:, None]).argmin(axis=1)]]
         return self._free_of[dofs.ravel()]
 
     def flank_load(self, k: int, r: float, b: float, side: int = 0) -> NDArray[np.float64]:

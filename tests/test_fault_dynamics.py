@@ -153,7 +153,7 @@ def test_a_faulty_runs_sensors_indicators_and_picture(tmp_path, capsys):
     healthy.write_text(SMALL_TOML)
     faulty.write_text(SMALL_TOML + '\n[[fault]]\ngear = "a"\ntooth = 4\nkind = "missing"\n')
     out = {}
-    for name, case, more in (("h", healthy, ["--cycles", "36", "--max-cycles", "36"]), ("f", faulty, [])):
+    for name, case, more in (("h", healthy, ["--cycles", "36", "--max-cycles", "36"]), ("f", faulty, ["--cycles", "36", "--max-cycles", "36"])):
         code, _, err = run(capsys, "run", case, "--model", "sector", "--out", tmp_path / name, *more)
         assert code in (0, 1), err
         out[name] = json.loads((tmp_path / name / "summary.json").read_text())

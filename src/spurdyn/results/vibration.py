@@ -23,7 +23,7 @@ the run holds no whole revolution there.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import xarray as xr
@@ -125,26 +125,47 @@ def signal_indicators(signal: NDArray[np.float64], angle: NDArray[np.float64], t
     return out
 
 
-def vibration_figures(ds: xr.Dataset, info: dict[str, Any], teeth: tuple[int, int]) -> dict[str, Any]:
-    """``{"vibration": ...}`` for ``summary.json``: per signal of :data:`SIGNALS` the
-    indicators of :func:`signal_indicators` over the settled window's whole revolutions of
-    the faulty gear (the driver on a healthy pair; ``teeth`` A's and B's); empty where the
-    window holds less than one revolution or the run has no sensors' signals."""
+class Followed(NamedTuple):
+    """The gear a diagnostics study follows and the samples it reads: ``gear`` (``"a"`` or
+    ``"b"``), its ``teeth``, the window ``sel``, the gear's ``angle`` (rad) and the ``time``
+    (s) there, and its shaft frequency ``f_shaft`` (Hz) over them."""
+
+    gear: str
+    teeth: int
+    sel: NDArray[np.bool_]
+    angle: NDArray[np.float64]
+    time: NDArray[np.float64]
+    f_shaft: float
+
+
+def followed(ds: xr.Dataset, info: dict[str, Any], teeth: tuple[int, int]) -> Followed | None:
+    """The faulty gear (the driver on a healthy pair; ``teeth`` A's and B's) and its
+    :func:`window`; ``None`` where the run has no sensors' signals or the window holds less
+    than one revolution."""
     steady = info.get("steady")
     if steady is None or any(name not in ds for name in SIGNALS):
-        return {}
+        return None
     gear = info.get("fault_gear") or info.get("driver", "a")
-    g = 0 if gear == "a" else 1
-    sel = window(ds, steady, teeth[g])
+    z = teeth[0 if gear == "a" else 1]
+    sel = window(ds, steady, z)
     angle = ds[f"theta_{gear}"].values.astype(float)[sel]
     time = ds["time"].values.astype(float)[sel]
     if angle.size < 8 or abs(angle[-1] - angle[0]) < 2.0 * math.pi:
-        return {}
+        return None
     f_shaft = abs(angle[-1] - angle[0]) / (time[-1] - time[0]) / (2.0 * math.pi)
-    signals = {name: signal_indicators(ds[name].values.astype(float)[sel], angle, teeth[g]) for name in SIGNALS}
-    return {"vibration": {"gear": gear, "shaft_frequency_Hz": f_shaft, "mesh_frequency_Hz": teeth[g] * f_shaft,
-                          "window_s": [float(time[0]), float(time[-1])], "signals": signals}}
+    return Followed(gear, z, sel, angle, time, f_shaft)
 
 
-__all__ = ["SENSOR_VARIABLES", "SIGNALS", "result_sensors", "sensor_variables", "signal_indicators",
+def vibration_figures(ds: xr.Dataset, info: dict[str, Any], teeth: tuple[int, int]) -> dict[str, Any]:
+    """``{"vibration": ...}`` for ``summary.json``: per signal of :data:`SIGNALS` the
+    indicators of :func:`signal_indicators` over the :func:`followed` gear's window; empty
+    where there is none."""
+    f = followed(ds, info, teeth)
+    if f is None:
+        return {}
+    signals = {name: signal_indicators(ds[name].values.astype(float)[f.sel], f.angle, f.teeth) for name in SIGNALS}
+    return {"vibration": {"gear": f.gear, "shaft_frequency_Hz": f.f_shaft, "mesh_frequency_Hz": f.teeth * f.f_shaft,
+                          "window_s": [float(f.time[0]), float(f.time[-1])], "signals": signals}}
+
+__all__ = ["SENSOR_VARIABLES", "SIGNALS", "Followed", "followed", "result_sensors", "sensor_variables", "signal_indicators",
            "synchronous", "tsa_points", "vibration_figures", "window"]

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from spurdyn import diagnostics as dg
-from spurdyn.results.vibration import synchronous, vibration_figures, window
+from spurdyn.results.vibration import followed, synchronous
 
 VIBRATION_PNG = "vibration.png"
 #: Mesh harmonics the spectra show.
@@ -33,15 +33,11 @@ def plot_vibration(ds: xr.Dataset, png: str | Path) -> Path | None:
     info = json.loads(ds.attrs.get("info", "{}") or "{}")
     case = json.loads(ds.attrs["case"])
     teeth = (int(case["gear_a"]["teeth"]), int(case["gear_b"]["teeth"]))
-    figures = vibration_figures(ds, info, teeth).get("vibration")
-    if figures is None:
+    f = followed(ds, info, teeth)
+    if f is None:
         return None
-    gear, f_shaft = figures["gear"], figures["shaft_frequency_Hz"]
-    z = teeth[0 if gear == "a" else 1]
-    sel = window(ds, info["steady"], z)
-    time = ds["time"].values.astype(float)[sel]
-    angle = ds[f"theta_{gear}"].values.astype(float)[sel]
-    dt = float(np.median(np.diff(time)))
+    gear, f_shaft, z, sel, angle = f.gear, f.f_shaft, f.teeth, f.sel, f.angle
+    dt = float(np.median(np.diff(f.time)))
     fig, axes = plt.subplots(3, 1, figsize=(9, 9), constrained_layout=True)
     mesh = ds["mesh_force"].values.astype(float)[sel]
     tsa = synchronous(mesh, angle, z)

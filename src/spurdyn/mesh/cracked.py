@@ -395,12 +395,15 @@ def outline_ties(tooth: ToothMesh, cracked: CrackedTooth
     edges = ol.outline_edges(tooth)
     mapped = cracked.structured[edges]
     r_tip = float(np.max(np.hypot(*tooth.nodes.T)))
-    poly = ol.polygon(tooth.nodes, edges)
     own = np.setdiff1d(np.arange(cracked.nodes.shape[0]), cracked.structured)
-    near = own[[ol.distance(poly, x) < 1e-3 * r_tip for x in cracked.nodes[own]]]
+    from scipy.spatial import cKDTree
+
+    # the outline sampled finely enough that a node on it is within 1e-3 r_tip of a sample
+    dense = ol.polygon(tooth.nodes, edges)
+    gap = float(np.max(np.hypot(*np.diff(dense, axis=0).T)))
+    near = own[cKDTree(dense).query(cracked.nodes[own])[0] < 1e-3 * r_tip + gap]
     out = []
-    for node in near:
-        k, xi, dist = ol.locate(tooth.nodes, edges, cracked.nodes[node])
+    for node, (k, xi, dist) in zip(near, ol.locate_many(tooth.nodes, edges, cracked.nodes[near])):
         if dist <= 1e-9 * r_tip and np.all(mapped[k] >= 0):
             out.append((node, k, xi))
     nodes = np.array([o[0] for o in out], dtype=np.intp)

@@ -193,11 +193,11 @@ def tip_loads(sector: CrackedSector, path: NDArray[np.float64], tip_size: float,
     rolls = sector.rolls if rolls is None else rolls
     rows, fields = [], []
     for rho in rolls:
-        u_a, u_b, faces, js, pair_f = position_displacements(sector.law, float(rho), bodies=bodies)
+        u_a, u_b, faces, js, pair_f = _solved(sector, float(rho), bodies)
         u = u_a if sector.g == 0 else u_b
         tf = stress_intensity(body.mesh.nodes, body.mesh.elements, u, sector.gear.material, tip,
                               ahead, DEFAULT_RINGS)
-        lam = faces[:body.mesh.seams.shape[0]] if sector.g == 0 else faces[-body.mesh.seams.shape[0]:]
+        lam = faces if faces.size else np.zeros(body.mesh.seams.shape[0])
         near = np.hypot(*(body.mesh.nodes[body.mesh.seams[:, 0]] - path[-1]).T) <= tf.radius[-1]
         k_i, k_ii = float(np.mean(tf.k_i)), float(np.mean(tf.k_ii))
         scale = max(math.hypot(k_i, k_ii), 1e-300)
@@ -211,6 +211,19 @@ def tip_loads(sector: CrackedSector, path: NDArray[np.float64], tip_size: float,
                    spread=r[:, 5], closed_near_tip=r[:, 6].astype(np.intp), radius=float(r[0, 7]),
                    nodes=body.mesh.n_nodes)
     return load, bodies, fields[load.worst]
+
+
+def _solved(sector: CrackedSector, rho: float, bodies: tuple[SectorBody, SectorBody]) -> tuple[Any, ...]:
+    """:func:`position_displacements` at ``rho``: first with the crack's faces free, and
+    again with their contact only if a face then passes through the other (an opening
+    below 0); the face forces are the cracked body's (none when free)."""
+    u_a, u_b, faces, js, pair_f = position_displacements(sector.law, rho, bodies=bodies, faces=False)
+    u = u_a if sector.g == 0 else u_b
+    if np.all(bodies[sector.g].openings(u) >= -1e-12 * max(float(np.max(np.abs(u))), 1e-300)):
+        return u_a, u_b, np.zeros(0), js, pair_f
+    u_a, u_b, faces, js, pair_f = position_displacements(sector.law, rho, bodies=bodies)
+    # the healthy body has no faces: the face forces are the cracked body's
+    return u_a, u_b, faces, js, pair_f
 
 
 def check_gear(gear: str) -> str:

@@ -223,3 +223,28 @@ def test_crack_command_refusals(tmp_path, capsys, extra, flag):
 
 def test_path_length():
     assert path_length(np.array([[0.0, 0.0], [3.0, 4.0], [3.0, 5.0]])) == 6.0
+
+
+# --- the whole command (slow: a crack grown to its verdict) ------------------------------
+
+@pytest.mark.slow
+def test_crack_command_grows_to_a_verdict_and_writes_its_folder(tmp_path, capsys):
+    import csv
+    import json
+
+    out = tmp_path / "crack"
+    code = main(["crack", "paper", "--increment", "1.5e-3", "--paris-c", "1e-29", "--paris-m", "3",
+                 "--out", str(out), "--json"])
+    assert code == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert sorted(p.name for p in out.iterdir()) == sorted(summary["files"])
+    assert summary["verdict"]["breaks_through"] == "tooth"       # the paper's solid blank
+    rows = list(csv.DictReader(open(out / "path.csv")))
+    assert len(rows) == summary["increments"] + 1
+    length = [float(r["length_m"]) for r in rows]
+    assert summary["verdict"]["length_m"] > length[-1] == summary["verdict"]["decided_at_m"]
+    assert np.allclose(np.diff(length), 1.5e-3)
+    cycles = [float(r["cycles"]) for r in rows]
+    assert cycles[0] == 0.0 and np.all(np.diff(cycles) > 0.0)
+    assert summary["life"]["cycles"] == pytest.approx(cycles[-1])
+    assert summary["closed_faces_near_tip"] == 0

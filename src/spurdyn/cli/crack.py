@@ -45,6 +45,9 @@ def add_crack_parser(sub: argparse._SubParsersAction) -> None:
                    f"straight along the fillet's normal (default {LENGTH_SHARE:g} of the whole depth)")
     p.add_argument("--increment", type=float, metavar="M", help="the growth increment (m; "
                    f"default {INCREMENT_SHARE:g} of the whole depth)")
+    p.add_argument("--backup-ratio", type=float, metavar="MB", help="the cracked gear's rim "
+                   "thickness below the root circle over the tooth's whole depth, the hub held "
+                   "there (default the sector model's rim: the blank's, or 3 whole depths)")
     p.add_argument("--torque", type=float, metavar="NM", help="the driver's torque (default the case's)")
     p.add_argument("--mesh", metavar="NXxNY", help="elements across x along each tooth of the sectors")
     p.add_argument("--grading", type=float, metavar="G", help="grading of each tooth's columns")
@@ -134,6 +137,13 @@ def crack_inputs(args: argparse.Namespace) -> dict[str, Any]:
                          f"{depth * 1e3:.4g} mm (got {increment * 1e3:.4g} mm)")
     if args.start is not None:
         _positive("--start", args.start, "radius in m")
+    inner = None
+    if args.backup_ratio is not None:
+        _positive("--backup-ratio", args.backup_ratio, "ratio")
+        inner = gear.root_radius - args.backup_ratio * depth
+        if not inner > 0.05 * gear.root_radius:
+            raise InputError("--backup-ratio", f"leaves no bore: the rim would reach "
+                             f"{inner * 1e3:.4g} mm from the centre; give a smaller ratio")
     torque = args.torque if args.torque is not None else case_torque(args.case)
     if torque is None:
         raise InputError("--torque", "the case has no [run] torque: give the driver's torque (N m)")
@@ -144,6 +154,7 @@ def crack_inputs(args: argparse.Namespace) -> dict[str, Any]:
     if not 1 <= args.max_increments <= 2000:
         raise InputError("--max-increments", f"must be a whole number from 1 to 2000 (got {args.max_increments})")
     return {"out": out, "gear": gear_name, "case": case, "torque": float(torque), "length": length,
+            "inner_radius": inner, "backup_ratio": args.backup_ratio,
             "increment": increment, "paris": _paris(args)}
 
 
@@ -154,7 +165,7 @@ def cmd_crack(args: argparse.Namespace) -> int:
     spec = crack_inputs(args)
     case = spec["case"]
     sector = cracked_sector(case.pair, spec["torque"], spec["gear"], case.nx, case.ny,
-                            case.grading, positions=args.positions)
+                            case.grading, positions=args.positions, inner_radius=spec["inner_radius"])
     initial_path(sector, spec["length"], args.start)     # --start and --length, before the work
     progress = None if args.json else _printer()
     grown = grow_crack(sector, spec["length"], spec["increment"], args.start,
@@ -211,6 +222,9 @@ def _summary(args: argparse.Namespace, spec: dict[str, Any], sector: Any, grown:
     return {
         "case": spec["case"].name, "gear": spec["gear"], "tooth": args.tooth, "torque_Nm": spec["torque"],
         "mesh": [spec["case"].nx, spec["case"].ny], "teeth_per_gear": sector.teeth,
+        "rim_inner_radius_m": float(np.min(np.hypot(*sector.cell.nodes.T))),
+        "backup_ratio": (sector.gear.root_radius - float(np.min(np.hypot(*sector.cell.nodes.T))))
+        / (sector.gear.tip_radius - sector.gear.root_radius),
         "initial_length_m": spec["length"], "increment_m": spec["increment"],
         "tip_size_m": grown.tip_size, "increments": len(g.steps) - 1,
         "load_positions_deg": np.degrees(sector.rolls).tolist(),

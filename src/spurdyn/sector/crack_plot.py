@@ -94,10 +94,11 @@ def draw_growth(cell_nodes: NDArray[np.float64], outline: NDArray[np.float64],
         ax_k.set_xlabel("grown (mm)")
         ax_k.set_ylabel("K_eq, worst load (MPa sqrt(m))")
 
-    try:
-        from matplotlib.animation import FuncAnimation, PillowWriter
-        import PIL  # noqa: F401
-    except ImportError:
+    import importlib.util
+
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    if importlib.util.find_spec("PIL") is None:
         fig, axes = plt.subplots(2, n, figsize=(2.2 * n, 5), squeeze=False)
         for i in range(n):
             frame(axes[0, i], axes[1, i], i)

@@ -63,6 +63,8 @@ class CrackedSector:
         The cracked cell's element size away from the tip (m).
     rolls
         The load positions: the driver's roll of pair 0 (rad).
+    inner_radius
+        The cracked gear's hub radius where one was asked (m; ``None``: the sector's default).
     """
 
     pair: GearPair
@@ -76,6 +78,7 @@ class CrackedSector:
     grading: float
     size: float
     rolls: NDArray[np.float64] = field(repr=False)
+    inner_radius: float | None = None
 
     @property
     def gear(self) -> Any:
@@ -137,25 +140,29 @@ def load_rolls(pair: GearPair, count: int = DEFAULT_LOAD_POSITIONS) -> NDArray[n
 
 def cracked_sector(pair: GearPair, torque: float, gear: str, nx: int, ny: int,
                    grading: float = 1.0, teeth: int | None = None,
-                   positions: int = DEFAULT_LOAD_POSITIONS) -> CrackedSector:
+                   positions: int = DEFAULT_LOAD_POSITIONS,
+                   inner_radius: float | None = None) -> CrackedSector:
     """The sectors of ``pair`` under the driver's ``torque`` (N m) with a crack to come on
-    ``gear``'s (``"a"`` or ``"b"``, the case's names) body tooth 0."""
+    ``gear``'s (``"a"`` or ``"b"``, the case's names) body tooth 0, its hub at
+    ``inner_radius`` (m; default the sector's: :func:`spurdyn.sector.body.sector_body`)."""
     dp = driving_pair(pair)
     g = 0 if gear == pair.driver else 1
     k = default_teeth(dp) if teeth is None else int(teeth)
-    healthy = sector_bodies(dp, k, nx, ny, grading=grading)
+    radii = (inner_radius, None) if g == 0 else (None, inner_radius)
+    healthy = sector_bodies(dp, k, nx, ny, inner_radius=radii, grading=grading)
     gear_ = dp.gear_a if g == 0 else dp.gear_b
-    cell = body_cell(gear_, nx, ny, grading)
+    cell = body_cell(gear_, nx, ny, grading, inner_radius)
     return CrackedSector(pair=dp, g=g, law=contact_law(pair, torque, healthy), healthy=healthy,
                          cell=cell, teeth=k, nx=nx, ny=ny, grading=grading,
-                         size=default_size(cell), rolls=load_rolls(pair, positions))
+                         size=default_size(cell), rolls=load_rolls(pair, positions),
+                         inner_radius=inner_radius)
 
 
 def cracked_bodies(sector: CrackedSector, mesh: CrackedTooth) -> tuple[SectorBody, SectorBody]:
     """The two sectors with the cracked gear's body tooth 0 on ``mesh``."""
     first = sector_firsts(sector.pair, sector.teeth)[sector.g]
     body = sector_body(sector.gear, sector.teeth, sector.nx, sector.ny, first=first,
-                       grading=sector.grading, cracked={0: mesh})
+                       inner_radius=sector.inner_radius, grading=sector.grading, cracked={0: mesh})
     return (body, sector.healthy[1]) if sector.g == 0 else (sector.healthy[0], body)
 
 

@@ -81,9 +81,14 @@ def test_zero_load_gives_zero_k():
     assert np.all(load.k_i == 0.0) and np.all(load.k_ii == 0.0) and np.all(load.k_eq == 0.0)
 
 
-def test_free_faces_are_the_contact_solution_where_the_crack_opens(sector):
-    path = initial_path(sector, 0.3e-3, None)
-    load, bodies, u = tip_loads(sector, path, 0.02e-3)
+@pytest.fixture(scope="module")
+def loaded(sector):
+    """K at the tip of a first crack of 0.3 mm at every load position."""
+    return tip_loads(sector, initial_path(sector, 0.3e-3, None), 0.02e-3)
+
+
+def test_free_faces_are_the_contact_solution_where_the_crack_opens(sector, loaded):
+    load, bodies, u = loaded
     assert np.all(load.closed_near_tip == 0)
     rho = float(load.roll[load.worst])
     free = position_displacements(sector.law, rho, bodies=bodies, faces=False)[0]
@@ -104,8 +109,8 @@ def test_straight_polyline_is_the_straight_crack(sector):
     assert np.all(k[0].spread < 5e-3) and np.all(k[1].spread < 5e-3)
 
 
-def test_worst_load_is_at_the_highest_point_of_single_contact(sector):
-    load, _, _ = tip_loads(sector, initial_path(sector, 0.3e-3, None), 0.02e-3)
+def test_worst_load_is_at_the_highest_point_of_single_contact(sector, loaded):
+    load = loaded[0]
     dp = sector.pair
     hpstc = dp.start_roll_a + 2.0 * math.pi / dp.gear_a.teeth
     assert load.roll[load.worst] == pytest.approx(hpstc)
@@ -160,10 +165,11 @@ def test_cell_region_labels_the_hub_and_the_cuts_rim(sector):
     assert across[1] == "tooth"                             # the other flank
 
 
-def test_cell_region_with_a_web():
-    cell = cracked_sector(PAIR, PAPER_TORQUE, "a", 4, 14, positions=2).cell
-    region = cell_region(cell, math.pi / 28, 0.02, rim_radius=0.03)
-    assert region.inner_radius == 0.03
+def test_a_tip_below_a_web_s_junction_is_through_the_rim(sector):
+    region = cell_region(sector.cell, math.pi / 28, 0.02, rim_radius=0.038)
+    path = np.array([[0.0, 0.0399], [0.0, 0.03945]])
+    grown = grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
+    assert grown.verdict == "rim" and grown.exit[1] < 0.038 < grown.path[-1, 1]
 
 
 # --- life ---------------------------------------------------------------------------------

@@ -74,19 +74,44 @@ def split_polyline_seam(nodes: NDArray[np.float64], elements: NDArray[np.intp],
     touching = np.flatnonzero(np.any(twin[elements] >= 0, axis=1))
     rows = elements[touching]
     s = side_of(nodes[rows.ravel()], path, sense).reshape(rows.shape)
-    # a node ahead of the tip (an element at the tip may reach across the last piece's line
-    # there) does not tell the side
-    d = path[-1] - path[-2]
-    ahead = (nodes[rows.ravel()] - path[-1]) @ d > 0.0
-    s = np.where(on_crack[rows] | (np.abs(s) <= tol) | ahead.reshape(rows.shape), 0.0, s)
+    s = np.where(on_crack[rows] | (np.abs(s) <= tol), 0.0, s)
+    both = (s.max(axis=1) > 0.0) & (s.min(axis=1) < 0.0)
+    if np.any(both):
+        # an element at the tip may reach across the last piece's line ahead of the tip:
+        # its nodes there do not tell the side
+        d = path[-1] - path[-2]
+        ahead = (nodes[rows[both].ravel()] - path[-1]) @ d > 0.0
+        s[both] = np.where(ahead.reshape(rows[both].shape), 0.0, s[both])
     if np.any((s.max(axis=1) > 0.0) & (s.min(axis=1) < 0.0)):
         raise RuntimeError("an element straddles the crack")
     two = s.max(axis=1) > 0.0
     out = elements.copy()
     out[touching[two]] = np.where(twin[rows[two]] >= 0, twin[rows[two]], rows[two])
+    _check_faces(out, seam, twin)
     normals = _twin_normals(nodes[seam], path, sense)
     return (np.concatenate([nodes, nodes[seam]]), out, np.stack([seam, twin[seam]], axis=1),
             normals)
+
+
+def _check_faces(elements: NDArray[np.intp], seam: NDArray[np.intp], twin: NDArray[np.intp]) -> None:
+    """Refuse (``RuntimeError``) a split whose free edges along the crack are not its two
+    faces: each of the crack's element edges free once on either side (``seam.size`` edges
+    whose mid-side node is the crack's), and no other free edge at a crack node but the
+    outline's at the mouth (an element given to the wrong side leaves an edge of the crack
+    joined and opens one across the material)."""
+    from spurdyn.mesh.gmsh_quads import boundary_edges
+
+    n = int(elements.max()) + 1
+    crack = np.zeros(n, dtype=bool)
+    crack[seam] = True
+    crack[twin[seam]] = True
+    mouth = np.zeros(n, dtype=bool)
+    mouth[[seam[0], twin[seam[0]]]] = True
+    edges = boundary_edges(elements)
+    faces = crack[edges[:, 1]]
+    stray = ~faces & crack[edges].any(axis=1) & ~mouth[edges].any(axis=1)
+    if np.count_nonzero(faces) != seam.size or np.any(stray):
+        raise RuntimeError("the crack's faces do not follow the crack")
 
 
 def _twin_normals(points: NDArray[np.float64], path: NDArray[np.float64], sense: float

@@ -222,8 +222,8 @@ def _summary(args: argparse.Namespace, spec: dict[str, Any], sector: Any, grown:
     return {
         "case": spec["case"].name, "gear": spec["gear"], "tooth": args.tooth, "torque_Nm": spec["torque"],
         "mesh": [spec["case"].nx, spec["case"].ny], "teeth_per_gear": sector.teeth,
-        "rim_inner_radius_m": float(np.min(np.hypot(*sector.cell.nodes.T))),
-        "backup_ratio": (sector.gear.root_radius - float(np.min(np.hypot(*sector.cell.nodes.T))))
+        "rim_inner_radius_m": _rim_inner(sector),
+        "backup_ratio": (sector.gear.root_radius - _rim_inner(sector))
         / (sector.gear.tip_radius - sector.gear.root_radius),
         "initial_length_m": spec["length"], "increment_m": spec["increment"],
         "tip_size_m": grown.tip_size, "increments": len(g.steps) - 1,
@@ -237,6 +237,13 @@ def _summary(args: argparse.Namespace, spec: dict[str, Any], sector: Any, grown:
         "domain_spread_max": float(max(np.max(ld.spread) for ld in grown.loads)),
         "life": life,
     }
+
+
+def _rim_inner(sector: Any) -> float:
+    """The rim's inner radius (m): a web's junction, or the held hub."""
+    from spurdyn.sector.crack_growth import sector_region
+
+    return float(sector_region(sector).inner_radius)
 
 
 def _write(out: Path, args: argparse.Namespace, sector: Any, grown: Any, summary: dict[str, Any]) -> None:

@@ -234,6 +234,7 @@ def _summary(args: argparse.Namespace, spec: dict[str, Any], sector: Any, grown:
                     "exit_m": None if g.exit is None else g.exit.tolist(), "reason": g.reason},
         "k_eq_max_Pa_sqrt_m": worst.state.k_eq,
         "closed_faces_near_tip": int(sum(int(np.max(ld.closed_near_tip)) for ld in grown.loads)),
+        "closed_faces": int(sum(int(np.max(ld.closed)) for ld in grown.loads)),
         "domain_spread_max": float(max(np.max(ld.spread) for ld in grown.loads)),
         "life": life,
     }
@@ -254,14 +255,14 @@ def _write(out: Path, args: argparse.Namespace, sector: Any, grown: Any, summary
     parent = out.absolute().parent
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=parent))
     try:
-        _, cycles = _life(grown, summary_paris(summary))
+        _, cycles = _life(grown, _summary_paris(summary))
         _write_csv(tmp / "path.csv", grown, cycles)
         g = grown.growth
         title = f"{summary['case']}: gear {summary['gear']}, tooth {summary['tooth']}"
         body = grown.bodies[sector.g]
         draw_path(body, grown.displacement, sector.cell.nodes, g.path, title, tmp / "crack_path.png")
         outline = ol.polygon(sector.cell.nodes, ol.outline_edges(sector.cell))
-        kind = draw_growth(sector.cell.nodes, outline, np.array([s.tip for s in g.steps]), g.path,
+        kind = draw_growth(sector.cell.nodes, outline, np.array([s.length for s in g.steps]), g.path,
                            np.array([s.state.k_eq for s in g.steps]), title, tmp / "crack_growth")
         summary["files"] = ["summary.json", "path.csv", "crack_path.png", f"crack_growth.{kind}"]
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
@@ -273,7 +274,7 @@ def _write(out: Path, args: argparse.Namespace, sector: Any, grown: Any, summary
         raise
 
 
-def summary_paris(summary: dict[str, Any]) -> Any:
+def _summary_paris(summary: dict[str, Any]) -> Any:
     from spurdyn.fracture.life import ParisLaw
 
     life = summary["life"]

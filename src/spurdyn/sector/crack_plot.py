@@ -64,17 +64,17 @@ def draw_path(body: Any, u: NDArray[np.float64], cell_nodes: NDArray[np.float64]
 
 
 def draw_growth(cell_nodes: NDArray[np.float64], outline: NDArray[np.float64],
-                tips: NDArray[np.float64], path: NDArray[np.float64], k_eq: NDArray[np.float64],
+                length: NDArray[np.float64], path: NDArray[np.float64], k_eq: NDArray[np.float64],
                 title: str, target: Path) -> str:
-    """An animation of the crack growing, one frame a tip: the cell's outline, the path so
-    far, K_eq against length beside it. A GIF through Pillow when it is there (returns
+    """An animation of the crack growing, one frame a tip (``length`` the tips' crack
+    lengths, m; ``path`` the mouth then the tips): the cell's outline, the path so far,
+    K_eq against the length beside it. A GIF through Pillow when it is there (returns
     ``"gif"``), else the frames side by side in one PNG (``"png"``)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    n = tips.shape[0]
-    length = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(tips, axis=0).T))])
+    n = length.size
     box = _box(cell_nodes) * 1e3
     loop = np.vstack([outline, outline[:1]]) * 1e3
 
@@ -87,11 +87,11 @@ def draw_growth(cell_nodes: NDArray[np.float64], outline: NDArray[np.float64],
         ax_path.set_xlim(box[:, 0])
         ax_path.set_ylim(box[:, 1])
         ax_path.set_aspect("equal")
-        ax_path.set_title(f"{title}: {length[i] * 1e3 + 0.0:.2f} mm grown", fontsize=8)
+        ax_path.set_title(f"{title}: crack {length[i] * 1e3:.2f} mm", fontsize=8)
         ax_k.plot(length[: i + 1] * 1e3, k_eq[: i + 1] / 1e6, "b.-")
         ax_k.set_xlim(0.0, max(length[-1] * 1e3, 1e-3) * 1.05)
         ax_k.set_ylim(0.0, float(np.max(k_eq)) / 1e6 * 1.1)
-        ax_k.set_xlabel("grown (mm)")
+        ax_k.set_xlabel("crack length (mm)")
         ax_k.set_ylabel("K_eq, worst load (MPa sqrt(m))")
 
     import importlib.util

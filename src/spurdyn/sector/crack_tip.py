@@ -106,6 +106,8 @@ class TipLoad:
     closed_near_tip
         ``(n,)`` the face pairs carrying a contact force within the largest domain (the
         domain form leaves their traction out: 0 where it is exact).
+    closed
+        ``(n,)`` the face pairs carrying a contact force anywhere along the crack.
     radius
         The largest domain's radius (m).
     nodes
@@ -119,6 +121,7 @@ class TipLoad:
     force: NDArray[np.float64]
     spread: NDArray[np.float64]
     closed_near_tip: NDArray[np.intp]
+    closed: NDArray[np.intp]
     radius: float
     nodes: int
 
@@ -211,11 +214,13 @@ def tip_loads(sector: CrackedSector, path: NDArray[np.float64], tip_size: float,
         spread = max(float(np.ptp(tf.k_i)), float(np.ptp(tf.k_ii))) / scale
         k_eq = 0.0 if (k_i <= 0.0 and k_ii == 0.0) else equivalent_k(k_i, k_ii)
         rows.append((float(rho), k_i, k_ii, k_eq, float(pair_f[0]) if js and js[0] == 0 else 0.0,
-                     spread, int(np.count_nonzero(lam[near] > 0.0)), float(tf.radius[-1])))
+                     spread, int(np.count_nonzero(lam[near] > 0.0)), float(tf.radius[-1]),
+                     int(np.count_nonzero(lam > 0.0))))
         fields.append(u)
     r = np.array(rows)
     load = TipLoad(roll=r[:, 0], k_i=r[:, 1], k_ii=r[:, 2], k_eq=r[:, 3], force=r[:, 4],
-                   spread=r[:, 5], closed_near_tip=r[:, 6].astype(np.intp), radius=float(r[0, 7]),
+                   spread=r[:, 5], closed_near_tip=r[:, 6].astype(np.intp),
+                   closed=r[:, 8].astype(np.intp), radius=float(r[0, 7]),
                    nodes=body.mesh.n_nodes)
     return load, bodies, fields[load.worst]
 

@@ -255,3 +255,14 @@ def test_crack_command_grows_to_a_verdict_and_writes_its_folder(tmp_path, capsys
     assert cycles[0] == 0.0 and np.all(np.diff(cycles) > 0.0)
     assert summary["life"]["cycles"] == pytest.approx(cycles[-1])
     assert summary["closed_faces_near_tip"] == 0
+
+
+def test_driven_tooth_s_worst_load_is_its_highest_point_of_single_contact(loaded):
+    """The paper's gears are alike: the driven gear's crack sees the driver's worst K at
+    the driven tooth's highest point of single contact, the lower end of the zone."""
+    driven = cracked_sector(PAIR, PAPER_TORQUE, "b", 4, 14, positions=2)
+    load, _, _ = tip_loads(driven, initial_path(driven, 0.3e-3, None), 0.02e-3)
+    dp = driven.pair
+    assert load.roll[load.worst] == pytest.approx(dp.end_roll_a - 2.0 * math.pi / dp.gear_a.teeth)
+    assert load.force[load.worst] == pytest.approx(driven.law.load)
+    assert load.k_eq[load.worst] == pytest.approx(loaded[0].k_eq[loaded[0].worst], rel=0.01)

@@ -131,13 +131,21 @@ class TipLoad:
         return int(np.argmax(self.k_eq))
 
 
+#: Just inside the single contact zone from its lower end ``end - p``, as a share of the
+#: pitch: the driven tooth's highest point of single contact carries the whole load only
+#: once the pair ahead has left the path.
+INSIDE = 1e-6
+
+
 def load_rolls(pair: GearPair, count: int = DEFAULT_LOAD_POSITIONS) -> NDArray[np.float64]:
     """Pair 0's stretch of the path, ``count`` even positions and the ends of the single
-    contact zone ``[end - p, start + p]`` (driver's roll, rad), sorted."""
+    contact zone ``[end - p, start + p]`` (driver's roll, rad), its lower end both as the
+    last position of double contact and just inside (:data:`INSIDE`), sorted."""
     dp = driving_pair(pair)
     p = 2.0 * math.pi / dp.gear_a.teeth
     start, end = dp.start_roll_a, dp.end_roll_a
-    rolls = np.concatenate([start + p * np.linspace(0.0, 1.0, count), [end - p]])
+    rolls = np.concatenate([start + p * np.linspace(0.0, 1.0, count),
+                            [end - p, end - p + INSIDE * p]])
     return np.unique(rolls[(rolls >= start - 1e-12) & (rolls <= start + p + 1e-12)])
 
 

@@ -266,3 +266,19 @@ def test_driven_tooth_s_worst_load_is_its_highest_point_of_single_contact(loaded
     assert load.roll[load.worst] == pytest.approx(dp.end_roll_a - 2.0 * math.pi / dp.gear_a.teeth)
     assert load.force[load.worst] == pytest.approx(driven.law.load)
     assert load.k_eq[load.worst] == pytest.approx(loaded[0].k_eq[loaded[0].worst], rel=0.01)
+
+
+def test_growth_picture_without_pillow_is_a_strip_of_frames(tmp_path, monkeypatch):
+    import importlib.util
+
+    from spurdyn.sector.crack_plot import draw_growth
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "PIL" else real(name, *a))
+    cell = np.array([[-5e-3, 20e-3], [5e-3, 20e-3], [5e-3, 48e-3], [-5e-3, 48e-3]])
+    path = np.array([[3e-3, 41e-3], [2.7e-3, 40.8e-3], [2.2e-3, 40.5e-3], [1.7e-3, 40.3e-3]])
+    kind = draw_growth(cell, cell, np.array([0.3e-3, 0.8e-3, 1.3e-3]), path,
+                       np.array([1e6, 2e6, 3e6]), "probe", tmp_path / "crack_growth")
+    assert kind == "png" and (tmp_path / "crack_growth.png").stat().st_size > 0
+    assert not (tmp_path / "crack_growth.gif").exists()

@@ -24,7 +24,7 @@ from spurdyn.errors import InputError
 from spurdyn.fracture.direction import equivalent_k
 from spurdyn.fracture.integral import DEFAULT_RINGS, stress_intensity
 from spurdyn.geometry.pair import GearPair
-from spurdyn.mesh.cracked import CrackedTooth, cracked_tooth, default_size
+from spurdyn.mesh.cracked import RETRY_SHARES, CrackedTooth, cracked_tooth, default_size
 from spurdyn.mesh.tooth import ToothMesh
 from spurdyn.sector.body import SectorBody, body_cell, sector_body
 from spurdyn.sector.statics import (
@@ -202,8 +202,7 @@ def tip_loads(sector: CrackedSector, path: NDArray[np.float64], tip_size: float,
         ``fault.size`` or ``fault.depth`` from the mesher (:func:`cracked_tooth`), ``rings``
         if the domains reach the outline (a tip too near it for the tip size).
     """
-    mesh = cracked_tooth(sector.gear, sector.cell, path, tip_size=tip_size,
-                         size=max(sector.size, tip_size))
+    mesh = _cracked_cell(sector, path, tip_size)
     bodies = cracked_bodies(sector, mesh)
     body = bodies[sector.g]
     tip = tip_node(body, path[-1])
@@ -231,6 +230,20 @@ def tip_loads(sector: CrackedSector, path: NDArray[np.float64], tip_size: float,
                    closed=r[:, 8].astype(np.intp), radius=float(r[0, 7]),
                    nodes=body.mesh.n_nodes)
     return load, bodies, fields[load.worst]
+
+
+def _cracked_cell(sector: CrackedSector, path: NDArray[np.float64], tip_size: float) -> CrackedTooth:
+    """The cell meshed with the crack ``path``, at the cell's size or, if the mesh is refused
+    (``fault.size``: gmsh failed, or its elements do not follow the kinked crack), at
+    :data:`~spurdyn.mesh.cracked.RETRY_SHARES` of it in turn; the last refusal raised."""
+    for share in RETRY_SHARES:
+        try:
+            return cracked_tooth(sector.gear, sector.cell, path, tip_size=tip_size,
+                                 size=max(share * sector.size, tip_size))
+        except InputError as err:
+            if err.field != "fault.size" or share == RETRY_SHARES[-1]:
+                raise
+    raise AssertionError("unreachable")                      # pragma: no cover
 
 
 def _solved(sector: CrackedSector, rho: float, bodies: tuple[SectorBody, SectorBody]) -> tuple[Any, ...]:

@@ -11,15 +11,15 @@ import pytest
 
 from spurdyn.cli.main import main
 from spurdyn.errors import InputError
-from spurdyn.fracture.direction import growth_angle
-from spurdyn.fracture.growth import Region, TipState, cell_region, grow, path_length
+from spurdyn.fracture.direction import driving_k, equivalent_k, growth_angle
+from spurdyn.fracture.growth import GrowthStopped, Region, TipState, cell_region, grow, path_length
 from spurdyn.fracture.life import ParisLaw, paris_cycles
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.mesh.cracked import cracked_tooth
 from spurdyn.mesh.polyline import piece_normals, side_of
 from spurdyn.sector.crack_growth import initial_path, sector_region
-from spurdyn.sector.crack_tip import cracked_sector, tip_loads
-from spurdyn.sector.statics import position_displacements
+from spurdyn.sector.crack_tip import cracked_sector, load_rolls, tip_loads
+from spurdyn.sector.statics import driving_pair, position_displacements
 
 PAIR = paper_pair()
 
@@ -146,10 +146,45 @@ def test_mixed_mode_turns_by_the_maximum_tangential_stress():
     assert grown.verdict is None and "3 increments" in grown.reason
 
 
-def test_shut_tip_stops_undecided():
+@pytest.mark.parametrize("k_ii", [0.0, 0.01, 1.0, -1.0])
+def test_shut_tip_stops_undecided(k_ii):
+    """A tip closed in mode I (K_I < 0) drives no growth whatever its K_II: the state goes
+    through the same rule as the sector's (driving_k), and the loop stops undecided."""
     path = np.array([[9.0, 5.0], [8.0, 5.0]])
-    grown = grow(path, 0.5, lambda p: TipState(-1.0, 0.0, 0.0, 0.0), _box())
-    assert grown.verdict is None and "pressed shut" in grown.reason
+    grown = grow(path, 0.5, lambda p: TipState(-1.0, k_ii, driving_k(-1.0, k_ii), 0.0), _box())
+    assert grown.verdict is None and "closed" in grown.reason
+    assert len(grown.steps) == 1 and np.array_equal(grown.path, path)
+
+
+def test_driving_k_is_the_equivalent_factor_of_an_open_tip():
+    assert driving_k(-1.0, 0.01) == 0.0 and driving_k(0.0, 1.0) == 0.0
+    assert driving_k(2.0, 0.0) == 2.0
+    assert driving_k(1.0, 0.5) == equivalent_k(1.0, 0.5) > 1.0
+
+
+def test_a_tip_that_cannot_be_solved_ends_the_growth_with_the_path_so_far():
+    path = np.array([[9.0, 5.0], [8.0, 5.0]])
+
+    def evaluate(p):
+        if p.shape[0] > 3:
+            raise GrowthStopped("mesh refused")
+        return TipState(1.0, 0.0, 1.0, 0.0)
+
+    grown = grow(path, 0.5, evaluate, _box())
+    assert grown.verdict is None and grown.reason == "mesh refused"
+    assert grown.path.shape[0] == 3 and len(grown.steps) == 2
+    with pytest.raises(GrowthStopped):                       # at the first tip: the caller's
+        grow(path, 0.5, lambda p: (_ for _ in ()).throw(GrowthStopped("x")), _box())
+
+
+def test_the_worst_positions_include_both_ends_of_single_contact():
+    pair = paper_pair()
+    dp = driving_pair(pair)
+    p = 2.0 * math.pi / dp.gear_a.teeth
+    for count in (1, 2, 7):
+        rolls = load_rolls(pair, count)
+        assert np.any(np.isclose(rolls, dp.start_roll_a + p, rtol=0, atol=1e-12))
+        assert np.any(np.isclose(rolls, dp.end_roll_a - p, rtol=0, atol=1e-12))
 
 
 def test_cell_region_labels_the_hub_and_the_cuts_rim(sector):
@@ -169,7 +204,9 @@ def test_a_tip_below_a_web_s_junction_is_through_the_rim(sector):
     region = cell_region(sector.cell, math.pi / 28, 0.02, rim_radius=0.038)
     path = np.array([[0.0, 0.0399], [0.0, 0.03945]])
     grown = grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
-    assert grown.verdict == "rim" and grown.exit[1] < 0.038 < grown.path[-1, 1]
+    # decided where the path crosses the junction's circle, not an increment past it
+    assert grown.verdict == "rim" and grown.exit[1] == pytest.approx(0.038, rel=1e-12)
+    assert grown.length == pytest.approx(0.0399 - 0.038, rel=1e-9)
 
 
 # --- life ---------------------------------------------------------------------------------
@@ -218,6 +255,11 @@ def test_paris_refusals(kwargs, key):
     (["--paris-m", "3"], "--paris-c"),
     (["--paris-c", "-1e-29", "--paris-m", "3"], "--paris-c"),
     (["--paris-c", "1e-29", "--paris-m", "3", "--threshold", "-2"], "--threshold"),
+    (["--backup-ratio", "-0.5"], "--backup-ratio"),
+    (["--backup-ratio", "30"], "--backup-ratio"),
+    (["--positions", "0"], "--positions"),
+    (["--max-increments", "0"], "--max-increments"),
+    (["--torque", "-5"], "--torque"),
 ])
 def test_crack_command_refusals(tmp_path, capsys, extra, flag):
     out = tmp_path / "crack"
@@ -225,6 +267,18 @@ def test_crack_command_refusals(tmp_path, capsys, extra, flag):
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and flag in err[0]
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_crack_command_refuses_an_out_that_is_not_its_own(tmp_path, capsys):
+    (tmp_path / "file").write_text("x")
+    (tmp_path / "theirs").mkdir()
+    (tmp_path / "theirs" / "notes.txt").write_text("x")
+    for out in ("file", "theirs"):
+        code = main(["crack", "paper", "--out", str(tmp_path / out)])
+        err = capsys.readouterr().err.strip().splitlines()
+        assert code == 2 and len(err) == 1 and "--out" in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "theirs"]
+    assert [p.name for p in (tmp_path / "theirs").iterdir()] == ["notes.txt"]
 
 
 def test_path_length():

@@ -120,11 +120,13 @@ def crack_inputs(args: argparse.Namespace) -> dict[str, Any]:
     """Every input of the command, checked (one line naming the flag) before any work."""
     from spurdyn.cli.inputs import case_torque, meshed_case
     from spurdyn.sector.crack_tip import check_gear
+    from spurdyn.settings import refuse_sector_row_grading
     from spurdyn.solvers.limits import check_torque
 
     out = _out_target(args.out)
     gear_name = check_gear(args.gear)
     case = meshed_case(args)
+    refuse_sector_row_grading(case.row_grading)     # a case file's [mesh] row_grading
     pair = case.pair
     gear = pair.gear_a if gear_name == "a" else pair.gear_b
     if not 0 <= args.tooth < gear.teeth:
@@ -140,6 +142,9 @@ def crack_inputs(args: argparse.Namespace) -> dict[str, Any]:
     inner = None
     if args.backup_ratio is not None:
         _positive("--backup-ratio", args.backup_ratio, "ratio")
+        if gear.blank is not None and gear.blank.webbed:
+            raise InputError("--backup-ratio", f"gear {gear_name}'s blank has a web: its rim is "
+                             "the blank's (rim_radius); leave --backup-ratio out")
         inner = gear.root_radius - args.backup_ratio * depth
         if not inner > 0.05 * gear.root_radius:
             raise InputError("--backup-ratio", f"leaves no bore: the rim would reach "

@@ -26,7 +26,7 @@ from spurdyn.fracture.direction import growth_angle
 from spurdyn.mesh import outline as ol
 from spurdyn.mesh.tooth import ToothMesh
 
-__all__ = ["DECIDE_REACH", "Growth", "Region", "Step", "TipState", "cell_region", "grow",
+__all__ = ["DECIDE_REACH", "Growth", "GrowthStopped", "Region", "Step", "TipState", "cell_region", "grow",
            "path_length"]
 
 #: The crack is decided when the ray along its new direction meets the outline within this
@@ -125,6 +125,16 @@ class Region:
         k = int(np.flatnonzero(hit)[np.argmin(t[hit])])
         return float(t[k]), str(self.kind[k]), p + t[k] * d
 
+    def nearest(self, p: NDArray[np.float64]) -> tuple[str, NDArray[np.float64]]:
+        """The outline's point nearest ``p`` and its stretch's kind."""
+        a, b = self.polygon, np.roll(self.polygon, -1, axis=0)
+        e = b - a
+        t = np.clip(np.einsum("ij,ij->i", p - a, e) / np.maximum(np.einsum("ij,ij->i", e, e), 1e-300),
+                    0.0, 1.0)
+        q = a + t[:, None] * e
+        k = int(np.argmin(np.hypot(*(q - p).T)))
+        return str(self.kind[k]), q[k]
+
     def clearance(self, p: NDArray[np.float64]) -> float:
         """The least distance from ``p`` to the outline (m)."""
         return ol.distance(self.polygon, p)
@@ -149,6 +159,12 @@ def cell_region(cell: ToothMesh, half_pitch: float, inner_radius: float,
                   inner_radius=inner_radius if rim_radius is None else float(rim_radius))
 
 
+class GrowthStopped(Exception):
+    """Raised by a growth's ``evaluate`` that cannot solve a tip (its mesh refused): the
+    growth ends there, undecided, with the message as its reason (at the first tip the
+    caller's refusal stands)."""
+
+
 def path_length(path: NDArray[np.float64]) -> float:
     """The polyline's length (m)."""
     return float(np.sum(np.hypot(*np.diff(path, axis=0).T)))
@@ -160,19 +176,37 @@ def _turned(d: NDArray[np.float64], angle: float) -> NDArray[np.float64]:
     return out / np.hypot(*out)
 
 
+def _below_rim(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64]) -> float:
+    """Distance (m) along ``d`` from ``tip`` to the circle ``region.inner_radius`` (``inf`` if
+    the ray does not cross it inward)."""
+    b = float(tip @ d)
+    c = float(tip @ tip) - region.inner_radius ** 2
+    disc = b * b - c
+    if c <= 0.0:
+        return 0.0                                   # the tip is below it already
+    if disc < 0.0 or b >= 0.0:
+        return math.inf
+    return -b - math.sqrt(disc)
+
+
 def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], increment: float
             ) -> tuple[float, str, NDArray[np.float64]] | None:
     """``(distance, kind, point)`` if the crack at ``tip`` running along ``d`` is to be decided
-    now (module constants), else ``None``."""
+    now (module constants), else ``None``: the nearest of the outline ahead (within reach,
+    or the next tip near it: then the outline's point nearest that tip) and the rim's
+    inner circle within an increment."""
+    found: list[tuple[float, str, NDArray[np.float64]]] = []
     dist, kind, point = region.ray(tip, d)
-    near = region.clearance(tip + increment * d) < DECIDE_NEAR * increment
-    if dist <= DECIDE_REACH * increment or near:
-        if not math.isfinite(dist):
-            raise RuntimeError("the crack runs along the outline")     # pragma: no cover
-        return dist, kind, point
-    if np.hypot(*(tip + increment * d)) < region.inner_radius:
-        return increment, "rim", tip + increment * d
-    return None
+    if dist <= DECIDE_REACH * increment:
+        found.append((dist, kind, point))
+    nxt = tip + increment * d
+    if region.clearance(nxt) < DECIDE_NEAR * increment:
+        kind_n, point_n = region.nearest(nxt)
+        found.append((float(np.hypot(*(point_n - tip))), kind_n, point_n))
+    down = _below_rim(region, tip, d)
+    if down <= increment:
+        found.append((down, "rim", tip + down * d))
+    return min(found, key=lambda f: f[0]) if found else None
 
 
 def grow(path: NDArray[np.float64], increment: float, evaluate: Callable[[NDArray[np.float64]], TipState],
@@ -192,13 +226,18 @@ def grow(path: NDArray[np.float64], increment: float, evaluate: Callable[[NDArra
     path = np.asarray(path, dtype=float)
     steps: list[Step] = []
     for _ in range(max_steps + 1):
-        state = evaluate(path)
+        try:
+            state = evaluate(path)
+        except GrowthStopped as stop:
+            if not steps:
+                raise
+            return Growth(path[:-1], tuple(steps), None, None, None, str(stop))
         tip, ahead = path[-1], path[-1] - path[-2]
         ahead = ahead / np.hypot(*ahead)
         if not state.k_eq > 0.0:
             steps.append(Step(path_length(path), tip, state, math.nan))
             return Growth(path, tuple(steps), None, None, None,
-                          "the tip is pressed shut under every load position (K_I <= 0, K_II = 0)")
+                          "the tip is closed (K_I <= 0) under every load position")
         turn = growth_angle(state.k_i, state.k_ii)
         step = Step(path_length(path), tip, state, turn)
         steps.append(step)

@@ -13,7 +13,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
-from spurdyn.fracture.growth import Growth, Region, Step, TipState, cell_region, grow
+from spurdyn.fracture.growth import (Growth, GrowthStopped, Region, Step, TipState, cell_region, grow,
+                                     path_length)
 from spurdyn.mesh import outline as ol
 from spurdyn.mesh.cracked import crack_path
 from spurdyn.sector.crack_tip import CrackedSector, TipLoad, tip_loads
@@ -92,7 +93,14 @@ def grow_crack(sector: CrackedSector, length: float, increment: float, start: fl
     last: list[Any] = [None, None]
 
     def evaluate(p: NDArray[np.float64]) -> TipState:
-        load, bodies, u = tip_loads(sector, p, tip_size)
+        try:
+            load, bodies, u = tip_loads(sector, p, tip_size)
+        except InputError as err:
+            if loads:       # a later tip: the growth ends there, the path so far kept
+                raise GrowthStopped(f"the tip at {path_length(p) * 1e3:.4g} mm could not be "
+                                    f"solved ({err.field}: {err.reason})") from None
+            raise InputError("--length", f"the first crack's tip cannot be solved ({err.field}: "
+                             f"{err.reason}); give another --length or --mesh") from None
         loads.append(load)
         last[:] = [bodies, u]
         w = load.worst

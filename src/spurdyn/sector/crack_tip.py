@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
-from spurdyn.fracture.direction import equivalent_k
+from spurdyn.fracture.direction import driving_k
 from spurdyn.fracture.integral import DEFAULT_RINGS, stress_intensity
 from spurdyn.geometry.pair import GearPair
 from spurdyn.mesh.cracked import RETRY_SHARES, CrackedTooth, cracked_tooth, default_size
@@ -145,7 +145,7 @@ def load_rolls(pair: GearPair, count: int = DEFAULT_LOAD_POSITIONS) -> NDArray[n
     p = 2.0 * math.pi / dp.gear_a.teeth
     start, end = dp.start_roll_a, dp.end_roll_a
     rolls = np.concatenate([start + p * np.linspace(0.0, 1.0, count),
-                            [end - p, end - p + INSIDE * p]])
+                            [end - p, end - p + INSIDE * p, start + p]])
     return np.unique(rolls[(rolls >= start - 1e-12) & (rolls <= start + p + 1e-12)])
 
 
@@ -219,7 +219,7 @@ def tip_loads(sector: CrackedSector, path: NDArray[np.float64], tip_size: float,
         k_i, k_ii = float(np.mean(tf.k_i)), float(np.mean(tf.k_ii))
         scale = max(math.hypot(k_i, k_ii), 1e-300)
         spread = max(float(np.ptp(tf.k_i)), float(np.ptp(tf.k_ii))) / scale
-        k_eq = 0.0 if (k_i <= 0.0 and k_ii == 0.0) else equivalent_k(k_i, k_ii)
+        k_eq = driving_k(k_i, k_ii)
         rows.append((float(rho), k_i, k_ii, k_eq, float(pair_f[0]) if js and js[0] == 0 else 0.0,
                      spread, int(np.count_nonzero(lam[near] > 0.0)), float(tf.radius[-1]),
                      int(np.count_nonzero(lam > 0.0))))

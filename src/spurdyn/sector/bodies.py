@@ -210,6 +210,11 @@ class ModalBody:
     def solve(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         return arrow_solve(self.u, self.dinv, self.schur, x)
 
+    @property
+    def flank_shape(self) -> tuple[int, int, int]:
+        """``(count, sides, f)``: the teeth, the flanks a tooth and a flank's coordinates."""
+        return self._modes.shape[:3]
+
     def compiled(self) -> ModalGear:
         """The body's twin for the compiled loops (:data:`~spurdyn.sector.packs.ModalGear`):
         ``S`` (or ``M``) as :func:`arrow_solve` reads it, the modes' damping and ``omega^2``, the modes in each tooth's

@@ -12,7 +12,7 @@ body, the pairs' loads ``e_c F_c`` and the faces' own ``B lam``:
 a row ``(0, B^T Phi)`` on the gear's coordinates (no hub entry: the two faces' forces are
 equal and opposite at one place) beside the pairs' rows, with a residual compliance of its
 own and one shared with the pairs. This module holds those numbers, built once a run
-(:func:`crack_faces`), and the per-step blocks (:func:`face_blocks`); the implicit step
+(:func:`crack_faces`), and the per-step blocks (:meth:`CrackFaces.blocks`); the implicit step
 solves pairs and faces in one complementarity problem
 (:mod:`spurdyn.solvers.sector.implicit_numpy`, twin in
 :mod:`spurdyn.solvers.sector.faces_compiled`).

@@ -46,7 +46,7 @@ def test_the_faces_openings_at_a_static_state_are_the_static_solves(model):
     f = np.linspace(200.0, 400.0, rows.on.size)
     q = np.zeros(model.n)
     q[1:model.na] = (f @ modal.modal) / model.gears[0].reduced.omega2
-    r_fc = model.faces.blocks(rows, model.compliance(rows)[4], model.z_theta)[2]
+    r_fc = model.faces.blocks(rows, model.z_theta)[2]
     got = model.faces.rows(model.parts, q) + r_fc @ f
     blk = model.blocks[0]
     load = np.zeros(blk.mass.size)
@@ -57,6 +57,19 @@ def test_the_faces_openings_at_a_static_state_are_the_static_solves(model):
     want = body.seam_loads[body.free_dofs].T @ body.solve_free(load)
     assert np.abs(want).max() > 0.0
     assert np.abs(got - want).max() <= 1e-9 * np.abs(want).max()
+
+
+def test_the_faces_couplings_are_their_matrices(model):
+    """The faces' couplings with the pairs by the flanks' tables are the products written
+    out: ``W_fc = (B^T Phi) (S^-1 G^T)`` on the modes, ``W_fd`` its hub part alone."""
+    rows = model.rows_at(-0.7 * model.pitch, np.zeros(model.c_teeth.size))
+    w_fc, w_fd, _ = model.faces.blocks(rows, model.z_theta)
+    cols = model.compliance(rows)[4]
+    gf = model.faces.gears[0]
+    want = gf.modal @ cols[0][1:]
+    assert np.abs(w_fc - want).max() <= 1e-9 * np.abs(want).max()
+    coef = rows.sides[0][0]
+    assert np.abs(w_fd - np.outer(gf.modal @ model.z_theta[0][1:], coef)).max() == 0.0
 
 
 def test_the_faces_static_compliance_is_the_bodys():
@@ -95,7 +108,7 @@ def test_the_pivoting_solver_finds_the_enumerations_solution(seed):
 def test_a_static_start_closes_the_faces_where_they_overlap(model):
     start = model.start()
     rows0 = model.rows_at(0.0, start.force)
-    r_fc = model.faces.blocks(rows0, model.compliance(rows0)[4], model.z_theta)[2]
+    r_fc = model.faces.blocks(rows0, model.z_theta)[2]
     before = model.faces.rows(model.parts, start.q) + r_fc @ start.force[rows0.on]
     assert before.min() < -1e-9                 # the free faces overlap at the start
     q = start.q.copy()

@@ -211,9 +211,9 @@ class ModalBody:
         return arrow_solve(self.u, self.dinv, self.schur, x)
 
     @property
-    def flank_shape(self) -> tuple[int, int, int]:
-        """``(count, sides, f)``: the teeth, the flanks a tooth and a flank's coordinates."""
-        return self._modes.shape[:3]
+    def flank_modes(self) -> NDArray[np.float64]:
+        """``(count, sides, f, m)`` the modes at each flank in its own frame (:func:`_tooth_frames`)."""
+        return self._modes
 
     def compiled(self) -> ModalGear:
         """The body's twin for the compiled loops (:data:`~spurdyn.sector.packs.ModalGear`):

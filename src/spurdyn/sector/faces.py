@@ -32,7 +32,7 @@ from spurdyn.sector.packs import FacePack
 @dataclass(frozen=True)
 class GearFaces:
     """One gear's crack faces as rows of the step (module docstring); ``S`` face pairs (all
-    the gear's cracks), ``m`` modes.
+    the gear's cracks), ``m`` modes, ``f`` a flank's coordinates.
 
     Attributes
     ----------
@@ -42,18 +42,24 @@ class GearFaces:
         ``(S, m)`` ``B^T Phi Omega^-2`` (the modes' part of the static flexibility).
     residual
         ``(S, S)`` ``B^T K^-1 B - (B^T Phi) Omega^-2 (B^T Phi)^T``.
-    flank
-        ``(count, sides, f, S)`` ``T^T E^T K^-1 B``: the faces' openings under unit loads on
-        each flank in its frame (the pairs' loads are written there), zeros on a missing tooth.
     columns
         ``(1 + m, S)`` ``S^-1 (0, B^T Phi)^T``: the step's response to unit face forces.
+    cross
+        ``(count, sides, f, S)`` the residual flexibility between each flank, in its frame
+        (the pairs' loads are written there), and the faces: ``T^T E^T K^-1 B`` less the
+        modes' part ``T^T E^T Phi Omega^-2 Phi^T B``; zeros on a missing tooth.
+    reach
+        ``(count, sides, f, S)`` the faces' step response at each flank in its frame,
+        ``T^T E^T Phi`` times ``columns``' modal rows: a pair's load ``b`` on flank ``(k,
+        s)`` meets the faces through ``S^-1`` by ``b^T reach[k, s]``.
     """
 
     modal: NDArray[np.float64]
     scaled: NDArray[np.float64]
     residual: NDArray[np.float64]
-    flank: NDArray[np.float64]
     columns: NDArray[np.float64]
+    cross: NDArray[np.float64]
+    reach: NDArray[np.float64]
 
     @property
     def size(self) -> int:
@@ -70,18 +76,19 @@ def gear_faces(block: Any, body: Any, sides: int) -> GearFaces:
     static = sb.solve_free(b)                   # K^-1 B on the free DOFs, (n, S)
     scaled = modal / reduced.omega2
     residual = b.T @ static - scaled @ modal.T
-    f = block.flank_dofs(next(k for k in range(block.first, block.first + block.count)
-                              if k not in block.missing)).size
-    flank = np.zeros((block.count, sides, f, b.shape[1]))
+    modes = body.flank_modes                    # (count, sides, f, m), each flank in its frame
+    f = modes.shape[2]
+    cross = np.zeros((block.count, sides, f, b.shape[1]))
     for t in range(block.count):
         k = block.first + t
         if k in block.missing:
             continue
         for s in range(sides):
             turn = np.kron(np.eye(f // 2), block.turn_of(k, s))
-            flank[t, s] = turn.T @ static[block.flank_dofs(k, s)]
+            cross[t, s] = turn.T @ static[block.flank_dofs(k, s)]
+    cross -= modes @ scaled.T
     columns = body.solve(np.vstack([np.zeros((1, modal.shape[0])), modal.T]))
-    return GearFaces(modal, scaled, 0.5 * (residual + residual.T), flank, columns)
+    return GearFaces(modal, scaled, 0.5 * (residual + residual.T), columns, cross, modes @ columns[1:])
 
 
 @dataclass(frozen=True)
@@ -113,13 +120,13 @@ class CrackFaces:
                 at += gf.size
         return out
 
-    def blocks(self, rows: Any, cols: list[NDArray[np.float64]] | None,
-               z_theta: list[NDArray[np.float64]]) -> tuple[NDArray[np.float64], ...]:
+    def blocks(self, rows: Any, z_theta: list[NDArray[np.float64]]) -> tuple[NDArray[np.float64], ...]:
         """The faces' couplings with the pairs ``rows`` (:class:`~spurdyn.sector.lcp.Rows`,
         ``None``: no pair near the path) at a step: ``(W_fc, W_fd, R_fc)``, ``(S, p)`` each,
-        the faces' rows through ``S^-1`` on the pairs' whole rows (``cols`` per gear,
-        ``S^-1 G^T``) and on their hub entries (``z_theta``, a unit hub torque's response),
-        and the residual compliance between the faces and the pairs' loads."""
+        the faces' rows through ``S^-1`` on the pairs' whole rows ``G = (c, E)``, ``(B^T Phi
+        z_theta) c^T + (S^-1 G_f^T)^T E^T`` by the flanks' tables (``reach``), and on their
+        hub entries alone (``z_theta``, a unit hub torque's response), and the residual
+        compliance between the faces and the pairs' loads (``cross``)."""
         out = []
         for g, gf in enumerate(self.gears):
             if gf is None:
@@ -128,9 +135,9 @@ class CrackFaces:
                 out.append((np.zeros((gf.size, 0)),) * 3)
                 continue
             coef, el = rows.sides[g]
-            static = np.einsum("pfs,pf->sp", gf.flank[el.teeth, el.sides], el.loads)
-            out.append((gf.modal @ cols[g][1:], np.outer(gf.modal @ z_theta[g][1:], coef),
-                        static - gf.scaled @ el.modal.T))
+            w_fd = np.outer(gf.modal @ z_theta[g][1:], coef)
+            w_fc = w_fd + np.einsum("pfs,pf->sp", gf.reach[el.teeth, el.sides], el.loads)
+            out.append((w_fc, w_fd, np.einsum("pfs,pf->sp", gf.cross[el.teeth, el.sides], el.loads)))
         return tuple(np.vstack(blk) for blk in zip(*out))
 
 
@@ -174,15 +181,15 @@ def face_pack(faces: CrackFaces | None, gears: tuple[Any, Any]) -> FacePack:
     for g, body in enumerate(gears):
         gf = faces.gears[g] if faces is not None else None
         if gf is None:
-            m, (count, sides, f) = body.n - 1, body.flank_shape
-            gf = GearFaces(np.zeros((0, m)), np.zeros((0, m)), np.zeros((0, 0)), np.zeros((count, sides, f, 0)),
-                           np.zeros((m + 1, 0)))
+            m, (count, sides, f) = body.n - 1, body.flank_modes.shape[:3]
+            gf = GearFaces(np.zeros((0, m)), np.zeros((0, m)), np.zeros((0, 0)), np.zeros((m + 1, 0)),
+                           np.zeros((count, sides, f, 0)), np.zeros((count, sides, f, 0)))
         per.append(gf)
     size = faces.size if faces is not None else 0
     w_ff = faces.w_ff if faces is not None else np.zeros((0, 0))
     r_ff = faces.r_ff if faces is not None else np.zeros((0, 0))
     c = np.ascontiguousarray
-    return FacePack(*(c(getattr(gf, name)) for name in ("modal", "scaled", "flank", "columns") for gf in per),
+    return FacePack(*(c(getattr(gf, name)) for name in ("modal", "columns", "cross", "reach") for gf in per),
                     c(w_ff.reshape(size, size)), c(r_ff.reshape(size, size)))
 
 

@@ -53,11 +53,12 @@ SectorConfig = namedtuple("SectorConfig", [
 
 #: A run's crack faces as the compiled implicit loop reads them (twin of
 #: :class:`~spurdyn.sector.faces.CrackFaces`): per gear ``modal`` ``(S_g, m)`` ``B^T Phi``,
-#: ``scaled`` ``(S_g, m)`` ``B^T Phi Omega^-2``, ``flank`` ``(count, sides, f, S_g)`` the
-#: openings under unit loads on each flank in its frame, ``columns`` ``(1 + m, S_g)``
-#: ``S^-1 (0, B^T Phi)^T``; ``w_ff`` and ``r_ff`` ``(S, S)`` the faces' constant blocks, gear
-#: 0's faces first. A gear without a crack has ``S_g = 0``; a run without, ``S = 0``.
-FacePack = namedtuple("FacePack", ["modal0", "modal1", "scaled0", "scaled1", "flank0", "flank1", "columns0",
-                                   "columns1", "w_ff", "r_ff"])
+#: ``columns`` ``(1 + m, S_g)`` ``S^-1 (0, B^T Phi)^T``, ``cross`` and ``reach`` ``(count,
+#: sides, f, S_g)`` the residual flexibility and the step's response between each flank (in
+#: its frame) and the faces (:class:`~spurdyn.sector.faces.GearFaces`); ``w_ff`` and ``r_ff``
+#: ``(S, S)`` the faces' constant blocks, gear 0's faces first. A gear without a crack has
+#: ``S_g = 0``; a run without, ``S = 0``.
+FacePack = namedtuple("FacePack", ["modal0", "modal1", "columns0", "columns1", "cross0", "cross1", "reach0",
+                                   "reach1", "w_ff", "r_ff"])
 
 __all__ = ["FacePack", "GapArrays", "ModalGear", "SectorConfig", "SectorContacts"]

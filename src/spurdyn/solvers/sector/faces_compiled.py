@@ -14,13 +14,14 @@ from spurdyn.solvers.sector.rows_compiled import lcp_pivot
 
 
 @njit
-def _flank_openings(flank, loads, idx, cnt, at, sd):
-    """``(S_g, p)`` the faces' static openings under the pairs' unit loads (each on its body
-    tooth ``at`` and flank ``sd``, over its nonzeros ``idx``, ``cnt``)."""
-    p, s = loads.shape[0], flank.shape[3]
+def _by_flanks(table, loads, idx, cnt, at, sd):
+    """``(S_g, p)`` the pairs' unit loads (each on its body tooth ``at`` and flank ``sd``,
+    over its nonzeros ``idx``, ``cnt``) through a face table by flank ``(count, sides, f,
+    S_g)``: ``b^T table[at, sd]``."""
+    p, s = loads.shape[0], table.shape[3]
     out = np.zeros((s, p))
     for a in range(p):
-        fl = flank[at[a], sd[a]]
+        fl = table[at[a], sd[a]]
         for t in range(cnt[a]):
             i = idx[a, t]
             w = loads[a, i]
@@ -30,24 +31,25 @@ def _flank_openings(flank, loads, idx, cnt, at, sd):
 
 
 @njit
-def face_blocks(fp, rows, lo0, lo1, sd, full0, full1, hub_cols):
+def face_blocks(fp, rows, lo0, lo1, sd, hub_cols):
     """``(W_fc, W_fd, R_fc)`` ``(S, p)``: the faces' rows through ``S^-1`` on the pairs'
-    whole rows (``full0``, ``full1`` per gear ``S^-1 G^T``) and on their hub entries, and the
-    residual compliance between the faces and the pairs' loads (``lo0``, ``lo1`` of
-    :func:`~spurdyn.solvers.sector.rows_compiled.rows_and_loads`)."""
-    coef0, coef1, rows0, rows1 = rows[2], rows[3], rows[4], rows[5]
+    whole rows and on their hub entries alone, and the residual compliance between the faces
+    and the pairs' loads (``lo0``, ``lo1`` of
+    :func:`~spurdyn.solvers.sector.rows_compiled.rows_and_loads`; twin of
+    :meth:`~spurdyn.sector.faces.CrackFaces.blocks`)."""
+    coef0, coef1 = rows[2], rows[3]
     z0, z1 = hub_cols
     s0 = fp.modal0.shape[0]
     s, p = fp.r_ff.shape[0], coef0.size
     w_fc, w_fd, r_fc = np.zeros((s, p)), np.zeros((s, p)), np.zeros((s, p))
     if s0:
-        w_fc[:s0] = fp.modal0 @ full0[1:]
         w_fd[:s0] = np.outer(fp.modal0 @ z0[1:], coef0)
-        r_fc[:s0] = _flank_openings(fp.flank0, lo0[0], lo0[1], lo0[2], lo0[3], sd) - fp.scaled0 @ rows0.T
+        w_fc[:s0] = w_fd[:s0] + _by_flanks(fp.reach0, lo0[0], lo0[1], lo0[2], lo0[3], sd)
+        r_fc[:s0] = _by_flanks(fp.cross0, lo0[0], lo0[1], lo0[2], lo0[3], sd)
     if s > s0:
-        w_fc[s0:] = fp.modal1 @ full1[1:]
         w_fd[s0:] = np.outer(fp.modal1 @ z1[1:], coef1)
-        r_fc[s0:] = _flank_openings(fp.flank1, lo1[0], lo1[1], lo1[2], lo1[3], sd) - fp.scaled1 @ rows1.T
+        w_fc[s0:] = w_fd[s0:] + _by_flanks(fp.reach1, lo1[0], lo1[1], lo1[2], lo1[3], sd)
+        r_fc[s0:] = _by_flanks(fp.cross1, lo1[0], lo1[1], lo1[2], lo1[3], sd)
     return w_fc, w_fd, r_fc
 
 
@@ -64,14 +66,16 @@ def face_rows(fp, x, na):
 @njit
 def face_accelerations(x0, q_hat, last_faces, fp, pairs, rows, lo0, lo1, sd, hub_cols, cfg):
     """The step's accelerations with the pairs and the crack's faces in contact: ``(qdd, F,
-    face forces, found, R_fc)``; ``pairs`` the pairs' blocks of
+    face forces, found, R_fc, openings)``, the faces' openings at the step's end those of its
+    problem (``W (F, lam) + v``: the NumPy loop's ``B^T Phi eta + C_res (F, lam)`` of the new
+    state, to round-off); ``pairs`` the pairs' blocks of
     :func:`~spurdyn.solvers.sector.step_compiled._pair_blocks` (``x0`` changed by their
     damper), ``last_faces`` the face forces of the step before."""
     full0, full1, w0, w_gd, k_w, d_x0, _, vv, guess = pairs
     bp = cfg.bp
     na = full0.shape[0]
     p, s = vv.size, fp.r_ff.shape[0]
-    w_fc, w_fd, r_fc = face_blocks(fp, rows, lo0, lo1, sd, full0, full1, hub_cols)
+    w_fc, w_fd, r_fc = face_blocks(fp, rows, lo0, lo1, sd, hub_cols)
     n = p + s
     w_all = np.empty((n, n))
     w_all[:p, :p] = w0
@@ -91,13 +95,15 @@ def face_accelerations(x0, q_hat, last_faces, fp, pairs, rows, lo0, lo1, sd, hub
         w[a, a] += cfg.c_h
     v = np.empty(n)
     v[:p] = vv
-    v[p:] = face_rows(fp, q_hat, na) + bp * (face_rows(fp, x0, na) - w_fd @ (k_w @ d_x0))
+    v[p:] = face_rows(fp, q_hat + bp * x0, na) - bp * (w_fd @ (k_w @ d_x0))
     act = np.zeros(n, np.bool_)
     for a in range(p):
         act[a] = (guess >> a) & 1 == 1
     for j in range(s):
         act[p + j] = last_faces[j] > 0.0
-    lam, found = lcp_pivot(0.5 * (w + w.T), v, act)
+    w = 0.5 * (w + w.T)
+    lam, found = lcp_pivot(w, v, act)
+    opening = (w @ lam + v)[p:]
     s0 = fp.modal0.shape[0]
     qdd_new = x0.copy()
     qdd_new[:na] += fp.columns0 @ lam[p:p + s0]
@@ -110,17 +116,12 @@ def face_accelerations(x0, q_hat, last_faces, fp, pairs, rows, lo0, lo1, sd, hub
         z0, z1 = hub_cols
         qdd_new[:na] -= (coef0 @ kd) * z0
         qdd_new[na:] -= (coef1 @ kd) * z1
-    return qdd_new, lam[:p].copy(), lam[p:].copy(), found, r_fc
+    return qdd_new, lam[:p].copy(), lam[p:].copy(), found, r_fc, opening
 
 
 @njit
-def face_record(out, step, q, fo, faces, fp, r_fc, na):
-    """Step ``step``'s faces into ``out.faces``: their largest force, least and largest
-    opening (``B^T Phi eta`` and the residual compliance's part of the pairs' forces ``fo``
-    and the faces' own ``faces``)."""
-    opening = face_rows(fp, q, na) + fp.r_ff @ faces
-    if fo.size:
-        opening += r_fc @ fo
+def face_record(out, step, faces, opening):
+    """Step ``step``'s faces into ``out.faces``: their largest force, least and largest opening."""
     out.faces[step, 0] = faces.max()
     out.faces[step, 1] = opening.min()
     out.faces[step, 2] = opening.max()

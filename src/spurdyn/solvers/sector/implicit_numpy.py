@@ -127,13 +127,13 @@ def _with_faces(m_: SectorModel, rows: Rows | None, pairs: tuple[Any, ...], q_ha
     fc, bp = m_.faces, m_.bp
     w0, w_gd, k_w, c_res, cols = pairs
     p = vv.size
-    w_fc, w_fd, r_fc = fc.blocks(rows, cols, m_.z_theta)
+    w_fc, w_fd, r_fc = fc.blocks(rows, m_.z_theta)
     w_all = np.block([[w0, w_fc.T], [w_fc, fc.w_ff]])
     w_gd_all = np.vstack([w_gd, w_fd])
     res = np.block([[c_res, r_fc.T], [r_fc, fc.r_ff]])
     w = bp * (w_all - w_gd_all @ k_w @ w_gd_all.T) + res
     w[:p, :p] += m_.c_h * np.eye(p)
-    v_f = fc.rows(m_.parts, q_hat) + bp * (fc.rows(m_.parts, x0) - w_fd @ k_w @ d_x0)
+    v_f = fc.rows(m_.parts, q_hat + bp * x0) - bp * (w_fd @ k_w @ d_x0)
     lam, found = lcp_pivot(0.5 * (w + w.T), np.concatenate([vv, v_f]), guess)
     if not found:
         return None
@@ -163,7 +163,7 @@ class ImplicitStepper(SectorStepper):
         if rows0 is not None:
             self.c_res = model.compliance(rows0)[3]
         if faces is not None:       # the residual compliance over the pairs and the faces
-            r_fc = faces.blocks(rows0, model.compliance(rows0)[4] if rows0 is not None else None, model.z_theta)[2]
+            r_fc = faces.blocks(rows0, model.z_theta)[2]
             self.c_res = np.block([[self.c_res, r_fc.T], [r_fc, faces.r_ff]])
             if start.reset is None:     # a static start: the faces closed where they would overlap
                 self.state.faces[:] = closed_start(faces, model.parts, q, r_fc,

@@ -174,11 +174,12 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
         rows, lo0, lo1, sd = rows_and_loads(theta, last, gear0, gear1, con, table, cfg)
         on = rows[0]
         r_fc = np.zeros((faces.size, on.size))
+        opening = np.zeros(faces.size)
         if cracked:
             c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta) if on.size else 0.0
             pairs = _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg)
-            qdd_new, lam, lam_f, found, r_fc = face_accelerations(x0, q_hat, faces, fp, pairs, rows, lo0, lo1, sd,
-                                                                  hub_cols, cfg)
+            qdd_new, lam, lam_f, found, r_fc, opening = face_accelerations(x0, q_hat, faces, fp, pairs, rows, lo0,
+                                                                           lo1, sd, hub_cols, cfg)
             if not found:
                 return step, FAIL_LCP
             for a in range(on.size):
@@ -205,10 +206,7 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
             return step, FAIL_BEYOND
         _save(out, step, q, v, force, faces, rows, r_fc, cfg.c_h, na)
         if cracked:
-            fo = np.empty(on.size)
-            for a in range(on.size):
-                fo[a] = force[on[a]]
-            face_record(out, step, q, fo, faces, fp, r_fc, na)
+            face_record(out, step, faces, opening)
     return first_step + steps, OK
 
 

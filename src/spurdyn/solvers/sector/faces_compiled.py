@@ -98,7 +98,7 @@ def face_accelerations(x0, q_hat, last_faces, fp, pairs, rows, lo0, lo1, sd, hub
     v[p:] = face_rows(fp, q_hat + bp * x0, na) - bp * (w_fd @ (k_w @ d_x0))
     act = np.zeros(n, np.bool_)
     for a in range(p):
-        act[a] = (guess >> a) & 1 == 1
+        act[a] = ((guess >> a) & 1) == 1
     for j in range(s):
         act[p + j] = last_faces[j] > 0.0
     w = 0.5 * (w + w.T)

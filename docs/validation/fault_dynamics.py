@@ -147,7 +147,8 @@ docstring has the case); docs/faults.md, sections 8 and 9, has the model and the
 indicators' definitions, docs/diagnostics.md their processing and checks.
 
 The sector model runs the paper's pair with its pinion's tooth 5 cracked from the loaded
-fillet, whole gears on their modes, three revolutions of the pinion; the indicators are
+fillet (its faces a unilateral contact), whole gears on their modes, three revolutions of the
+pinion; the indicators are
 taken over the two after the first, each signal's time-synchronous average on the pinion's
 turn. SER is the sideband energy ratio on the average's shaft orders (six a side of the
 mesh order 28). "settled": the last two revolutions' peak force and transmission error

@@ -183,8 +183,10 @@ KEYS: tuple[Key, ...] = (
     _k("vibration", "-", "condition indicators (RMS, kurtosis, crest factor, FM0, FM4, NA4, sideband energy "
                          "ratio) of the sensors' signals over the settled window's whole revolutions of the "
                          "faulty gear (docs/faults.md)", ("sector",), OPTIONAL),
-    _k("crack_faces", "-", "a crack's faces, free in motion: their least opening (m; negative where they passed "
-                           "through each other), largest opening and when the least was (docs/faults.md)",
+    _k("crack_faces", "-", "a crack's faces, a unilateral contact in motion: their least opening (m; zero to "
+                           "round-off where they touch), largest opening, when the least was, their largest force "
+                           "(N, a node pair's) and when, and the share of the steps with faces closed "
+                           "(docs/faults.md)",
        ("sector",), OPTIONAL),
     _k("body_damping", "-", "the bodies' Rayleigh damping and whose it was", ("sector",)),
     _k("mesh_damping", "-", "the mesh damper's ratio and whose it was (model default or run)",

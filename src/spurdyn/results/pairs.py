@@ -166,7 +166,7 @@ def info_figures(ds: xr.Dataset, info: dict[str, Any], complete: bool) -> dict[s
         a, b = info["rayleigh"]
         out["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
                                "source": "model default" if info.get("rayleigh_default") else "run"}
-    if "crack_faces" in info:   # a crack's free faces in motion (docs/faults.md, section 8)
+    if "crack_faces" in info:   # a crack's faces in motion (docs/faults.md, section 8)
         out["crack_faces"] = info["crack_faces"]
     if "damping_ratio_source" in info:
         out["mesh_damping"] = {"ratio": info["damping_ratio"], "source": info["damping_ratio_source"]}

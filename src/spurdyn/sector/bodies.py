@@ -210,6 +210,11 @@ class ModalBody:
     def solve(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         return arrow_solve(self.u, self.dinv, self.schur, x)
 
+    @property
+    def flank_modes(self) -> NDArray[np.float64]:
+        """``(count, sides, f, m)`` the modes at each flank in its own frame (:func:`_tooth_frames`)."""
+        return self._modes
+
     def compiled(self) -> ModalGear:
         """The body's twin for the compiled loops (:data:`~spurdyn.sector.packs.ModalGear`):
         ``S`` (or ``M``) as :func:`arrow_solve` reads it, the modes' damping and ``omega^2``, the modes in each tooth's

@@ -9,10 +9,10 @@ teeth enter the mesh) sits on the driver's body tooth ``-k`` and on the driven g
 tooth ``k``, each taken round its ring into the body's numbers ``first .. first + z - 1``.
 
 A missing tooth's body has no tooth there and its contacts are not made; a cracked tooth's
-body is meshed with the crack (:func:`spurdyn.sector.faulty.cracked_mesh`), its faces free;
-a spall over the whole face width widens the gap of its flank's contact by its depth over
-the pit's rolls, written in the contact's roll on the path (the driver's roll angle of the
-contact point) for both gears.
+body is meshed with the crack (:func:`spurdyn.sector.faulty.cracked_mesh`), its faces a
+contact of their own (:mod:`spurdyn.sector.faces`); a spall over the whole face width widens
+the gap of its flank's contact by its depth over the pit's rolls, written in the contact's
+roll on the path (the driver's roll angle of the contact point) for both gears.
 """
 
 from __future__ import annotations

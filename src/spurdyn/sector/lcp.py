@@ -42,4 +42,45 @@ def lcp(w: NDArray[np.float64], v: NDArray[np.float64],
     return np.zeros(n), False
 
 
-__all__ = ["Rows", "lcp"]
+#: Block pivots :func:`lcp_pivot` makes without fewer infeasible rows before it turns to
+#: single ones (Judice and Pires' safeguard).
+BLOCK_TRIES = 3
+
+#: :func:`lcp_pivot` gives up after ``PIVOTS[0] n + PIVOTS[1]`` pivots on ``n`` rows (a
+#: P-matrix's problem takes a few; none found is a status, not a hang).
+PIVOTS = (50, 100)
+
+
+def lcp_pivot(w: NDArray[np.float64], v: NDArray[np.float64],
+              guess: NDArray[np.bool_]) -> tuple[NDArray[np.float64], bool]:
+    """``(F, found)`` of :func:`lcp`'s problem for more unknowns than its enumeration takes
+    (the pairs with a crack's faces, docs/faults.md): block principal pivoting from the
+    active set ``guess``. Each pivot solves the active rows, then swaps every infeasible
+    row (an active one pulling, an inactive one overlapping); where a block swap does not
+    lower the count of infeasible rows :data:`BLOCK_TRIES` times running, it swaps the last
+    infeasible row alone (Murty's rule, finite on a P-matrix). Twin of
+    :func:`~spurdyn.solvers.sector.rows_compiled.lcp_pivot`."""
+    n = v.size
+    tol = 1e-12 * max(float(np.abs(v).max()) if n else 0.0, 1e-300)
+    act = np.asarray(guess, bool).copy()
+    best, tries = n + 1, BLOCK_TRIES
+    for _ in range(PIVOTS[0] * n + PIVOTS[1]):
+        f = np.zeros(n)
+        idx = np.flatnonzero(act)
+        if idx.size:
+            f[idx] = np.linalg.solve(w[np.ix_(idx, idx)], -v[idx])
+        bad = np.flatnonzero((act & (f < 0.0)) | (~act & (w @ f + v < -tol)))
+        if not bad.size:
+            return f, True
+        if bad.size < best:
+            best, tries = bad.size, BLOCK_TRIES
+            act[bad] = ~act[bad]
+        elif tries > 0:
+            tries -= 1
+            act[bad] = ~act[bad]
+        else:
+            act[bad[-1]] = ~act[bad[-1]]
+    return np.zeros(n), False
+
+
+__all__ = ["BLOCK_TRIES", "PIVOTS", "Rows", "lcp", "lcp_pivot"]

@@ -30,6 +30,7 @@ from spurdyn.sector.cache import cached
 from spurdyn.sector.cyclic import statics_body
 from spurdyn.geometry.fault import faulty_cycles
 from spurdyn.sector.damper import mesh_damper_table
+from spurdyn.sector.faces import crack_faces
 from spurdyn.sector.fault_bodies import GearFaults, check_cracked_flanks, cracked_meshes, gear_faults
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
@@ -146,6 +147,8 @@ class SectorModel:
                 for g, blk in enumerate(blocks))
         else:
             self.gears = tuple(FullBody(blk, self.gp, self.bp, rayleigh) for blk in blocks)
+        # a crack's faces, a unilateral contact of their own (faulty gears are modal bodies)
+        self.faces = crack_faces(faults, blocks, self.gears, 2 if back else 1) if self.modes else None
         # the quasi-static cycle's bodies: a cyclic reduction's flank flexibility, or the FE body;
         # a faulty gear's healthy twin (the start and the mesh damper are the healthy pair's)
         bodies = tuple(_block(dp, g, blk.sense, blk.first, blk.count, mesh_keys, None).body

@@ -51,4 +51,14 @@ SectorConfig = namedtuple("SectorConfig", [
     "am", "af", "beta", "gamma", "h", "bp", "gp", "sigma", "jn", "theta_lo", "theta_hi",
 ])
 
-__all__ = ["GapArrays", "ModalGear", "SectorConfig", "SectorContacts"]
+#: A run's crack faces as the compiled implicit loop reads them (twin of
+#: :class:`~spurdyn.sector.faces.CrackFaces`): per gear ``modal`` ``(S_g, m)`` ``B^T Phi``,
+#: ``columns`` ``(1 + m, S_g)`` ``S^-1 (0, B^T Phi)^T``, ``cross`` and ``reach`` ``(count,
+#: sides, f, S_g)`` the residual flexibility and the step's response between each flank (in
+#: its frame) and the faces (:class:`~spurdyn.sector.faces.GearFaces`); ``w_ff`` and ``r_ff``
+#: ``(S, S)`` the faces' constant blocks, gear 0's faces first. A gear without a crack has
+#: ``S_g = 0``; a run without, ``S = 0``.
+FacePack = namedtuple("FacePack", ["modal0", "modal1", "columns0", "columns1", "cross0", "cross1", "reach0",
+                                   "reach1", "w_ff", "r_ff"])
+
+__all__ = ["FacePack", "GapArrays", "ModalGear", "SectorConfig", "SectorContacts"]

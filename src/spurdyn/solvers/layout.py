@@ -107,8 +107,9 @@ ImplicitPack = namedtuple("ImplicitPack", [
 # model's data: spurdyn.sector.packs)
 
 #: The implicit sector loop's state, changed in place: coordinates, velocities, the
-#: scheme's two accelerations and the contacts' forces.
-SectorStepState = namedtuple("SectorStepState", ["q", "v", "acc", "qdd", "force"])
+#: scheme's two accelerations, the contacts' forces and a crack's faces' (none without).
+SectorStepState = namedtuple("SectorStepState", ["q", "v", "acc", "qdd", "force", "faces"],
+                             defaults=(np.zeros(0),))
 
 #: The RK4 reference's state, changed in place: coordinates, velocities, the contacts'
 #: forces at the step's start and the forces whose half-widths the step holds.
@@ -117,6 +118,7 @@ SectorRk4State = namedtuple("SectorRk4State", ["q", "v", "force", "held"])
 #: A sector run's saved columns per step: the hubs' turns and speeds, the contacts'
 #: forces and the smallest gap; and every few steps the coordinates (``states``, row
 #: ``sample[step]`` of step ``step``, -1 for a step not sampled; none by default), from which
-#: the teeth's root stress is recovered after the run.
-SectorOut = namedtuple("SectorOut", ["theta", "omega", "force", "gap", "states", "sample"],
-                       defaults=(np.zeros((0, 0)), np.zeros(0, np.int64)))
+#: the teeth's root stress is recovered after the run; with a crack, per step its faces' largest
+#: force, least and largest opening (``faces``, none without).
+SectorOut = namedtuple("SectorOut", ["theta", "omega", "force", "gap", "states", "sample", "faces"],
+                       defaults=(np.zeros((0, 0)), np.zeros(0, np.int64), np.zeros((0, 3))))

@@ -119,8 +119,8 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
 def _fault_records(model: SectorModel, out: dict[str, Any], record: SectorRecord, n_kept: int, offset: int,
                    most: int | None) -> None:
     """A faulty run's own in its record ``out``: its steady figures in mesh cycles as every
-    run's (their lists per period, a revolution, which it names) and how far a crack's free
-    faces opened or passed through each other."""
+    run's (their lists per period, a revolution, which it names) and how far a crack's
+    faces opened and how hard they were pressed together."""
     if model.period > 1:
         st = out["steady"]
         st.update(cycles=model.cycles, cycles_done=max(n_kept - 1, 0) // model.per_cycle, max_cycles=most,

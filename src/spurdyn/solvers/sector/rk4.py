@@ -130,6 +130,11 @@ class Rk4Stepper(SectorStepper):
     """The RK4 reference in NumPy, step by step: the stages' rows at their own turns, the
     strips' half-widths held at the forces of the step's start."""
 
+    @classmethod
+    def refuse(cls, model: SectorModel, energy: bool) -> None:
+        super().refuse(model, energy)
+        cls.refuse_crack(model)
+
     def __init__(self, model: SectorModel, record: SectorRecord, offset: int = 0, energy: bool = False) -> None:
         super().__init__(model, record, offset, energy)
         start = model.start()

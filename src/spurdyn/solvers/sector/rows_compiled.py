@@ -24,6 +24,7 @@ import numpy as np
 from spurdyn.contact.search_compiled import edge_shape
 from spurdyn.contact.strip_compiled import hertz_half_width, involute_curvature
 from spurdyn.jit import njit
+from spurdyn.sector.lcp import BLOCK_TRIES, PIVOTS
 
 #: Counts of pairs near the path whose active sets the loops order once (two to four occur).
 ORDERS = 6
@@ -142,6 +143,14 @@ def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
     compliance between their loads (``b_i^T R b_j``); the strips' half-widths those of the
     forces ``widths`` (twin of ``SectorModel.rows_at`` with the bodies' ``residual``). A back
     flank's roll runs backwards (``system.back_roll_sum``). No contact: ``on`` empty."""
+    return rows_and_loads(theta, widths, gear0, gear1, con, table, cfg)[0]
+
+
+@njit
+def rows_and_loads(theta, widths, gear0, gear1, con, table, cfg):
+    """:func:`contact_rows` and the pairs' unit loads it took, per gear ``(loads, idx, cnt,
+    at)`` (the loads in tooth 0's frame, their nonzero columns and the body teeth), and the
+    flanks ``sd``: ``(rows, loads0, loads1, sd)``."""
     teeth, sides = con.teeth, con.sides
     nt = teeth.size
     on_all = np.empty(nt, np.int64)
@@ -157,10 +166,11 @@ def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
             on_all[p] = i
             p += 1
     on = on_all[:p].copy()
-    if p == 0:      # no pair near the path: no rows (and no products of empty arrays)
-        return (on, np.empty(0), np.empty(0), np.empty(0), np.empty((0, gear0.omega2.size)),
-                np.empty((0, gear1.omega2.size)), np.zeros((0, 0)))
     nf = gear0.modes.shape[2]
+    if p == 0:      # no pair near the path: no rows (and no products of empty arrays)
+        none = (np.empty((0, nf)), np.empty((0, nf), np.int64), np.empty(0, np.int64), np.empty(0, np.int64))
+        return ((on, np.empty(0), np.empty(0), np.empty(0), np.empty((0, gear0.omega2.size)),
+                 np.empty((0, gear1.omega2.size)), np.zeros((0, 0))), none, none, np.empty(0, np.int64))
     const = np.empty(p)
     coef0 = np.empty(p)
     coef1 = np.empty(p)
@@ -197,7 +207,8 @@ def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
     res = (_static_pairs(loads0, idx0, cnt0, gear0.flex, at0, sd, gear0.count, gear0.ring)
            + _static_pairs(loads1, idx1, cnt1, gear1.flex, at1, sd, gear1.count, gear1.ring))
     res -= (rows0 / gear0.omega2) @ rows0.T + (rows1 / gear1.omega2) @ rows1.T
-    return on, const, coef0, coef1, rows0, rows1, res
+    return ((on, const, coef0, coef1, rows0, rows1, res), (loads0, idx0, cnt0, at0), (loads1, idx1, cnt1, at1),
+            sd)
 
 
 @njit
@@ -335,5 +346,66 @@ def lcp_ordered(w, v, guess, orders):
     return f, False
 
 
-__all__ = ["ORDERS", "contact_rows", "damper_coefficient", "flank_load", "lcp_ordered", "mask_orders",
+@njit
+def lcp_pivot(w, v, guess):
+    """``(F, found)`` by block principal pivoting from the active set ``guess`` (booleans):
+    twin of :func:`spurdyn.sector.lcp.lcp_pivot`, pivot for pivot."""
+    n = v.size
+    vmax = 0.0
+    for i in range(n):
+        vmax = max(vmax, abs(v[i]))
+    tol = 1e-12 * max(vmax, 1e-300)
+    act = guess.copy()
+    best, tries = n + 1, BLOCK_TRIES
+    f = np.zeros(n)
+    bad = np.empty(n, np.int64)
+    for _ in range(PIVOTS[0] * n + PIVOTS[1]):
+        f = _active_solve(w, v, act)
+        nb = 0
+        for i in range(n):
+            if act[i]:
+                wrong = f[i] < 0.0
+            else:
+                s = v[i]
+                for c in range(n):
+                    s += w[i, c] * f[c]
+                wrong = s < -tol
+            if wrong:
+                bad[nb] = i
+                nb += 1
+        if nb == 0:
+            return f, True
+        if nb < best or tries > 0:
+            if nb < best:
+                best, tries = nb, BLOCK_TRIES
+            else:
+                tries -= 1
+            for a in range(nb):
+                act[bad[a]] = not act[bad[a]]
+        else:
+            act[bad[nb - 1]] = not act[bad[nb - 1]]
+    return np.zeros(n), False
+
+
+@njit
+def _active_solve(w, v, act):
+    """``F`` with the active rows ``act`` solved (``W_AA F_A = -v_A``), zero elsewhere."""
+    n = v.size
+    idx = np.flatnonzero(act)
+    m = idx.size
+    f = np.zeros(n)
+    if m:
+        sub = np.empty((m, m))
+        rhs = np.empty(m)
+        for a in range(m):
+            rhs[a] = -v[idx[a]]
+            for c in range(m):
+                sub[a, c] = w[idx[a], idx[c]]
+        sol = np.linalg.solve(sub, rhs)
+        for a in range(m):
+            f[idx[a]] = sol[a]
+    return f
+
+
+__all__ = ["ORDERS", "contact_rows", "lcp_pivot", "rows_and_loads", "damper_coefficient", "flank_load", "lcp_ordered", "mask_orders",
            "masks_by_size", "modal_free", "table_at"]

@@ -128,7 +128,8 @@ def _result(model: SectorModel, stepper: SectorStepper, record: SectorRecord, st
 def end_state(model: SectorModel, stepper: Any) -> tuple[float, ...]:
     """Where the next speed of a continuation starts: this end, the teeth N on (the pitches
     the driver turned: the cycles run, give or take its transmission error)."""
-    q, v, acc, qdd, force = stepper.state
+    st = stepper.state
+    q, v, acc, qdd, force = st.q, st.v, st.acc, st.qdd, st.force
     speed, pitch, offset = model.speed, model.pitch, stepper.start_state.offset
     turned = int(round(q[0] / pitch))
     q_end = q.copy()

@@ -21,23 +21,50 @@ import numpy as np
 
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK
+from spurdyn.solvers.sector.faces_compiled import face_accelerations, face_record
 from spurdyn.solvers.sector.rows_compiled import (
-    contact_rows,
     damper_coefficient,
     hub_column,
     lcp_ordered,
     mask_orders,
     modal_free,
+    rows_and_loads,
 )
 
 
 @njit
 def _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg, orders):
-    """The step's accelerations with the pairs ``rows`` (of :func:`contact_rows`) in
+    """The step's accelerations with the pairs ``rows`` (of :func:`rows_and_loads`) in
     contact: ``(qdd, F, found)``. ``x0`` the accelerations without them (changed by the mesh
     damper), ``last`` the forces of the step before (the damper's shares, the active set
     tried first), ``hub_cols`` per gear ``S^-1`` of a unit hub torque ``z`` and
     ``elastic_cols`` its arrow's ``(u, 1 / d)``, ``c_mesh`` the damper's coefficient."""
+    full0, full1, w0, w_gd, k_w, d_x0, w, vv, guess = _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols,
+                                                                   elastic_cols, c_mesh, cfg)
+    lam, found = lcp_ordered(0.5 * (w + w.T), vv, guess, orders)
+    qdd_new = x0.copy()
+    na = full0.shape[0]
+    qdd_new[:na] += full0 @ lam
+    qdd_new[na:] += full1 @ lam
+    _damper_back(qdd_new, k_w @ (d_x0 + w_gd.T @ lam), rows, hub_cols)
+    return qdd_new, lam, found
+
+
+@njit
+def _damper_back(qdd, kd, rows, hub_cols):
+    """``qdd -= S^-1 D^T kd``: the mesh damper's Woodbury part through the hubs."""
+    coef0, coef1 = rows[2], rows[3]
+    z0, z1 = hub_cols
+    na = z0.size
+    qdd[:na] -= (coef0 @ kd) * z0
+    qdd[na:] -= (coef1 @ kd) * z1
+
+
+@njit
+def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg):
+    """The pairs' blocks of the step's problem (:func:`_contact_accelerations`): per gear
+    ``S^-1 G^T``, ``G S^-1 G^T``, ``G S^-1 D^T``, the damper's Woodbury ``K``, ``D x0``, the
+    problem's ``W`` and ``v`` and the active set tried first (the step before's, a mask)."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     z0, z1 = hub_cols
     (u0, dinv0), (u1, dinv1) = elastic_cols
@@ -88,20 +115,14 @@ def _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols,
     w = bp * (w0 - w_gd @ k_w @ w_gd.T) + res + cfg.c_h * np.eye(p)
     vv = (const + coef0 * q_hat[0] + rows0 @ q_hat[1:na] + coef1 * q_hat[na] + rows1 @ q_hat[na + 1:]
           + bp * (g_x0 - w_gd @ (k_w @ d_x0)))
-    lam, found = lcp_ordered(0.5 * (w + w.T), vv, guess, orders)
-    qdd_new = x0.copy()
-    qdd_new[:na] += full0 @ lam
-    qdd_new[na:] += full1 @ lam
-    kd = k_w @ (d_x0 + w_gd.T @ lam)
-    qdd_new[:na] -= (coef0 @ kd) * z0
-    qdd_new[na:] -= (coef1 @ kd) * z1
-    return qdd_new, lam, found
+    return full0, full1, w0, w_gd, k_w, d_x0, w, vv, guess
 
 
 @njit
-def _save(out, step, q, v, force, rows, c_h, na):
+def _save(out, step, q, v, force, faces, rows, r_fc, c_h, na):
     """Step ``step``'s samples into ``out``: turns, speeds, forces, the smallest gap of the
-    pairs ``rows`` near the path (none: left as it was) and, on a sampled step, ``q``."""
+    pairs ``rows`` near the path (none: left as it was; with a crack's ``faces`` their
+    residual coupling ``r_fc`` with the pairs) and, on a sampled step, ``q``."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     out.theta[step, 0] = q[0]
     out.theta[step, 1] = q[na]
@@ -117,27 +138,31 @@ def _save(out, step, q, v, force, rows, c_h, na):
             fo[a] = force[on[a]]
         gaps = (const + coef0 * q[0] + rows0 @ q[1:na] + coef1 * q[na] + rows1 @ q[na + 1:]
                 + c_h * fo + res @ fo)
+        if faces.size:
+            gaps += r_fc.T @ faces
         out.gap[step] = gaps.min()
 
 
 @njit(entry=True)
-def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out):
+def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp):
     """``steps`` steps from ``first_step`` of the state ``st`` (a
     :data:`~spurdyn.solvers.layout.SectorStepState`, changed in place), the saved columns
     ``out`` (:data:`~spurdyn.solvers.layout.SectorOut`) written at ``first_step + 1 ...``;
-    ``hub`` the hubs' torques at the end of each step.
+    ``hub`` the hubs' torques at the end of each step, ``fp`` a crack's faces
+    (:data:`~spurdyn.sector.packs.FacePack`, empty without).
 
     Returns the last step done and ``OK``, or the failed step and its status of
     :mod:`spurdyn.solvers.layout`: ``FAIL_NAN`` (not finite), ``FAIL_LCP`` (the pairs'
     problem without a solution), ``FAIL_BEYOND`` (the driver left ``theta_lo .. theta_hi``
     at the step's end)."""
-    q, v, acc, qdd, force = st.q, st.v, st.acc, st.qdd, st.force
+    q, v, acc, qdd, force, faces = st.q, st.v, st.acc, st.qdd, st.force, st.faces
     am, af, beta, gamma, h, bp, gp = cfg.am, cfg.af, cfg.beta, cfg.gamma, cfg.h, cfg.bp, cfg.gp
     na = gear0.omega2.size + 1
     n = na + gear1.omega2.size + 1
     hub_cols = (hub_column(gear0), hub_column(gear1))
     elastic_cols = ((gear0.u, gear0.dinv), (gear1.u, gear1.dinv))
     orders = mask_orders()
+    cracked = fp.r_ff.shape[0] > 0
     for step in range(first_step + 1, first_step + steps + 1):
         a_part = (af * qdd - am * acc) / (1.0 - am)
         q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
@@ -146,9 +171,21 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out):
         theta = q_hat[0]
         last = force.copy()
         force[:] = 0.0
-        rows = contact_rows(theta, last, gear0, gear1, con, table, cfg)
+        rows, lo0, lo1, sd = rows_and_loads(theta, last, gear0, gear1, con, table, cfg)
         on = rows[0]
-        if on.size == 0:
+        r_fc = np.zeros((faces.size, on.size))
+        opening = np.zeros(faces.size)
+        if cracked:
+            c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta) if on.size else 0.0
+            pairs = _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg)
+            qdd_new, lam, lam_f, found, r_fc, opening = face_accelerations(x0, q_hat, faces, fp, pairs, rows, lo0,
+                                                                           lo1, sd, hub_cols, cfg)
+            if not found:
+                return step, FAIL_LCP
+            for a in range(on.size):
+                force[on[a]] = lam[a]
+            faces[:] = lam_f
+        elif on.size == 0:
             qdd_new = x0
         else:
             c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta)
@@ -167,7 +204,9 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out):
         qdd[:] = qdd_new
         if q[0] < cfg.theta_lo or q[0] > cfg.theta_hi:
             return step, FAIL_BEYOND
-        _save(out, step, q, v, force, rows, cfg.c_h, na)
+        _save(out, step, q, v, force, faces, rows, r_fc, cfg.c_h, na)
+        if cracked:
+            face_record(out, step, faces, opening)
     return first_step + steps, OK
 
 

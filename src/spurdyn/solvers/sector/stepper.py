@@ -41,8 +41,9 @@ STEPPERS: dict[tuple[str, str], str] = {
 
 class SectorRecord:
     """A sector run's samples, one row a step: the hubs' ``torque`` at each step's end (driver
-    first), turns ``theta`` and speeds ``omega``, the contacts' ``force``, the smallest ``gap``
-    and, if asked, the ``energy`` balance (8 columns: kinetic, strain, strip, the torques'
+    first), turns ``theta`` and speeds ``omega``, the contacts' ``force``, the smallest ``gap``,
+    with a crack its ``faces``' largest force, least and largest opening (none without) and,
+    if asked, the ``energy`` balance (8 columns: kinetic, strain, strip, the torques'
     work, the hubs' momenta and the pairs' torques on them). Unwritten rows are NaN."""
 
     def __init__(self, model: SectorModel, n_steps: int, energy: bool = False) -> None:
@@ -52,6 +53,7 @@ class SectorRecord:
         self.omega = np.full((n_out, 2), np.nan)
         self.force = np.full((n_out, model.c_teeth.size), np.nan)
         self.gap = np.full(n_out, np.nan)
+        self.faces = np.full((n_out if model.faces is not None else 0, 3), np.nan)
         self.energy = np.full((n_out, 8), np.nan) if energy else None
         self._sample_states(model, n_steps)
 
@@ -72,13 +74,15 @@ class SectorRecord:
 
     def out(self) -> SectorOut:
         """The saved columns as the compiled loops write them."""
-        return SectorOut(self.theta, self.omega, self.force, self.gap, self.states, self.sample)
+        return SectorOut(self.theta, self.omega, self.force, self.gap, self.states, self.sample, self.faces)
 
     def extend(self, model: SectorModel, n_steps: int, more: int) -> None:
         """``more`` rows beyond the run's ``n_steps`` (now ``n_steps + more``), their torques."""
         self.theta, self.omega, self.force, self.gap = (
             np.concatenate([x, np.full((more,) + x.shape[1:], np.nan)])
             for x in (self.theta, self.omega, self.force, self.gap))
+        if self.faces.size:
+            self.faces = np.concatenate([self.faces, np.full((more, 3), np.nan)])
         self.torque = np.concatenate([self.torque, model.torques_at(np.arange(n_steps + 1, n_steps + more + 1))])
         if self.energy is not None:
             self.energy = np.concatenate([self.energy, np.full((more, 8), np.nan)])
@@ -106,6 +110,13 @@ class SectorStepper(Stepper):
         if energy and not cls.keeps_energy:
             raise InputError("energy", "the energy record is kept by the NumPy implicit loop alone: "
                              "give backend='numpy'")
+
+    @staticmethod
+    def refuse_crack(model: SectorModel) -> None:
+        """Refuse a model with a crack's faces (their contact is the implicit loop's alone)."""
+        if model.faces is not None:
+            raise InputError("fault", "the RK4 reference does not step a crack's faces' contact: "
+                             "give the implicit integrator")
 
     def _steps(self, n: int) -> tuple[int, int]:
         """Take up to ``n`` steps; ``(steps done, status)``."""

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from spurdyn.errors import InputError
+from spurdyn.sector.faces import face_pack
 from spurdyn.sector.model import SectorModel
 from spurdyn.solvers.layout import OK, SectorRk4State
 from spurdyn.solvers.sector.implicit_numpy import ImplicitStepper
@@ -38,12 +39,13 @@ class CompiledImplicitStepper(ImplicitStepper):
     def __init__(self, model: SectorModel, record: SectorRecord, offset: int = 0, energy: bool = False) -> None:
         super().__init__(model, record, offset, energy)
         self.gear0, self.gear1, self.contacts, self.table, self.cfg = model.packs(self.start_state.offset)
+        self.faces = face_pack(model.faces, model.gears)
 
     def _steps(self, n: int) -> tuple[int, int]:
         from spurdyn.solvers.sector.step_compiled import run_steps
 
         step, status = run_steps(self.index, n, self.state, self.gear0, self.gear1, self.contacts, self.table,
-                                 self.cfg, self.record.torque, self.record.out())
+                                 self.cfg, self.record.torque, self.record.out(), self.faces)
         if status != OK:
             return step - 1 - self.index, int(status)
         self.reached = step
@@ -57,6 +59,7 @@ class CompiledRk4Stepper(SectorStepper):
     def refuse(cls, model: SectorModel, energy: bool) -> None:
         super().refuse(model, energy)
         _refuse_compiled(model)
+        cls.refuse_crack(model)
 
     def __init__(self, model: SectorModel, record: SectorRecord, offset: int = 0, energy: bool = False) -> None:
         super().__init__(model, record, offset, energy)

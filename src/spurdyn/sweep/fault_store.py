@@ -41,6 +41,7 @@ def _empty(plan: SweepPlan) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
     grids = {name: np.full(shape, np.nan) for name in FIGURES}
     grids["revolutions"] = np.full(shape, np.nan)
     grids["shaft_frequency"] = np.full(shape, np.nan)
+    grids["build_s"] = np.full(shape, np.nan)
     for signal in SIGNALS:
         for ind in INDICATORS:
             grids[f"{signal}_{ind}"] = np.full(shape, np.nan)
@@ -61,6 +62,8 @@ def _fill(grids: dict[str, np.ndarray], at: tuple[int, int, int], record: Mappin
     if signals.get("reason") and not reason:
         reason = f"no indicators: {signals['reason']}"
     grids["reason"][at] = reason
+    if signals.get("build_s") is not None:
+        grids["build_s"][at] = signals["build_s"]
     if signals.get("revolutions") is not None:
         grids["revolutions"][at] = signals["revolutions"]
         grids["shaft_frequency"][at] = signals["shaft_frequency_Hz"]
@@ -100,6 +103,8 @@ def _variables(grids: dict[str, np.ndarray]) -> dict[str, Any]:
         "units": "1", "long_name": "whole revolutions of the faulty gear the averages and indicators are over"})
     out["shaft_frequency"] = (GRID, grids["shaft_frequency"], {
         "units": "Hz", "long_name": "the faulty gear's mean turns a second over the window"})
+    out["build_s"] = (GRID, grids["build_s"], {
+        "units": "s", "long_name": "wall-clock time of the model's build on its worker, of wall_s"})
     for name, dtype in WHOLE.items():
         values = np.where(np.isfinite(grids[name]), grids[name], -1).astype(dtype)
         out[name] = (GRID, values, {**out[name][2], **whole_note})

@@ -198,7 +198,8 @@ def _figures(result: Result, task: PointTask) -> dict[str, Any]:
     figures = point_figures(result, task.case, ds)
     teeth = (task.case.pair.gear_a.teeth, task.case.pair.gear_b.teeth)
     info = json.loads(ds.attrs.get("info", "{}") or "{}")     # as the run's summary reads it
-    figures["signals"] = signal_figures(ds, info, teeth, task.follow, task.samples)
+    figures["signals"] = {**signal_figures(ds, info, teeth, task.follow, task.samples),
+                          "build_s": result.info.get("build_s")}
     return figures
 
 

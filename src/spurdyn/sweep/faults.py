@@ -91,11 +91,10 @@ class FaultAxis:
     samples: int
 
     @property
-    def bytes_per_point(self) -> int:
-        """Bytes one point takes in the sweep's process and folder, its averages included."""
-        from spurdyn.sweep.spec import BYTES_PER_POINT
-
-        return BYTES_PER_POINT + len(SIGNALS) * self.samples * BYTES_PER_SAMPLE
+    def signal_bytes(self) -> int:
+        """Bytes a point's averages take in the sweep's process and folder, beyond a speed
+        sweep's point (:data:`spurdyn.sweep.spec.BYTES_PER_POINT`)."""
+        return len(SIGNALS) * self.samples * BYTES_PER_SAMPLE
 
     def hashed_case(self, case: Any) -> Any:
         """The case as a fault sweep's settings hash reads it: the fault's size left out

@@ -358,7 +358,7 @@ def check_plan(plan: SweepPlan) -> None:
     if plan.model not in MODELS:
         raise InputError("--model", f"must be one of {', '.join(MODELS)} (got {plan.model!r})")
     check_count(plan.rpms, plan.torques, len(plan.sizes),
-                BYTES_PER_POINT if plan.faults is None else plan.faults.bytes_per_point)
+                BYTES_PER_POINT + (0 if plan.faults is None else plan.faults.signal_bytes))
     top = point_case(plan.case, max(plan.rpms), plan.torque_values[0])
     if top.run.angle is not None and top.run.angle < top.run.speed_a * top.run.dt:
         raise InputError("--angle", f"{math.degrees(top.run.angle):g} deg is shorter than one "

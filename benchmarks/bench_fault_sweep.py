@@ -15,6 +15,7 @@ average: on a shared machine only the ratios of one run compare.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -85,15 +86,35 @@ def timed(argv: list[str]) -> tuple[float, int, int, int]:
     return time.perf_counter() - t, proc.returncode, peak[0], peak[1]
 
 
+def timeline(out: Path, t0: float) -> None:
+    """Each point's worker, start and end (s from the command's start: its run's and its
+    figures' seconds before its end) and its figures' seconds."""
+    rows = []
+    for path in (out / "points").glob("*.json"):
+        r = json.loads(path.read_text())
+        own = r["wall_s"] + (r["signals"].get("figures_s") or 0.0)
+        rows.append((r["finished"] - own - t0, r["finished"] - t0, r["worker"], r["fault_size"],
+                     r["signals"].get("figures_s")))
+    print(f"{'worker':>24s} {'size (mm)':>10s} {'start (s)':>10s} {'end (s)':>8s} {'figures (s)':>12s}")
+    for start, end, worker, size, figures_s in sorted(rows):
+        print(f"{worker:>24s} {size * 1e3:10.2f} {start:10.1f} {end:8.1f} {figures_s:12.1f}")
+
+
 def main() -> None:
-    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--keep", metavar="DIR", help="keep the sweep folder in DIR (default: a temporary one)")
+    args = parser.parse_args()
     cal = calibration()
     print(f"calibration {cal:.3f} s; load average before {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     with tempfile.TemporaryDirectory() as tmp:
+        if args.keep:
+            tmp = args.keep
+            Path(tmp).mkdir(parents=True, exist_ok=True)
         subprocess.run([SPURDYN, "run", "paper-fig8", "--model", "sector", "--cycles", "1", "--max-cycles", "1",
                         "--quiet", "--out", str(Path(tmp) / "warm")], check=True,
                        stdout=subprocess.DEVNULL)      # the compile cache and the mode store filled
         out = Path(tmp) / "faults"
+        t0 = time.time()
         wall, code, largest, total = timed([SPURDYN, "sweep", CASE, *ARGS, "--jobs", "2", "--quiet", "--out", str(out)])
         print(f"six crack lengths x three revolutions at 1,000 rpm, 2 workers: {wall:.1f} s = {wall / cal:.1f} x "
               f"calibration (target {TARGET_S:.0f} s); exit {code}; peak memory {largest / 2**20:.0f} MiB the "
@@ -109,6 +130,7 @@ def main() -> None:
             point_s, build_s = np.nansum(ds["wall_s"].values), np.nansum(ds["build_s"].values)
             print(f"points' time {point_s:.1f} s, of which the builds {build_s:.1f} s ({build_s / point_s:.0%}); "
                   f"two workers busy {point_s / (2 * wall):.0%} of the wall time")
+        timeline(out, t0)
 
 
 if __name__ == "__main__":

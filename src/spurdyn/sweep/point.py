@@ -194,12 +194,14 @@ def _figures(result: Result, task: PointTask) -> dict[str, Any]:
     from spurdyn.results.io import result_to_dataset
     from spurdyn.sweep.faults import signal_figures
 
+    t0 = time.perf_counter()
     ds = result_to_dataset(result, task.case)
     figures = point_figures(result, task.case, ds)
     teeth = (task.case.pair.gear_a.teeth, task.case.pair.gear_b.teeth)
     info = json.loads(ds.attrs.get("info", "{}") or "{}")     # as the run's summary reads it
+    # the build's and the figures' seconds: where a point's time goes (benchmarks/bench_fault_sweep.py)
     figures["signals"] = {**signal_figures(ds, info, teeth, task.follow, task.samples),
-                          "build_s": result.info.get("build_s")}
+                          "build_s": result.info.get("build_s"), "figures_s": time.perf_counter() - t0}
     return figures
 
 

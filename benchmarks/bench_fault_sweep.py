@@ -86,18 +86,24 @@ def timed(argv: list[str]) -> tuple[float, int, int, int]:
     return time.perf_counter() - t, proc.returncode, peak[0], peak[1]
 
 
-def timeline(out: Path, t0: float) -> None:
-    """Each point's worker, start and end (s from the command's start: its run's and its
-    figures' seconds before its end) and its figures' seconds."""
+def timeline(out: Path, t0: float) -> float:
+    """Each point's worker, start and end (s from the command's start), its whole time on
+    the worker, the run's (``wall_s``: the build and the steps), the run's result after
+    its steps (a crack's faces' openings), and the figures' (the summary, the signals); the
+    points' whole times summed."""
     rows = []
     for path in (out / "points").glob("*.json"):
         r = json.loads(path.read_text())
-        own = r["wall_s"] + (r["signals"].get("figures_s") or 0.0)
-        rows.append((r["finished"] - own - t0, r["finished"] - t0, r["worker"], r["fault_size"],
-                     r["signals"].get("figures_s")))
-    print(f"{'worker':>24s} {'size (mm)':>10s} {'start (s)':>10s} {'end (s)':>8s} {'figures (s)':>12s}")
-    for start, end, worker, size, figures_s in sorted(rows):
-        print(f"{worker:>24s} {size * 1e3:10.2f} {start:10.1f} {end:8.1f} {figures_s:12.1f}")
+        sig = r["signals"]
+        point, figures = sig["point_s"], sig["figures_s"]
+        rows.append((r["finished"] - point - t0, r["finished"] - t0, r["worker"], r["fault_size"], point,
+                     r["wall_s"], point - r["wall_s"] - figures, figures))
+    print(f"{'worker':>14s} {'size (mm)':>9s} {'start (s)':>9s} {'end (s)':>8s} {'point (s)':>9s} "
+          f"{'run (s)':>8s} {'result (s)':>10s} {'figures (s)':>11s}")
+    for start, end, worker, size, point, run, result, figures in sorted(rows):
+        print(f"{worker:>14s} {size * 1e3:9.2f} {start:9.1f} {end:8.1f} {point:9.1f} {run:8.1f} {result:10.1f} "
+              f"{figures:11.1f}")
+    return sum(row[4] for row in rows)
 
 
 def main() -> None:
@@ -128,9 +134,9 @@ def main() -> None:
                 print(f"{size * 1e3:10.2f} {float(p['wall_s']):10.1f} {float(p['build_s']):10.1f} "
                       f"{int(p['cycles_done']):7d} {float(p['settled']):8.0f} {int(p['status'])}")
             point_s, build_s = np.nansum(ds["wall_s"].values), np.nansum(ds["build_s"].values)
-            print(f"points' time {point_s:.1f} s, of which the builds {build_s:.1f} s ({build_s / point_s:.0%}); "
-                  f"two workers busy {point_s / (2 * wall):.0%} of the wall time")
-        timeline(out, t0)
+            print(f"the runs' time {point_s:.1f} s, of which the builds {build_s:.1f} s ({build_s / point_s:.0%})")
+        busy = timeline(out, t0)
+        print(f"the points' whole time {busy:.1f} s: two workers busy {busy / (2 * wall):.0%} of the wall time")
 
 
 if __name__ == "__main__":

@@ -225,6 +225,8 @@ def run_point(task: PointTask) -> PointOutcome:
                             reason=f"{type(err).__name__}: {err}{at}",
                             figures={"wall_s": time.perf_counter() - t0},
                             worker=_worker_name(), finished=time.time())
+    if "signals" in figures:   # a fault sweep's point: its whole time on the worker (wall_s is the run's)
+        figures["signals"]["point_s"] = time.perf_counter() - t0
     status = COMPLETE if result.status == "complete" else INCOMPLETE
     reason = "" if status == COMPLETE else (result.reason or "stopped early")
     if status == COMPLETE:

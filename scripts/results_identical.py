@@ -46,6 +46,9 @@ def runs() -> dict[str, list[str]]:
         table[f"example-{toml.stem}"] = [str(toml)]
     # a pair-only file: the run settings come from the command line
     table["example-paper_pair"] += ["--speed-a", "4000", "--torque", "22.25"]
+    # a case for `spurdyn stiffness`: no speed, and a spall over part of the face width,
+    # which no run in motion takes
+    table.pop("example-paper_faulty", None)
     table["numpy-fig8-300"] = ["paper-fig8", "--backend", "numpy",
                                "--angle", repr(NUMPY_ANGLE_DEG)]
     # the sector model: modal bodies (compiled and NumPy), whole bodies, and the back flanks
@@ -87,13 +90,14 @@ def _frames(args: list[str]) -> list[str]:
     option they do not read; before the registry owned that rule they ignored it)."""
     import tomllib
 
+    from spurdyn.settings import DEFAULT_MODEL
     from spurdyn.simulators import MODELS
 
     if "--model" in args:
         model = args[args.index("--model") + 1]
     elif args[0].endswith(".toml"):
         with open(args[0], "rb") as fh:
-            model = tomllib.load(fh).get("model", {}).get("kind", "fe")
+            model = tomllib.load(fh).get("model", {}).get("kind", DEFAULT_MODEL)
     else:
         model = "fe"
     return ["--frames-every", "50"] if getattr(MODELS[model], "keeps_frames", True) else []

@@ -33,7 +33,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "spurdyn"
 
 #: The floors, lowest first. A top-level module is its own floor; a package's modules share it.
 FLOORS = (
-    ("errors", "version", "result", "jit", "signals", "lazy", "store", "history"),
+    ("errors", "version", "result", "jit", "linking", "signals", "lazy", "store", "history"),
     ("diagnostics",),
     ("fem",),
     ("geometry",),

@@ -24,6 +24,7 @@ from typing import Any, Callable
 import numba
 from numba.core.typing.typeof import typeof_impl
 
+from spurdyn.linking import linked_njit
 from spurdyn.store import cache_base
 
 PACKAGE = Path(__file__).resolve().parent
@@ -140,8 +141,7 @@ class Kernel:
 
     def __init__(self, fn: Callable[..., Any]) -> None:
         self.py_func = fn
-        self.internal = numba.njit(no_cpython_wrapper=True, no_cfunc_wrapper=True,
-                                   **_OPTIONS)(_renamed(fn, "__internal"))
+        self.internal = linked_njit(_renamed(fn, "__internal"), **_OPTIONS)
         self._public: Any = None
         functools.update_wrapper(self, fn)
 

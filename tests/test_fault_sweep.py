@@ -138,7 +138,7 @@ def _case(tmp_path, *faults):
 
 def test_size_zero_is_the_healthy_pair_over_the_faulty_runs_revolutions(tmp_path):
     case = _case(tmp_path, CRACK.format(depth=1e-3))
-    axis = fault_axis(case, (0.0, 5e-4), "sector")
+    axis = fault_axis(case, (0.0, 5e-4))
     healthy = fault_case(case, axis, 0.0)
     assert healthy.run.faults == ()
     # the faulty run's whole periods: at least two revolutions of the 18-tooth gear, room for two more
@@ -151,12 +151,12 @@ def test_size_zero_is_the_healthy_pair_over_the_faulty_runs_revolutions(tmp_path
 
 def test_the_settings_hash_holds_the_fault_but_its_size(tmp_path):
     one, two = _case(tmp_path, CRACK.format(depth=1e-3)), _case(tmp_path, CRACK.format(depth=2e-3))
-    h1 = settings_hash(one, model="sector", faults=fault_axis(one, (0.0,), "sector"))
-    assert h1 == settings_hash(two, model="sector", faults=fault_axis(two, (0.0,), "sector"))
+    h1 = settings_hash(one, model="sector", faults=fault_axis(one, (0.0,)))
+    assert h1 == settings_hash(two, model="sector", faults=fault_axis(two, (0.0,)))
     other = _case(tmp_path, CRACK.format(depth=1e-3).replace("tooth = 1", "tooth = 2"))
-    assert h1 != settings_hash(other, model="sector", faults=fault_axis(other, (0.0,), "sector"))
+    assert h1 != settings_hash(other, model="sector", faults=fault_axis(other, (0.0,)))
     assert h1 != settings_hash(one, model="sector")
-    axis = fault_axis(one, (0.0,), "sector")
+    axis = fault_axis(one, (0.0,))
     fewer = FaultAxis(axis.fault, axis.sizes, axis.teeth, axis.samples // 2)
     assert h1 != settings_hash(one, model="sector", faults=fewer)
 

@@ -168,7 +168,7 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     sizes = parse_grid(args.fault_size, "--fault-size", positive=False, decimals=SIZE_DECIMALS) \
         if args.fault_size is not None else None
     case, model, labels = sweep_case(args, torques, rpms[0])
-    faults = fault_axis(case, sizes, model)
+    faults = fault_axis(case, sizes)
     entry = ENTRIES[model]
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:

@@ -108,17 +108,17 @@ class FaultAxis:
         return {"angle_samples": self.samples}
 
 
-def fault_axis(case: Any, sizes: tuple[float, ...] | None, model: str) -> FaultAxis | None:
+def fault_axis(case: Any, sizes: tuple[float, ...] | None) -> FaultAxis | None:
     """The fault sweep of ``case`` over ``sizes`` (m, from ``--fault-size``; ``None``: the
-    case's own size), ``None`` for a healthy case without sizes.
+    case's own size), ``None`` for a healthy case without sizes. (A model that carries no
+    faults has refused the case's already: the registry's rule, ``ModelEntry.refuse``.)
 
     Raises
     ------
     InputError
         Naming ``--fault-size``: sizes without a fault, for a missing tooth, for several
         faults, one the fault's checks refuse (a spall deeper than 1 mm, a crack leaving its
-        tooth); naming ``fault``: several faults without sizes; naming ``--model``: a model
-        other than the sector's.
+        tooth); naming ``fault``: several faults without sizes.
     """
     faults = tuple(case.run.faults)
     if not faults:
@@ -126,8 +126,6 @@ def fault_axis(case: Any, sizes: tuple[float, ...] | None, model: str) -> FaultA
             raise InputError("--fault-size", "needs a fault to size: give the case a [[fault]] table or "
                              "--fault gear=a,tooth=5,kind=crack,depth=1e-3")
         return None
-    if model != "sector":
-        raise InputError("--model", f"a faulty pair runs on the sector model (got {model!r}): give --model sector")
     if len(faults) > 1:
         raise InputError("--fault-size" if sizes is not None else "fault",
                          f"a fault sweep follows one fault; the case has {len(faults)}: keep one "

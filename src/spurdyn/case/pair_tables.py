@@ -44,7 +44,7 @@ MATERIAL_KEYS = {"young", "poisson", "density", "sigma_flim", "sigma_hlim", "sig
 CLASS_KEYS = ("material_class", "grade", "hardness_hv", "hardness_hbw")
 PAIR_KEYS = {"centre_distance", "driver"}
 MESH_KEYS = {"nx", "ny", "grading", "row_grading"}
-TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run", "model", "fault"}
+TOP_KEYS = {"gear_a", "gear_b", "pair", "mesh", "run", "model", "fault", "crack"}
 
 @dataclass(frozen=True)
 class MeshedPair:

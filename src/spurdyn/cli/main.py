@@ -334,6 +334,9 @@ def build_parser() -> argparse.ArgumentParser:
     from spurdyn.cli.stiffness import add_stiffness_parser
 
     add_stiffness_parser(sub)
+    from spurdyn.cli.crack import add_crack_parser
+
+    add_crack_parser(sub)
     from spurdyn.cli.cache import add_cache_parser
 
     add_cache_parser(sub)

@@ -3,7 +3,9 @@ crack tip by the interaction integral (:mod:`~spurdyn.fracture.integral`, on the
 fields of :mod:`~spurdyn.fracture.williams`) and by displacement correlation on quarter-point
 elements (:mod:`~spurdyn.fracture.correlation`), the direction of growth
 (:mod:`~spurdyn.fracture.direction`), the handbook's cracked strips and plates they are
-checked on (:mod:`~spurdyn.fracture.plate`, :mod:`~spurdyn.fracture.handbook`)."""
+checked on (:mod:`~spurdyn.fracture.plate`, :mod:`~spurdyn.fracture.handbook`), a crack
+grown by increments to a verdict (:mod:`~spurdyn.fracture.growth`, the model's K given as a
+function) and its life by Paris's law (:mod:`~spurdyn.fracture.life`)."""
 
 from spurdyn.fracture.correlation import displacement_correlation, quarter_points
 from spurdyn.fracture.direction import equivalent_k, growth_angle, tangential_stress

@@ -7,7 +7,7 @@ import math
 
 from spurdyn.errors import InputError
 
-__all__ = ["equivalent_k", "growth_angle", "tangential_stress"]
+__all__ = ["driving_k", "equivalent_k", "growth_angle", "tangential_stress"]
 
 
 def _checked(k_i: float, k_ii: float) -> tuple[float, float]:
@@ -52,3 +52,16 @@ def equivalent_k(k_i: float, k_ii: float) -> float:
     """The mode I factor (Pa sqrt(m)) with the same largest tangential stress:
     ``tangential_stress`` at :func:`growth_angle`."""
     return tangential_stress(k_i, k_ii, growth_angle(k_i, k_ii))
+
+
+def driving_k(k_i: float, k_ii: float) -> float:
+    """The equivalent factor that drives growth (Pa sqrt(m)): :func:`equivalent_k` of a tip
+    open in mode I, 0 for a tip closed (``K_I <= 0``).
+
+    The maximum tangential stress criterion takes the tip open: with ``K_I <= 0`` its angle
+    runs past +-70.5 deg toward the crack's own faces (K_I = -1, K_II = 0.01 gives -178 deg),
+    which a closed tip does not do; such a load position is taken not to grow the crack.
+    """
+    if isinstance(k_i, bool) or not isinstance(k_i, (int, float)) or not math.isfinite(k_i):
+        raise InputError("k_i", f"must be a finite stress intensity factor in Pa sqrt(m) (got {k_i!r})")
+    return 0.0 if k_i <= 0.0 else equivalent_k(k_i, k_ii)

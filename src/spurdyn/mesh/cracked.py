@@ -126,12 +126,16 @@ def _check_number(key: str, value: object, low: float = 0.0) -> float:
 
 
 def _check_inside(tooth: ToothMesh, mouth: NDArray[np.float64], tip: NDArray[np.float64]) -> None:
-    """Refuse (``fault.depth``) a crack that leaves the structured tooth's outline."""
+    """Refuse (``fault.depth``) a crack that leaves the structured tooth's outline; ``tip``
+    is the tip ``(2,)`` or a polyline's kinks and tip ``(k, 2)``, and the tip must lie
+    :data:`TIP_CLEARANCE` of the last piece's length from the outline."""
     poly = ol.polygon(tooth.nodes, ol.outline_edges(tooth))
-    start = mouth + 1e-6 * (tip - mouth)        # just inside: the mouth lies on the outline
-    clear = ol.distance(poly, tip) >= TIP_CLEARANCE * float(np.hypot(*(tip - mouth)))
-    if not ol.inside(poly, np.array([start, tip])).all() or ol.crosses(poly, start, tip) \
-            or not clear:
+    points = np.vstack([mouth[None], np.atleast_2d(tip)])
+    start = mouth + 1e-6 * (points[1] - mouth)   # just inside: the mouth lies on the outline
+    pieces = [(start, points[1])] + list(zip(points[1:-1], points[2:]))
+    clear = ol.distance(poly, points[-1]) >= TIP_CLEARANCE * float(np.hypot(*(points[-1] - points[-2])))
+    if not ol.inside(poly, np.vstack([start[None], points[1:]])).all() or \
+            any(ol.crosses(poly, p, q) for p, q in pieces) or not clear:
         raise InputError("fault.depth", "the crack would leave the tooth's mesh, or its tip "
                          f"come closer than {TIP_CLEARANCE:g} of its length to the outline "
                          "(the curve under the tooth, below which the rim begins, or the other "
@@ -343,7 +347,7 @@ def _sizes(tooth: ToothMesh, path: NDArray[np.float64], tip_size: float | None,
     """The element sizes: ``size`` by default :func:`default_size`, ``tip_size`` by default ``TIP_SIZE_SHARE`` of the smaller of ``size`` and the
     crack's length."""
     size = default_size(tooth) if size is None else _check_number("fault.size", size)
-    depth = float(np.hypot(*(path[1] - path[0])))
+    depth = float(np.hypot(*(path[-1] - path[-2])))          # the last piece's
     tip = TIP_SIZE_SHARE * min(size, depth) if tip_size is None else \
         _check_number("fault.tip_size", tip_size)
     if tip > size:
@@ -391,12 +395,15 @@ def outline_ties(tooth: ToothMesh, cracked: CrackedTooth
     edges = ol.outline_edges(tooth)
     mapped = cracked.structured[edges]
     r_tip = float(np.max(np.hypot(*tooth.nodes.T)))
-    poly = ol.polygon(tooth.nodes, edges)
     own = np.setdiff1d(np.arange(cracked.nodes.shape[0]), cracked.structured)
-    near = own[[ol.distance(poly, x) < 1e-3 * r_tip for x in cracked.nodes[own]]]
+    from scipy.spatial import cKDTree
+
+    # the outline sampled finely enough that a node on it is within 1e-3 r_tip of a sample
+    dense = ol.polygon(tooth.nodes, edges)
+    gap = float(np.max(np.hypot(*np.diff(dense, axis=0).T)))
+    near = own[cKDTree(dense).query(cracked.nodes[own])[0] < 1e-3 * r_tip + gap]
     out = []
-    for node in near:
-        k, xi, dist = ol.locate(tooth.nodes, edges, cracked.nodes[node])
+    for node, (k, xi, dist) in zip(near, ol.locate_many(tooth.nodes, edges, cracked.nodes[near])):
         if dist <= 1e-9 * r_tip and np.all(mapped[k] >= 0):
             out.append((node, k, xi))
     nodes = np.array([o[0] for o in out], dtype=np.intp)
@@ -416,7 +423,8 @@ def cracked_tooth(gear: Gear, tooth: ToothMesh, path: NDArray[np.float64],
     tooth
         The structured tooth mesh whose outline (and outline nodes) the cracked mesh keeps.
     path
-        ``(2, 2)`` the crack's mouth, on a side's fillet edge, and its tip, inside the tooth.
+        ``(k, 2)`` the crack's mouth, on a side's fillet edge, then its kinks (a crack that
+        has grown, :mod:`spurdyn.mesh.polyline`) and its tip, inside the tooth.
     tip_size, size
         Element sizes at the tip and elsewhere (m); defaults in :func:`_sizes`.
 
@@ -433,12 +441,13 @@ def cracked_tooth(gear: Gear, tooth: ToothMesh, path: NDArray[np.float64],
     """
     del gear
     path = np.asarray(path, dtype=float)
-    if path.shape != (2, 2) or not np.all(np.isfinite(path)):
-        raise InputError("fault.path", f"must be a (2, 2) array: mouth and tip (got {path!r})")
+    if path.ndim != 2 or path.shape[0] < 2 or path.shape[1] != 2 or not np.all(np.isfinite(path)):
+        raise InputError("fault.path", f"must be a (k, 2) array, k >= 2: mouth, kinks, tip "
+                         f"(got {path!r})")
     points, sides, mouth, split = _polygon(tooth, path)
-    _check_inside(tooth, points[mouth], path[1])
+    _check_inside(tooth, points[mouth], path[1:])
     size, tip_size = _sizes(tooth, path, tip_size, size)
-    quads = _mesh(_curves(tooth, sides), mouth, path[1], size, tip_size)
+    quads = _mesh(_curves(tooth, sides), mouth, path[1:], size, tip_size)
     nodes = _onto_outline(quads, tooth, points, sides)
     elements = counter_clockwise(nodes, quads.elements)
     if not np.all(jacobian_determinants(nodes, elements) > 0.0):
@@ -446,8 +455,20 @@ def cracked_tooth(gear: Gear, tooth: ToothMesh, path: NDArray[np.float64],
                          "Jacobian; try another element size")
     d = (path[1] - points[mouth]) / np.hypot(*(path[1] - points[mouth]))
     n = np.array([-d[1], d[0]])
-    n = -n if n[1] < 0.0 else n                                     # toward the tip circle
-    nodes, elements, seam = split_seam(nodes, elements, quads.crack[:-1], n)
+    sense = -1.0 if n[1] < 0.0 else 1.0                             # toward the tip circle
+    if path.shape[0] > 2:
+        from spurdyn.mesh.polyline import split_polyline_seam
+
+        full = np.vstack([points[mouth][None], path[1:]])
+        try:
+            nodes, elements, seam, normal = split_polyline_seam(nodes, elements, quads.crack[:-1],
+                                                                full, sense)
+        except RuntimeError as error:
+            raise InputError("fault.size", "gmsh's elements do not follow the crack; try "
+                             "another element size") from error
+    else:
+        nodes, elements, seam = split_seam(nodes, elements, quads.crack[:-1], sense * n)
+        normal = np.tile(sense * n, (seam.shape[0], 1))
     return CrackedTooth(nodes=nodes, elements=elements,
                         structured=_structured_map(tooth, nodes, split), seam=seam,
-                        normal=np.tile(n, (seam.shape[0], 1)), tip=int(quads.crack[-1]))
+                        normal=normal, tip=int(quads.crack[-1]))

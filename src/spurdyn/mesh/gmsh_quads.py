@@ -40,7 +40,8 @@ class GmshQuads:
     sides
         For each side of the outline, the nodes gmsh put inside it (ends left out).
     crack
-        The crack line's nodes from the mouth to the tip, both ends included.
+        The crack's nodes from the mouth to the tip, both ends included (a polyline's kinks
+        once).
     """
 
     nodes: NDArray[np.float64]
@@ -61,19 +62,23 @@ def _set_options(gmsh: object) -> None:
 
 
 def _geometry(gmsh: object, curves: list[NDArray[np.float64]], mouth: int,
-              tip: NDArray[np.float64], size: float, tip_size: float) -> tuple[list[int], int, int]:
+              path: NDArray[np.float64], size: float, tip_size: float) -> tuple[list[int], list[int], int]:
     """The polygon's surface with the crack embedded; its sides', crack's and tip's tags.
-    Every line gets an even number of segments (:func:`_segments`); the crack's shrink
-    geometrically toward the tip."""
+    The crack runs from side ``mouth``'s first point through ``path`` ``(k, 2)`` (its kinks,
+    then its tip), one line a piece. Every line gets an even number of segments
+    (:func:`_segments`); the crack's shrink geometrically toward the tip."""
     geo = gmsh.model.geo
     tags, surface, sides = _outline(gmsh, curves)
-    tip_tag = geo.addPoint(float(tip[0]), float(tip[1]), 0.0)
-    crack = geo.addLine(tags[mouth], tip_tag)
+    ends = [tags[mouth]] + [geo.addPoint(float(x), float(y), 0.0) for x, y in path]
+    lines = [geo.addLine(a, b) for a, b in zip(ends[:-1], ends[1:])]
     geo.synchronize()
+    tip = path[-1]
     _count_sides(gmsh, curves, sides, tip[None], size, tip_size)
-    _grade(gmsh, crack, curves[mouth][0], tip, tip[None], size, tip_size)
-    gmsh.model.mesh.embed(1, [crack], 2, surface)
-    return sides, crack, tip_tag
+    points = np.vstack([curves[mouth][0][None], path])
+    for line, p, q in zip(lines, points[:-1], points[1:]):
+        _grade(gmsh, line, p, q, tip[None], size, tip_size)
+    gmsh.model.mesh.embed(1, lines, 2, surface)
+    return sides, lines, ends[-1]
 
 
 def _grade(gmsh: object, line: int, p: NDArray[np.float64], q: NDArray[np.float64],
@@ -204,15 +209,19 @@ def _side_nodes(nodes: NDArray[np.float64], elements: NDArray[np.intp],
     return tuple(on[which == i] for i in range(len(curves)))
 
 
-def _crack_nodes(nodes: NDArray[np.float64], mouth: NDArray[np.float64], tip: NDArray[np.float64]
-                 ) -> NDArray[np.intp]:
-    """The nodes on the crack, mouth to tip: those on its segment (the mesh conforms to the
-    embedded line, so no element edge crosses it)."""
-    d = tip - mouth
-    u = (nodes - mouth) @ d / float(d @ d)
-    off = np.abs((nodes - mouth) @ np.array([-d[1], d[0]])) / float(d @ d)
-    on = np.flatnonzero((off < 1e-9) & (u > -1e-9) & (u < 1.0 + 1e-9))
-    return on[np.argsort(u[on])]
+def _crack_nodes(nodes: NDArray[np.float64], path: NDArray[np.float64]) -> NDArray[np.intp]:
+    """The nodes on the crack ``path`` ``(k, 2)`` (mouth, kinks, tip), mouth to tip: those on
+    its pieces (the mesh conforms to the embedded lines, so no element edge crosses them),
+    each kink once."""
+    found: list[NDArray[np.intp]] = []
+    for i, (mouth, tip) in enumerate(zip(path[:-1], path[1:])):
+        d = tip - mouth
+        u = (nodes - mouth) @ d / float(d @ d)
+        off = np.abs((nodes - mouth) @ np.array([-d[1], d[0]])) / float(d @ d)
+        on = np.flatnonzero((off < 1e-9) & (u > -1e-9) & (u < 1.0 + 1e-9))
+        on = on[np.argsort(u[on])]
+        found.append(on if i == 0 else on[1:])
+    return np.concatenate(found)
 
 
 def _read(gmsh: object, curves: list[NDArray[np.float64]], scale: float,
@@ -243,7 +252,8 @@ def mesh_with_crack(curves: list[NDArray[np.float64]], mouth: int, tip: NDArray[
     """Mesh the region inside ``curves`` (the outline's sides counter-clockwise, each
     ``(k, 2)`` points from its first point to the next side's) with the crack from side
     ``mouth``'s first point to ``tip`` embedded, element size ``size`` refined to
-    ``tip_size`` at the tip.
+    ``tip_size`` at the tip. ``tip`` is the tip ``(2,)`` of a straight crack, or ``(k, 2)``
+    the kinks of a polyline crack then its tip.
 
     gmsh is started and always finalized here (:func:`_generate`).
 
@@ -255,15 +265,16 @@ def mesh_with_crack(curves: list[NDArray[np.float64]], mouth: int, tip: NDArray[
         than an 8-node quad.
     """
     points = np.array([c[0] for c in curves])
+    path = np.atleast_2d(np.asarray(tip, dtype=float))
 
     def build(gmsh: object, scaled: list[NDArray[np.float64]], at: Callable,
               h_tip: float) -> list[int]:
-        _, _, tip_tag = _geometry(gmsh, scaled, mouth, at(tip), 1.0, h_tip)
+        _, _, tip_tag = _geometry(gmsh, scaled, mouth, at(path), 1.0, h_tip)
         return [tip_tag]
 
     quads = _generate(curves, build, size, tip_size, "fault.size", "the cracked tooth")
     return GmshQuads(nodes=quads.nodes, elements=quads.elements, sides=quads.sides,
-                     crack=_crack_nodes(quads.nodes, points[mouth], tip))
+                     crack=_crack_nodes(quads.nodes, np.vstack([points[mouth][None], path])))
 
 
 def mesh_with_inner_crack(curves: list[NDArray[np.float64]], ends: NDArray[np.float64],
@@ -285,7 +296,7 @@ def mesh_with_inner_crack(curves: list[NDArray[np.float64]], ends: NDArray[np.fl
 
     quads = _generate(curves, build, size, tip_size, key, "the region")
     return GmshQuads(nodes=quads.nodes, elements=quads.elements, sides=quads.sides,
-                     crack=_crack_nodes(quads.nodes, ends[0], ends[1]))
+                     crack=_crack_nodes(quads.nodes, ends))
 
 
 def _generate(curves: list[NDArray[np.float64]], build: Callable, size: float, tip_size: float,

@@ -120,13 +120,28 @@ def locate(nodes: NDArray[np.float64], edges: NDArray[np.intp], point: NDArray[n
     edge, xi, distance
         The edge's row in ``edges``, ``xi`` in ``[-1, 1]``, and ``|x(xi) - point|`` (m).
     """
-    xi = np.linspace(-1.0, 1.0, 201)
-    pts = np.stack([edge_point(nodes[e], xi) for e in edges])         # (n_edges, 201, 2)
-    dist = np.hypot(*(pts - point).transpose(2, 0, 1))
-    k, j = np.unravel_index(int(np.argmin(dist)), dist.shape)
-    xyz = nodes[edges[k]]
-    s = project(xyz, point, float(xi[j]))
-    return int(k), s, float(np.hypot(*(edge_point(xyz, s) - point)))
+    return locate_many(nodes, edges, np.asarray(point, dtype=float)[None])[0]
+
+
+#: Parameters of each edge sampled for the first guess of :func:`locate`.
+_GUESS = np.linspace(-1.0, 1.0, 201)
+
+
+def locate_many(nodes: NDArray[np.float64], edges: NDArray[np.intp], points: NDArray[np.float64]
+                ) -> list[tuple[int, float, float]]:
+    """:func:`locate` of each of ``points`` ``(m, 2)``, the edges sampled once: the nearest
+    sample (a k-d tree) is the guess :func:`project` refines."""
+    from scipy.spatial import cKDTree
+
+    pts = np.stack([edge_point(nodes[e], _GUESS) for e in edges])      # (n_edges, 201, 2)
+    _, near = cKDTree(pts.reshape(-1, 2)).query(points)
+    out = []
+    for p, n in zip(points, near):
+        k, j = divmod(int(n), _GUESS.size)
+        xyz = nodes[edges[k]]
+        s = project(xyz, p, float(_GUESS[j]))
+        out.append((int(k), s, float(np.hypot(*(edge_point(xyz, s) - p)))))
+    return out
 
 
 def project(xyz: NDArray[np.float64], point: NDArray[np.float64], xi: float) -> float:

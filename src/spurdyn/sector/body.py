@@ -129,6 +129,20 @@ class SectorBody:
         position)."""
         return self.solve(self.seam_loads)
 
+    @cached_property
+    def seam_compliance(self) -> NDArray[np.float64]:
+        """``Bᵀ K⁻¹ B``: the faces' openings under their unit compressions."""
+        return self.openings(self.seam_response)
+
+    def openings(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``Bᵀ u``: the cracks' openings ``n · (u_two - u_one)`` (m) at their twin pairs
+        under the displacements ``u`` (columns allowed) (:attr:`seam_loads`)."""
+        seams, normals = self.mesh.seams, self.mesh.seam_normals
+        uu = np.asarray(u, dtype=float).reshape(self.mesh.n_nodes, 2, -1)
+        jump = uu[seams[:, 1]] - uu[seams[:, 0]]                # (S, 2, k)
+        out = np.einsum("sa,sak->sk", normals, jump)
+        return out[:, 0] if np.ndim(u) == 1 else out
+
     def solve(self, f: NDArray[np.float64]) -> NDArray[np.float64]:
         """Displacements (m) under the nodal forces ``f`` (columns allowed), the hub held."""
         f = np.asarray(f, dtype=float)

@@ -204,12 +204,13 @@ def _active_set(c: NDArray[np.float64], g: NDArray[np.float64], w: float,
 
 def _blocks(body: SectorBody, loads: NDArray[np.float64]) -> NDArray[np.float64]:
     """``[L B]ᵀ K⁻¹ [L B]`` of the contacts' loads ``L`` and the body's crack faces ``B``,
-    the faces' responses solved once (:attr:`SectorBody.seam_response`)."""
+    the faces' responses solved once (:attr:`SectorBody.seam_response`); ``Bᵀ K⁻¹ L`` is
+    ``(K⁻¹ B)ᵀ L`` (``K`` symmetric)."""
     u = body.solve(loads)
     if not body.mesh.seams.shape[0]:
         return loads.T @ u
-    b, ub = body.seam_loads, body.seam_response
-    return np.block([[loads.T @ u, loads.T @ ub], [b.T @ u, b.T @ ub]])
+    lb = loads.T @ body.seam_response
+    return np.block([[loads.T @ u, lb], [lb.T, body.seam_compliance]])
 
 
 def _with_seams(body_a: SectorBody, body_b: SectorBody, la: NDArray[np.float64], lb: NDArray[np.float64],
@@ -272,6 +273,34 @@ def solve_position(law: ContactLaw, rho: float, contacts: Contacts = healthy_con
     docstring; one contact per pair unless a fault splits one) and, after them, of the
     bodies' cracks' face pairs (docs/faults.md); ``bodies`` replace the law's (a faulty
     sector)."""
+    return _position(law, rho, contacts, bodies)[:5]
+
+
+def position_displacements(law: ContactLaw, rho: float, contacts: Contacts = healthy_contacts,
+                           bodies: tuple[SectorBody, SectorBody] | None = None, faces: bool = True) -> tuple[
+        NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], list[int], NDArray[np.float64]]:
+    """Both bodies' displacements (m) at one position (:func:`solve_position`): each body's
+    ``K⁻¹ (L f + B λ)`` with the contacts' forces ``f`` and its crack's face forces ``λ``
+    the complementarity solve found; also the face forces of both bodies (driver's first),
+    the pairs on the path and their forces. Without ``faces`` the cracks' faces are left
+    free (no contact rows: the solution where no face closes, found without the faces'
+    responses; the caller checks the openings, :meth:`SectorBody.openings`)."""
+    js, pair_f, _, _, _, full, la, lb = _position(law, rho, contacts, bodies, faces)
+    body_a, body_b = law.bodies if bodies is None else bodies
+    n, sa = la.shape[1], body_a.mesh.seams.shape[0] if faces else 0
+    faces_f = full[n:]
+    out = []
+    for body, loads, lam in ((body_a, la, faces_f[:sa]), (body_b, lb, faces_f[sa:])):
+        u = body.solve(loads @ full[:n]) if n else np.zeros(body.mesh.n_dof)
+        out.append(u + body.seam_response @ lam if lam.size else u)
+    return out[0], out[1], faces_f, js, pair_f
+
+
+def _position(law: ContactLaw, rho: float, contacts: Contacts,
+              bodies: tuple[SectorBody, SectorBody] | None, faces: bool = True) -> tuple[Any, ...]:
+    """:func:`solve_position`'s figures, then the whole force vector (contacts, then the
+    faces) and the contacts' load columns on either body; without ``faces`` the cracks'
+    faces free."""
     dp, w = law.pair, law.load
     body_a, body_b = law.bodies if bodies is None else bodies
     ga, gb = dp.gear_a, dp.gear_b
@@ -291,8 +320,10 @@ def solve_position(law: ContactLaw, rho: float, contacts: Contacts = healthy_con
     c = np.zeros((0, 0))
     active = np.zeros(0, dtype=bool)
     e = math.nan
-    seams = body_a.mesh.seams.shape[0] + body_b.mesh.seams.shape[0]
+    seams = body_a.mesh.seams.shape[0] + body_b.mesh.seams.shape[0] if faces else 0
     coupled = np.arange(len(parts) + seams) < len(parts)
+    f_new = np.zeros(len(parts) + seams)
+    la = lb = np.zeros((body_a.mesh.n_dof, 0))
     for _ in range(50 if parts else 0):
         b = np.atleast_1d(half_width(f, rho_a, rho_b, law.estar, law.width * share))
         la = np.column_stack([body_a.load(j, float(r), float(bb)) for (j, _, _), r, bb in zip(parts, ra, b)])
@@ -309,7 +340,7 @@ def solve_position(law: ContactLaw, rho: float, contacts: Contacts = healthy_con
             break
     pair_f = np.zeros(len(js))
     np.add.at(pair_f, np.asarray(where, dtype=np.intp), f)
-    return js, pair_f, e, c, active
+    return js, pair_f, e, c, active, f_new, la, lb
 
 
 def pair_forces_at(pair: GearPair, torque: float, roll: float,
@@ -385,4 +416,4 @@ def mesh_cycle(pair: GearPair, torque: float, nx: int, ny: int, teeth: int | Non
 
 
 __all__ = ["Contact", "Contacts", "DEFAULT_POSITIONS", "healthy_contacts", "MeshCycle", "default_teeth", "driving_pair", "mesh_cycle",
-           "pair_forces_at", "pairs_in_path", "sector_bodies", "sector_firsts", "solve_position"]
+           "pair_forces_at", "pairs_in_path", "position_displacements", "sector_bodies", "sector_firsts", "solve_position"]

@@ -139,7 +139,8 @@ def test_commands_refuse_faults_where_not_read_show_them_and_write_the_table(tmp
     case.write_text('[gear_a]\nteeth = 28\nmodule = 3.175e-3\nface_width = 6.35e-3\n\n'
                     '[run]\ntorque = 22.25\n\n[[fault]]\ngear = "a"\ntooth = 5\nkind = "missing"\n')
     for command in (["run", str(case), "--model", "fe", "--speed-a", "1000", "--out", str(tmp_path / "out")], ["mesh", str(case), "--png", str(tmp_path / "m.png")],
-                    ["sweep", str(case), "--model", "sector", "--rpm", "1000:2000/2", "--out", str(tmp_path / "out")]):
+                    ["sweep", str(case), "--model", "lumped", "--rpm", "1000:2000/2", "--out", str(tmp_path / "out")],
+                    ["report", str(case), "--out", str(tmp_path / "out")]):
         code, out, err = run(capsys, *command)
         assert code == 2 and err.strip().count("\n") == 0 and "fault" in err
     assert not (tmp_path / "out").exists() and not (tmp_path / "m.png").exists()

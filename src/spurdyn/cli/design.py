@@ -90,9 +90,13 @@ def build_report_plan(args: argparse.Namespace) -> tuple[Any, str, Any]:
     out = Path(args.out)
     check_report_out(out, args.force)
     rpm, resonance = args.rpm, None
+    torques = parse_torques(args.torque) if args.torque is not None else None
+    case, model, _ = sweep_case(_sweep_namespace(args, "1", out), torques, 1000.0)
+    if case.run.faults:
+        raise InputError("fault", "not read by `spurdyn report` yet: `spurdyn sweep` makes a faulty pair's "
+                         "data set, `spurdyn run --model sector` runs one, `spurdyn stiffness` follows it over "
+                         "its revolution")
     if rpm is None:
-        torques = parse_torques(args.torque) if args.torque is not None else None
-        case, model, _ = sweep_case(_sweep_namespace(args, "1", out), torques, 1000.0)
         resonance = resonance_estimate(case, model)
         rpm = default_rpm(resonance.resonance_rpm)
     plan = build_plan(_sweep_namespace(args, rpm, out))

@@ -23,8 +23,12 @@ from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as ENTRIES
 from spurdyn.sweep import backends as _backends
 from spurdyn.sweep import scheduler as _scheduler
+from spurdyn.sweep.faults import fault_axis
 from spurdyn.sweep.spec import (CONTINUATIONS, MODELS, SweepPlan, check_count, check_plan,
-                                parse_speeds, parse_torques)
+                                parse_grid, parse_speeds, parse_torques)
+
+#: Decimals of ``--fault-size`` (m): a nanometre.
+SIZE_DECIMALS = 9
 
 #: Exit statuses of ``spurdyn sweep`` (those of ``spurdyn run``).
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
@@ -91,6 +95,8 @@ def _overrides(args: argparse.Namespace, torques: tuple[float, ...] | None
         labels["mesh.nx"] = labels["mesh.ny"] = "--mesh"
     if torques is not None:
         overrides["run.torque"], labels["run.torque"] = torques[0], "--torque"
+    if args.fault:     # beside the case's [[fault]] tables
+        overrides["fault"], labels["fault"] = tuple(args.fault), "--fault"
     return overrides, labels
 
 
@@ -148,9 +154,6 @@ def sweep_case(args: argparse.Namespace, torques: tuple[float, ...] | None, firs
     model = args.model or case.model          # --model, else the case file's [model] kind
     entry = ENTRIES[model]
     entry.refuse(case.run, case.labels(labels), case.pair)   # not ignored in silence
-    if case.run.faults:
-        raise InputError("fault", "not read by `spurdyn sweep` or `spurdyn report` yet: `spurdyn run "
-                         "--model sector` runs a faulty pair, `spurdyn stiffness` follows it over its revolution")
     return replace(case, run=entry.with_defaults(case.run)), model, labels
 
 
@@ -162,7 +165,10 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     rpms = parse_speeds(args.rpm)
     torques = parse_torques(args.torque) if args.torque is not None else None
     check_count(rpms, torques)      # before any point is made
+    sizes = parse_grid(args.fault_size, "--fault-size", positive=False, decimals=SIZE_DECIMALS) \
+        if args.fault_size is not None else None
     case, model, labels = sweep_case(args, torques, rpms[0])
+    faults = fault_axis(case, sizes)
     entry = ENTRIES[model]
     if args.continuation is not None:
         if args.continuation not in CONTINUATIONS:
@@ -172,6 +178,9 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
             raise InputError("--continuation", "starts each speed from the previous one's "
                              "settled state: it needs a steady-state sweep (--cycles N)")
         entry.refuse_continuation(case)
+        if faults is not None:
+            raise InputError("--continuation", "starts each speed from the previous one's end: a fault "
+                             "sweep's points each start on their own (leave it out)")
         if args.jobs is not None or args.scheduler is not None:
             raise InputError("--continuation", "runs its speeds in turn in this process: "
                              "leave out --jobs and --scheduler")
@@ -189,7 +198,8 @@ def build_plan(args: argparse.Namespace) -> SweepPlan:
     out = Path(args.out) if args.out else Path("out") / f"sweep-{case.name}"
     check_out(out, args.force)
     plan = SweepPlan(case=case, model=model, rpms=rpms, torques=torques, out=out,
-                     keep_runs=args.keep_runs, force=args.force, continuation=args.continuation)
+                     keep_runs=args.keep_runs, force=args.force, continuation=args.continuation,
+                     faults=faults)
     check_plan(plan)
     _check_points(plan, labels, args.allow_large)
     return plan
@@ -263,7 +273,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     plan = build_plan(args)
     entry = ENTRIES[plan.model]
-    resonance = resonance_estimate(plan.case, plan.model)
+    healthy = replace(plan.case, run=plan.case.run.with_(faults=()))   # a fault sweep's: the healthy pair's
+    resonance = resonance_estimate(healthy, plan.model)
     todo = len(points_to_compute(plan))
     if todo == 0:
         backend_cm, where = _nothing_to_run(), "no worker"
@@ -307,6 +318,15 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--torque", metavar="LIST",
                    help="torques on the driver (N m): a list A,B,C or START:STOP:STEP; "
                    "adds a torque dimension (default: the case's torque)")
+    p.add_argument("--fault", action="append", metavar="SPEC",
+                   help="a fault beside the case's [[fault]] tables, the keys of one, e.g. "
+                   "gear=a,tooth=5,kind=crack,depth=1e-3 (the sector model; docs/faults.md): a "
+                   "faulty sweep writes DIR/fault_sweep.nc, the sensors' signals and indicators")
+    p.add_argument("--fault-size", metavar="START:STOP/N",
+                   help="sizes (m) of the case's one fault, a crack's length or a spall's depth: "
+                   "START:STOP/N, START:STOP:STEP or a list A,B,C; 0 is the healthy pair (run by the "
+                   "healthy model over the faulty gear's revolutions); adds a fault_size dimension "
+                   "(default: the fault's own size)")
     p.add_argument("--model", metavar="|".join(MODELS),
                    help="fe: the paper's FE contact model (the default, or the case file's "
                         "[model] kind); sector: elastic teeth on "

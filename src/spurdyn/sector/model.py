@@ -98,7 +98,7 @@ class SectorModel:
         self.ra, self.rb = ga.base_radius, gb.base_radius
         # a faulty pair repeats after a revolution: it runs whole ones, at least FAULTY_PERIODS
         self.period = faulty_cycles_of(dp, pair.driver, settings.faults)
-        self.cycles, self.most = _whole_periods(int(with_defaults(settings).cycles), cycles_limit(settings),
+        self.cycles, self.most = whole_periods(int(with_defaults(settings).cycles), cycles_limit(settings),
                                                 self.period, settings.max_cycles is None)
         self.speed = float(settings.speed_a if pair.driver == "a" else settings.speed_b)
         self.pitch = pitch = 2.0 * math.pi / ga.teeth
@@ -413,7 +413,7 @@ class SectorModel:
 FAULTY_PERIODS = 2
 
 
-def _whole_periods(cycles: int, most: int, period: int, default_most: bool) -> tuple[int, int]:
+def whole_periods(cycles: int, most: int, period: int, default_most: bool) -> tuple[int, int]:
     """A run's cycles and most cycles as whole periods, at least :data:`FAULTY_PERIODS` of
     them where the period is more than a mesh cycle (a faulty pair), and unless the run
     gives its most, room for two more (the first period is the start's transient)."""
@@ -466,4 +466,4 @@ def _block(dp: GearPair, g: int, sense: float, first: int, count: int, mesh_keys
                                      cracked=cracked_meshes(dp, faults, g, *mesh_keys)))
 
 
-__all__ = ["SectorModel", "Start", "faulty_cycles_of"]
+__all__ = ["FAULTY_PERIODS", "SectorModel", "Start", "faulty_cycles_of", "whole_periods"]

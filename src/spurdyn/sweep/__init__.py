@@ -17,7 +17,9 @@ The modules: :mod:`~spurdyn.sweep.spec` (grids, point keys, settings hash),
 (this process or Dask), :mod:`~spurdyn.sweep.scheduler` (an existing cluster, over TCP or
 TLS), :mod:`~spurdyn.sweep.store` (point files, ``sweep.nc``),
 :mod:`~spurdyn.sweep.runner` (resumable runs), :mod:`~spurdyn.sweep.resonance` (the
-natural-frequency estimate), :mod:`~spurdyn.sweep.plot` (``dynamic_factor.png``).
+natural-frequency estimate), :mod:`~spurdyn.sweep.plot` (``dynamic_factor.png``),
+:mod:`~spurdyn.sweep.faults` (a fault's sizes, its points' signals) and
+:mod:`~spurdyn.sweep.fault_store` (``fault_sweep.nc``).
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ _EXPORTS = {
     "MODELS": "spec", "PointKey": "spec", "SweepPlan": "spec", "parse_speeds": "spec",
     "parse_torques": "spec", "point_case": "spec", "settings_hash": "spec",
     "STATUS_CODES": "store", "load_dataset": "store",
+    "FaultAxis": "faults", "fault_axis": "faults", "fault_dataset": "fault_store",
 }
 
 __all__ = sorted(_EXPORTS)

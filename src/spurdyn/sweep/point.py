@@ -8,6 +8,7 @@ installed). It never raises for a run that goes wrong: an exception becomes a
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import socket
@@ -80,11 +81,20 @@ class PointTask:
         Its case (speed and torque set, see :meth:`SweepPlan.point_case`).
     keep_result
         Return the whole :class:`Result` too (for ``--keep-runs``).
+    follow
+        A fault sweep's faulty gear (``"a"`` or ``"b"``): the point also keeps its sensor
+        signals' indicators and averages over that gear's revolution
+        (:func:`spurdyn.sweep.faults.signal_figures`, under the figure ``"signals"``);
+        ``None`` in other sweeps.
+    samples
+        The averages' angle samples a revolution (with ``follow``).
     """
 
     key: PointKey
     case: Case
     keep_result: bool = False
+    follow: str | None = None
+    samples: int = 0
 
 
 @dataclass(frozen=True)
@@ -137,16 +147,16 @@ def simulate_model(model: str, case: Case) -> Result:
     return MODELS[model](case.pair, case.run)
 
 
-def point_figures(result: Result, case: Case) -> dict[str, Any]:
+def point_figures(result: Result, case: Case, ds: Any = None) -> dict[str, Any]:
     """The figures (:data:`FIGURES`) of a run, through the run folder's own summary.
 
-    Computed from :func:`spurdyn.results.io.result_to_dataset` and
-    :func:`~spurdyn.results.io.summarize`, so a point agrees with ``spurdyn run`` of the
-    same case.
+    Computed from :func:`spurdyn.results.io.result_to_dataset` (or its data set ``ds``
+    where the caller has it) and :func:`~spurdyn.results.io.summarize`, so a point agrees
+    with ``spurdyn run`` of the same case.
     """
     from spurdyn.results.io import result_to_dataset, summarize
 
-    ds = result_to_dataset(result, case)
+    ds = result_to_dataset(result, case) if ds is None else ds
     s = summarize(ds)
     end = (result.info.get("steady") or {}).get("end_state") or (None, None)
     force = np.asarray(ds["contact_force"].values, float)
@@ -177,6 +187,24 @@ def point_figures(result: Result, case: Case) -> dict[str, Any]:
     }
 
 
+def _figures(result: Result, task: PointTask) -> dict[str, Any]:
+    """:func:`point_figures`, and a fault sweep's signals (``task.follow``)."""
+    if task.follow is None:
+        return point_figures(result, task.case)
+    from spurdyn.results.io import result_to_dataset
+    from spurdyn.sweep.faults import signal_figures
+
+    t0 = time.perf_counter()
+    ds = result_to_dataset(result, task.case)
+    figures = point_figures(result, task.case, ds)
+    teeth = (task.case.pair.gear_a.teeth, task.case.pair.gear_b.teeth)
+    info = json.loads(ds.attrs.get("info", "{}") or "{}")     # as the run's summary reads it
+    # the build's and the figures' seconds: where a point's time goes (benchmarks/bench_fault_sweep.py)
+    figures["signals"] = {**signal_figures(ds, info, teeth, task.follow, task.samples),
+                          "build_s": result.info.get("build_s"), "figures_s": time.perf_counter() - t0}
+    return figures
+
+
 def run_point(task: PointTask) -> PointOutcome:
     """Compute one point: run the model, reduce the run to its figures.
 
@@ -189,7 +217,7 @@ def run_point(task: PointTask) -> PointOutcome:
         result = simulate_model(task.key.model, task.case)
         if not result.wall_s:
             result.wall_s = time.perf_counter() - t0
-        figures = point_figures(result, task.case)
+        figures = _figures(result, task)
     except Exception as err:  # noqa: BLE001 - recorded, the sweep goes on
         where = traceback.extract_tb(err.__traceback__)[-1] if err.__traceback__ else None
         at = f" ({os.path.basename(where.filename)}:{where.lineno})" if where else ""
@@ -197,6 +225,8 @@ def run_point(task: PointTask) -> PointOutcome:
                             reason=f"{type(err).__name__}: {err}{at}",
                             figures={"wall_s": time.perf_counter() - t0},
                             worker=_worker_name(), finished=time.time())
+    if "signals" in figures:   # a fault sweep's point: its whole time on the worker (wall_s is the run's)
+        figures["signals"]["point_s"] = time.perf_counter() - t0
     status = COMPLETE if result.status == "complete" else INCOMPLETE
     reason = "" if status == COMPLETE else (result.reason or "stopped early")
     if status == COMPLETE:

@@ -143,7 +143,8 @@ def short_error(err: BaseException, limit: int = 240) -> str:
 
 
 def _describe(key: PointKey) -> str:
-    return f"{key.model} {key.rpm:,.6g} rpm, {key.torque:g} N m"
+    size = "" if key.size is None else f", fault size {key.size:g} m"
+    return f"{key.model} {key.rpm:,.6g} rpm, {key.torque:g} N m{size}"
 
 
 def _stored_and_todo(plan: SweepPlan) -> tuple[dict[PointKey, dict[str, Any]], list[PointKey]]:
@@ -153,6 +154,14 @@ def _stored_and_todo(plan: SweepPlan) -> tuple[dict[PointKey, dict[str, Any]], l
     if plan.keep_runs:  # a final point without its run folder is computed again
         final = {k for k in final if run_path(plan.out, k).is_dir()}
     return stored, [k for k in keys if k not in final]
+
+
+def _task(plan: SweepPlan, key: PointKey) -> PointTask:
+    """A point's task; a fault sweep's follows the faulty gear's signals."""
+    if plan.faults is None:
+        return PointTask(key, plan.point_case(key), plan.keep_runs)
+    return PointTask(key, plan.point_case(key), plan.keep_runs, follow=plan.faults.fault.gear,
+                     samples=plan.faults.samples)
 
 
 def points_to_compute(plan: SweepPlan) -> list[PointKey]:
@@ -265,10 +274,16 @@ def _mark_missing(tasks: list[PointTask], finished: set[PointKey], missing: dict
 
 def _write_results(plan: SweepPlan, records: dict[PointKey, dict[str, Any]],
                    missing: dict[PointKey, str], resonance: ResonanceEstimate
-                   ) -> tuple[xr.Dataset, tuple[Path, Path, Path]]:
-    """Assemble and write ``sweep_<model>.nc``, ``sweep.nc`` and the picture, held against
-    Ctrl-C; the dataset and the three files."""
+                   ) -> tuple[xr.Dataset, tuple[Path, ...]]:
+    """Assemble and write ``sweep_<model>.nc``, ``sweep.nc`` and the picture (a fault
+    sweep: ``fault_sweep.nc``), held against Ctrl-C; the dataset and the files."""
     out = plan.out
+    if plan.faults is not None:
+        from spurdyn.sweep.fault_store import write_fault_sweep
+
+        with Interrupts.held():
+            out.mkdir(parents=True, exist_ok=True)
+            return write_fault_sweep(plan, records, missing, resonance.attrs())
     with Interrupts.held():
         out.mkdir(parents=True, exist_ok=True)
         ds = sweep_dataset(plan, records, missing, extra_attrs=resonance.attrs())
@@ -319,7 +334,7 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     keys = plan.keys()
     stored, todo = _stored_and_todo(plan)
     records: dict[PointKey, dict[str, Any]] = dict(stored)
-    tasks = [PointTask(k, plan.point_case(k), plan.keep_runs) for k in todo]
+    tasks = [_task(plan, k) for k in todo]
     cost = {t.key: expected_steps(t.case) for t in tasks}
     settings = settings_dict(plan.case)
 

@@ -24,6 +24,7 @@ from spurdyn.errors import InputError
 from spurdyn.simulators import MODELS as _MODELS
 from spurdyn.settings import RPM
 from spurdyn.solvers.limits import MAX_BYTES
+from spurdyn.sweep.faults import FaultAxis, fault_case, size_text
 
 #: Models a sweep can run.
 MODELS = tuple(_MODELS)
@@ -51,7 +52,8 @@ def _number(text: str, field: str) -> float:
     return value
 
 
-def parse_grid(text: str, field: str, *, positive: bool = True) -> tuple[float, ...]:
+def parse_grid(text: str, field: str, *, positive: bool = True,
+               decimals: int = DECIMALS) -> tuple[float, ...]:
     """Read a grid: ``START:STOP:STEP``, ``START:STOP/N`` or a list ``A,B,C``.
 
     Parameters
@@ -64,11 +66,13 @@ def parse_grid(text: str, field: str, *, positive: bool = True) -> tuple[float, 
         The option name used in refusals (``--rpm``).
     positive
         Refuse zero (else only negative values are refused).
+    decimals
+        Decimals the values are rounded to (a fault's size in metres takes nine).
 
     Returns
     -------
     tuple of float
-        Sorted, distinct values rounded to :data:`DECIMALS` decimals.
+        Sorted, distinct values rounded to ``decimals`` decimals.
 
     Raises
     ------
@@ -116,28 +120,34 @@ def parse_grid(text: str, field: str, *, positive: bool = True) -> tuple[float, 
         values = [_number(p, field) for p in text.split(",")]
         if len(values) > MAX_POINTS:
             raise InputError(field, f"{len(values):,} values; at most {MAX_POINTS:,}")
-    for v in values:  # checked as stored: rounded to DECIMALS decimals
-        if v < 0 or (positive and round(v, DECIMALS) == 0):
+    for v in values:  # checked as stored: rounded to ``decimals`` decimals
+        if v < 0 or (positive and round(v, decimals) == 0):
             kind = "positive" if positive else "zero or positive"
-            raise InputError(field, f"values must be {kind} to {DECIMALS} decimals (got {v:g})")
-    return tuple(sorted({round(v, DECIMALS) for v in values}))
+            raise InputError(field, f"values must be {kind} to {decimals} decimals (got {v:g})")
+    return tuple(sorted({round(v, decimals) + 0.0 for v in values}))
 
 
-def check_count(rpms: tuple[float, ...], torques: tuple[float, ...] | None) -> None:
-    """Refuse a sweep of more than :data:`MAX_POINTS` points (speeds times torques), before
-    any point is made.
+def check_count(rpms: tuple[float, ...], torques: tuple[float, ...] | None, sizes: int = 1,
+                per_point: int = BYTES_PER_POINT) -> None:
+    """Refuse a sweep of more than the points the memory guard holds (speeds times torques
+    times a fault sweep's ``sizes``, each of ``per_point`` bytes: :data:`MAX_POINTS` for a
+    healthy sweep), before any point is made.
 
     Raises
     ------
     InputError
-        Naming ``--torque`` (the grid that multiplies the speeds), or ``--rpm``.
+        Naming ``--fault-size`` or ``--torque`` (the grid that multiplies the speeds), or
+        ``--rpm``.
     """
-    n = len(rpms) * (len(torques) if torques is not None else 1)
-    if n > MAX_POINTS:
-        field = "--torque" if torques is not None else "--rpm"
+    n = len(rpms) * (len(torques) if torques is not None else 1) * sizes
+    most = MAX_BYTES // per_point
+    if n > most:
+        field = "--fault-size" if sizes > 1 else "--torque" if torques is not None else "--rpm"
         grids = f"{len(rpms):,} speeds x {len(torques):,} torques = " if torques else ""
-        raise InputError(field, f"{grids}{n:,} points; at most {MAX_POINTS:,} (each holds "
-                         f"about {BYTES_PER_POINT / 1e3:.1f} kB in memory and on disk, within "
+        if sizes > 1:
+            grids = f"{grids or f'{len(rpms):,} speeds = '}".removesuffix(" = ") + f" x {sizes:,} sizes = "
+        raise InputError(field, f"{grids}{n:,} points; at most {most:,} (each holds "
+                         f"about {per_point / 1e3:.1f} kB in memory and on disk, within "
                          f"the {MAX_BYTES / 2**30:g} GiB guard of a run's results)")
 
 
@@ -181,15 +191,20 @@ def settings_dict(case: Case) -> dict[str, Any]:
 CONTINUATIONS = ("up", "down")
 
 
-def settings_hash(case: Case, continuation: str | None = None, model: str | None = None) -> str:
+def settings_hash(case: Case, continuation: str | None = None, model: str | None = None,
+                  faults: FaultAxis | None = None) -> str:
     """Twelve hex digits of the SHA-256 of :func:`settings_dict` (canonical JSON), with the
-    sweep's ``continuation`` when it has one (its points start from another's end), and what
+    sweep's ``continuation`` when it has one (its points start from another's end), a fault
+    sweep's axis (``faults``: the fault but its size, which each point's key holds, and the
+    samples of its signals' averages), and what
     a steady-state run takes by default where the case gives nothing (the most cycles it may
     go on to; for the sector ``model``, by default the case's, the bodies' damping) and the sector model's revision,
     so that points of a version before those defaults are not taken for its."""
-    data = settings_dict(case)
+    data = settings_dict(case if faults is None else faults.hashed_case(case))
     if continuation is not None:
         data["sweep"] = {"continuation": continuation}
+    if faults is not None:
+        data["sweep"] = {**data.get("sweep", {}), "fault_axis": faults.hash_dict()}
     data["run"].update(_MODELS[model or case.model].hash_extras(case.run))
     text = json.dumps(data, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]
@@ -213,21 +228,30 @@ class PointKey:
         External torque on the driver (N m).
     settings
         :func:`settings_hash` of the case.
+    size
+        A fault sweep's size of the fault (m; 0 the healthy pair), ``None`` in other sweeps
+        (:mod:`spurdyn.sweep.faults`).
     """
 
     model: str
     rpm: float
     torque: float
     settings: str
+    size: float | None = None
 
     @property
     def stem(self) -> str:
-        """File-name stem, e.g. ``fe_rpm4000_tq22.25_0123456789ab``."""
-        return f"{self.model}_rpm{_num_text(self.rpm)}_tq{_num_text(self.torque)}_{self.settings}"
+        """File-name stem, e.g. ``fe_rpm4000_tq22.25_0123456789ab`` (a fault sweep's with
+        the size, ``sector_rpm1000_tq22.25_size0.0005_0123456789ab``)."""
+        size = "" if self.size is None else f"_size{size_text(self.size)}"
+        return f"{self.model}_rpm{_num_text(self.rpm)}_tq{_num_text(self.torque)}{size}_{self.settings}"
 
     def as_dict(self) -> dict[str, Any]:
-        return {"model": self.model, "rpm": self.rpm, "torque": self.torque,
-                "settings_hash": self.settings}
+        out = {"model": self.model, "rpm": self.rpm, "torque": self.torque,
+               "settings_hash": self.settings}
+        if self.size is not None:
+            out["fault_size"] = self.size
+        return out
 
 
 @dataclass(frozen=True)
@@ -260,6 +284,9 @@ class SweepPlan:
     run_pictures
         With ``keep_runs``: also draw each run folder's pictures (``spurdyn report`` keeps
         only the numbers: drawn in the sweep's process, they cost seconds a point).
+    faults
+        A fault sweep's axis of the case's one fault (:class:`~spurdyn.sweep.faults.FaultAxis`:
+        its sizes, and the signals' samples a revolution), ``None`` for a healthy sweep.
     """
 
     case: Case
@@ -271,23 +298,32 @@ class SweepPlan:
     force: bool = False
     continuation: str | None = None
     run_pictures: bool = True
+    faults: FaultAxis | None = None
 
     @property
     def torque_values(self) -> tuple[float, ...]:
         return self.torques if self.torques is not None else (float(self.case.run.torque),)
 
     @property
+    def sizes(self) -> tuple[float | None, ...]:
+        """The fault's sizes (m) of a fault sweep, ``(None,)`` in another."""
+        return (None,) if self.faults is None else self.faults.sizes
+
+    @property
     def settings(self) -> str:
-        return settings_hash(self.case, self.continuation, self.model)
+        return settings_hash(self.case, self.continuation, self.model, self.faults)
 
     def keys(self) -> list[PointKey]:
-        """Every point, speed-major."""
+        """Every point, speed-major (then torque, then the fault's size)."""
         h = self.settings
-        return [PointKey(self.model, rpm, tq, h) for rpm in self.rpms for tq in self.torque_values]
+        return [PointKey(self.model, rpm, tq, h, size) for rpm in self.rpms
+                for tq in self.torque_values for size in self.sizes]
 
     def point_case(self, key: PointKey) -> Case:
-        """The case of one point (see :func:`point_case`)."""
-        return point_case(self.case, key.rpm, key.torque, keep_frames=self.keep_runs)
+        """The case of one point (see :func:`point_case`; a fault sweep's at the key's size,
+        :func:`~spurdyn.sweep.faults.fault_case`)."""
+        case = self.case if self.faults is None else fault_case(self.case, self.faults, key.size)
+        return point_case(case, key.rpm, key.torque, keep_frames=self.keep_runs)
 
 
 def point_case(case: Case, rpm: float, torque: float, keep_frames: bool = False) -> Case:
@@ -321,8 +357,9 @@ def check_plan(plan: SweepPlan) -> None:
     """
     if plan.model not in MODELS:
         raise InputError("--model", f"must be one of {', '.join(MODELS)} (got {plan.model!r})")
-    check_count(plan.rpms, plan.torques)
-    top = plan.point_case(PointKey(plan.model, max(plan.rpms), plan.torque_values[0], ""))
+    check_count(plan.rpms, plan.torques, len(plan.sizes),
+                BYTES_PER_POINT + (0 if plan.faults is None else plan.faults.signal_bytes))
+    top = point_case(plan.case, max(plan.rpms), plan.torque_values[0])
     if top.run.angle is not None and top.run.angle < top.run.speed_a * top.run.dt:
         raise InputError("--angle", f"{math.degrees(top.run.angle):g} deg is shorter than one "
                          f"time step at {max(plan.rpms):,g} rpm "

@@ -104,6 +104,8 @@ def point_record(outcome: PointOutcome, settings: Mapping[str, Any] | None = Non
               "worker": outcome.worker, "finished": outcome.finished,
               "finished_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(outcome.finished)),
               "spurdyn_version": __version__}
+    if "signals" in outcome.figures:      # a fault sweep's (spurdyn.sweep.faults)
+        record["signals"] = outcome.figures["signals"]
     if settings is not None:
         record["settings"] = settings
     return _clean(record)

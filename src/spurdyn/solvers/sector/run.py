@@ -82,10 +82,11 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
     Result
         ``contact_force`` the most loaded pair's force, ``gap`` the smallest gap of a pair
         on the path, ``pair_force`` every pair's, ``transmission_error``
-        ``r_bA theta_A - r_bB theta_B`` (the driver's), ``info["steady"]`` the settled test.
+        ``r_bA theta_A - r_bB theta_B`` (the driver's), ``info["steady"]`` the settled test, ``info["build_s"]`` the seconds of the model's build.
     """
     wall0 = _time.perf_counter()
     model = SectorModel.build(pair, settings, dt=dt, modes=modes)
+    build_s = _time.perf_counter() - wall0
     record = SectorRecord(model, model.per_cycle * model.cycles, energy)
     backend = sector_backend(model, settings, energy)
     stepper = make_stepper(model, record, "implicit", backend, energy)
@@ -96,7 +97,9 @@ def simulate_sector(pair: GearPair, settings: RunSettings,
         status, reason, n_kept, target = settle(stepper, progress)
     finally:
         limit.restore_original_limits()
-    return _result(model, stepper, record, status, reason, n_kept, target, backend, _time.perf_counter() - wall0)
+    result = _result(model, stepper, record, status, reason, n_kept, target, backend, _time.perf_counter() - wall0)
+    result.info["build_s"] = build_s        # of the wall time: the model's build (a faulty gear's is long)
+    return result
 
 
 def _result(model: SectorModel, stepper: SectorStepper, record: SectorRecord, status: str, reason: str,

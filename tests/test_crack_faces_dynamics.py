@@ -6,6 +6,7 @@ passing through each other, and the RK4 reference's refusal."""
 from __future__ import annotations
 
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from spurdyn.sector.lcp import lcp, lcp_pivot
 from spurdyn.sector.model import SectorModel
 from spurdyn.settings import RPM
 from spurdyn.solvers.check import run_settings
+from spurdyn.solvers.sector.crack_faces import face_openings
 from spurdyn.solvers.sector.stepper import SectorRecord, make_stepper
 
 PAIR = paper_pair()
@@ -135,9 +137,22 @@ def test_the_compiled_steps_with_the_faces_are_the_numpy_ones(model):
     peak = faces_slow[:, 0].max()
     assert peak > 0.0 and 0.0 < (faces_slow[:, 0] > 0.0).mean() < 1.0
     assert np.abs(faces_fast[:, 0] - faces_slow[:, 0]).max() <= 1e-9 * peak
+    widest = faces_slow[:, 2].max()
+    assert np.abs(faces_fast[:, 1:] - faces_slow[:, 1:]).max() <= 1e-9 * widest
     for faces in (faces_fast, faces_slow):
         assert faces[:, 1].min() >= -1e-12 * faces[:, 2].max()
         assert faces[:, 2].max() > 1e-7         # and they open under the tooth's own load
+    # what summary.json's crack_faces says of the same steps
+    said = face_openings(model, SimpleNamespace(faces=faces_slow), n + 1)
+    assert said["least_opening_m"] == faces_slow[:, 1].min() >= -1e-12 * widest
+    assert said["largest_opening_m"] == widest and said["largest_face_force_N"] == peak
+    assert said["closed_fraction"] == (faces_slow[:, 0] > 0.0).mean()
+    assert said["largest_force_at_s"] == pytest.approx(faces_slow[:, 0].argmax() * model.h, abs=0.0)
+
+
+def test_a_run_without_a_crack_says_nothing_of_faces():
+    record = SimpleNamespace(faces=np.full((5, 3), np.nan))
+    assert face_openings(SimpleNamespace(faces=None, h=1e-6), record, 5) is None
 
 
 def test_the_rk4_reference_refuses_a_crack(model):

@@ -50,7 +50,8 @@ class Failure:
         if self.status == FAIL_BEYOND:
             return f"at step {self.step} {self.detail}"
         if self.status == FAIL_LCP:
-            return f"step {self.step}: the contact problem of the pairs near the path had no solution"
+            return (f"step {self.step}: the contact problem of the pairs near the path (and of "
+                    "a crack's faces, if any) had no solution within its pivots")
         if self.status == FAIL_STRIP:
             return (f"step {self.step}: the contact strip spread over more elements than the run "
                     f"allowed for (a force over 50 times the static one); check the load")

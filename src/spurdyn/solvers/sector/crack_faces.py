@@ -18,7 +18,7 @@ if TYPE_CHECKING:  # annotations only
     from spurdyn.sector.model import SectorModel
 
 
-def face_openings(model: SectorModel, record: Any, n_kept: int, offset: int = 0) -> dict[str, Any] | None:
+def face_openings(model: SectorModel, record: Any, n_kept: int) -> dict[str, Any] | None:
     """The least and the largest opening (m) of the cracked gears' faces over the run's
     steps below ``n_kept``, when the least was, and their largest force (N, a node pair's)
     and when, and the share of the steps with a pair of faces closed; ``None`` for a run without a crack or without kept steps."""

@@ -98,7 +98,7 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep)
     # a faulty gear's fillets differ tooth by tooth (missing, cracked): not recovered yet
     stress = None if model.faults else root_stress(model, record, n_kept, offset)
-    _fault_records(model, out, record, n_kept, offset, most)
+    _fault_records(model, out, record, n_kept, most)
     en = record.energy
     if en is not None:
         out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
@@ -116,7 +116,7 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         **contact)
 
 
-def _fault_records(model: SectorModel, out: dict[str, Any], record: SectorRecord, n_kept: int, offset: int,
+def _fault_records(model: SectorModel, out: dict[str, Any], record: SectorRecord, n_kept: int,
                    most: int | None) -> None:
     """A faulty run's own in its record ``out``: its steady figures in mesh cycles as every
     run's (their lists per period, a revolution, which it names) and how far a crack's
@@ -125,7 +125,7 @@ def _fault_records(model: SectorModel, out: dict[str, Any], record: SectorRecord
         st = out["steady"]
         st.update(cycles=model.cycles, cycles_done=max(n_kept - 1, 0) // model.per_cycle, max_cycles=most,
                   last_cycles=st["last_cycles"] * model.period, period_mesh_cycles=model.period)
-    faces = face_openings(model, record, n_kept, offset)
+    faces = face_openings(model, record, n_kept)
     if faces is not None:
         out["crack_faces"] = faces
 

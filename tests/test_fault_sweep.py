@@ -24,9 +24,12 @@ from spurdyn.cli.main import main
 from spurdyn.sweep import point as point_mod
 from spurdyn.sweep import resonance as resonance_mod
 from spurdyn.sweep.backends import SerialBackend
-from spurdyn.sweep.faults import INDICATORS, SIGNALS, FaultAxis, fault_axis, fault_case, orders_resampled
+from spurdyn.errors import InputError
+from spurdyn.results.vibration import Followed
+from spurdyn.sweep.faults import (INDICATORS, SIGNALS, FaultAxis, fault_axis, fault_case, last_revolution,
+                                  orders_resampled)
 from spurdyn.sweep.point import FIGURES, PointOutcome, PointTask, run_point
-from spurdyn.sweep.spec import settings_hash
+from spurdyn.sweep.spec import parse_grid, settings_hash
 
 PAIR = """[gear_a]
 teeth = 18
@@ -130,6 +133,35 @@ def test_an_average_keeps_its_orders_below_half_the_samples():
         assert np.abs(orders_resampled(tsa, n) - want).max() < 1e-12
 
 
+@pytest.mark.parametrize("start", [0.0, 0.3217, 2 * np.pi - 1e-3])
+def test_an_average_from_any_start_lands_on_the_gear_s_angles(start):
+    """An average whose point 0 is at the gear's angle ``start`` (not on the grid) is put on
+    the gear's own angles exactly: its orders turned, not rolled to the nearest point."""
+    m, n = 5628, 8192
+    theta = start + 2 * np.pi * np.arange(m) / m
+    tsa = np.cos(3 * theta) + 0.5 * np.sin(448 * theta + 0.3) + 0.3 * np.cos(500 * theta)
+    phi = 2 * np.pi * np.arange(n) / n
+    want = np.cos(3 * phi) + 0.5 * np.sin(448 * phi + 0.3) + 0.3 * np.cos(500 * phi)
+    assert np.abs(orders_resampled(tsa, n, start) - want).max() < 1e-10
+
+
+def test_a_point_reads_its_last_revolution():
+    angle = np.linspace(0.0, 3.4 * 2 * np.pi, 3401)
+    time = angle / 100.0
+    f = Followed("a", 28, np.ones(angle.size, bool), angle, time, 100.0 / (2 * np.pi))
+    last = last_revolution(f)
+    span = last.angle[-1] - last.angle[0]
+    assert 2 * np.pi <= span < 2 * np.pi + (angle[1] - angle[0]) + 1e-12
+    assert last.sel.sum() == last.angle.size and last.sel[-1] and not last.sel[0]
+    assert last.f_shaft == pytest.approx(100.0 / (2 * np.pi), rel=1e-12)
+
+
+def test_a_size_that_rounds_to_zero_is_refused():
+    with pytest.raises(InputError) as err:
+        parse_grid("4e-10,1e-3", "--fault-size", positive=False, decimals=9)
+    assert err.value.field == "--fault-size"
+
+
 # -- the axis, the points' cases and keys ----------------------------------------------
 
 def _case(tmp_path, *faults):
@@ -144,7 +176,9 @@ def test_size_zero_is_the_healthy_pair_over_the_faulty_runs_revolutions(tmp_path
     # the faulty run's whole periods: at least two revolutions of the 18-tooth gear, room for two more
     assert (healthy.run.cycles, healthy.run.max_cycles) == (36, 72)
     cracked = fault_case(case, axis, 5e-4)
-    assert [f.depth for f in cracked.run.faults] == [5e-4] and cracked.run.cycles == case.run.cycles
+    assert [f.depth for f in cracked.run.faults] == [5e-4]
+    # the cracked point's case says the cycles its model takes: the same whole revolutions
+    assert (cracked.run.cycles, cracked.run.max_cycles) == (36, 72)
     given = fault_case(replace(case, run=case.run.with_(cycles=40, max_cycles=50)), axis, 0.0).run
     assert (given.cycles, given.max_cycles) == (54, 54)     # whole revolutions, the most given kept
 
@@ -287,5 +321,5 @@ def test_size_zero_is_the_healthy_run_to_round_off(tmp_path, capsys, serial):
     # the crack is seen: the mesh force's shaft-order sidebands grow, the peak of the average moves
     cracked = ds.sel(fault_size=1e-3).isel(rpm=0)
     assert float(cracked["mesh_force_sideband_energy_ratio"]) > 10 * float(zero["mesh_force_sideband_energy_ratio"])
-    assert int(cracked["revolutions"]) >= 2 and int(zero["revolutions"]) >= 1
+    assert int(cracked["revolutions"]) == int(zero["revolutions"]) == 1     # each its last
     assert math.isfinite(float(cracked["build_s"])) and float(cracked["build_s"]) < float(cracked["wall_s"])

@@ -223,9 +223,11 @@ def _check_points(plan: SweepPlan, labels: dict[str, str], allow_large: bool) ->
     for point in points:
         check_run_bounds(point.pair, point.run, field)
         check_sampling(point.pair, point.run, field)
-    if not allow_large:
-        slowest = min(points, key=lambda p: p.run.speed_a)
-        check_size(slowest, labels, entry.size(slowest), speed_field="--rpm")
+    if not allow_large:     # the largest run at the slowest speed (a fault's sizes differ)
+        low = min(p.run.speed_a for p in points)
+        sizes = [(entry.size(p), p) for p in points if p.run.speed_a == low]
+        size, largest = max(sizes, key=lambda sp: (sp[0].bytes, sp[0].steps))
+        check_size(largest, labels, size, speed_field="--rpm")
 
 
 def _report(report: Any, resonance: Any, where: str, quiet: bool) -> None:

@@ -155,35 +155,54 @@ def _check_size(case: Any, fault: Fault, size: float) -> None:
 
 
 def fault_case(case: Any, axis: FaultAxis, size: float | None) -> Any:
-    """The case of the fault at ``size`` (m): the case itself for ``None``; for 0 the
-    healthy pair run over the whole revolutions of the faulty gear that the faulty run
-    takes (:func:`spurdyn.sector.model.whole_periods`: at least two, and as many at most),
-    so that its window and averages are the faulty points'."""
+    """The case of the fault at ``size`` (m): the case itself for ``None``; else the run
+    over whole revolutions of the faulty gear (:func:`spurdyn.sector.model.whole_periods`:
+    at least two, and as many at most), the faulty run's as the model takes them, and for 0
+    the healthy pair over the same (each point's figures then read its last revolution,
+    :func:`last_revolution`)."""
     if size is None:
         return case
-    run = case.run
-    if size > 0.0:
-        faulty = run.with_(faults=(replace(axis.fault, depth=float(size)),))
-        return replace(case, name=f"{case.name}_{axis.fault.kind}{size_text(size)}", run=faulty)
     from spurdyn.sector.model import whole_periods
     from spurdyn.sector.rules import cycles_limit, with_defaults
 
+    run = case.run
     cycles = int(with_defaults(run).cycles)
     cycles, most = whole_periods(cycles, cycles_limit(run), axis.teeth, run.max_cycles is None)
+    if size > 0.0:      # the cycles the faulty model itself takes, said in its case
+        faulty = run.with_(faults=(replace(axis.fault, depth=float(size)),), cycles=cycles,
+                           max_cycles=most)
+        return replace(case, name=f"{case.name}_{axis.fault.kind}{size_text(size)}", run=faulty)
     healthy = run.with_(faults=(), cycles=cycles, max_cycles=most)
     return replace(case, name=f"{case.name}_healthy", run=healthy)
 
 
-def orders_resampled(tsa: NDArray[np.float64], samples: int) -> NDArray[np.float64]:
-    """A revolution's average on ``samples`` points: its shaft orders below half of both its
-    points and ``samples`` kept, the others dropped. The average is one period, so this is
-    its band-limited interpolation, exact for an average of those orders (the orders at
-    either count's half, whose sine part a sampling loses, are dropped)."""
+def orders_resampled(tsa: NDArray[np.float64], samples: int, start: float = 0.0) -> NDArray[np.float64]:
+    """A revolution's average on ``samples`` points of the gear's angle ``2 pi j / samples``:
+    its shaft orders below half of both its points and ``samples`` kept, the others dropped,
+    each turned by the average's ``start`` angle (rad: its point 0 is at that angle of the
+    gear). The average is one period, so this is its band-limited interpolation, exact for an
+    average of those orders at any start (the orders at either count's half, whose sine part
+    a sampling loses, are dropped)."""
     y = np.fft.rfft(np.asarray(tsa, float))
     n = min(samples // 2, (tsa.size + 1) // 2)
     keep = np.zeros(samples // 2 + 1, complex)
-    keep[:n] = y[:n]
+    keep[:n] = y[:n] * np.exp(-1j * np.arange(n) * start)
     return np.fft.irfft(keep, samples) * (samples / tsa.size)
+
+
+def last_revolution(f: Any) -> Any:
+    """The followed gear's window (:class:`~spurdyn.results.vibration.Followed`) cut to its
+    last whole revolution: every point of a sweep reads the same length of signal, whatever
+    number of revolutions its run took to settle."""
+    keep = np.flatnonzero(np.abs(f.angle - f.angle[-1]) >= 2.0 * math.pi)
+    if keep.size == 0:
+        return f
+    first = int(keep[-1])
+    sel = f.sel.copy()
+    sel[np.flatnonzero(f.sel)[:first]] = False
+    angle, time = f.angle[first:], f.time[first:]
+    f_shaft = abs(angle[-1] - angle[0]) / (time[-1] - time[0]) / (2.0 * math.pi)
+    return f._replace(sel=sel, angle=angle, time=time, f_shaft=f_shaft)
 
 
 def signal_figures(ds: Any, info: dict[str, Any], teeth: tuple[int, int], gear: str,
@@ -193,21 +212,26 @@ def signal_figures(ds: Any, info: dict[str, Any], teeth: tuple[int, int], gear: 
     on ``samples`` angles, over :func:`spurdyn.results.vibration.followed`'s window (the
     same as ``summary.json``'s ``vibration``, following ``gear`` on the healthy pair too);
     only a ``reason`` where the run holds no whole revolution there."""
-    from spurdyn.results.vibration import followed, signal_indicators, synchronous
+    from spurdyn.diagnostics import synchronous_average
+    from spurdyn.results.vibration import followed, signal_indicators, tsa_points
 
     f = followed(ds, {**info, "fault_gear": gear}, teeth)
     if f is None:
         return {"reason": f"no whole revolution of gear {gear} after the first one's last mesh cycle"}
+    f = last_revolution(f)
+    points = tsa_points(f.angle, f.teeth)
     out: dict[str, Any] = {"window_s": [float(f.time[0]), float(f.time[-1])], "shaft_frequency_Hz": f.f_shaft}
     for name in SIGNALS:
         x = ds[name].values.astype(float)[f.sel]
         figures = signal_indicators(x, f.angle, f.teeth)
         out["revolutions"] = figures.pop("revolutions")
-        tsa = synchronous(x, f.angle, f.teeth).signal
-        out[name] = {**figures, "tsa": orders_resampled(tsa, samples).tolist()}
+        tsa = synchronous_average(x, f.angle - f.angle[0], points).signal
+        start = float(f.angle[0]) % (2.0 * math.pi)
+        out[name] = {**figures, "tsa": orders_resampled(tsa, samples, start).tolist()}
     return out
 
 
 __all__ = ["BYTES_PER_SAMPLE", "INDICATORS", "ORDERS_PER_TOOTH", "SIGNALS", "SIGNAL_UNITS", "SIZED_KINDS",
-           "FaultAxis", "angle_samples", "fault_axis", "fault_case", "orders_resampled", "signal_figures",
+           "FaultAxis", "angle_samples", "fault_axis", "fault_case", "last_revolution", "orders_resampled",
+           "signal_figures",
            "size_of", "size_text"]

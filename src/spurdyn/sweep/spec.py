@@ -124,6 +124,9 @@ def parse_grid(text: str, field: str, *, positive: bool = True,
         if v < 0 or (positive and round(v, decimals) == 0):
             kind = "positive" if positive else "zero or positive"
             raise InputError(field, f"values must be {kind} to {decimals} decimals (got {v:g})")
+        if v != 0 and round(v, decimals) == 0:      # would be stored as a zero it is not
+            raise InputError(field, f"{v:g} is zero to {decimals} decimals: give 0 or at least "
+                             f"{10.0 ** -decimals:g}")
     return tuple(sorted({round(v, decimals) + 0.0 for v in values}))
 
 

@@ -185,7 +185,7 @@ def _point_stream(plan: SweepPlan, backend: Backend, tasks: list[PointTask],
 
 def _take_points(stream_: Iterator[tuple[PointTask | None, PointOutcome | None, str]],
                  backend: Backend,
-                 out: Path, settings: dict[str, Any], cost: dict[PointKey, int], bar: SweepProgress,
+                 out: Path, settings: dict[PointKey, dict[str, Any]], cost: dict[PointKey, int], bar: SweepProgress,
                  signals_before: int, records: dict[PointKey, dict[str, Any]],
                  png: bool = True) -> tuple[set[PointKey], dict[PointKey, str], bool, str]:
     """Write each point the moment it finishes, until the stream ends or the sweep stops.
@@ -199,7 +199,8 @@ def _take_points(stream_: Iterator[tuple[PointTask | None, PointOutcome | None, 
     out
         The sweep's folder.
     settings
-        The case's settings stored with each point.
+        Each point's case's settings, stored with it (a fault sweep's points differ in
+        their fault's size).
     cost
         Each point's expected steps (the bar's weights).
     bar
@@ -234,7 +235,7 @@ def _take_points(stream_: Iterator[tuple[PointTask | None, PointOutcome | None, 
                 missing[task.key] = note or "not run"
                 continue
             with Interrupts.held():
-                write_point(out, outcome, settings)
+                write_point(out, outcome, settings[outcome.key])
                 if outcome.result is not None:
                     write_run_folder(out, task.key, task.case, outcome.result, png)
                 records[task.key] = point_record(_without_result(outcome))
@@ -336,7 +337,7 @@ def run_sweep(plan: SweepPlan, backend: Backend, *, resonance: ResonanceEstimate
     records: dict[PointKey, dict[str, Any]] = dict(stored)
     tasks = [_task(plan, k) for k in todo]
     cost = {t.key: expected_steps(t.case) for t in tasks}
-    settings = settings_dict(plan.case)
+    settings = {t.key: settings_dict(t.case) for t in tasks}
 
     bar = SweepProgress(f"{plan.model} sweep", sum(cost.values()), len(tasks),
                         enabled=progress, stream=stream)

@@ -189,6 +189,11 @@ def test_a_frozen_scheduler_is_given_up_keeping_the_finished_points(tmp_path, ca
 
         def freeze() -> None:
             ch.wait_for(cluster.marks / f"{ch.SLOW_RPM:.0f}.started")
+            # and the two others kept (on a loaded machine they may finish after it starts)
+            deadline = time.monotonic() + ch.SLOW_S
+            while len(list((tmp_path / "sw" / "points").glob("*.json"))) < 2 and \
+                    time.monotonic() < deadline:
+                time.sleep(0.02)
             os.kill(cluster.scheduler.pid, signal.SIGSTOP)
             time.sleep(90.0)
             os.kill(cluster.scheduler.pid, signal.SIGCONT)

@@ -10,24 +10,15 @@ from __future__ import annotations
 import numpy as np
 
 from spurdyn.jit import njit
-from spurdyn.solvers.sector.rows_compiled import lcp_pivot
+from spurdyn.solvers.sector.rows_compiled import _modal_rows, lcp_pivot
 
 
 @njit
 def _by_flanks(table, loads, idx, cnt, at, sd):
     """``(S_g, p)`` the pairs' unit loads (each on its body tooth ``at`` and flank ``sd``,
     over its nonzeros ``idx``, ``cnt``) through a face table by flank ``(count, sides, f,
-    S_g)``: ``b^T table[at, sd]``."""
-    p, s = loads.shape[0], table.shape[3]
-    out = np.zeros((s, p))
-    for a in range(p):
-        fl = table[at[a], sd[a]]
-        for t in range(cnt[a]):
-            i = idx[a, t]
-            w = loads[a, i]
-            for j in range(s):
-                out[j, a] += w * fl[i, j]
-    return out
+    S_g)``: ``b^T table[at, sd]``, the pairs' modal rows' product with a face table."""
+    return _modal_rows(loads, idx, cnt, table, at, sd).T
 
 
 @njit

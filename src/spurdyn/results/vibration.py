@@ -111,8 +111,13 @@ def signal_indicators(signal: NDArray[np.float64], angle: NDArray[np.float64], t
     turning by ``angle`` (rad): RMS, kurtosis and crest factor of the signal about its
     mean; FM0, FM4, NA4 and the sideband energy ratio (six shaft orders each side of the
     mesh order) of its time-synchronous average."""
+    return average_indicators(signal, synchronous(signal, angle, teeth), teeth)
+
+
+def average_indicators(signal: NDArray[np.float64], tsa: dg.SynchronousAverage, teeth: int) -> dict[str, Any]:
+    """:func:`signal_indicators` of ``signal`` and its time-synchronous average ``tsa`` (any
+    turn of it round the revolution: the indicators do not depend on where it starts)."""
     x = signal - signal.mean()
-    tsa = synchronous(signal, angle, teeth)
     finite = {
         "rms": dg.rms(x), "kurtosis": dg.kurtosis(x), "crest_factor": dg.crest_factor(x),
         "fm0": dg.fm0(tsa.signal, teeth), "fm4": dg.fm4(tsa.signal, teeth), "na4": dg.na4(tsa.signal, teeth),
@@ -167,5 +172,5 @@ def vibration_figures(ds: xr.Dataset, info: dict[str, Any], teeth: tuple[int, in
     return {"vibration": {"gear": f.gear, "shaft_frequency_Hz": f.f_shaft, "mesh_frequency_Hz": f.teeth * f.f_shaft,
                           "window_s": [float(f.time[0]), float(f.time[-1])], "signals": signals}}
 
-__all__ = ["SENSOR_VARIABLES", "SIGNALS", "Followed", "followed", "result_sensors", "sensor_variables", "signal_indicators",
+__all__ = ["SENSOR_VARIABLES", "SIGNALS", "Followed", "average_indicators", "followed", "result_sensors", "sensor_variables", "signal_indicators",
            "synchronous", "tsa_points", "vibration_figures", "window"]

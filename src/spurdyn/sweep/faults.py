@@ -213,7 +213,7 @@ def signal_figures(ds: Any, info: dict[str, Any], teeth: tuple[int, int], gear: 
     same as ``summary.json``'s ``vibration``, following ``gear`` on the healthy pair too);
     only a ``reason`` where the run holds no whole revolution there."""
     from spurdyn.diagnostics import synchronous_average
-    from spurdyn.results.vibration import followed, signal_indicators, tsa_points
+    from spurdyn.results.vibration import average_indicators, followed, tsa_points
 
     f = followed(ds, {**info, "fault_gear": gear}, teeth)
     if f is None:
@@ -223,11 +223,11 @@ def signal_figures(ds: Any, info: dict[str, Any], teeth: tuple[int, int], gear: 
     out: dict[str, Any] = {"window_s": [float(f.time[0]), float(f.time[-1])], "shaft_frequency_Hz": f.f_shaft}
     for name in SIGNALS:
         x = ds[name].values.astype(float)[f.sel]
-        figures = signal_indicators(x, f.angle, f.teeth)
+        tsa = synchronous_average(x, f.angle - f.angle[0], points)    # one average for both
+        figures = average_indicators(x, tsa, f.teeth)
         out["revolutions"] = figures.pop("revolutions")
-        tsa = synchronous_average(x, f.angle - f.angle[0], points).signal
         start = float(f.angle[0]) % (2.0 * math.pi)
-        out[name] = {**figures, "tsa": orders_resampled(tsa, samples, start).tolist()}
+        out[name] = {**figures, "tsa": orders_resampled(tsa.signal, samples, start).tolist()}
     return out
 
 

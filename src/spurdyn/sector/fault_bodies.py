@@ -12,7 +12,9 @@ A missing tooth's body has no tooth there and its contacts are not made; a crack
 body is meshed with the crack (:func:`spurdyn.sector.faulty.cracked_mesh`), its faces a
 contact of their own (:mod:`spurdyn.sector.faces`); a spall over the whole face width widens
 the gap of its flank's contact by its depth over the pit's rolls, written in the contact's
-roll on the path (the driver's roll angle of the contact point) for both gears.
+roll on the path (the driver's roll angle of the contact point) for both gears; a spall over
+part of it splits the contact there into the intact strip and the pit's
+(:func:`spurdyn.solvers.sector.rows_compiled.rows_and_loads`).
 """
 
 from __future__ import annotations
@@ -39,8 +41,9 @@ class GearFaults:
     cracks
         ``(body tooth, fault)`` of each cracked tooth.
     pits
-        ``(z, 2, 3)`` per body tooth (from ``first``) and flank the contact's rolls ``(lo,
-        hi)`` on its path where the gap is ``depth`` wider; zeros elsewhere.
+        ``(z, 2, 4)`` per body tooth (from ``first``) and flank the contact's rolls ``(lo,
+        hi)`` on its path where the gap is ``depth`` wider over the share ``width`` of the
+        face width (1 across it); zeros elsewhere.
     gone
         ``(z,)`` 1 on a missing tooth.
     """
@@ -81,20 +84,61 @@ def gear_faults(dp: GearPair, driver: str, faults: tuple[Fault, ...], firsts: tu
         mine = [f for f in faults if (f.gear == driver) == (g == 0)]
         missing = frozenset(body_tooth(f.tooth, g, first, z) for f in mine if f.kind == "missing")
         cracks = tuple((body_tooth(f.tooth, g, first, z), f) for f in mine if f.kind == "crack")
-        pits = np.zeros((z, 2, 3))
+        pits = np.zeros((z, 2, 4))
         for f in (f for f in mine if f.kind == "spall"):
             at = body_tooth(f.tooth, g, first, z) - first
-            if f.width_fraction < 1.0:
-                raise InputError("fault", f"a dynamic run takes a spall across the whole face width: give "
-                                 f"width_fraction = 1 for tooth {f.tooth} (got {f.width_fraction:g}); "
-                                 "`spurdyn stiffness` takes any")
-            if pits[at, 0, 2]:
+            if pits[at, 0, 3]:
                 raise InputError("fault", f"a dynamic run takes one spall a flank (tooth {f.tooth} has two)")
-            pits[at, 0] = (*_pit_rolls(dp, g, f), f.depth)
+            pits[at, 0] = (*_pit_rolls(dp, g, f), f.depth, f.width_fraction)
         gone = np.zeros(z, np.int64)
         gone[[k - first for k in missing]] = 1
         out.append(GearFaults(missing, cracks, pits, gone))
+    _one_split(out, faults)
     return out[0], out[1]
+
+
+def _one_split(gears: list[GearFaults], faults: tuple[Fault, ...]) -> None:
+    """Refuse (``fault``) spalls over part of the face width on both gears: a pair splits
+    into two rows, the intact strip and the pit's (docs/faults.md, section 8), not four."""
+    partial = [bool(np.any((gf.pits[..., 3] > 0.0) & (gf.pits[..., 3] < 1.0))) for gf in gears]
+    if all(partial):
+        teeth = ", ".join(f"{f.gear}{f.tooth}" for f in faults if f.kind == "spall" and f.width_fraction < 1.0)
+        raise InputError("fault", f"a dynamic run takes spalls over part of the face width on one gear only (got "
+                         f"{teeth}): give width_fraction = 1 to those of one gear; `spurdyn stiffness` takes any")
+
+
+def split_rows(faults: tuple[GearFaults, GearFaults], at: tuple[NDArray[np.intp], NDArray[np.intp]],
+               sd: NDArray[np.intp], rolls: NDArray[np.float64], force: NDArray[np.float64],
+               pit: NDArray[np.float64]) -> tuple[NDArray[Any], ...]:
+    """The rows of the contacts at body teeth ``at`` (per gear), flanks ``sd`` and ``rolls``
+    (docs/faults.md, section 8): one a contact, two where a pit over part of the face width
+    splits it, the intact strip's and then the pit's. Per row ``(idx, kind, share, extra,
+    held)``: its contact's place in the arguments, kind (0 whole, 1 the intact strip, 2 the
+    pit's), share of the face width, extra gap (the pit's depth) and force of the step
+    before, from the contacts' ``force`` and their pit strips' ``pit`` (-1 where a contact
+    was whole: it enters the pit with its force in proportion to the shares). Twin of
+    :func:`~spurdyn.solvers.sector.rows_compiled.split_rows`."""
+    shares, depths = np.zeros(rolls.size), np.zeros(rolls.size)
+    for gf, a in zip(faults, at):
+        lo, hi, depth, width = np.moveaxis(gf.pits[a, sd], -1, 0)
+        inside = (0.0 < width) & (width < 1.0) & (lo <= rolls) & (rolls <= hi)
+        shares, depths = np.where(inside, width, shares), np.where(inside, depth, depths)
+    split = shares > 0.0
+    idx = np.repeat(np.arange(rolls.size), np.where(split, 2, 1))
+    second = np.concatenate([[False], idx[1:] == idx[:-1]])
+    kind = np.where(second, 2, np.where(split[idx], 1, 0))
+    w = shares[idx]
+    share = np.where(kind == 1, 1.0 - w, np.where(kind == 2, w, 1.0))
+    held = row_forces(kind, share, force[idx], pit[idx])
+    return idx, kind, share, np.where(kind == 2, depths[idx], 0.0), held
+
+
+def row_forces(kind: NDArray[np.intp], share: NDArray[np.float64], force: NDArray[np.float64],
+               pit: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Per row of :func:`split_rows` (its ``kind`` and ``share``) its force from its
+    contact's ``force`` and pit strip's ``pit``: a whole contact's, the pit's, the rest the
+    intact strip's; where the contact was whole (``pit`` -1), in proportion to the shares."""
+    return np.where(kind == 0, force, np.where(pit >= 0.0, np.where(kind == 1, force - pit, pit), share * force))
 
 
 def check_cracked_flanks(blocks: tuple[Any, Any], faults: tuple[GearFaults, GearFaults],
@@ -123,4 +167,4 @@ def cracked_meshes(dp: GearPair, faults: GearFaults, g: int, nx: int, ny: int, g
     return {k: cracked_mesh(gear, f, nx, ny, grading) for k, f in faults.cracks}
 
 
-__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults"]
+__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults", "row_forces", "split_rows"]

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -31,7 +32,7 @@ from spurdyn.sector.cyclic import statics_body
 from spurdyn.geometry.fault import faulty_cycles
 from spurdyn.sector.damper import mesh_damper_table
 from spurdyn.sector.faces import crack_faces
-from spurdyn.sector.fault_bodies import GearFaults, check_cracked_flanks, cracked_meshes, gear_faults
+from spurdyn.sector.fault_bodies import GearFaults, check_cracked_flanks, cracked_meshes, gear_faults, split_rows
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
 from spurdyn.sector.reduced import reduce_gear
@@ -261,19 +262,23 @@ class SectorModel:
         return Start(q, v, acc, qdd, force, st.offset, common / speed)
 
     # -- the contacts at a step (NumPy; compiled twins in rows_compiled) ------------------
-    def rows_at(self, theta_a: float, f: NDArray[np.float64], offset: int = 0) -> Rows | None:
+    def rows_at(self, theta_a: float, f: NDArray[np.float64], offset: int = 0,
+                pit: NDArray[np.float64] | None = None) -> Rows | None:
         """The contacts near their paths at the driver's turn ``theta_a``: their indices in
         ``c_teeth``, the constant part of their gaps, and per gear the rows' coefficients on
         the hub and their elastic parts (the bodies' ``rows``), the strips' half-widths those
         of the forces ``f``. A back flank's roll is ``Sigma - rho``
         (:func:`~spurdyn.sector.system.back_roll_sum`), running backwards as the
         driver turns, and its gap the mirror image's plus the backlash (docs/sector.md, 6.7);
-        ``offset`` the driver's body tooth of pair 0 (a continuation runs on)."""
+        ``offset`` the driver's body tooth of pair 0 (a continuation runs on); ``pit`` the
+        pit strips' forces of the step before where a pit over part of the face width split
+        a contact (-1 elsewhere; none: no contact was split), which splits it into two rows
+        (:class:`~spurdyn.sector.lcp.Rows`)."""
         rolls, near = self._rolls(theta_a, offset)
         on = np.flatnonzero(near)
         if not on.size:
             return None
-        return self._pair_rows(on, rolls[on], f[on], theta_a, offset)
+        return self._pair_rows(on, rolls[on], f[on], theta_a, offset, None if pit is None else pit[on])
 
     def rows_many(self, theta_a: NDArray[np.float64], f: NDArray[np.float64],
                   offset: int = 0) -> tuple[NDArray[np.intp], Rows] | None:
@@ -305,22 +310,29 @@ class SectorModel:
         return rolls, near
 
     def _pair_rows(self, on: NDArray[np.intp], rolls: NDArray[np.float64], f: NDArray[np.float64],
-                   theta_a: Any, offset: int) -> Rows:
+                   theta_a: Any, offset: int, pit: NDArray[np.float64] | None = None) -> Rows:
         """The :class:`Rows` of the contacts ``on`` at their ``rolls`` under their forces
-        ``f``, the driver at ``theta_a`` (a number, or one per contact)."""
+        ``f`` (their pit strips' ``pit``, :meth:`rows_at`), the driver at ``theta_a`` (a
+        number, or one per contact)."""
         ra, rb = self.ra, self.rb
+        kind, share, extra = np.zeros(on.size, np.intp), np.ones(on.size), 0.0
+        if self.splits:
+            idx, kind, share, extra, f = split_rows(self.faults, self._at(self.c_teeth[on] + offset, self.c_side[on]),
+                                                    self.c_side[on], rolls, f,
+                                                    np.full(on.size, -1.0) if pit is None else pit)
+            on, rolls, theta_a = on[idx], rolls[idx], theta_a if np.ndim(theta_a) == 0 else theta_a[idx]
         g0, slope, r_a, r_b = self.table.at(rolls)
-        hw = half_widths_at(self.dp, (r_a, r_b), f, self.estar, self.width)
+        hw = half_widths_at(self.dp, (r_a, r_b), f, self.estar, self.width * share)
         sd = self.c_side[on]
         sgn = np.where(sd == 1, -1.0, 1.0)        # d roll / d theta_A
         k = self.c_teeth[on] + offset
         if self.faults:
-            g0 = g0 + self.pit_gaps(k, sd, rolls)
+            g0 = g0 + self.pit_gaps(k, sd, rolls) + extra
         # d gap / d theta: the base circles' and, off the path, the corner's
         sides = tuple((coef, self.gears[g].rows(kg, self.blocks[g].flank_loads(r, hw), sd))
                       for g, (kg, coef, r) in enumerate(((k, sgn * (slope - ra), r_a),
                                                           (-k + sd, sgn * rb, r_b))))
-        return Rows(on, g0 - sgn * slope * theta_a + self.jn * sd, sides)
+        return Rows(on, g0 - sgn * slope * theta_a + self.jn * sd, sides, kind, share, f)
 
     def _at(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
         """The contacts' places in each whole body (from its first tooth) for the driver's
@@ -340,7 +352,7 @@ class SectorModel:
         out = np.zeros(rolls.size)
         for gf, at in zip(self.faults, self._at(k, sd)):
             pit = gf.pits[at, sd]
-            out += np.where((pit[:, 0] <= rolls) & (rolls <= pit[:, 1]), pit[:, 2], 0.0)
+            out += np.where((pit[:, 3] >= 1.0) & (pit[:, 0] <= rolls) & (rolls <= pit[:, 1]), pit[:, 2], 0.0)
         return out
 
     def _made_contacts(self, js: list[int], roll_a: NDArray[np.float64], roll_b: NDArray[np.float64]) -> list[Any]:
@@ -375,12 +387,24 @@ class SectorModel:
             w_dd += z[0] * np.outer(coef, coef)
             res += body.residual(elastic)
             cols.append(full)
-        return w, w_gd, w_dd, res, cols
+        return w, w_gd, w_dd, res + self._strips(rows), cols
 
     def contact_compliance(self, rows: Rows) -> NDArray[np.float64]:
         """``C_s = c_H I + b_i^T R b_j``: the pairs' compliance without inertia (RK4's)."""
         res = sum(self.gears[g].residual(el) for g, (_, el) in enumerate(rows.sides))
-        return res + self.c_h * np.eye(rows.on.size)
+        return res + self._strips(rows) + self.c_h * np.eye(rows.on.size)
+
+    def _strips(self, rows: Rows) -> Any:
+        """The split rows' strip compliances ``c_H / s`` beyond ``c_H`` (diagonal; 0 unsplit)."""
+        if rows.kind is None or not rows.kind.any():
+            return 0.0
+        return np.diag(np.where(rows.kind > 0, self.c_h / rows.share - self.c_h, 0.0))
+
+    @cached_property
+    def splits(self) -> bool:
+        """A spall over part of the face width splits its pairs (docs/faults.md, section 8)."""
+        return bool(self.faults) and any(bool(np.any((gf.pits[..., 3] > 0.0) & (gf.pits[..., 3] < 1.0)))
+                                         for gf in self.faults)
 
     def columns_times(self, cols: list[NDArray[np.float64]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
         """``S^-1 G^T lam`` from the per-gear columns ``cols``."""
@@ -429,7 +453,7 @@ def whole_periods(cycles: int, most: int, period: int, default_most: bool) -> tu
 
 def _no_faults(count: int) -> GearFaults:
     """A healthy gear's (the compiled loops' packs of every run have the fields)."""
-    return GearFaults(frozenset(), (), np.zeros((count, 2, 3)), np.zeros(count, np.int64))
+    return GearFaults(frozenset(), (), np.zeros((count, 2, 4)), np.zeros(count, np.int64))
 
 
 def _faults(pair: GearPair, settings: RunSettings, bodies: tuple[tuple[int, int], tuple[int, int]]) -> Any:

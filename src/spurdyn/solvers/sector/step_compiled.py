@@ -35,9 +35,9 @@ from spurdyn.solvers.sector.rows_compiled import (
 @njit
 def _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg, orders):
     """The step's accelerations with the pairs ``rows`` (of :func:`rows_and_loads`) in
-    contact: ``(qdd, F, found)``. ``x0`` the accelerations without them (changed by the mesh
-    damper), ``last`` the forces of the step before (the damper's shares, the active set
-    tried first), ``hub_cols`` per gear ``S^-1`` of a unit hub torque ``z`` and
+    contact: ``(qdd, F, found)``, ``F`` per row. ``x0`` the accelerations without them
+    (changed by the mesh damper), ``last`` the rows' forces of the step before (the damper's
+    shares, the active set tried first), ``hub_cols`` per gear ``S^-1`` of a unit hub torque ``z`` and
     ``elastic_cols`` its arrow's ``(u, 1 / d)``, ``c_mesh`` the damper's coefficient."""
     full0, full1, w0, w_gd, k_w, d_x0, w, vv, guess = _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols,
                                                                    elastic_cols, c_mesh, cfg)
@@ -64,7 +64,8 @@ def _damper_back(qdd, kd, rows, hub_cols):
 def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg):
     """The pairs' blocks of the step's problem (:func:`_contact_accelerations`): per gear
     ``S^-1 G^T``, ``G S^-1 G^T``, ``G S^-1 D^T``, the damper's Woodbury ``K``, ``D x0``, the
-    problem's ``W`` and ``v`` and the active set tried first (the step before's, a mask)."""
+    problem's ``W`` and ``v`` and the active set tried first (the step before's, a mask);
+    ``last`` the rows' forces of the step before (``held`` of :func:`rows_and_loads`)."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     z0, z1 = hub_cols
     (u0, dinv0), (u1, dinv1) = elastic_cols
@@ -87,7 +88,7 @@ def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, c
     total = 0.0
     guess = 0
     for a in range(p):
-        shares[a] = last[on[a]]
+        shares[a] = last[a]
         total += shares[a]
         if shares[a] > 0.0:
             guess |= 1 << a
@@ -119,10 +120,11 @@ def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, c
 
 
 @njit
-def _save(out, step, q, v, force, faces, rows, r_fc, c_h, na):
+def _save(out, step, q, v, force, lam, faces, rows, r_fc, c_h, na):
     """Step ``step``'s samples into ``out``: turns, speeds, forces, the smallest gap of the
-    pairs ``rows`` near the path (none: left as it was; with a crack's ``faces`` their
-    residual coupling ``r_fc`` with the pairs) and, on a sampled step, ``q``."""
+    rows ``rows`` near the path under their forces ``lam`` (none: left as it was; with a
+    crack's ``faces`` their residual coupling ``r_fc`` with the pairs) and, on a sampled
+    step, ``q``."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     out.theta[step, 0] = q[0]
     out.theta[step, 1] = q[na]
@@ -133,9 +135,7 @@ def _save(out, step, q, v, force, faces, rows, r_fc, c_h, na):
         out.states[out.sample[step]] = q
     p = on.size
     if p:
-        fo = np.empty(p)
-        for a in range(p):
-            fo[a] = force[on[a]]
+        fo = lam
         gaps = (const + coef0 * q[0] + rows0 @ q[1:na] + coef1 * q[na] + rows1 @ q[na + 1:]
                 + c_h * fo + res @ fo)
         if faces.size:
@@ -149,13 +149,16 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
     :data:`~spurdyn.solvers.layout.SectorStepState`, changed in place), the saved columns
     ``out`` (:data:`~spurdyn.solvers.layout.SectorOut`) written at ``first_step + 1 ...``;
     ``hub`` the hubs' torques at the end of each step, ``fp`` a crack's faces
-    (:data:`~spurdyn.sector.packs.FacePack`, empty without).
+    (:data:`~spurdyn.sector.packs.FacePack`, empty without). The state's ``pit`` holds each
+    contact's pit strip's force where a pit over part of the face width splits it, -1
+    elsewhere (:func:`~spurdyn.solvers.sector.rows_compiled.split_rows`); ``force`` the
+    contacts' whole forces, the sums of their rows'.
 
     Returns the last step done and ``OK``, or the failed step and its status of
     :mod:`spurdyn.solvers.layout`: ``FAIL_NAN`` (not finite), ``FAIL_LCP`` (the pairs'
     problem without a solution), ``FAIL_BEYOND`` (the driver left ``theta_lo .. theta_hi``
     at the step's end)."""
-    q, v, acc, qdd, force, faces = st.q, st.v, st.acc, st.qdd, st.force, st.faces
+    q, v, acc, qdd, force, faces, pit = st.q, st.v, st.acc, st.qdd, st.force, st.faces, st.pit
     am, af, beta, gamma, h, bp, gp = cfg.am, cfg.af, cfg.beta, cfg.gamma, cfg.h, cfg.bp, cfg.gp
     na = gear0.omega2.size + 1
     n = na + gear1.omega2.size + 1
@@ -171,30 +174,32 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
         theta = q_hat[0]
         last = force.copy()
         force[:] = 0.0
-        rows, lo0, lo1, sd = rows_and_loads(theta, last, gear0, gear1, con, table, cfg)
+        rows, lo0, lo1, sd, (kind, held) = rows_and_loads(theta, last, pit, gear0, gear1, con, table, cfg)
+        pit[:] = -1.0      # read into held; this step's splits are written below
         on = rows[0]
+        lam = np.zeros(on.size)
         r_fc = np.zeros((faces.size, on.size))
         opening = np.zeros(faces.size)
         if cracked:
             c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta) if on.size else 0.0
-            pairs = _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg)
+            pairs = _pair_blocks(x0, q_hat, v_hat, held, rows, hub_cols, elastic_cols, c_mesh, cfg)
             qdd_new, lam, lam_f, found, r_fc, opening = face_accelerations(x0, q_hat, faces, fp, pairs, rows, lo0,
                                                                            lo1, sd, hub_cols, cfg)
             if not found:
                 return step, FAIL_LCP
-            for a in range(on.size):
-                force[on[a]] = lam[a]
             faces[:] = lam_f
         elif on.size == 0:
             qdd_new = x0
         else:
             c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta)
-            qdd_new, lam, found = _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols,
+            qdd_new, lam, found = _contact_accelerations(x0, q_hat, v_hat, held, rows, hub_cols, elastic_cols,
                                                          c_mesh, cfg, orders)
             if not found:
                 return step, FAIL_LCP
-            for a in range(on.size):
-                force[on[a]] = lam[a]
+        for a in range(on.size):    # a split contact's force the sum of its rows'
+            force[on[a]] += lam[a]
+            if kind[a] == 2 and pit.size:
+                pit[on[a]] = lam[a]
         for j in range(n):
             if not math.isfinite(qdd_new[j]):
                 return step, FAIL_NAN
@@ -204,7 +209,7 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
         qdd[:] = qdd_new
         if q[0] < cfg.theta_lo or q[0] > cfg.theta_hi:
             return step, FAIL_BEYOND
-        _save(out, step, q, v, force, faces, rows, r_fc, cfg.c_h, na)
+        _save(out, step, q, v, force, lam, faces, rows, r_fc, cfg.c_h, na)
         if cracked:
             face_record(out, step, faces, opening)
     return first_step + steps, OK

@@ -102,6 +102,20 @@ def test_a_deep_partial_pit_carries_the_pair_on_its_intact_strip():
     assert extra == pytest.approx(healthy.c_h * w / (1.0 - w) * f_ref.mean(), rel=0.1)
 
 
+def test_a_split_pairs_pressure_is_absent_not_the_whole_widths():
+    """The strips' own forces are not recorded, so neither is a split pair's pressure."""
+    from spurdyn.solvers.sector.teeth import contact_pressures
+
+    model = _model(2e-6, 0.5)
+    c0 = int(np.searchsorted(model.c_teeth, 0))
+    theta = np.array([math.radians(1.0), math.radians(19.0) - model.roll_0])     # before the pit, in it
+    force = np.zeros((2, model.c_teeth.size))
+    force[:, c0] = 500.0
+    p, b = contact_pressures(model, theta, force)
+    assert np.isfinite(p[0, c0]) and np.isfinite(b[0, c0])
+    assert np.isnan(p[1, c0]) and np.isnan(b[1, c0])
+
+
 def test_the_rk4_reference_refuses_a_split_pair():
     model = _model(2e-6, 0.5)
     record = SectorRecord(model, model.per_cycle * model.cycles)

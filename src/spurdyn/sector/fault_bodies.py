@@ -118,11 +118,7 @@ def split_rows(faults: tuple[GearFaults, GearFaults], at: tuple[NDArray[np.intp]
     before, from the contacts' ``force`` and their pit strips' ``pit`` (-1 where a contact
     was whole: it enters the pit with its force in proportion to the shares). Twin of
     :func:`~spurdyn.solvers.sector.rows_compiled.split_rows`."""
-    shares, depths = np.zeros(rolls.size), np.zeros(rolls.size)
-    for gf, a in zip(faults, at):
-        lo, hi, depth, width = np.moveaxis(gf.pits[a, sd], -1, 0)
-        inside = (0.0 < width) & (width < 1.0) & (lo <= rolls) & (rolls <= hi)
-        shares, depths = np.where(inside, width, shares), np.where(inside, depth, depths)
+    shares, depths = pit_shares(faults, at, sd, rolls)
     split = shares > 0.0
     idx = np.repeat(np.arange(rolls.size), np.where(split, 2, 1))
     second = np.concatenate([[False], idx[1:] == idx[:-1]])
@@ -131,6 +127,18 @@ def split_rows(faults: tuple[GearFaults, GearFaults], at: tuple[NDArray[np.intp]
     share = np.where(kind == 1, 1.0 - w, np.where(kind == 2, w, 1.0))
     held = row_forces(kind, share, force[idx], pit[idx])
     return idx, kind, share, np.where(kind == 2, depths[idx], 0.0), held
+
+
+def pit_shares(faults: tuple[GearFaults, GearFaults], at: tuple[NDArray[np.intp], NDArray[np.intp]],
+               sd: NDArray[np.intp], rolls: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Per contact (:func:`split_rows`' arguments, any shape) the share of the face width a
+    pit over part of it covers at its roll (0: none there) and the pit's depth."""
+    shares, depths = np.zeros(rolls.shape), np.zeros(rolls.shape)
+    for gf, a in zip(faults, at):
+        lo, hi, depth, width = np.moveaxis(gf.pits[a, sd], -1, 0)
+        inside = (0.0 < width) & (width < 1.0) & (lo <= rolls) & (rolls <= hi)
+        shares, depths = np.where(inside, width, shares), np.where(inside, depth, depths)
+    return shares, depths
 
 
 def row_forces(kind: NDArray[np.intp], share: NDArray[np.float64], force: NDArray[np.float64],
@@ -167,4 +175,4 @@ def cracked_meshes(dp: GearPair, faults: GearFaults, g: int, nx: int, ny: int, g
     return {k: cracked_mesh(gear, f, nx, ny, grading) for k, f in faults.cracks}
 
 
-__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults", "row_forces", "split_rows"]
+__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults", "pit_shares", "row_forces", "split_rows"]

@@ -317,8 +317,8 @@ class SectorModel:
         ra, rb = self.ra, self.rb
         kind, share, extra = np.zeros(on.size, np.intp), np.ones(on.size), 0.0
         if self.splits:
-            idx, kind, share, extra, f = split_rows(self.faults, self._at(self.c_teeth[on] + offset, self.c_side[on]),
-                                                    self.c_side[on], rolls, f,
+            places = self.flank_places(self.c_teeth[on] + offset, self.c_side[on])
+            idx, kind, share, extra, f = split_rows(self.faults, places, self.c_side[on], rolls, f,
                                                     np.full(on.size, -1.0) if pit is None else pit)
             on, rolls, theta_a = on[idx], rolls[idx], theta_a if np.ndim(theta_a) == 0 else theta_a[idx]
         g0, slope, r_a, r_b = self.table.at(rolls)
@@ -334,7 +334,7 @@ class SectorModel:
                                                           (-k + sd, sgn * rb, r_b))))
         return Rows(on, g0 - sgn * slope * theta_a + self.jn * sd, sides, kind, share, f)
 
-    def _at(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    def flank_places(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
         """The contacts' places in each whole body (from its first tooth) for the driver's
         body teeth ``k`` on flanks ``sd``."""
         b0, b1 = self.blocks
@@ -343,14 +343,14 @@ class SectorModel:
     def made(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> NDArray[np.bool_]:
         """Whether the contacts of the driver's body teeth ``k`` on flanks ``sd`` are made
         (neither tooth missing; twin in ``rows_compiled.contact_rows``)."""
-        at0, at1 = self._at(k, sd)
+        at0, at1 = self.flank_places(k, sd)
         return (self.faults[0].gone[at0] == 0) & (self.faults[1].gone[at1] == 0)
 
     def pit_gaps(self, k: NDArray[np.intp], sd: NDArray[np.intp], rolls: NDArray[np.float64]) -> NDArray[np.float64]:
         """The pits' extra gaps (m) of those contacts at their rolls on the path ``rolls``
         (twin: ``rows_compiled.pit_gap``)."""
         out = np.zeros(rolls.size)
-        for gf, at in zip(self.faults, self._at(k, sd)):
+        for gf, at in zip(self.faults, self.flank_places(k, sd)):
             pit = gf.pits[at, sd]
             out += np.where((pit[:, 3] >= 1.0) & (pit[:, 0] <= rolls) & (rolls <= pit[:, 1]), pit[:, 2], 0.0)
         return out

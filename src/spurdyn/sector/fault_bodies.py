@@ -175,4 +175,5 @@ def cracked_meshes(dp: GearPair, faults: GearFaults, g: int, nx: int, ny: int, g
     return {k: cracked_mesh(gear, f, nx, ny, grading) for k, f in faults.cracks}
 
 
-__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults", "pit_shares", "row_forces", "split_rows"]
+__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults", "pit_shares",
+           "row_forces", "split_rows"]

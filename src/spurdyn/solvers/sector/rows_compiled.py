@@ -240,7 +240,8 @@ def _pit_shares(theta, near, gear0, gear1, con, cfg):
         if sd:
             rho = cfg.sigma - rho
         k = con.teeth[i] + con.offset
-        for pit in (con.pits0[(k - gear0.first) % gear0.count, sd], con.pits1[(-k + sd - gear1.first) % gear1.count, sd]):
+        at0, at1 = (k - gear0.first) % gear0.count, (-k + sd - gear1.first) % gear1.count
+        for pit in (con.pits0[at0, sd], con.pits1[at1, sd]):
             if 0.0 < pit[3] < 1.0 and pit[0] <= rho <= pit[1]:
                 shares[a], depths[a] = pit[3], pit[2]
     return shares, depths

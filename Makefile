@@ -26,7 +26,7 @@ PYTEST := PYTHONDONTWRITEBYTECODE= $(BIN)/python -m pytest -q -n 2 --dist loadgr
 # uv cannot be had, the venv gets pip and pip installs as before.
 $(BIN)/python:
 	$(PYTHON) -m venv --without-pip $(VENV)
-	$(PYTHON) -m pip install --quiet --target $(VENV)/uv uv || { \
+	PIP_ROOT_USER_ACTION=ignore $(PYTHON) -m pip install --quiet --target $(VENV)/uv uv || { \
 	    echo "make: uv could not be installed; installing with pip" >&2; \
 	    $(BIN)/python -m ensurepip --upgrade --default-pip && \
 	    $(BIN)/python -m pip install --quiet --upgrade pip; }

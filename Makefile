@@ -28,7 +28,7 @@ $(BIN)/python:
 	$(PYTHON) -m venv --without-pip $(VENV)
 	PIP_ROOT_USER_ACTION=ignore $(PYTHON) -m pip install --quiet --target $(VENV)/uv uv || { \
 	    echo "make: uv could not be installed; installing with pip" >&2; \
-	    $(BIN)/python -m ensurepip --upgrade --default-pip && \
+	    $(BIN)/python -m ensurepip --upgrade --default-pip >/dev/null && \
 	    $(BIN)/python -m pip install --quiet --upgrade pip; }
 
 # install_with ARGS: uv's pip interface where uv is, else the venv's pip. uv does not

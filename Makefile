@@ -21,9 +21,9 @@ UV     := $(VENV)/uv/bin/uv
 PYTEST := PYTHONDONTWRITEBYTECODE= $(BIN)/python -m pytest -q -n 2 --dist loadgroup
 
 # The installer is uv (from the package index, by the pip Python comes with, into .venv/uv):
-# it fetches and unpacks the ~50 wheels in parallel and links them from its cache, where pip
-# took half a minute for the same (docs/performance.md, "make demo under a minute"). Where
-# uv cannot be had, the venv gets pip and pip installs as before.
+# it fetches and unpacks the ~50 wheels in parallel and links them from its cache, where
+# pip took half a minute for the same (docs/performance.md, "`make demo` installed with
+# uv"). Where uv cannot be had, the venv gets pip and pip installs as before.
 $(BIN)/python:
 	$(PYTHON) -m venv --without-pip $(VENV)
 	PIP_ROOT_USER_ACTION=ignore $(PYTHON) -m pip install --quiet --target $(VENV)/uv uv || { \

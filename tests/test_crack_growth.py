@@ -269,6 +269,25 @@ def test_crack_command_refusals(tmp_path, capsys, extra, flag):
     assert not out.exists() and list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("extra, flag", [(["--start", "0.05"], "--start"),
+                                         (["--length", "0.02"], "--length")])
+def test_start_and_length_are_refused_before_the_sectors_are_built(tmp_path, capsys, monkeypatch,
+                                                                   extra, flag):
+    """``--start`` off the fillet and ``--length`` leaving the cell are refused on the tooth's
+    cell alone: the sectors (seconds of assembly) are never built."""
+    import spurdyn.sector.crack_tip as crack_tip
+
+    def built(*args, **kwargs):
+        raise AssertionError("the sectors were built before --start and --length were checked")
+
+    monkeypatch.setattr(crack_tip, "cracked_sector", built)
+    out = tmp_path / "crack"
+    code = main(["crack", "paper", "--out", str(out)] + extra)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and flag in err[0]
+    assert not out.exists()
+
+
 def test_crack_command_refuses_an_out_that_is_not_its_own(tmp_path, capsys):
     (tmp_path / "file").write_text("x")
     (tmp_path / "theirs").mkdir()

@@ -139,16 +139,9 @@ def crack_inputs(args: argparse.Namespace) -> dict[str, Any]:
                          f"{depth * 1e3:.4g} mm (got {increment * 1e3:.4g} mm)")
     if args.start is not None:
         _positive("--start", args.start, "radius in m")
-    inner = None
-    if args.backup_ratio is not None:
-        _positive("--backup-ratio", args.backup_ratio, "ratio")
-        if gear.blank is not None and gear.blank.webbed:
-            raise InputError("--backup-ratio", f"gear {gear_name}'s blank has a web: its rim is "
-                             "the blank's (rim_radius); leave --backup-ratio out")
-        inner = gear.root_radius - args.backup_ratio * depth
-        if not inner > 0.05 * gear.root_radius:
-            raise InputError("--backup-ratio", f"leaves no bore: the rim would reach "
-                             f"{inner * 1e3:.4g} mm from the centre; give a smaller ratio")
+    inner = _inner_radius(args, gear, gear_name, depth)
+    _first_crack(case, gear, inner, length, args.start)    # --start and --length, before the work
+
     torque = args.torque if args.torque is not None else case_torque(args.case)
     if torque is None:
         raise InputError("--torque", "the case has no [run] torque: give the driver's torque (N m)")
@@ -163,15 +156,39 @@ def crack_inputs(args: argparse.Namespace) -> dict[str, Any]:
             "increment": increment, "paris": _paris(args)}
 
 
+def _inner_radius(args: argparse.Namespace, gear: Any, gear_name: str, depth: float) -> float | None:
+    """The cracked gear's held inner radius of ``--backup-ratio`` (m), ``None`` without it."""
+    if args.backup_ratio is None:
+        return None
+    _positive("--backup-ratio", args.backup_ratio, "ratio")
+    if gear.blank is not None and gear.blank.webbed:
+        raise InputError("--backup-ratio", f"gear {gear_name}'s blank has a web: its rim is "
+                         "the blank's (rim_radius); leave --backup-ratio out")
+    inner = gear.root_radius - args.backup_ratio * depth
+    if not inner > 0.05 * gear.root_radius:
+        raise InputError("--backup-ratio", f"leaves no bore: the rim would reach "
+                         f"{inner * 1e3:.4g} mm from the centre; give a smaller ratio")
+    return inner
+
+
+def _first_crack(case: Any, gear: Any, inner: float | None, length: float, start: float | None) -> None:
+    """Refuse ``--start`` off the fillet or ``--length`` leaving the cell, on the cracked
+    tooth's cell alone (a fraction of a second; the sectors take seconds)."""
+    from spurdyn.sector.body import body_cell
+    from spurdyn.sector.crack_growth import first_crack
+
+    cell = body_cell(gear, case.nx, case.ny, case.grading, inner)
+    first_crack(gear, cell, case.nx, case.ny, case.grading, length, start)
+
+
 def cmd_crack(args: argparse.Namespace) -> int:
-    from spurdyn.sector.crack_growth import grow_crack, initial_path
+    from spurdyn.sector.crack_growth import grow_crack
     from spurdyn.sector.crack_tip import cracked_sector
 
     spec = crack_inputs(args)
     case = spec["case"]
     sector = cracked_sector(case.pair, spec["torque"], spec["gear"], case.nx, case.ny,
                             case.grading, positions=args.positions, inner_radius=spec["inner_radius"])
-    initial_path(sector, spec["length"], args.start)     # --start and --length, before the work
     progress = None if args.json else _printer()
     grown = grow_crack(sector, spec["length"], spec["increment"], args.start,
                        args.max_increments, progress)

@@ -10,7 +10,9 @@ crack), with the field ``1`` the finite elements' and ``2`` a unit mode's near-t
 where ``q`` is 1 at the tip and 0 on the domain's outer edge. ``q`` is 1 on the nodes of the
 first ``d`` rings of elements around the tip and 0 elsewhere, interpolated by the elements'
 shape functions, so only ring ``d + 1`` carries ``q,j``: the tip's own elements, where the
-field is least accurate, are never integrated.
+field is least accurate, are never integrated. Where the elements' width varies (a web), ``q``
+is 0 on every node of an element whose width is not the tip's, so each domain lies in one
+width, where the domain form holds (docs/fracture.md, section 8.7).
 """
 
 from __future__ import annotations

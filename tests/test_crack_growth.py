@@ -5,6 +5,7 @@ loop and its verdict, Paris's life, and ``spurdyn crack``'s refusals."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -286,6 +287,33 @@ def test_start_and_length_are_refused_before_the_sectors_are_built(tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and flag in err[0]
     assert not out.exists()
+
+
+THIN_RIM = Path(__file__).resolve().parents[1] / "examples" / "thin_rim.toml"
+
+
+def test_backup_ratio_on_a_web_moves_the_web_s_junction(tmp_path, capsys):
+    """On a webbed blank ``--backup-ratio`` moves the rim's inner radius (the web's junction)
+    to MB whole depths below the root circle, the hub and the web kept; a junction inside the
+    hub is refused in one line naming the flag."""
+    import argparse
+
+    from spurdyn.cli.crack import add_crack_parser, crack_inputs
+
+    parser = argparse.ArgumentParser()
+    add_crack_parser(parser.add_subparsers())
+    args = parser.parse_args(["crack", str(THIN_RIM), "--backup-ratio", "0.5",
+                              "--out", str(tmp_path / "crack")])
+    spec = crack_inputs(args)
+    gear = spec["case"].pair.gear_a
+    depth = gear.tip_radius - gear.root_radius
+    assert gear.blank.rim_radius == pytest.approx(gear.root_radius - 0.5 * depth, rel=1e-12)
+    assert (gear.blank.hub_radius, gear.blank.web_width) == (0.020, 0.0016)
+    assert spec["inner_radius"] is None
+    code = main(["crack", str(THIN_RIM), "--backup-ratio", "3", "--out", str(tmp_path / "crack")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "--backup-ratio" in err[0] and "hub" in err[0]
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_crack_command_refuses_an_out_that_is_not_its_own(tmp_path, capsys):

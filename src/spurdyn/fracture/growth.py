@@ -194,7 +194,8 @@ def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], in
     """``(distance, kind, point)`` if the crack at ``tip`` running along ``d`` is to be decided
     now (module constants), else ``None``: the nearest of the outline ahead (within reach,
     or the next tip near it: then the outline's point nearest that tip) and the rim's
-    inner circle within an increment."""
+    inner circle within an increment (or the next tip as near it as to the outline: then the
+    circle's point nearest that tip)."""
     found: list[tuple[float, str, NDArray[np.float64]]] = []
     dist, kind, point = region.ray(tip, d)
     if dist <= DECIDE_REACH * increment:
@@ -206,6 +207,12 @@ def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], in
     down = _below_rim(region, tip, d)
     if down <= increment:
         found.append((down, "rim", tip + down * d))
+    r_next = float(np.hypot(*nxt))
+    if region.inner_radius <= r_next < region.inner_radius + DECIDE_NEAR * increment:
+        # the next tip just above the junction, as near it as the outline's margin: the rim's
+        # ligament is gone (and a domain there could not stay in one width)
+        point = nxt * (region.inner_radius / r_next)
+        found.append((float(np.hypot(*(point - tip))), "rim", point))
     return min(found, key=lambda f: f[0]) if found else None
 
 

@@ -211,15 +211,17 @@ def test_a_tip_below_a_web_s_junction_is_through_the_rim(sector):
 
 
 def test_a_tip_running_just_above_a_web_s_junction_is_through_the_rim(sector):
-    """A crack running across the tooth 0.2 mm above the junction (its ray never crosses the
-    circle) is decided when its next tip comes within the outline's margin (0.75 of the
-    increment) of it: at the circle's point nearest that tip, a rim fracture."""
+    """A crack running across the tooth 0.1 mm above the junction (its ray never crosses the
+    circle) is decided when its next tip comes within a quarter of the increment above it:
+    at the circle's point nearest that tip, a rim fracture; 0.2 mm above, it runs on."""
     region = cell_region(sector.cell, math.pi / 28, 0.02, rim_radius=0.038)
-    path = np.array([[0.0015, 0.0382], [0.001, 0.0382]])
+    path = np.array([[0.0015, 0.0381], [0.001, 0.0381]])
     grown = grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
-    nxt = np.array([0.0005, 0.0382])
+    nxt = np.array([0.0005, 0.0381])
     assert grown.verdict == "rim" and len(grown.steps) == 1
     assert np.allclose(grown.exit, nxt * 0.038 / np.hypot(*nxt), rtol=0, atol=1e-15)
+    higher = grow(path + [0.0, 1e-4], 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
+    assert len(higher.steps) > 1
 
 
 # --- life ---------------------------------------------------------------------------------

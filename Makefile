@@ -34,8 +34,11 @@ $(BIN)/python:
 # install_with ARGS: uv's pip interface where uv is, else the venv's pip. uv does not
 # byte-compile what it installs (pip does, all ~6,000 modules: about 30 s of CPU); the
 # modules a command imports are compiled at its first import instead.
-install_with = if [ -x $(UV) ]; then $(UV) pip install --quiet --python $(BIN)/python $(1); \
-	else $(BIN)/python -m pip install --quiet $(1); fi
+# uv's install failing (its index unreachable, say) falls back on pip as well.
+install_with = if [ -x $(UV) ] && $(UV) pip install --quiet --python $(BIN)/python $(1); then :; else \
+	echo "make: installing with pip" >&2; \
+	$(BIN)/python -m pip --version >/dev/null 2>&1 || $(BIN)/python -m ensurepip --default-pip >/dev/null; \
+	$(BIN)/python -m pip install --quiet $(1); fi
 
 # The demo needs the package alone; the tests add their extras (pytest, Hypothesis, xdist,
 # Selenium: a sixth of a fresh install's time, docs/performance.md).

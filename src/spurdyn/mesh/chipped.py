@@ -1,0 +1,196 @@
+"""A Q8 mesh of one tooth (or its whole cell) with its right tip corner chipped off.
+
+The cut is a straight line from the right outline's point at radius ``r_a - height`` to the
+tip circle's point ``width`` along the tip circle's arc from the right tip corner
+(docs/faults.md, "A chipped tip"). The region is the structured outline's quadratic edges
+(:mod:`spurdyn.mesh.outline`) below the cut and the cut itself, meshed by gmsh as the cracked
+tooth is (:mod:`spurdyn.mesh.cracked`, the same element sizes, the same full-quad
+recombination), but with no seam: every structured outline node below the cut keeps its
+place; those above it are gone (:attr:`CrackedTooth.structured` -1 there).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from spurdyn.errors import InputError
+from spurdyn.fem.assembly import jacobian_determinants
+from spurdyn.mesh import outline as ol
+from spurdyn.mesh.cracked import (CURVE_POINTS, RETRY_SHARES, SAME_PLACE, CrackedTooth, _onto_outline,
+                                  _point_at_radius, counter_clockwise, default_size)
+from spurdyn.mesh.gmsh_quads import GmshQuads, mesh_region
+from spurdyn.mesh.tooth import ToothMesh
+
+#: Edge parameters closer than this are one point of the outline (a cut on a node).
+SAME_PARAMETER = 1e-9
+
+
+def chip_cut(tooth: ToothMesh, tip_radius: float, height: float, width: float) -> NDArray[np.float64]:
+    """The cut's two ends ``(2, 2)``: on the right outline's quadratic edges at radius
+    ``tip_radius - height``, and on the tip edges at the polar angle ``width / tip_radius``
+    beyond the right tip corner's (toward the tooth's centre line).
+
+    Raises
+    ------
+    InputError
+        ``fault.height`` if the cut's radius is off the right outline's span,
+        ``fault.width`` if the top land is not wider than ``width``.
+    """
+    right = tooth.nodes[tooth.side("right")]
+    r = tip_radius - height
+    radii = np.hypot(*right.T)
+    if not (height > 0.0 and radii[0] < r < radii[-1]):
+        raise InputError("fault.height", f"must put the cut on the flank: between 0 and "
+                         f"{(tip_radius - radii[0]) * 1e3:.4g} mm (got {height * 1e3:.4g} mm)")
+    flank = _point_at_radius(tooth, "right", r)
+    corner = math.atan2(right[-1, 1], right[-1, 0])
+    tip = tooth.nodes[tooth.tip_nodes]
+    angles = np.arctan2(tip[:, 1], tip[:, 0])               # left to right: falling
+    phi = corner + width / tip_radius
+    if not (width > 0.0 and phi < angles[0]):
+        raise InputError("fault.width", f"must lie within the top land, below "
+                         f"{(angles[0] - corner) * tip_radius * 1e3:.4g} mm (got {width * 1e3:.4g} mm)")
+    edges = ol.outline_edges(tooth)
+    k, xi, _ = ol.locate(tooth.nodes, edges, tip_radius * np.array([math.cos(phi), math.sin(phi)]))
+    from scipy.optimize import brentq
+
+    xyz = tooth.nodes[edges[k]]
+
+    def turn(s: float) -> float:
+        p = ol.edge_point(xyz, s)
+        return math.atan2(p[1], p[0]) - phi
+
+    if turn(-1.0) * turn(1.0) <= 0.0:
+        xi = brentq(turn, -1.0, 1.0, xtol=1e-15)
+    return np.array([flank, ol.edge_point(xyz, xi)])
+
+
+def _polygon(tooth: ToothMesh, cut: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The polygon gmsh meshes: every structured outline node below the cut, the cut's ends.
+
+    Returns ``points`` ``(P, 2)`` counter-clockwise and ``sides`` ``(P, 3)``: each side's
+    structured edge and its ends' parameters, or ``(-1, 0, 1)`` for the cut (a straight
+    line from its first point to the next)."""
+    nodes, edges = tooth.nodes, ol.outline_edges(tooth)
+    (kf, xf, df), (kt, xt, dt) = ol.locate_many(nodes, edges, cut)
+    r_tip = float(np.max(np.hypot(*nodes.T)))
+    if max(df, dt) > 1e-9 * r_tip or not kf < kt:
+        raise InputError("fault.cut", "the cut's ends must lie on the right outline and then the tip "
+                         "(chip_cut puts them there)")
+    marks: list[tuple[int, float]] = []        # (edge, parameter) of the polygon's points
+    for e in range(edges.shape[0]):
+        if e < kf or e > kt:
+            marks += [(e, -1.0), (e, 0.0)]
+        elif e == kf:
+            marks += [(e, x) for x in (-1.0, 0.0) if x < xf - SAME_PARAMETER] + [(e, xf)]
+        elif e == kt:
+            marks += [(e, xt)] + [(e, 0.0)] * (xt < -SAME_PARAMETER)
+    points = np.array([ol.edge_point(nodes[edges[e]], x) for e, x in marks])
+    sides = []
+    for i, (e, x) in enumerate(marks):
+        e1, x1 = marks[(i + 1) % len(marks)]
+        if e == kf and e1 == kt:
+            sides.append((-1.0, 0.0, 1.0))
+        else:
+            sides.append((e, x, x1 if e1 == e else 1.0))
+    return points, np.array(sides)
+
+
+def _curves(tooth: ToothMesh, points: NDArray[np.float64], sides: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+    """Each side as ``CURVE_POINTS`` points: its structured edge's parabola, or the cut's line."""
+    edges = ol.outline_edges(tooth)
+    s = np.linspace(0.0, 1.0, CURVE_POINTS)
+    return [points[i] + s[:, None] * (points[(i + 1) % len(points)] - points[i]) if e < 0 else
+            ol.edge_point(tooth.nodes[edges[int(e)]], np.linspace(x0, x1, CURVE_POINTS))
+            for i, (e, x0, x1) in enumerate(sides)]
+
+
+def _onto_cut(nodes: NDArray[np.float64], inner: NDArray[np.intp], p: NDArray[np.float64],
+              q: NDArray[np.float64]) -> None:
+    """Put gmsh's nodes ``inner`` of the cut ``p q`` on the line, each mid-side node halfway
+    between its corners (in place)."""
+    d = q - p
+    u = (nodes[inner] - p) @ d / float(d @ d)
+    order = np.argsort(u)
+    u = np.concatenate([[0.0], u[order], [1.0]])
+    u[1::2] = 0.5 * (u[:-1:2] + u[2::2])
+    nodes[inner[order]] = p + u[1:-1, None] * d
+
+
+def _mesh(tooth: ToothMesh, points: NDArray[np.float64], sides: NDArray[np.float64], size: float) -> GmshQuads:
+    """gmsh's mesh of the polygon at ``size``, or at a smaller share of it if gmsh's full-quad
+    recombination refuses (as :func:`spurdyn.mesh.cracked._mesh`); the last refusal raised."""
+    curves = _curves(tooth, points, sides)
+    for share in RETRY_SHARES[:-1]:
+        try:
+            return mesh_region(curves, share * size, "fault.size")
+        except InputError:
+            continue
+    return mesh_region(curves, RETRY_SHARES[-1] * size, "fault.size")
+
+
+def chipped_tooth(tooth: ToothMesh, cut: NDArray[np.float64], size: float | None = None) -> CrackedTooth:
+    """Mesh ``tooth``'s outline again with its right tip corner cut off along ``cut``
+    (:func:`chip_cut`): a :class:`~spurdyn.mesh.cracked.CrackedTooth` with no seam (``tip``
+    -1), its ``structured`` map -1 at the structured nodes the chip took (and inside).
+
+    Raises
+    ------
+    InputError
+        ``fault.size`` for a size out of range or a mesh gmsh could not make of quads with
+        positive Jacobians.
+    """
+    points, sides = _polygon(tooth, np.asarray(cut, dtype=float))
+    size = default_size(tooth) if size is None else float(size)
+    if not size > 0.0:
+        raise InputError("fault.size", f"must be above 0 (got {size!r})")
+    quads = _mesh(tooth, points, sides, size)
+    line = int(np.flatnonzero(sides[:, 0] < 0)[0])
+    structured = sides[:, 0] >= 0
+    nodes = _onto_outline(replace(quads, sides=tuple(s for s, k in zip(quads.sides, structured) if k)),
+                          tooth, points, sides[structured])
+    _onto_cut(nodes, quads.sides[line], points[line], points[(line + 1) % len(points)])
+    elements = counter_clockwise(nodes, quads.elements)
+    if not np.all(jacobian_determinants(nodes, elements) > 0.0):
+        raise InputError("fault.size", "an element of the chipped mesh has a non-positive Jacobian; "
+                         "try another element size")
+    return CrackedTooth(nodes=nodes, elements=elements, structured=_structured_map(tooth, nodes, points),
+                        seam=np.zeros((0, 2), dtype=np.intp), normal=np.zeros((0, 2)), tip=-1)
+
+
+def _structured_map(tooth: ToothMesh, nodes: NDArray[np.float64], points: NDArray[np.float64]) -> NDArray[np.intp]:
+    """For each structured node the node at the same place, -1 if none; checks that every
+    structured outline node among the polygon's points maps."""
+    from scipy.spatial import cKDTree
+
+    tol = SAME_PLACE * float(np.max(np.hypot(*tooth.nodes.T)))
+    dist, near = cKDTree(nodes).query(tooth.nodes)
+    out = np.where(dist <= tol, near, -1).astype(np.intp)
+    kept = cKDTree(points).query(tooth.nodes)[0] <= tol
+    if np.any(out[kept] < 0):
+        raise RuntimeError("an outline node of the structured mesh below the cut was lost")
+    return out
+
+
+def chip_area(tooth: ToothMesh, cut: NDArray[np.float64], per_edge: int = 4000) -> float:
+    """The area the chip takes from ``tooth``'s structured outline (m^2): the region between
+    the cut and the outline's quadratic edges above it, by the shoelace formula on
+    ``per_edge`` points an edge (for checks)."""
+    points, sides = _polygon(tooth, cut)
+    edges = ol.outline_edges(tooth)
+    line = int(np.flatnonzero(sides[:, 0] < 0)[0])
+    (kf, xf), (kt, xt) = sides[line - 1, 0::2].astype(float), sides[line + 1, :2]
+    pieces = [ol.edge_point(tooth.nodes[edges[int(kf)]], np.linspace(xf, 1.0, per_edge))]
+    pieces += [ol.edge_point(tooth.nodes[edges[e]], np.linspace(-1.0, 1.0, per_edge))
+               for e in range(int(kf) + 1, int(kt))]
+    pieces += [ol.edge_point(tooth.nodes[edges[int(kt)]], np.linspace(-1.0, xt, per_edge))]
+    ring = np.concatenate(pieces)
+    x, y = ring.T
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+__all__ = ["chip_area", "chip_cut", "chipped_tooth"]

@@ -12,7 +12,7 @@ place; those above it are gone (:attr:`CrackedTooth.structured` -1 there).
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,6 +27,23 @@ from spurdyn.mesh.tooth import ToothMesh
 
 #: Edge parameters closer than this are one point of the outline (a cut on a node).
 SAME_PARAMETER = 1e-9
+
+
+@dataclass(frozen=True)
+class ChippedTooth(CrackedTooth):
+    """A chipped tooth's mesh: a :class:`~spurdyn.mesh.cracked.CrackedTooth` with no seam,
+    and ``stand_in``: its ``structured`` map with the right outline's nodes above the cut
+    (gone) mapped to the node at the cut's flank end, which stands in for them where a
+    contact's strip reaches past the cut (docs/faults.md, "A chipped tip"). The sector mesh's
+    tooth rows hold ``stand_in``; ``structured`` keeps -1 there (the outline's ties).
+    ``ties`` ``(T, 4)`` (node, three parents) and ``tie_weights`` ``(T, 3)``: the nodes
+    gmsh put on the flank edge the cut splits, held to the quadratic through its lower
+    corner, a middle node and the cut's node (as the structured edges' extra nodes are held
+    to theirs, :func:`~spurdyn.mesh.cracked.outline_ties`)."""
+
+    stand_in: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
+    ties: NDArray[np.intp] = field(default_factory=lambda: np.zeros((0, 4), dtype=np.intp))
+    tie_weights: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
 
 
 def chip_cut(tooth: ToothMesh, tip_radius: float, height: float, width: float) -> NDArray[np.float64]:
@@ -69,13 +86,18 @@ def chip_cut(tooth: ToothMesh, tip_radius: float, height: float, width: float) -
     return np.array([flank, ol.edge_point(xyz, xi)])
 
 
-def _polygon(tooth: ToothMesh, cut: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The polygon gmsh meshes: every structured outline node below the cut, the cut's ends.
+def _polygon(tooth: ToothMesh, cut: NDArray[np.float64] | None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The polygon gmsh meshes: every structured outline node below the cut, the cut's ends
+    (with no cut, every structured outline node).
 
     Returns ``points`` ``(P, 2)`` counter-clockwise and ``sides`` ``(P, 3)``: each side's
     structured edge and its ends' parameters, or ``(-1, 0, 1)`` for the cut (a straight
     line from its first point to the next)."""
     nodes, edges = tooth.nodes, ol.outline_edges(tooth)
+    if cut is None:             # no chip: the whole outline, meshed again (the reference)
+        marks0 = [(e, x) for e in range(edges.shape[0]) for x in (-1.0, 0.0)]
+        return (np.array([ol.edge_point(nodes[edges[e]], x) for e, x in marks0]),
+                np.array([(e, x, 0.0 if x < 0.0 else 1.0) for e, x in marks0]))
     (kf, xf, df), (kt, xt, dt) = ol.locate_many(nodes, edges, cut)
     r_tip = float(np.max(np.hypot(*nodes.T)))
     if max(df, dt) > 1e-9 * r_tip or not kf < kt:
@@ -133,10 +155,12 @@ def _mesh(tooth: ToothMesh, points: NDArray[np.float64], sides: NDArray[np.float
     return mesh_region(curves, RETRY_SHARES[-1] * size, "fault.size")
 
 
-def chipped_tooth(tooth: ToothMesh, cut: NDArray[np.float64], size: float | None = None) -> CrackedTooth:
+def chipped_tooth(tooth: ToothMesh, cut: NDArray[np.float64] | None, size: float | None = None) -> ChippedTooth:
     """Mesh ``tooth``'s outline again with its right tip corner cut off along ``cut``
-    (:func:`chip_cut`): a :class:`~spurdyn.mesh.cracked.CrackedTooth` with no seam (``tip``
-    -1), its ``structured`` map -1 at the structured nodes the chip took (and inside).
+    (:func:`chip_cut`): a :class:`ChippedTooth`, no seam (``tip`` -1), its ``structured``
+    map -1 at the structured nodes the chip took (and inside).
+    ``cut`` ``None`` meshes the whole outline so: the chip of no size, the reference a
+    chip's own effect is measured from (the finer mesh alone softens the cell).
 
     Raises
     ------
@@ -144,22 +168,61 @@ def chipped_tooth(tooth: ToothMesh, cut: NDArray[np.float64], size: float | None
         ``fault.size`` for a size out of range or a mesh gmsh could not make of quads with
         positive Jacobians.
     """
-    points, sides = _polygon(tooth, np.asarray(cut, dtype=float))
+    points, sides = _polygon(tooth, None if cut is None else np.asarray(cut, dtype=float))
     size = default_size(tooth) if size is None else float(size)
     if not size > 0.0:
         raise InputError("fault.size", f"must be above 0 (got {size!r})")
     quads = _mesh(tooth, points, sides, size)
-    line = int(np.flatnonzero(sides[:, 0] < 0)[0])
     structured = sides[:, 0] >= 0
     nodes = _onto_outline(replace(quads, sides=tuple(s for s, k in zip(quads.sides, structured) if k)),
                           tooth, points, sides[structured])
-    _onto_cut(nodes, quads.sides[line], points[line], points[(line + 1) % len(points)])
+    for line in np.flatnonzero(~structured):
+        _onto_cut(nodes, quads.sides[line], points[line], points[(line + 1) % len(points)])
     elements = counter_clockwise(nodes, quads.elements)
     if not np.all(jacobian_determinants(nodes, elements) > 0.0):
         raise InputError("fault.size", "an element of the chipped mesh has a non-positive Jacobian; "
                          "try another element size")
-    return CrackedTooth(nodes=nodes, elements=elements, structured=_structured_map(tooth, nodes, points),
-                        seam=np.zeros((0, 2), dtype=np.intp), normal=np.zeros((0, 2)), tip=-1)
+    structured_map = _structured_map(tooth, nodes, points)
+    stand_in = structured_map.copy()
+    ties, weights = np.zeros((0, 4), dtype=np.intp), np.zeros((0, 3))
+    if cut is not None:
+        right = tooth.side("right")
+        corner = int(np.argmin(np.hypot(*(nodes - np.asarray(cut, dtype=float)[0]).T)))
+        stand_in[right[structured_map[right] < 0]] = corner
+        ties, weights = _split_ties(tooth, nodes, quads, points, sides)
+    return ChippedTooth(nodes=nodes, elements=elements, structured=structured_map,
+                        seam=np.zeros((0, 2), dtype=np.intp), normal=np.zeros((0, 2)), tip=-1,
+                        stand_in=stand_in, ties=ties, tie_weights=weights)
+
+
+def _split_ties(tooth: ToothMesh, nodes: NDArray[np.float64], quads: GmshQuads, points: NDArray[np.float64],
+                sides: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+    """The ties of the split flank edge's nodes (:class:`ChippedTooth`): each node gmsh put
+    on the edge's kept piece ``[-1, xi_cut]`` as the quadratic (Lagrange) interpolation in
+    the edge's parameter through the lower corner, the middle (the structured mid-side
+    node if kept, else gmsh's node nearest the piece's middle) and the cut's node."""
+    from scipy.spatial import cKDTree
+
+    line = int(np.flatnonzero(sides[:, 0] < 0)[0])
+    k = int(sides[line - 1, 0])
+    mine = [i for i in range(len(sides)) if int(sides[i, 0]) == k]
+    xyz = tooth.nodes[ol.outline_edges(tooth)[k]]
+    at = cKDTree(nodes).query(points[mine + [line]])[1]          # the pieces' ends, the cut's node
+    inner = np.concatenate([quads.sides[i] for i in mine] + [at[1:-1]]).astype(np.intp)
+    xi = np.array([ol.project(xyz, nodes[n], 0.0) for n in inner])
+    s_cut = float(sides[line - 1, 2])
+    if len(mine) > 1:
+        middle, s_mid = int(at[1]), 0.0
+    else:
+        j = int(np.argmin(np.abs(xi - 0.5 * (s_cut - 1.0))))
+        middle, s_mid = int(inner[j]), float(xi[j])
+    keep = inner != middle
+    inner, xi = inner[keep], xi[keep]
+    knots = np.array([-1.0, s_mid, s_cut])
+    w = np.stack([np.prod([(xi - knots[b]) / (knots[a] - knots[b]) for b in range(3) if b != a], axis=0)
+                  for a in range(3)], axis=1)
+    parents = np.tile([int(at[0]), middle, int(at[-1])], (inner.size, 1))
+    return np.column_stack([inner, parents]).astype(np.intp), w
 
 
 def _structured_map(tooth: ToothMesh, nodes: NDArray[np.float64], points: NDArray[np.float64]) -> NDArray[np.intp]:
@@ -193,4 +256,4 @@ def chip_area(tooth: ToothMesh, cut: NDArray[np.float64], per_edge: int = 4000) 
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
-__all__ = ["chip_area", "chip_cut", "chipped_tooth"]
+__all__ = ["ChippedTooth", "chip_area", "chip_cut", "chipped_tooth"]

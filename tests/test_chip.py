@@ -105,6 +105,24 @@ def test_the_chipped_mesh_loses_the_corners_area_and_the_flank_above_the_cut():
     np.testing.assert_allclose(held, chip.nodes[chip.ties[:, 0]], atol=1e-9 * g.tip_radius)
 
 
+def test_a_strip_reaching_past_the_cut_loads_the_cut_node_whole():
+    """A strip just below the cut whose flank element the cut splits: its share beyond the
+    cut goes to the cut's node, and the tooth's nodal forces add up to the unit normal
+    force still (each copy of the standing-in node added, none overwritten)."""
+    from spurdyn.sector.body import sector_body
+
+    g = PAIR.gear_a
+    mesh = chipped_mesh(g, CHIP_A, NX, NY, 1.0)
+    body = sector_body(g, 3, NX, NY, first=-1, cracked={0: mesh})
+    r = g.tip_radius - 1.05 * CHIP_A.height
+    f = body.load(0, r, 0.2e-3).reshape(-1, 2)
+    normal = g.flank_normal(np.asarray(r))
+    assert np.hypot(*f.sum(axis=0)) == pytest.approx(float(np.hypot(*normal)), rel=1e-12)
+    corner = int(np.argmin(np.hypot(*(body.mesh.nodes - chip_cut(body_cell(g, NX, NY), g.tip_radius, CHIP_A.height,
+                                                                   CHIP_A.width)[0]).T)))
+    assert np.hypot(*f[corner]) > 0.0
+
+
 @pytest.fixture(scope="module")
 def revolution():
     """The paper pair's revolution with a chip on the pinion's tooth 5 and the wheel's 15."""

@@ -232,7 +232,8 @@ class SectorModel:
             loads = np.zeros(blk.mass.size)
             for j, r, b, fj in zip(js, contact_radii(dp, rolls0)[g], hw0, f0):
                 if fj:
-                    loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
+                    # added at each place: a chipped flank's cut node stands in for several
+                    np.add.at(loads, blk.flank_dofs(sign * j), fj * blk.flank_load(sign * j, float(r), float(b)))
             q[self.parts[g]][1:] = self.gears[g].static(loads)
         q[0] = e0 / ra
         force[np.searchsorted(self.teeth, js)] = f0      # the drive flanks come first

@@ -27,6 +27,8 @@ page (``docs/``)                module                 what
 ``engineer_defaults.md``        ``engineer``           bare case files by default: settled, rated
 ``faults_validation.md``        ``faults``             a root crack against the energy method
 ``faults_dynamics.md``          ``fault_dynamics``     a root crack at speed: sidebands, indicators
+``faults_flanks.md``            ``fault_flanks``       spalls and chipped tips: the contact lost, the
+                                                       signature over the revolution
 ``fracture.md`` (printed)       ``fracture``           stress intensity factors against the handbooks
 ==============================  =====================  ===============================================
 
@@ -54,6 +56,7 @@ PAGES = {
     "engineer_defaults": "engineer",
     "faults_validation": "faults",
     "faults_dynamics": "fault_dynamics",
+    "faults_flanks": "fault_flanks",
     "fracture": "fracture",
 }
 

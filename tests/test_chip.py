@@ -24,8 +24,8 @@ from spurdyn.sector.statics import contact_law, driving_pair, sector_bodies, sol
 # the coarse mesh and positions of tests/test_faults.py
 NX, NY, POSITIONS = 2, 4, 9
 PAIR = paper_pair()
-CHIP_A = Fault("a", 5, "chip", height=1.0e-3, width=0.5e-3)
-CHIP_B = Fault("b", 15, "chip", height=1.0e-3, width=0.5e-3)
+CHIP_A = Fault("a", 5, "chip", depth=1.0e-3, width=0.5e-3)
+CHIP_B = Fault("b", 15, "chip", depth=1.0e-3, width=0.5e-3)
 
 
 def _area(nodes, elements) -> float:
@@ -71,13 +71,23 @@ def test_chip_tables_refused_by_the_key_written():
     with pytest.raises(InputError) as err:
         parse_fault_option("gear=a,tooth=5,kind=chip,height=1e-3", PAIR)
     assert err.value.field == "--fault" and "width" in err.value.reason
+    # a sweep's size is the chip's height, each checked as the table's
+    from types import SimpleNamespace
+
+    from spurdyn.sweep.faults import _check_size, size_of
+
+    assert size_of(CHIP_A) == CHIP_A.depth
+    _check_size(SimpleNamespace(pair=PAIR), CHIP_A, 2e-3)
+    with pytest.raises(InputError) as err:
+        _check_size(SimpleNamespace(pair=PAIR), CHIP_A, 1.01 * (g.tip_radius - low))
+    assert err.value.field == "--fault-size" and "height" in err.value.reason
 
 
 def test_the_chipped_mesh_loses_the_corners_area_and_the_flank_above_the_cut():
     g = PAIR.gear_a
     cell = body_cell(g, NX, NY)
-    cut = chip_cut(cell, g.tip_radius, CHIP_A.height, CHIP_A.width)
-    assert np.hypot(*cut[0]) == pytest.approx(g.tip_radius - CHIP_A.height, rel=1e-12)
+    cut = chip_cut(cell, g.tip_radius, CHIP_A.depth, CHIP_A.width)
+    assert np.hypot(*cut[0]) == pytest.approx(g.tip_radius - CHIP_A.depth, rel=1e-12)
     chip = chipped_tooth(cell, cut)
     assert np.all(jacobian_determinants(chip.nodes, chip.elements) > 0.0)
     assert np.unique(chip.elements).size == chip.nodes.shape[0]
@@ -89,9 +99,9 @@ def test_the_chipped_mesh_loses_the_corners_area_and_the_flank_above_the_cut():
     # ... and that corner is the exact tooth's (the involute above the cut, the tip circle's
     # arc of the width) within the coarse outline's interpolation error (2.8e-4 at 2 x 4,
     # 4e-6 at 4 x 14)
-    assert abs(corner / _exact_corner(g, CHIP_A.height, CHIP_A.width) - 1.0) < 1e-3
+    assert abs(corner / _exact_corner(g, CHIP_A.depth, CHIP_A.width) - 1.0) < 1e-3
     right = cell.side("right")
-    above = np.hypot(*cell.nodes[right].T) > g.tip_radius - CHIP_A.height
+    above = np.hypot(*cell.nodes[right].T) > g.tip_radius - CHIP_A.depth
     assert above.any() and np.all(chip.structured[right[above]] < 0)
     assert np.all(chip.structured[right[~above]] >= 0)
     # the cut's node stands in for the flank above the cut
@@ -114,11 +124,11 @@ def test_a_strip_reaching_past_the_cut_loads_the_cut_node_whole():
     g = PAIR.gear_a
     mesh = chipped_mesh(g, CHIP_A, NX, NY, 1.0)
     body = sector_body(g, 3, NX, NY, first=-1, cracked={0: mesh})
-    r = g.tip_radius - 1.05 * CHIP_A.height
+    r = g.tip_radius - 1.05 * CHIP_A.depth
     f = body.load(0, r, 0.2e-3).reshape(-1, 2)
     normal = g.flank_normal(np.asarray(r))
     assert np.hypot(*f.sum(axis=0)) == pytest.approx(float(np.hypot(*normal)), rel=1e-12)
-    corner = int(np.argmin(np.hypot(*(body.mesh.nodes - chip_cut(body_cell(g, NX, NY), g.tip_radius, CHIP_A.height,
+    corner = int(np.argmin(np.hypot(*(body.mesh.nodes - chip_cut(body_cell(g, NX, NY), g.tip_radius, CHIP_A.depth,
                                                                    CHIP_A.width)[0]).T)))
     assert np.hypot(*f[corner]) > 0.0
 
@@ -172,10 +182,10 @@ def test_a_very_small_chip_tends_to_the_uncut_cell():
     law = contact_law(dp, PAPER_TORQUE, sector_bodies(dp, 4, NX, NY))
     # pair 1 (body tooth 1) from entering to below the largest chip's cut
     rolls = dp.start_roll_a + pitch * np.linspace(0.0, 0.45, 4)
-    assert rolls[-1] + pitch < chip_roll(g, Fault("a", 0, "chip", height=0.4e-3))
+    assert rolls[-1] + pitch < chip_roll(g, Fault("a", 0, "chip", depth=0.4e-3))
 
     def approach(height: float) -> np.ndarray:
-        mesh = chipped_mesh(g, Fault("a", 0, "chip", height=height, width=height), NX, NY, 1.0)
+        mesh = chipped_mesh(g, Fault("a", 0, "chip", depth=height, width=height), NX, NY, 1.0)
         bodies = sector_bodies(dp, 4, NX, NY, cracked=({1: mesh}, {}))
         return np.array([solve_position(law, float(r), bodies=bodies)[2] for r in rolls])
 
@@ -199,7 +209,7 @@ def test_a_dynamic_run_with_chips_loads_no_flank_beyond_the_cut_compiled_as_nump
     from spurdyn.solvers.sector.stepper import SectorRecord, make_stepper
 
     small = GearPair(gear_a=replace(PAIR.gear_a, teeth=18), gear_b=replace(PAIR.gear_b, teeth=18), driver="a")
-    chips = (Fault("a", 0, "chip", height=1e-3, width=5e-4), Fault("b", 1, "chip", height=1e-3, width=5e-4))
+    chips = (Fault("a", 0, "chip", depth=1e-3, width=5e-4), Fault("b", 1, "chip", depth=1e-3, width=5e-4))
     s = run_settings(small, 8000 * RPM, 22.25, model="sector", cycles=2, faults=chips, nx=NX, ny=NY)
     model = SectorModel.build(small, s)
     n, n_numpy = 2 * model.per_cycle, 3 * model.per_cycle // 2

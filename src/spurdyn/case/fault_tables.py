@@ -136,7 +136,7 @@ def _chip(table: dict[str, Any], where: str, pair: GearPair, gear: str, tooth: i
     if not width < land:
         raise InputError(f"{where}.width", f"must be less than the top land of gear_{gear}, "
                          f"{land * 1e3:.4g} mm along the tip circle (got {width * 1e3:.4g} mm)")
-    return Fault(gear=gear, tooth=tooth, kind="chip", height=height, width=width)
+    return Fault(gear=gear, tooth=tooth, kind="chip", depth=height, width=width)
 
 
 def fault_to_table(fault: Fault) -> dict[str, Any]:
@@ -153,7 +153,7 @@ def fault_to_table(fault: Fault) -> dict[str, Any]:
         if fault.start is not None:
             table["start_radius"] = fault.start
     elif fault.kind == "chip":
-        table.update(height=fault.height, width=fault.width)
+        table.update(height=fault.depth, width=fault.width)
     return table
 
 

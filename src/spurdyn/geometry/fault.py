@@ -42,7 +42,9 @@ class Fault:
         A spall's stretch of the faulty flank: its gear's own roll angles (rad) at the
         pit's two ends, ``roll[0] < roll[1]``; ``None`` for a missing tooth.
     depth
-        A spall's depth normal to the flank, a crack's length (m); 0 for a missing tooth.
+        A spall's depth normal to the flank, a crack's length, a chip's height (its cut leaves
+        the loaded flank at radius ``r_a - depth``) (m): the fault's size; 0 for a missing
+        tooth.
     width_fraction
         The share of the face width the spall covers, ``(0, 1]``; 1 for the other kinds.
     angle
@@ -50,8 +52,6 @@ class Fault:
         the mesher's default (:func:`spurdyn.mesh.cracked.crack_path`).
     start
         The radius of a crack's mouth on the fillet (m); ``None``: the mesher's default.
-    height
-        A chip's height (m): the cut leaves the loaded flank at radius ``r_a - height``.
     width
         A chip's width (m): the cut meets the top land this far from the loaded flank's
         tip corner, measured along the tip circle's arc.
@@ -65,7 +65,6 @@ class Fault:
     width_fraction: float = 1.0
     angle: float | None = None
     start: float | None = None
-    height: float = 0.0
     width: float = 0.0
 
     def covers(self, roll: float) -> bool:
@@ -84,8 +83,9 @@ def active_rolls(pair: GearPair, gear: str) -> tuple[float, float]:
 
 def chip_roll(gear: Gear, fault: Fault) -> float:
     """The roll angle (rad) of a chip's cut on its gear's loaded flank: the involute point
-    of radius ``r_a - height``; the flank beyond it (toward the tip) is gone."""
-    r = gear.tip_radius - fault.height
+    of radius ``r_a - height`` (``fault.depth``); the flank beyond it (toward the tip) is
+    gone."""
+    r = gear.tip_radius - fault.depth
     return math.sqrt(max(r * r - gear.base_radius ** 2, 0.0)) / gear.base_radius
 
 

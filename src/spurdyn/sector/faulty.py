@@ -202,9 +202,9 @@ def chipped_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> 
     from spurdyn.mesh.chipped import chip_cut, chipped_tooth
 
     cell = body_cell(gear, nx, ny, grading)
-    if fault.height == 0.0:         # a chip of no size: the cell meshed again, uncut
+    if fault.depth == 0.0:         # a chip of no size: the cell meshed again, uncut
         return chipped_tooth(cell, None)
-    return chipped_tooth(cell, chip_cut(cell, gear.tip_radius, fault.height, fault.width))
+    return chipped_tooth(cell, chip_cut(cell, gear.tip_radius, fault.depth, fault.width))
 
 
 def fault_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> Any:

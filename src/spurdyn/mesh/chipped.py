@@ -27,6 +27,9 @@ from spurdyn.mesh.tooth import ToothMesh
 
 #: Edge parameters closer than this are one point of the outline (a cut on a node).
 SAME_PARAMETER = 1e-9
+#: Largest relative difference between the mesh's area and its outline's (the outline
+#: sampled finely, :func:`_enclosed`): beyond it a node was put on the wrong side.
+AREA_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -103,6 +106,9 @@ def _polygon(tooth: ToothMesh, cut: NDArray[np.float64] | None) -> tuple[NDArray
     if max(df, dt) > 1e-9 * r_tip or not kf < kt:
         raise InputError("fault.cut", "the cut's ends must lie on the right outline and then the tip "
                          "(chip_cut puts them there)")
+    # an end on an edge's far corner is the next edge's near corner (no side of no length)
+    kf, xf = (kf + 1, -1.0) if xf > 1.0 - SAME_PARAMETER else (kf, xf)
+    kt, xt = (kt + 1, -1.0) if xt > 1.0 - SAME_PARAMETER else (kt, xt)
     marks: list[tuple[int, float]] = []        # (edge, parameter) of the polygon's points
     for e in range(edges.shape[0]):
         if e < kf or e > kt:
@@ -143,16 +149,54 @@ def _onto_cut(nodes: NDArray[np.float64], inner: NDArray[np.intp], p: NDArray[np
     nodes[inner[order]] = p + u[1:-1, None] * d
 
 
-def _mesh(tooth: ToothMesh, points: NDArray[np.float64], sides: NDArray[np.float64], size: float) -> GmshQuads:
-    """gmsh's mesh of the polygon at ``size``, or at a smaller share of it if gmsh's full-quad
-    recombination refuses (as :func:`spurdyn.mesh.cracked._mesh`); the last refusal raised."""
+def _mesh(tooth: ToothMesh, points: NDArray[np.float64], sides: NDArray[np.float64],
+          size: float) -> tuple[GmshQuads, NDArray[np.float64], NDArray[np.intp]]:
+    """gmsh's mesh of the polygon at ``size`` put on the outline (:func:`_placed`), or at a
+    smaller share of it if gmsh's full-quad recombination refuses or the placed mesh is bad
+    (as :func:`spurdyn.mesh.cracked._mesh`); the last refusal raised."""
     curves = _curves(tooth, points, sides)
-    for share in RETRY_SHARES[:-1]:
+    enclosed = _enclosed(tooth, points, sides)
+    for i, share in enumerate(RETRY_SHARES):
         try:
-            return mesh_region(curves, share * size, "fault.size")
+            quads = mesh_region(curves, share * size, "fault.size")
+            nodes, elements = _placed(tooth, quads, points, sides, enclosed)
+            return quads, nodes, elements
         except InputError:
-            continue
-    return mesh_region(curves, RETRY_SHARES[-1] * size, "fault.size")
+            if i == len(RETRY_SHARES) - 1:
+                raise
+    raise AssertionError("unreachable")
+
+
+def _enclosed(tooth: ToothMesh, points: NDArray[np.float64], sides: NDArray[np.float64],
+              per_side: int = 400) -> float:
+    """The polygon's area (m^2) on its parabolas and the cut: the shoelace formula on
+    ``per_side`` points of each side."""
+    edges = ol.outline_edges(tooth)
+    ring = np.concatenate([points[i][None] if e < 0 else
+                           ol.edge_point(tooth.nodes[edges[int(e)]], np.linspace(x0, x1, per_side + 1)[:-1])
+                           for i, (e, x0, x1) in enumerate(sides)])
+    x, y = ring.T
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _placed(tooth: ToothMesh, quads: GmshQuads, points: NDArray[np.float64], sides: NDArray[np.float64],
+            enclosed: float) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+    """gmsh's nodes put on the outline's parabolas and the cut, the elements counter-clockwise;
+    ``fault.size`` if a Jacobian is not positive or the mesh's area is not the polygon's
+    ``enclosed`` (a node gmsh gave the wrong side would fold the mesh over)."""
+    structured = sides[:, 0] >= 0
+    nodes = _onto_outline(replace(quads, sides=tuple(s for s, k in zip(quads.sides, structured) if k)),
+                          tooth, points, sides[structured])
+    for line in np.flatnonzero(~structured):
+        _onto_cut(nodes, quads.sides[line], points[line], points[(line + 1) % len(points)])
+    elements = counter_clockwise(nodes, quads.elements)
+    det = jacobian_determinants(nodes, elements)
+    from spurdyn.fem.element import gauss_2d
+
+    if not np.all(det > 0.0) or abs(float((det * gauss_2d(3)[1]).sum()) / enclosed - 1.0) > AREA_TOLERANCE:
+        raise InputError("fault.size", "the chipped mesh has a non-positive Jacobian or does not fill its "
+                         "outline; try another element size")
+    return nodes, elements
 
 
 def chipped_tooth(tooth: ToothMesh, cut: NDArray[np.float64] | None, size: float | None = None) -> ChippedTooth:
@@ -172,16 +216,7 @@ def chipped_tooth(tooth: ToothMesh, cut: NDArray[np.float64] | None, size: float
     size = default_size(tooth) if size is None else float(size)
     if not size > 0.0:
         raise InputError("fault.size", f"must be above 0 (got {size!r})")
-    quads = _mesh(tooth, points, sides, size)
-    structured = sides[:, 0] >= 0
-    nodes = _onto_outline(replace(quads, sides=tuple(s for s, k in zip(quads.sides, structured) if k)),
-                          tooth, points, sides[structured])
-    for line in np.flatnonzero(~structured):
-        _onto_cut(nodes, quads.sides[line], points[line], points[(line + 1) % len(points)])
-    elements = counter_clockwise(nodes, quads.elements)
-    if not np.all(jacobian_determinants(nodes, elements) > 0.0):
-        raise InputError("fault.size", "an element of the chipped mesh has a non-positive Jacobian; "
-                         "try another element size")
+    quads, nodes, elements = _mesh(tooth, points, sides, size)
     structured_map = _structured_map(tooth, nodes, points)
     stand_in = structured_map.copy()
     ties, weights = np.zeros((0, 4), dtype=np.intp), np.zeros((0, 3))

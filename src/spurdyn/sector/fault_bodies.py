@@ -138,8 +138,7 @@ def gear_faults(dp: GearPair, driver: str, faults: tuple[Fault, ...], firsts: tu
 def _one_split(gears: list[GearFaults], faults: tuple[Fault, ...]) -> None:
     """Refuse (``fault``) spalls over part of the face width on both gears: a pair splits
     into two rows, the intact strip and the pit's (docs/faults.md, section 8), not four."""
-    partial = [bool(np.any((gf.pits[..., 3] > 0.0) & (gf.pits[..., 3] < 1.0))) for gf in gears]
-    if all(partial):
+    if all(any_split((gf,)) for gf in gears):
         teeth = ", ".join(f"{f.gear}{f.tooth}" for f in faults if f.kind == "spall" and f.width_fraction < 1.0)
         raise InputError("fault", f"a dynamic run takes spalls over part of the face width on one gear only (got "
                          f"{teeth}): give width_fraction = 1 to those of one gear; `spurdyn stiffness` takes any")
@@ -165,6 +164,19 @@ def split_rows(faults: tuple[GearFaults, GearFaults], at: tuple[NDArray[np.intp]
     share = np.where(kind == 1, 1.0 - w, np.where(kind == 2, w, 1.0))
     held = row_forces(kind, share, force[idx], pit[idx])
     return idx, kind, share, np.where(kind == 2, depths[idx], 0.0), held
+
+
+def any_split(faults: tuple[GearFaults, ...] | None) -> bool:
+    """Whether a spall over part of the face width splits pairs (docs/faults.md, section 8)."""
+    return bool(faults) and any(bool(np.any((gf.pits[..., 3] > 0.0) & (gf.pits[..., 3] < 1.0))) for gf in faults)
+
+
+def strip_excess(kind: NDArray[np.intp] | None, share: NDArray[np.float64] | None, c_h: float) -> Any:
+    """The split rows' (:func:`split_rows`' ``kind``, ``share``) strip compliances
+    ``c_H / s`` beyond the ``c_H`` of every row: a diagonal, 0 where no row is split."""
+    if kind is None or not kind.any():
+        return 0.0
+    return np.diag(np.where(kind > 0, c_h / share - c_h, 0.0))
 
 
 def pit_shares(faults: tuple[GearFaults, GearFaults], at: tuple[NDArray[np.intp], NDArray[np.intp]],
@@ -214,4 +226,4 @@ def cracked_meshes(dp: GearPair, faults: GearFaults, g: int, nx: int, ny: int, g
 
 
 __all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults", "no_lost",
-           "pit_shares", "row_forces", "split_rows"]
+           "any_split", "pit_shares", "row_forces", "split_rows", "strip_excess"]

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -32,8 +31,8 @@ from spurdyn.sector.cyclic import statics_body
 from spurdyn.geometry.fault import faulty_cycles
 from spurdyn.sector.damper import mesh_damper_table
 from spurdyn.sector.faces import crack_faces
-from spurdyn.sector.fault_bodies import (GearFaults, check_cracked_flanks, cracked_meshes, gear_faults, no_lost,
-                                         split_rows)
+from spurdyn.sector.fault_bodies import (GearFaults, any_split, check_cracked_flanks, cracked_meshes, gear_faults,
+                                         no_lost, split_rows, strip_excess)
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
 from spurdyn.sector.reduced import reduce_gear
@@ -112,6 +111,7 @@ class SectorModel:
         (first_a, count_a), (first_b, count_b) = teeth_for(dp, cover, back, settings.teeth)
         mesh_keys = (settings.nx, settings.ny, settings.grading)
         self.faults = faults = _faults(pair, settings, ((first_a, count_a), (first_b, count_b)))
+        self.splits = any_split(faults)     # a spall over part of the face width splits its pairs
         self.blocks = blocks = tuple(
             _block(dp, g, sense, first, count, mesh_keys, faults[g] if faults else None)
             for g, (sense, first, count) in enumerate(((1.0, first_a, count_a), (-1.0, first_b, count_b))))
@@ -352,7 +352,7 @@ class SectorModel:
         """Whether those contacts lie, at their rolls on the path ``rolls`` (broadcast with
         ``k``), where a chip took their flank (twin in ``rows_compiled.contact_rows``)."""
         out = np.zeros(np.broadcast(k, rolls).shape, dtype=bool)
-        for gf, at in zip(self.faults, self._at(k, sd)):
+        for gf, at in zip(self.faults, self.flank_places(k, sd)):
             span = gf.lost[at, sd]
             out |= (span[..., 0] <= rolls) & (rolls <= span[..., 1])
         return out
@@ -400,24 +400,13 @@ class SectorModel:
             w_dd += z[0] * np.outer(coef, coef)
             res += body.residual(elastic)
             cols.append(full)
-        return w, w_gd, w_dd, res + self._strips(rows), cols
+        return w, w_gd, w_dd, res + strip_excess(rows.kind, rows.share, self.c_h), cols
 
     def contact_compliance(self, rows: Rows) -> NDArray[np.float64]:
         """``C_s = c_H I + b_i^T R b_j``: the pairs' compliance without inertia (RK4's)."""
         res = sum(self.gears[g].residual(el) for g, (_, el) in enumerate(rows.sides))
-        return res + self._strips(rows) + self.c_h * np.eye(rows.on.size)
+        return res + strip_excess(rows.kind, rows.share, self.c_h) + self.c_h * np.eye(rows.on.size)
 
-    def _strips(self, rows: Rows) -> Any:
-        """The split rows' strip compliances ``c_H / s`` beyond ``c_H`` (diagonal; 0 unsplit)."""
-        if rows.kind is None or not rows.kind.any():
-            return 0.0
-        return np.diag(np.where(rows.kind > 0, self.c_h / rows.share - self.c_h, 0.0))
-
-    @cached_property
-    def splits(self) -> bool:
-        """A spall over part of the face width splits its pairs (docs/faults.md, section 8)."""
-        return bool(self.faults) and any(bool(np.any((gf.pits[..., 3] > 0.0) & (gf.pits[..., 3] < 1.0)))
-                                         for gf in self.faults)
 
     def columns_times(self, cols: list[NDArray[np.float64]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
         """``S^-1 G^T lam`` from the per-gear columns ``cols``."""

@@ -13,7 +13,8 @@ import pytest
 from spurdyn.cli.main import main
 from spurdyn.errors import InputError
 from spurdyn.fracture.direction import driving_k, equivalent_k, growth_angle
-from spurdyn.fracture.growth import GrowthStopped, Region, TipState, cell_region, grow, path_length
+from spurdyn.fracture.growth import (JUNCTION_SHARE, JUNCTION_TIPS, GrowthStopped, Region, TipState,
+                                     cell_region, grow, junction_band, path_length)
 from spurdyn.fracture.life import ParisLaw, paris_cycles
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.mesh.cracked import cracked_tooth
@@ -212,16 +213,27 @@ def test_a_tip_below_a_web_s_junction_is_through_the_rim(sector):
 
 def test_a_tip_running_just_above_a_web_s_junction_is_through_the_rim(sector):
     """A crack running across the tooth 0.1 mm above the junction (its ray never crosses the
-    circle) is decided when its next tip comes within a quarter of the increment above it:
-    at the circle's point nearest that tip, a rim fracture; 0.2 mm above, it runs on."""
+    circle) is decided when its next tip comes within the band above it (10 tip sizes of
+    0.024 mm): at the circle's point nearest that tip, a rim fracture; 0.3 mm above, or
+    without the band, it runs on."""
     region = cell_region(sector.cell, math.pi / 28, 0.02, rim_radius=0.038)
+    band = junction_band(0.024e-3, 0.04048 - 0.038)
+    assert band == pytest.approx(JUNCTION_TIPS * 0.024e-3, rel=1e-12)
     path = np.array([[0.0015, 0.0381], [0.001, 0.0381]])
-    grown = grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
+    grown = grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region, band=band)
     nxt = np.array([0.0005, 0.0381])
     assert grown.verdict == "rim" and len(grown.steps) == 1
     assert np.allclose(grown.exit, nxt * 0.038 / np.hypot(*nxt), rtol=0, atol=1e-15)
-    higher = grow(path + [0.0, 1e-4], 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
+    higher = grow(path + [0.0, 3e-4], 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region,
+                  band=band)
     assert len(higher.steps) > 1
+    assert len(grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region).steps) > 1
+
+
+def test_the_junction_s_band_is_capped_by_the_rim_s_thickness():
+    """A large tip size (a long first crack) takes at most a quarter of a thin rim."""
+    assert junction_band(0.16e-3, 0.5e-3) == pytest.approx(JUNCTION_SHARE * 0.5e-3, rel=1e-12)
+    assert junction_band(0.01e-3, 0.5e-3) == pytest.approx(JUNCTION_TIPS * 0.01e-3, rel=1e-12)
 
 
 # --- life ---------------------------------------------------------------------------------

@@ -342,6 +342,17 @@ def test_backup_ratio_on_a_web_moves_the_web_s_junction(tmp_path, capsys):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("case", ["paper", str(THIN_RIM)])
+def test_a_backup_ratio_leaving_no_rim_is_refused_naming_the_flag(tmp_path, capsys, case):
+    """A ratio whose rim is thinner than the sector mesh takes (on a web, or held) is refused
+    in one line naming ``--backup-ratio``, not as the blank's or the model's radius."""
+    out = tmp_path / "crack"
+    code = main(["crack", case, "--backup-ratio", "1e-4", "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "--backup-ratio" in err[0] and "rim_radius" not in err[0]
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_crack_command_refuses_an_out_that_is_not_its_own(tmp_path, capsys):
     (tmp_path / "file").write_text("x")
     (tmp_path / "theirs").mkdir()

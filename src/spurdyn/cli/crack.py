@@ -174,6 +174,7 @@ def _webbed_rim(args: argparse.Namespace, case: Any, gear: Any, gear_name: str,
         raise InputError("--backup-ratio", f"puts gear {gear_name}'s web junction at "
                          f"{rim * 1e3:.4g} mm, inside its hub ({hub * 1e3:.4g} mm): "
                          f"give a ratio below {(gear.root_radius - hub) / depth:.4g}")
+    _thick_enough(rim, gear, gear_name, depth)
     new = dataclasses.replace(gear, blank=dataclasses.replace(gear.blank, rim_radius=rim),
                               disk_inertia=None)
     pair = dataclasses.replace(case.pair, **{f"gear_{gear_name}": new})
@@ -187,10 +188,22 @@ def _inner_radius(args: argparse.Namespace, gear: Any, gear_name: str, depth: fl
         return None
     _positive("--backup-ratio", args.backup_ratio, "ratio")
     inner = gear.root_radius - args.backup_ratio * depth
+    _thick_enough(inner, gear, gear_name, depth)
     if not inner > 0.05 * gear.root_radius:
         raise InputError("--backup-ratio", f"leaves no bore: the rim would reach "
                          f"{inner * 1e3:.4g} mm from the centre; give a smaller ratio")
     return inner
+
+
+def _thick_enough(rim: float, gear: Any, gear_name: str, depth: float) -> None:
+    """Refuse naming ``--backup-ratio`` a rim's inner radius ``rim`` (m) that leaves a rim
+    thinner than the sector mesh takes (:data:`~spurdyn.mesh.sector.RIM_THICKNESS_MIN`)."""
+    from spurdyn.mesh.sector import RIM_THICKNESS_MIN
+
+    if not rim < gear.root_radius - RIM_THICKNESS_MIN:
+        raise InputError("--backup-ratio", f"leaves gear {gear_name} a rim of "
+                         f"{(gear.root_radius - rim) * 1e6:.3g} um below its root circle, thinner "
+                         f"than the mesh takes: give a ratio above {RIM_THICKNESS_MIN / depth:.2g}")
 
 
 def _first_crack(case: Any, gear: Any, inner: float | None, length: float, start: float | None) -> None:

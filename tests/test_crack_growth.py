@@ -324,7 +324,7 @@ def test_backup_ratio_on_a_web_moves_the_web_s_junction(tmp_path, capsys):
     hub is refused in one line naming the flag."""
     import argparse
 
-    from spurdyn.cli.crack import add_crack_parser, crack_inputs
+    from spurdyn.cli.crack import add_crack_parser, crack_inputs, rim_support
 
     parser = argparse.ArgumentParser()
     add_crack_parser(parser.add_subparsers())
@@ -336,6 +336,7 @@ def test_backup_ratio_on_a_web_moves_the_web_s_junction(tmp_path, capsys):
     assert gear.blank.rim_radius == pytest.approx(gear.root_radius - 0.5 * depth, rel=1e-12)
     assert (gear.blank.hub_radius, gear.blank.web_width) == (0.020, 0.0016)
     assert spec["inner_radius"] is None
+    assert rim_support(gear) == "web" and rim_support(PAIR.gear_a) == "held"
     code = main(["crack", str(THIN_RIM), "--backup-ratio", "3", "--out", str(tmp_path / "crack")])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "--backup-ratio" in err[0] and "hub" in err[0]
@@ -383,6 +384,7 @@ def test_crack_command_grows_to_a_verdict_and_writes_its_folder(tmp_path, capsys
     summary = json.loads(capsys.readouterr().out)
     assert sorted(p.name for p in out.iterdir()) == sorted(summary["files"])
     assert summary["verdict"]["breaks_through"] == "tooth"       # the paper's solid blank
+    assert summary["rim_support"] == "held"
     rows = list(csv.DictReader(open(out / "path.csv")))
     assert len(rows) == summary["increments"] + 1
     length = [float(r["length_m"]) for r in rows]

@@ -21,7 +21,7 @@ import numpy as np
 
 from spurdyn.errors import InputError
 
-__all__ = ["add_crack_parser", "cmd_crack"]
+__all__ = ["add_crack_parser", "cmd_crack", "rim_support"]
 
 #: The first crack's length by default, as a share of the tooth's whole depth.
 LENGTH_SHARE = 0.05
@@ -282,6 +282,7 @@ def _summary(args: argparse.Namespace, spec: dict[str, Any], sector: Any, grown:
         "rim_inner_radius_m": _rim_inner(sector),
         "backup_ratio": (sector.gear.root_radius - _rim_inner(sector))
         / (sector.gear.tip_radius - sector.gear.root_radius),
+        "rim_support": rim_support(sector.gear),
         "initial_length_m": spec["length"], "increment_m": spec["increment"],
         "tip_size_m": grown.tip_size, "increments": len(g.steps) - 1,
         "load_positions_deg": np.degrees(sector.rolls).tolist(),
@@ -295,6 +296,12 @@ def _summary(args: argparse.Namespace, spec: dict[str, Any], sector: Any, grown:
         "domain_spread_max": float(max(np.max(ld.spread) for ld in grown.loads)),
         "life": life,
     }
+
+
+def rim_support(gear: Any) -> str:
+    """How the cracked gear's rim is carried below ``backup_ratio``: ``"web"`` on a webbed
+    blank (the rim bends on the web), ``"held"`` otherwise (clamped all round its inside)."""
+    return "web" if gear.blank is not None and gear.blank.webbed else "held"
 
 
 def _rim_inner(sector: Any) -> float:

@@ -230,6 +230,36 @@ def test_a_tip_running_just_above_a_web_s_junction_is_through_the_rim(sector):
     assert len(grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region).steps) > 1
 
 
+def test_the_cracked_sector_keeps_the_domains_to_the_tip_s_width():
+    """The paper's driver on a web of 1.6 mm at m_b = 0.3 (``examples/thin_rim.toml``), a
+    crack whose tip is 0.127 mm (5 tip sizes) above the web's junction: the domains reach
+    web elements; the tip's K is the integral's with ``widths=`` the mesh's widths, and far
+    from the one without (the domains across the junction, docs/fracture.md 8.7)."""
+    import dataclasses
+
+    from spurdyn.fracture.integral import DEFAULT_RINGS, element_rings, stress_intensity
+    from spurdyn.geometry.blank import Blank
+    from spurdyn.sector.crack_tip import tip_node
+
+    gear = dataclasses.replace(PAIR.gear_a, blank=Blank(0.0, 0.020, 0.0383365, 0.0016),
+                               disk_inertia=None)
+    webbed = cracked_sector(dataclasses.replace(PAIR, gear_a=gear), PAPER_TORQUE, "a", 4, 14,
+                            positions=1)
+    path = np.vstack([initial_path(webbed, 0.3e-3, None), [1.0e-3, 38.45e-3]])
+    load, bodies, u = tip_loads(webbed, path, 0.024e-3, rolls=webbed.rolls[-1:])
+    mesh = bodies[0].mesh
+    tip = tip_node(bodies[0], path[-1])
+    ring = element_rings(mesh.elements, tip, max(DEFAULT_RINGS) + 1)
+    assert np.any(mesh.width[ring > 0] != gear.face_width)      # the domains cross the junction
+    k = [stress_intensity(mesh.nodes, mesh.elements, u, gear.material, tip, path[-1] - path[-2],
+                          DEFAULT_RINGS, widths=w) for w in (mesh.width, None)]
+    assert load.k_i[0] == pytest.approx(np.mean(k[0].k_i), rel=1e-9)
+    assert load.k_ii[0] == pytest.approx(np.mean(k[0].k_ii), rel=1e-9)
+    scale = math.hypot(load.k_i[0], load.k_ii[0])
+    across = max(abs(np.mean(k[1].k_i) - load.k_i[0]), abs(np.mean(k[1].k_ii) - load.k_ii[0]))
+    assert across > 0.1 * scale and load.spread[0] < 0.01
+
+
 def test_the_junction_s_band_is_capped_by_the_rim_s_thickness():
     """A large tip size (a long first crack) takes at most a quarter of a thin rim."""
     assert junction_band(0.16e-3, 0.5e-3) == pytest.approx(JUNCTION_SHARE * 0.5e-3, rel=1e-12)

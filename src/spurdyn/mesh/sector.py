@@ -392,6 +392,9 @@ def _place_cells(cell: _Cell, ks: NDArray[np.int64], cells: NDArray[np.int64], p
             tied, parents, weights = outline_ties(_cell_tooth(cell), body)
             tie_parts.append(count + np.column_stack([tied, parents]))
             weight_parts.append(weights)
+            if getattr(body, "ties", None) is not None:      # a chipped cell's split flank edge
+                tie_parts.append(count + np.asarray(body.ties))
+                weight_parts.append(np.asarray(body.tie_weights))
         else:
             xy, el, hub, teeth, web = _plain_cell(cell, count, k in ks, int(k) in missing)
         for part, item in zip(parts, (turn(xy, ang), el, hub, teeth, web)):

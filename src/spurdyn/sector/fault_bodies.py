@@ -12,11 +12,15 @@ A missing tooth's body has no tooth there and its contacts are not made; a crack
 body is meshed with the crack (:func:`spurdyn.sector.faulty.cracked_mesh`), its faces a
 contact of their own (:mod:`spurdyn.sector.faces`); a spall over the whole face width widens
 the gap of its flank's contact by its depth over the pit's rolls, written in the contact's
-roll on the path (the driver's roll angle of the contact point) for both gears.
+roll on the path (the driver's roll angle of the contact point) for both gears; a chipped
+tooth's body is meshed with the corner cut off (:func:`spurdyn.sector.faulty.chipped_mesh`)
+and its drive flank's contact is not made over the rolls beyond the cut (``lost``, in the
+same rolls on the path).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
-from spurdyn.geometry.fault import Fault
+from spurdyn.geometry.fault import Fault, chip_roll
 from spurdyn.geometry.pair import GearPair
 
 
@@ -43,16 +47,36 @@ class GearFaults:
         hi)`` on its path where the gap is ``depth`` wider; zeros elsewhere.
     gone
         ``(z,)`` 1 on a missing tooth.
+    chips
+        ``(body tooth, fault)`` of each chipped tooth.
+    lost
+        ``(z, 2, 2)`` per body tooth and flank the contact's rolls ``(lo, hi)`` on its path
+        where the flank is gone (a chip's, beyond its cut): the contact is not made there;
+        ``(inf, -inf)`` (none) elsewhere.
     """
 
     missing: frozenset[int]
     cracks: tuple[tuple[int, Fault], ...]
     pits: NDArray[np.float64]
     gone: NDArray[np.int64]
+    chips: tuple[tuple[int, Fault], ...] = ()
+    lost: NDArray[np.float64] | None = None
 
     @property
     def any(self) -> bool:
-        return bool(self.missing or self.cracks or np.any(self.pits[..., 2]))
+        return bool(self.missing or self.cracks or self.chips or np.any(self.pits[..., 2]))
+
+    @property
+    def meshed(self) -> tuple[tuple[int, Fault], ...]:
+        """The teeth meshed again (cracked or chipped), ``(body tooth, fault)``."""
+        return self.cracks + self.chips
+
+
+def no_lost(z: int) -> NDArray[np.float64]:
+    """``(z, 2, 2)`` :attr:`GearFaults.lost` of a gear without chips: no roll lost."""
+    out = np.empty((z, 2, 2))
+    out[..., 0], out[..., 1] = np.inf, -np.inf
+    return out
 
 
 def body_tooth(tooth: int, g: int, first: int, z: int) -> int:
@@ -69,6 +93,16 @@ def _pit_rolls(dp: GearPair, g: int, fault: Fault) -> tuple[float, float]:
         return lo, hi
     ra, rb, length = dp.gear_a.base_radius, dp.gear_b.base_radius, dp.line_of_centres_length
     return (length - hi * rb) / ra, (length - lo * rb) / ra
+
+
+def _lost_rolls(dp: GearPair, g: int, fault: Fault) -> tuple[float, float]:
+    """A chip's lost stretch of its drive flank, beyond the cut toward its tip, as the
+    driver's rolls of the contact point (the driven gear's run backwards, as a pit's)."""
+    cut = chip_roll(dp.gear_a if g == 0 else dp.gear_b, fault)
+    if g == 0:
+        return cut, math.inf
+    ra, rb, length = dp.gear_a.base_radius, dp.gear_b.base_radius, dp.line_of_centres_length
+    return -math.inf, (length - cut * rb) / ra
 
 
 def gear_faults(dp: GearPair, driver: str, faults: tuple[Fault, ...], firsts: tuple[int, int]) -> tuple[
@@ -93,7 +127,11 @@ def gear_faults(dp: GearPair, driver: str, faults: tuple[Fault, ...], firsts: tu
             pits[at, 0] = (*_pit_rolls(dp, g, f), f.depth)
         gone = np.zeros(z, np.int64)
         gone[[k - first for k in missing]] = 1
-        out.append(GearFaults(missing, cracks, pits, gone))
+        chips = tuple((body_tooth(f.tooth, g, first, z), f) for f in mine if f.kind == "chip")
+        lost = no_lost(z)
+        for k, f in chips:
+            lost[k - first, 0] = _lost_rolls(dp, g, f)
+        out.append(GearFaults(missing, cracks, pits, gone, chips, lost))
     return out[0], out[1]
 
 
@@ -116,11 +154,11 @@ def check_cracked_flanks(blocks: tuple[Any, Any], faults: tuple[GearFaults, Gear
 
 
 def cracked_meshes(dp: GearPair, faults: GearFaults, g: int, nx: int, ny: int, grading: float) -> dict[int, Any]:
-    """The cracked meshes of gear ``g``'s cracked body teeth."""
-    from spurdyn.sector.faulty import cracked_mesh
+    """The meshes of gear ``g``'s cracked and chipped body teeth."""
+    from spurdyn.sector.faulty import fault_mesh
 
     gear = dp.gear_a if g == 0 else dp.gear_b
-    return {k: cracked_mesh(gear, f, nx, ny, grading) for k, f in faults.cracks}
+    return {k: fault_mesh(gear, f, nx, ny, grading) for k, f in faults.meshed}
 
 
-__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults"]
+__all__ = ["GearFaults", "body_tooth", "no_lost", "check_cracked_flanks", "cracked_meshes", "gear_faults"]

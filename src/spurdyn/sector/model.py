@@ -31,7 +31,7 @@ from spurdyn.sector.cyclic import statics_body
 from spurdyn.geometry.fault import faulty_cycles
 from spurdyn.sector.damper import mesh_damper_table
 from spurdyn.sector.faces import crack_faces
-from spurdyn.sector.fault_bodies import GearFaults, check_cracked_flanks, cracked_meshes, gear_faults
+from spurdyn.sector.fault_bodies import GearFaults, check_cracked_flanks, cracked_meshes, gear_faults, no_lost
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
 from spurdyn.sector.reduced import reduce_gear
@@ -141,7 +141,7 @@ class SectorModel:
             top = KEEP_FREQUENCY if modes is True else float(modes)
             self.gears: tuple[Any, Any] = tuple(
                 ModalBody(cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top,
-                                  blk.missing, faults[g].cracks if faults else ()),
+                                  blk.missing, faults[g].meshed if faults else ()),
                                  lambda blk=blk: reduce_gear(blk, top)), self.gp, self.bp, rayleigh,
                           2 if back else 1)
                 for g, blk in enumerate(blocks))
@@ -232,7 +232,8 @@ class SectorModel:
             loads = np.zeros(blk.mass.size)
             for j, r, b, fj in zip(js, contact_radii(dp, rolls0)[g], hw0, f0):
                 if fj:
-                    loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
+                    # added at each place: a chipped flank's cut node stands in for several
+                    np.add.at(loads, blk.flank_dofs(sign * j), fj * blk.flank_load(sign * j, float(r), float(b)))
             q[self.parts[g]][1:] = self.gears[g].static(loads)
         q[0] = e0 / ra
         force[np.searchsorted(self.teeth, js)] = f0      # the drive flanks come first
@@ -301,7 +302,7 @@ class SectorModel:
         rolls = np.where(self.c_side == 1, self.sigma - rolls, rolls)
         near = (rolls >= self.roll_0 - self.reach) & (rolls <= self.roll_1 + self.reach)
         if self.faults:
-            near &= self.made(self.c_teeth + offset, self.c_side)
+            near &= self.made(self.c_teeth + offset, self.c_side) & ~self.lost(self.c_teeth + offset, self.c_side, rolls)
         return rolls, near
 
     def _pair_rows(self, on: NDArray[np.intp], rolls: NDArray[np.float64], f: NDArray[np.float64],
@@ -334,6 +335,15 @@ class SectorModel:
         at0, at1 = self._at(k, sd)
         return (self.faults[0].gone[at0] == 0) & (self.faults[1].gone[at1] == 0)
 
+    def lost(self, k: NDArray[np.intp], sd: NDArray[np.intp], rolls: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Whether those contacts lie, at their rolls on the path ``rolls`` (broadcast with
+        ``k``), where a chip took their flank (twin in ``rows_compiled.contact_rows``)."""
+        out = np.zeros(np.broadcast(k, rolls).shape, dtype=bool)
+        for gf, at in zip(self.faults, self._at(k, sd)):
+            span = gf.lost[at, sd]
+            out |= (span[..., 0] <= rolls) & (rolls <= span[..., 1])
+        return out
+
     def pit_gaps(self, k: NDArray[np.intp], sd: NDArray[np.intp], rolls: NDArray[np.float64]) -> NDArray[np.float64]:
         """The pits' extra gaps (m) of those contacts at their rolls on the path ``rolls``
         (twin: ``rows_compiled.pit_gap``)."""
@@ -346,7 +356,9 @@ class SectorModel:
     def _made_contacts(self, js: list[int], roll_a: NDArray[np.float64], roll_b: NDArray[np.float64]) -> list[Any]:
         """The static start's contacts (:data:`~spurdyn.sector.statics.Contacts`): every pair
         on the path whose teeth are both there."""
-        made = self.made(np.asarray(js, np.intp), np.zeros(len(js), np.intp)) if self.faults else [True] * len(js)
+        ks, sd = np.asarray(js, np.intp), np.zeros(len(js), np.intp)
+        made = self.made(ks, sd) & ~self.lost(ks, sd, np.asarray(roll_a, dtype=float)) if self.faults \
+            else [True] * len(js)
         return [(j, 1.0, 0.0) for j, ok in zip(js, made) if ok]
 
     def gap_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -398,7 +410,7 @@ class SectorModel:
         faults = self.faults or tuple(_no_faults(blk.count) for blk in self.blocks)
         contacts = SectorContacts(np.asarray(self.c_teeth, np.int64), np.asarray(self.c_side, np.int64),
                                   int(offset), xq, wq, self.c_table, faults[0].pits, faults[1].pits,
-                                  faults[0].gone, faults[1].gone)
+                                  faults[0].gone, faults[1].gone, faults[0].lost, faults[1].lost)
         cfg = SectorConfig(*(float(x) for x in (
             self.roll_0, self.roll_1, self.reach, self.pitch, self.ra, self.rb, self.estar, self.width,
             self.c_h, self.am, self.af, self.beta, self.gamma, self.h, self.bp, self.gp, self.sigma, self.jn,
@@ -429,7 +441,7 @@ def whole_periods(cycles: int, most: int, period: int, default_most: bool) -> tu
 
 def _no_faults(count: int) -> GearFaults:
     """A healthy gear's (the compiled loops' packs of every run have the fields)."""
-    return GearFaults(frozenset(), (), np.zeros((count, 2, 3)), np.zeros(count, np.int64))
+    return GearFaults(frozenset(), (), np.zeros((count, 2, 3)), np.zeros(count, np.int64), (), no_lost(count))
 
 
 def _faults(pair: GearPair, settings: RunSettings, bodies: tuple[tuple[int, int], tuple[int, int]]) -> Any:
@@ -459,12 +471,13 @@ def faulty_cycles_of(dp: GearPair, driver: str, faults: Any) -> int:
 
 def _block(dp: GearPair, g: int, sense: float, first: int, count: int, mesh_keys: tuple[Any, ...],
            faults: GearFaults | None) -> Any:
-    """Gear ``g``'s block (cached per process), with its faults' missing and cracked teeth."""
+    """Gear ``g``'s block (cached per process), with its faults' missing, cracked and chipped
+    teeth."""
     gear = dp.gear_a if g == 0 else dp.gear_b
-    if faults is None or not (faults.missing or faults.cracks):
+    if faults is None or not (faults.missing or faults.meshed):
         return cached(("block", gear, sense, first, count, *mesh_keys), lambda: gear_block(gear, sense, first, count,
                                                                                           *mesh_keys))
-    return cached(("block", gear, sense, first, count, *mesh_keys, faults.missing, faults.cracks),
+    return cached(("block", gear, sense, first, count, *mesh_keys, faults.missing, faults.meshed),
                   lambda: gear_block(gear, sense, first, count, *mesh_keys, missing=faults.missing,
                                      cracked=cracked_meshes(dp, faults, g, *mesh_keys)))
 

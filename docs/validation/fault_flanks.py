@@ -37,6 +37,7 @@ FAULTS: dict[str, dict[str, Any]] = {
     "pit 20 um, 18-24 deg, half the face": {"kind": "spall", "roll_deg": [18.0, 24.0], "depth": 2e-5,
                                             "width_fraction": 0.5},
     "pit 0.2 mm, 24-30 deg, whole face": {"kind": "spall", "roll_deg": [24.0, 30.0], "depth": 2e-4},
+    "chip 1 mm high, 0.5 mm wide": {"kind": "chip", "height": 1e-3, "width": 5e-4},
 }
 CASE = """[gear_a]
 teeth = 28
@@ -62,16 +63,11 @@ def fault_of(keys: dict[str, Any], pair: Any) -> Any:
 def lost_rolls(fault: Any, pair: Any) -> tuple[float, float]:
     """The pinion's rolls (rad) where its faulty flank can carry less: a pit's, or a chip's
     from its cut to the tip."""
+    from spurdyn.geometry.fault import chip_roll
+
     if fault.roll is not None:
         return fault.roll
-    return chip_roll(fault, pair), pair.end_roll_a
-
-
-def chip_roll(fault: Any, pair: Any) -> float:
-    """The roll (rad) of the flank at the chip's cut: its radius ``r_a - height``."""
-    g = pair.gear_a
-    r = g.tip_radius - fault.depth
-    return math.sqrt(r * r - g.base_radius ** 2) / g.base_radius
+    return chip_roll(pair.gear_a, fault), pair.end_roll_a
 
 
 def static_figures(rev: Any, fault: Any, pair: Any) -> dict[str, Any]:
@@ -202,7 +198,10 @@ def balance_faults() -> dict[str, tuple[Any, ...]]:
             "tooth 1 missing": (Fault("a", 1, "missing"),),
             "tooth 1 missing, tooth 0 cracked 1 mm": (Fault("a", 1, "missing"), Fault("a", 0, "crack", depth=1e-3)),
             "tooth 1 pitted 2 um, 18-24 deg, whole face": (Fault("a", 1, "spall", roll=pit, depth=2e-6),),
-            "tooth 1 pitted 20 um, 18-24 deg, whole face": (Fault("a", 1, "spall", roll=pit, depth=2e-5),)}
+            "tooth 1 pitted 20 um, 18-24 deg, whole face": (Fault("a", 1, "spall", roll=pit, depth=2e-5),),
+            "tooth 1 pitted 20 um, 18-24 deg, half the face": (Fault("a", 1, "spall", roll=pit, depth=2e-5,
+                                                                     width_fraction=0.5),),
+            "tooth 1 chipped 1 mm x 0.5 mm": (Fault("a", 1, "chip", depth=1e-3, width=5e-4),)}
 
 
 def draw(statics: dict[str, Any], runs: dict[str, Any], pair: Any, png: Path) -> None:

@@ -94,9 +94,11 @@ def draw(paths: dict[tuple[str, float, float | None], tuple[dict[str, Any], np.n
                 f": {summary['verdict']['breaks_through']}"
             line, = ax.plot(tips[:, 0] * 1e3, tips[:, 1] * 1e3, "o-", ms=2.5, lw=1, label=label)
             r = summary["rim_inner_radius_m"] * 1e3
-            a = np.linspace(math.atan2(tips[:, 1].min(), tips[:, 0].max()) - 0.2, math.pi / 2 + 0.05, 60)
+            a = np.linspace(math.acos(min(6.0 / r, 1.0)), math.acos(-5.0 / r), 60)
             ax.plot(r * np.cos(a), r * np.sin(a), ":", color=line.get_color(), lw=0.8)
-        ax.set(aspect="equal", xlabel="x (mm)", title=f"rim {support}" + (" (dotted: its inner radius)"))
+        # the tooth's root and the thin rims' junctions; a thick rim's inner radius lies below
+        ax.set(aspect="equal", xlabel="x (mm)", xlim=(-5.0, 6.0), ylim=(36.5, 41.5),
+               title=f"rim {support} (dotted: its inner radius)")
         ax.legend(fontsize=7)
     axes[0].set_ylabel("y (mm)")
     fig.savefig(png, dpi=110)

@@ -235,3 +235,29 @@ def test_a_dynamic_run_with_chips_loads_no_flank_beyond_the_cut_compiled_as_nump
     for col in chipped:
         on_path = (rolls[:, col] >= model.roll_0) & (rolls[:, col] <= model.roll_1) & ~lost[:, col]
         assert np.nanmax(fast[on_path, col]) > 0.0
+
+
+def test_a_deep_chips_ritz_basis_stays_above_the_held_modes():
+    """A 4 mm chip (three of the old flank radii above its cut): the static shapes' loads lie
+    below the cut, and even a basis made dependent on purpose gives Ritz values no lower than
+    the held body's lowest (Rayleigh-Ritz bounds from above) on M-orthonormal modes."""
+    from spurdyn.sector import reduced
+    from spurdyn.sector.model import KEEP_FREQUENCY
+    from spurdyn.sector.system import gear_block
+
+    gear = PAIR.gear_a
+    height = 4.0e-3
+    block = gear_block(gear, 1.0, -1, 3, NX, NY, 1.0,
+                       cracked={0: chipped_mesh(gear, Fault("a", 0, "chip", depth=height, width=0.5e-3), NX, NY, 1.0)})
+    cut = reduced._cut_radius(block, 0)
+    assert cut == pytest.approx(gear.tip_radius - height, rel=1e-9)
+    assert reduced._cut_radius(block, 1) is None
+    assert np.all(reduced._radii(block, cut) < cut)
+    target = (2.0 * math.pi * KEEP_FREQUENCY) ** 2
+    lowest = reduced._held_modes(block, target)[0].min()
+    loads = reduced._flank_loads(block)
+    for basis_loads in (loads, np.column_stack([loads, loads[:, :2] + loads[:, 2:4]])):
+        out = reduced._reduce(block, target, basis_loads)
+        phi = out["phi"]
+        assert out["omega2"].min() >= lowest * (1.0 - 1e-9)
+        np.testing.assert_allclose(phi.T @ (block.mass[:, None] * phi), np.eye(phi.shape[1]), atol=1e-7)

@@ -134,10 +134,24 @@ def _revision(block: GearBlock) -> str:
     return store.code_revision(__name__, type(block.body).__module__, factor_spd.__module__, CyclicGear.__module__)
 
 
-def _radii(block: GearBlock) -> NDArray[np.float64]:
-    """The :data:`FLANK_SHAPES` radii of the static shapes' loads, evenly inside the flank."""
+def _radii(block: GearBlock, top: float | None = None) -> NDArray[np.float64]:
+    """The :data:`FLANK_SHAPES` radii of the static shapes' loads, evenly inside the flank
+    (below ``top``, a chipped flank's cut radius, if given: above it every load falls on the
+    one stand-in node, and the shapes would be one)."""
     flank = block.body.flank
-    return np.linspace(flank.r0, flank.r_tip, FLANK_SHAPES + 2)[1:-1]
+    return np.linspace(flank.r0, flank.r_tip if top is None else top, FLANK_SHAPES + 2)[1:-1]
+
+
+def _cut_radius(block: GearBlock, tooth: int) -> float | None:
+    """The radius of the node where tooth ``tooth``'s drive flank ends at a chip's cut (the
+    stand-in of the flank nodes above it: the first flank node met twice), ``None`` on a flank
+    with no cut."""
+    body = block.body
+    nodes = body.mesh.tooth_dofs(block.tooth(tooth)).reshape(-1, 2)[body.flank.side_nodes, 0]
+    twice = np.flatnonzero((nodes[1:] == nodes[:-1]) & (nodes[1:] >= 0))
+    if twice.size == 0:
+        return None
+    return float(np.hypot(*body.mesh.nodes[nodes[twice[0]] // 2]))
 
 
 def _first_flank_loads(block: GearBlock) -> NDArray[np.float64]:
@@ -152,7 +166,7 @@ def _flank_loads(block: GearBlock) -> NDArray[np.float64]:
     teeth = [block.first + t for t in range(block.count) if block.first + t not in block.missing]
     loads = np.zeros((block.mass.size, len(teeth) * FLANK_SHAPES))
     for t, tooth in enumerate(teeth):
-        for i, r in enumerate(_radii(block)):
+        for i, r in enumerate(_radii(block, _cut_radius(block, tooth))):
             # added, not set: a chipped flank's cut node stands in for several flank nodes
             np.add.at(loads, (block.flank_dofs(tooth), t * FLANK_SHAPES + i), block.flank_load(tooth, float(r), 0.0))
     return loads
@@ -168,7 +182,9 @@ def _reduce(block: GearBlock, target: float, loads: NDArray[np.float64]) -> dict
     k = block.stiffness.tocsc()
     kr = basis.T @ (k @ basis)
     mr = basis.T @ (block.mass[:, None] * basis)
-    w2r, vr = _generalized_eigh(kr, mr)
+    # a dependent basis (loads on one node) would give Ritz values below the held body's
+    # lowest: truncated to its independent span first; an independent one as it always was
+    w2r, vr = _generalized_eigh(kr, mr) if _independent(mr) else _truncated_eigh(kr, mr)
     phi = basis @ vr
     return {"phi": phi, "omega2": w2r, "coupling": phi.T @ (block.mass * block.rot)}
 
@@ -210,6 +226,37 @@ def _lanczos(block: GearBlock, target: float) -> tuple[NDArray[np.float64], NDAr
         count = max(int(1.2 * count * target / w2.max()), count + 8)
     keep = w2 < target
     return w2[keep], vec[:, keep]
+
+
+#: Smallest eigenvalue, relative to the largest, of a Ritz basis' mass matrix with its
+#: columns scaled to unit diagonal for the basis to count as independent; below it the
+#: directions it spans least are dropped (:func:`_truncated_eigh`).
+INDEPENDENT = 1e-10
+
+
+def _scaled_mass(mr: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """``(d, lam, u)``: ``d = diag(mr)^-1/2`` and the eigenpairs of ``d mr d``."""
+    d = 1.0 / np.sqrt(np.diag(mr))
+    lam, u = np.linalg.eigh(0.5 * (mr + mr.T) * d[:, None] * d[None, :])
+    return d, lam, u
+
+
+def _independent(mr: NDArray[np.float64]) -> bool:
+    """Whether the Ritz basis whose mass matrix is ``mr`` is independent (:data:`INDEPENDENT`)."""
+    _, lam, _ = _scaled_mass(mr)
+    return bool(lam[0] > INDEPENDENT * lam[-1])
+
+
+def _truncated_eigh(k: NDArray[np.float64], m: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Rayleigh-Ritz on a dependent basis: the basis M-orthonormalised with the directions of
+    scaled mass below :data:`INDEPENDENT` of the largest dropped, then ``K`` diagonalised on
+    what is left; the vectors returned are the basis' coefficients (fewer columns)."""
+    d, lam, u = _scaled_mass(m)
+    keep = lam > INDEPENDENT * lam[-1]
+    t = d[:, None] * u[:, keep] / np.sqrt(lam[keep])        # t^T m t = I
+    kt = t.T @ k @ t
+    w2, v = np.linalg.eigh(0.5 * (kt + kt.T))
+    return w2, t @ v
 
 
 def _generalized_eigh(k: NDArray[np.float64], m: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

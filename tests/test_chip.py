@@ -261,3 +261,25 @@ def test_a_deep_chips_ritz_basis_stays_above_the_held_modes():
         phi = out["phi"]
         assert out["omega2"].min() >= lowest * (1.0 - 1e-9)
         np.testing.assert_allclose(phi.T @ (block.mass[:, None] * phi), np.eye(phi.shape[1]), atol=1e-7)
+
+
+def test_a_cut_on_a_corner_node_ties_each_node_once():
+    """A cut ending on a structured flank corner node splits no edge: the tie map's rows sum
+    to 1 (each tied node held once) and a rigid translation stores no strain energy."""
+    from spurdyn.sector.body import sector_body
+
+    gear = PAIR.gear_a
+    cell = body_cell(gear, NX, NY)
+    right = cell.side("right")
+    height = gear.tip_radius - float(np.hypot(*cell.nodes[right[-3]]))   # the last corner below the tip
+    mesh = chipped_mesh(gear, Fault("a", 0, "chip", depth=height, width=0.5e-3), NX, NY, 1.0)
+    body = sector_body(gear, 3, NX, NY, first=-1, cracked={0: mesh})
+    ties = body.ties.tocsr()
+    sums = np.asarray(ties.sum(axis=1)).ravel()
+    np.testing.assert_allclose(sums[sums != 0.0], 1.0, rtol=0.0, atol=1e-12)
+    for axis in (0, 1):
+        u = np.zeros(2 * body.mesh.nodes.shape[0])
+        u[axis::2] = 1.0
+        u = ties @ u
+        k = body.stiffness
+        assert abs(float(u @ (k @ u))) <= 1e-14 * float(k.diagonal().sum())

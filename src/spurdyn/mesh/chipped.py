@@ -240,12 +240,16 @@ def _split_ties(tooth: ToothMesh, nodes: NDArray[np.float64], quads: GmshQuads, 
 
     line = int(np.flatnonzero(sides[:, 0] < 0)[0])
     k = int(sides[line - 1, 0])
+    s_cut = float(sides[line - 1, 2])
+    if s_cut > 1.0 - SAME_PARAMETER:
+        # the cut ends on a structured corner node: no edge is split, the intact edge below
+        # is tied as every structured edge is (outline_ties); tied here too, twice
+        return np.zeros((0, 4), dtype=np.intp), np.zeros((0, 3))
     mine = [i for i in range(len(sides)) if int(sides[i, 0]) == k]
     xyz = tooth.nodes[ol.outline_edges(tooth)[k]]
     at = cKDTree(nodes).query(points[mine + [line]])[1]          # the pieces' ends, the cut's node
     inner = np.concatenate([quads.sides[i] for i in mine] + [at[1:-1]]).astype(np.intp)
     xi = np.array([ol.project(xyz, nodes[n], 0.0) for n in inner])
-    s_cut = float(sides[line - 1, 2])
     if len(mine) > 1:
         middle, s_mid = int(at[1]), 0.0
     else:

@@ -263,15 +263,18 @@ def test_a_deep_chips_ritz_basis_stays_above_the_held_modes():
         np.testing.assert_allclose(phi.T @ (block.mass[:, None] * phi), np.eye(phi.shape[1]), atol=1e-7)
 
 
-def test_a_cut_on_a_corner_node_ties_each_node_once():
-    """A cut ending on a structured flank corner node splits no edge: the tie map's rows sum
-    to 1 (each tied node held once) and a rigid translation stores no strain energy."""
+@pytest.mark.parametrize("node, offset", [(-3, 0.0), (-3, 2e-6), (-3, -2e-6), (-3, 1e-10), (-2, -1e-11)])
+def test_a_cut_on_or_by_a_node_ties_each_node_once(node, offset):
+    """A cut ending on a structured flank corner node (the last below the tip, ``-3``) splits
+    no edge; one a few um or less beside it, or 1e-11 m above a mid-side node (``-2``), is
+    meshed (not refused): the tie map's rows sum to 1 (each tied node held once) and a rigid
+    translation stores no strain energy."""
     from spurdyn.sector.body import sector_body
 
     gear = PAIR.gear_a
     cell = body_cell(gear, NX, NY)
     right = cell.side("right")
-    height = gear.tip_radius - float(np.hypot(*cell.nodes[right[-3]]))   # the last corner below the tip
+    height = gear.tip_radius - float(np.hypot(*cell.nodes[right[node]])) + offset
     mesh = chipped_mesh(gear, Fault("a", 0, "chip", depth=height, width=0.5e-3), NX, NY, 1.0)
     body = sector_body(gear, 3, NX, NY, first=-1, cracked={0: mesh})
     ties = body.ties.tocsr()

@@ -27,6 +27,9 @@ from spurdyn.mesh.tooth import ToothMesh
 
 #: Edge parameters closer than this are one point of the outline (a cut on a node).
 SAME_PARAMETER = 1e-9
+#: A cut's end closer than this share of the tip radius to an outline node (47 nm on the
+#: paper's pinion) is put on the node (:func:`_snapped`).
+SNAP = 1e-6
 #: Largest relative difference between the mesh's area and its outline's (the outline
 #: sampled finely, :func:`_enclosed`): beyond it a node was put on the wrong side.
 AREA_TOLERANCE = 1e-6
@@ -101,11 +104,12 @@ def _polygon(tooth: ToothMesh, cut: NDArray[np.float64] | None) -> tuple[NDArray
         marks0 = [(e, x) for e in range(edges.shape[0]) for x in (-1.0, 0.0)]
         return (np.array([ol.edge_point(nodes[edges[e]], x) for e, x in marks0]),
                 np.array([(e, x, 0.0 if x < 0.0 else 1.0) for e, x in marks0]))
-    (kf, xf, df), (kt, xt, dt) = ol.locate_many(nodes, edges, cut)
+    (kf, xf, df), (kt, xt, dt) = (_refined(nodes, edges, p, k) for p, (k, _, _) in zip(cut, ol.locate_many(nodes, edges, cut)))
     r_tip = float(np.max(np.hypot(*nodes.T)))
     if max(df, dt) > 1e-9 * r_tip or not kf < kt:
         raise InputError("fault.cut", "the cut's ends must lie on the right outline and then the tip "
                          "(chip_cut puts them there)")
+    xf, xt = _snapped(nodes[edges[kf]], xf, r_tip), _snapped(nodes[edges[kt]], xt, r_tip)
     # an end on an edge's far corner is the next edge's near corner (no side of no length)
     kf, xf = (kf + 1, -1.0) if xf > 1.0 - SAME_PARAMETER else (kf, xf)
     kt, xt = (kt + 1, -1.0) if xt > 1.0 - SAME_PARAMETER else (kt, xt)
@@ -126,6 +130,32 @@ def _polygon(tooth: ToothMesh, cut: NDArray[np.float64] | None) -> tuple[NDArray
         else:
             sides.append((e, x, x1 if e1 == e else 1.0))
     return points, np.array(sides)
+
+
+def _refined(nodes: NDArray[np.float64], edges: NDArray[np.intp], point: NDArray[np.float64],
+             near: int) -> tuple[int, float, float]:
+    """``(edge, parameter, distance)`` of the outline's point nearest ``point`` on the edge
+    ``near`` (the sampled nearest, :func:`~spurdyn.mesh.outline.locate_many`) or either
+    neighbour, by Newton's projection: a point within a sample's spacing of a corner node
+    may have been sampled nearest on the wrong edge, and off by more than a tolerance."""
+    best = (near, 0.0, math.inf)
+    for k in range(max(near - 1, 0), min(near + 2, edges.shape[0])):
+        xyz = nodes[edges[k]]
+        xi = ol.project(xyz, point, 0.0)
+        d = float(np.hypot(*(ol.edge_point(xyz, xi) - point)))
+        if d < best[2]:
+            best = (k, xi, d)
+    return best
+
+
+def _snapped(xyz: NDArray[np.float64], xi: float, r_tip: float) -> float:
+    """``xi`` put on the edge's node (parameter -1, 0 or 1) it lies within :data:`SNAP` of
+    the tip radius from: a piece of edge shorter than that is no side gmsh can mesh nor
+    one whose nodes can be told apart."""
+    for node in (-1.0, 0.0, 1.0):
+        if float(np.hypot(*(ol.edge_point(xyz, xi) - ol.edge_point(xyz, node)))) <= SNAP * r_tip:
+            return node
+    return xi
 
 
 def _curves(tooth: ToothMesh, points: NDArray[np.float64], sides: NDArray[np.float64]) -> list[NDArray[np.float64]]:

@@ -60,6 +60,19 @@ def test_chip_tables_refused_by_the_key_written():
         with pytest.raises(InputError) as err:
             faults_from_dict({"fault": [table]}, PAIR)
         assert err.value.field == key, (table, err.value)
+    with pytest.raises(InputError) as err:
+        faults_from_dict({"fault": [{**good, "height": 0.0}]}, PAIR)
+    assert "inf" not in err.value.reason
+    # a spall on the chipped flank must end below the cut (beyond it the flank is gone)
+    cut = math.degrees(chip_roll(g, CHIP_A))
+    lo = math.degrees(active_rolls(PAIR, "a")[0])
+    spall = {"gear": "a", "tooth": 5, "kind": "spall", "depth": 2e-5}
+    for tables in ([good, {**spall, "roll_deg": [lo + 1.0, cut + 0.5]}],
+                   [{**spall, "roll_deg": [cut + 0.2, cut + 0.5]}, good]):
+        with pytest.raises(InputError) as err:
+            faults_from_dict({"fault": tables}, PAIR)
+        assert err.value.field == f"fault[{tables.index(good) ^ 1}].roll_deg", err.value
+    assert len(faults_from_dict({"fault": [good, {**spall, "roll_deg": [lo + 1.0, cut - 0.5]}]}, PAIR)) == 2
     # just inside both limits is taken
     faults_from_dict({"fault": [{**good, "height": 0.99 * (g.tip_radius - low), "width": 0.99 * g.tip_thickness}]},
                      PAIR)

@@ -39,8 +39,8 @@ def _positive(table: dict[str, Any], key: str, where: str, default: float | None
     value = table.get(key, default) if default is not None else _value(table, key, where)
     if isinstance(value, bool) or not isinstance(value, (int, float)) \
             or not math.isfinite(value) or not 0.0 < value <= top:
-        raise InputError(f"{where}.{key}", f"must be a number above 0 and at most {top:g} "
-                         f"(got {value!r})")
+        most = f" and at most {top:g}" if math.isfinite(top) else ""
+        raise InputError(f"{where}.{key}", f"must be a number above 0{most} (got {value!r})")
     return float(value)
 
 
@@ -163,14 +163,17 @@ def faults_from_dict(data: dict[str, Any], pair: GearPair) -> tuple[Fault, ...]:
     if not isinstance(tables, list):
         raise InputError("fault", "must be an array of tables: [[fault]] gear = \"a\" tooth = 5 ...")
     faults = tuple(fault_from_table(t, f"fault[{i}]", pair) for i, t in enumerate(tables))
-    check_faults(faults, [f"fault[{i}].tooth" for i in range(len(faults))])
+    check_faults(faults, [f"fault[{i}].tooth" for i in range(len(faults))], pair)
     return faults
 
 
-def check_faults(faults: tuple[Fault, ...], keys: list[str]) -> None:
+def check_faults(faults: tuple[Fault, ...], keys: list[str], pair: GearPair | None = None) -> None:
     """Refuse, naming fault ``i``'s ``keys[i]``, a tooth missing twice, a missing tooth with
     another fault, or a tooth cracked or chipped twice or both (each meshes the tooth's cell
-    again; spalls may be several on a flank)."""
+    again; spalls may be several on a flank); with ``pair``, a spall reaching beyond its
+    flank's chip's cut (:func:`_check_spalls_below_cuts`)."""
+    if pair is not None:
+        _check_spalls_below_cuts(faults, keys, pair)
     seen: dict[tuple[str, int], set[str]] = {}
     for f, key in zip(faults, keys):
         kinds = seen.setdefault((f.gear, f.tooth), set())
@@ -182,6 +185,21 @@ def check_faults(faults: tuple[Fault, ...], keys: list[str]) -> None:
             raise InputError(key, f"tooth {f.tooth} of gear_{f.gear} is already cracked or chipped: one "
                              "crack or one chip a tooth")
         kinds.add(f.kind)
+
+
+def _check_spalls_below_cuts(faults: tuple[Fault, ...], keys: list[str], pair: GearPair) -> None:
+    """Refuse a spall reaching beyond the cut of a chip on its flank (that flank is gone:
+    a pit there would pit nothing), naming its ``roll_deg`` (``keys[i]``'s table)."""
+    from spurdyn.geometry.fault import chip_roll
+
+    cuts = {(f.gear, f.tooth): chip_roll(pair.gear_a if f.gear == "a" else pair.gear_b, f)
+            for f in faults if f.kind == "chip"}
+    for f, key in zip(faults, keys):
+        cut = cuts.get((f.gear, f.tooth))
+        if f.kind == "spall" and cut is not None and f.roll[1] > cut + 1e-12:
+            raise InputError(key.replace(".tooth", ".roll_deg"),
+                             f"must end below the cut of the chip on tooth {f.tooth} of gear_{f.gear}, at roll "
+                             f"{math.degrees(cut):.4g} deg (got a spall to {math.degrees(f.roll[1]):.4g} deg)")
 
 
 def parse_fault_option(text: str, pair: GearPair) -> Fault:

@@ -205,7 +205,8 @@ def _option_faults(texts: Any, meshed_pair: MeshedPair) -> tuple[Any, ...]:
     given = tuple(parse_fault_option(text, meshed_pair.pair) for text in texts)
     if given:
         own = meshed_pair.faults
-        check_faults(own + given, [f"fault[{i}].tooth" for i in range(len(own))] + ["--fault"] * len(given))
+        check_faults(own + given, [f"fault[{i}].tooth" for i in range(len(own))] + ["--fault"] * len(given),
+                     meshed_pair.pair)
     return meshed_pair.faults + given
 
 

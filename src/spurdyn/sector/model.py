@@ -354,7 +354,7 @@ class SectorModel:
         out = np.zeros(np.broadcast(k, rolls).shape, dtype=bool)
         for gf, at in zip(self.faults, self.flank_places(k, sd)):
             span = gf.lost[at, sd]
-            out |= (span[..., 0] <= rolls) & (rolls <= span[..., 1])
+            out |= (span[..., 0] < rolls) & (rolls < span[..., 1])   # open: the cut itself is kept, as the statics keep it
         return out
 
     def pit_gaps(self, k: NDArray[np.intp], sd: NDArray[np.intp], rolls: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -171,8 +171,8 @@ def rows_and_loads(theta, widths, pit, gear0, gear1, con, table, cfg):
         k0, k1 = (k - gear0.first) % gear0.count, (-k + sides[i] - gear1.first) % gear1.count
         # a missing tooth, or a chipped flank beyond its cut (twin: SectorModel.made, lost)
         gone = (con.gone0[k0] != 0 or con.gone1[k1] != 0
-                or con.lost0[k0, sides[i], 0] <= roll <= con.lost0[k0, sides[i], 1]
-                or con.lost1[k1, sides[i], 0] <= roll <= con.lost1[k1, sides[i], 1])
+                or con.lost0[k0, sides[i], 0] < roll < con.lost0[k0, sides[i], 1]
+                or con.lost1[k1, sides[i], 0] < roll < con.lost1[k1, sides[i], 1])
         if roll >= cfg.roll_0 - cfg.reach and roll <= cfg.roll_1 + cfg.reach and not gone:
             on_all[p] = i
             p += 1

@@ -47,7 +47,8 @@ def test_the_numpy_implicit_step_is_the_compiled_steps_twin(model: SectorModel) 
         ref = implicit_step(model, st, tq[step], start.offset)
         assert ref.status == OK
         twin = SectorStepState(*(x.copy() for x in st))
-        done, status = run_steps(step - 1, 1, twin, *packs, tq, out, face_pack(None, model.gears))
+        done, status = run_steps(step - 1, 1, twin, *packs, tq, out, face_pack(None, model.gears),
+                                 model.bearing_pack())
         assert (done, status) == (step, OK)
         for a, b in zip(twin, ref.state):
             assert a.shape == b.shape

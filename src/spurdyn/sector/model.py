@@ -25,6 +25,7 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.alpha import GeneralizedAlpha
 from spurdyn.model.loading import check_history, hub_torques, static_force
+from spurdyn.sector.bearings import TRANSLATIONS, hub_bearings, no_bearings
 from spurdyn.sector.bodies import FullBody, ModalBody
 from spurdyn.sector.cache import cached
 from spurdyn.sector.cyclic import statics_body
@@ -157,6 +158,12 @@ class SectorModel:
         self.na = na = self.gears[0].n
         self.n = n = na + self.gears[1].n
         self.parts = (slice(0, na), slice(na, n))
+        # the hubs on bearings: their translations after the bodies (none without)
+        self.bear = hub_bearings(settings.bearings, pair.driver, dp.working_pressure_angle, blocks, self.gp,
+                                 self.bp, self.whole)
+        self.nt = TRANSLATIONS if self.bear is not None else 0
+        self.n = n + self.nt
+        self.tpart = slice(n, n + self.nt)
         self.cycle = cached(("cycle", pair, settings.torque, first_a, count_a, first_b, count_b, *mesh_keys),
                             lambda: mesh_cycle(pair, settings.torque, settings.nx, settings.ny,
                                                positions=CYCLE_POSITIONS, bodies=bodies))
@@ -235,6 +242,9 @@ class SectorModel:
                     loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
             q[self.parts[g]][1:] = self.gears[g].static(loads)
         q[0] = e0 / ra
+        if self.bear is not None:   # the hubs at their bearings' static deflection, the driver on by it
+            q[self.tpart] = self.bear.static(float(np.sum(f0)))
+            q[0] += float(self.bear.rows[0] @ q[self.tpart]) / ra
         force[np.searchsorted(self.teeth, js)] = f0      # the drive flanks come first
         return Start(q, v, acc, qdd, force, 0, None)
 
@@ -244,6 +254,9 @@ class SectorModel:
             raise InputError("start_state", "a sector run starts from another's end only on whole "
                              f"gears: give {WHOLE_FROM_CYCLES} cycles or more, and no fewer teeth than "
                              "the gears have")
+        if self.bear is not None:
+            raise InputError("start_state", "a run with bearings starts from rest or a static state: "
+                             "another run's end does not carry its hubs' translations")
         if self.faces is not None:
             raise InputError("start_state", "a run with a cracked tooth starts from rest or a "
                              "static state: another run's end does not carry its crack faces' forces")
@@ -352,12 +365,20 @@ class SectorModel:
     def gap_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included)."""
         return sum(coef * x[self.parts[g]][0] + self.gears[g].elastic(elastic, x[self.parts[g]])
-                   for g, (coef, elastic) in enumerate(rows.sides))
+                   for g, (coef, elastic) in enumerate(rows.sides)) + self._translated(rows, x)
+
+    def trans_rows(self, rows: Rows) -> NDArray[np.float64]:
+        """``(p, t)`` the rows' entries on the hubs' translations (none without bearings)."""
+        return self.bear.of(self.c_side[rows.on]) if self.bear is not None else np.zeros((rows.on.size, 0))
+
+    def _translated(self, rows: Rows, x: NDArray[np.float64]) -> Any:
+        """``T x_t``: the rows' translation part of ``x`` (0 without bearings)."""
+        return self.trans_rows(rows) @ x[self.tpart] if self.bear is not None else 0.0
 
     def rigid_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``D x``: the rows' rigid part alone, their entries on the hubs (the mesh damper's
+        """``D x``: the rows' rigid part alone, their entries on the hubs' turns and translations (the mesh damper's
         rows: ``-D q_dot`` is the rate of the pairs' whole approach while they touch)."""
-        return sum(coef * x[self.parts[g]][0] for g, (coef, _) in enumerate(rows.sides))
+        return sum(coef * x[self.parts[g]][0] for g, (coef, _) in enumerate(rows.sides)) + self._translated(rows, x)
 
     def compliance(self, rows: Rows) -> tuple[Any, ...]:
         """``(G S^-1 G^T, G S^-1 D^T, D S^-1 D^T, C_res, S^-1 G^T)``: the pairs' coupling
@@ -375,6 +396,13 @@ class SectorModel:
             w_dd += z[0] * np.outer(coef, coef)
             res += body.residual(elastic)
             cols.append(full)
+        if self.bear is not None:       # the translations' block, its own (S_tt diagonal)
+            tr = self.trans_rows(rows)
+            tt = (tr * self.bear.tinv) @ tr.T
+            w += tt
+            w_gd += tt
+            w_dd += tt
+            cols.append(self.bear.tinv[:, None] * tr.T)
         return w, w_gd, w_dd, res, cols
 
     def contact_compliance(self, rows: Rows) -> NDArray[np.float64]:
@@ -388,7 +416,10 @@ class SectorModel:
 
     def rigid_columns_times(self, rows: Rows, lam: NDArray[np.float64]) -> NDArray[np.float64]:
         """``S^-1 D^T lam``: the responses to the hub torques of the rows' rigid parts."""
-        return np.concatenate([float(coef @ lam) * self.z_theta[g] for g, (coef, _) in enumerate(rows.sides)])
+        out = [float(coef @ lam) * self.z_theta[g] for g, (coef, _) in enumerate(rows.sides)]
+        if self.bear is not None:
+            out.append(self.bear.tinv * (self.trans_rows(rows).T @ lam))
+        return np.concatenate(out)
 
     # -- the compiled loops' packs ---------------------------------------------------------
     def packs(self, offset: int = 0) -> tuple[Any, ...]:
@@ -404,6 +435,10 @@ class SectorModel:
             self.c_h, self.am, self.af, self.beta, self.gamma, self.h, self.bp, self.gp, self.sigma, self.jn,
             self.theta_lo, self.theta_hi)))
         return self.gears[0].compiled(), self.gears[1].compiled(), contacts, self.table.compiled(), cfg
+
+    def bearing_pack(self) -> Any:
+        """The hubs' bearings as the compiled implicit loop reads them (no translations without)."""
+        return self.bear.compiled() if self.bear is not None else no_bearings()
 
     def beyond(self, theta_a: float) -> str:
         """Why a run stopped where the driver left the turns its teeth cover (at ``theta_a``)."""

@@ -57,7 +57,8 @@ def implicit_step(model: SectorModel, st: SectorStepState, tq: NDArray[np.float6
     r[0], r[m_.na] = tq
     for g in range(2):
         r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
-    x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
+    x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)]
+                        + ([m_.bear.free(q_hat[m_.tpart], v_hat[m_.tpart])] if m_.bear is not None else []))
     rows = m_.rows_at(float(q_hat[0]), last, offset)
     force = np.zeros(m_.c_teeth.size)
     faces = np.zeros(st.faces.size)
@@ -204,6 +205,8 @@ class ImplicitStepper(SectorStepper):
         rec.omega[i] = v[0], v[na]
         rec.force[i] = force
         rec.keep_state(i, q)
+        if model.bear is not None:
+            rec.hubs[i] = np.concatenate([q[model.tpart], v[model.tpart]])
         fo = force[rows.on] if rows is not None else np.zeros(0)
         if model.faces is not None:
             fo = np.concatenate([fo, st.faces])
@@ -225,8 +228,11 @@ class ImplicitStepper(SectorStepper):
             work[0] += 0.5 * float((tq[i - 1] + tq[i]) @ np.array([q[0] - work[1], q[na] - work[2]]))
             work[1:] = q[0], q[na]
         res = 0.5 * float(fo @ self.c_res @ fo) if fo.size else 0.0
-        return (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)),
-                sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
+        # the hubs' translations and their bearings' springs
+        bear = model.bear
+        t_kin, t_strain = (bear.kinetic(v[model.tpart]), bear.strain(q[model.tpart])) if bear is not None else (0, 0)
+        return (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)) + t_kin,
+                sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res + t_strain,
                 0.5 * model.c_h * float(force @ force), work[0],
                 *(gears[g].momentum(v[parts[g]]) for g in range(2)),
                 # the pairs' generalised forces on the hubs: the rows' hub entries, and the

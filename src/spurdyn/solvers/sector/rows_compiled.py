@@ -101,6 +101,45 @@ def modal_free(tq0, tq1, q, v, gear0, gear1):
 
 
 @njit
+def trans_free(x0, q, v, bear):
+    """The bodies' free accelerations ``x0`` followed by the hubs' translations',
+    ``S_tt^-1 (-k x - c x_dot)`` (twin of ``HubBearings.free``); ``x0`` itself without bearings."""
+    nt = bear.tinv.size
+    if nt == 0:
+        return x0
+    nb = x0.size
+    out = np.empty(nb + nt)
+    out[:nb] = x0
+    for j in range(nt):
+        out[nb + j] = bear.tinv[j] * (-bear.k[j] * q[nb + j] - bear.c[j] * v[nb + j])
+    return out
+
+
+@njit
+def trans_times(tr, x):
+    """``(p,)`` the rows' translation entries ``tr`` ``(p, t)`` times the translations ``x``
+    (zeros without bearings: ``t = 0``)."""
+    p, nt = tr.shape
+    out = np.zeros(p)
+    for a in range(p):
+        for j in range(nt):
+            out[a] += tr[a, j] * x[j]
+    return out
+
+
+@njit
+def trans_back(qdd, nb, lam, trans):
+    """``qdd[nb:] += S_tt^-1 T^T lam``: loads ``lam`` on the rows ``T`` through the
+    translations' block (``trans = (T, S_tt^-1)``; nothing without bearings)."""
+    tr, tinv = trans
+    for j in range(tinv.size):
+        acc = 0.0
+        for a in range(lam.size):
+            acc += tr[a, j] * lam[a]
+        qdd[nb + j] += tinv[j] * acc
+
+
+@njit
 def arrow(gear, x):
     """``S^-1 x`` of the gear's arrow ``S`` (:data:`~spurdyn.sector.packs.ModalGear`; twin
     of :func:`spurdyn.sector.bodies.arrow_solve`): O(n), not a dense inverse's O(n^2)."""
@@ -407,5 +446,5 @@ def _active_solve(w, v, act):
     return f
 
 
-__all__ = ["ORDERS", "contact_rows", "lcp_pivot", "rows_and_loads", "damper_coefficient", "flank_load", "lcp_ordered", "mask_orders",
+__all__ = ["ORDERS", "contact_rows", "lcp_pivot", "rows_and_loads", "trans_back", "trans_free", "trans_times", "damper_coefficient", "flank_load", "lcp_ordered", "mask_orders",
            "masks_by_size", "modal_free", "table_at"]

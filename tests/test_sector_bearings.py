@@ -59,6 +59,7 @@ def test_the_numpy_step_with_bearings_is_the_compiled_steps_twin():
     """Step by step from the same state, with the translations, the mesh damper on them and
     the two bearings unlike: the same state and forces to round-off; the RK4 reference
     refuses bearings by their key."""
+    from spurdyn.sector.bearings import bearing_pack
     from spurdyn.sector.faces import face_pack
     from spurdyn.solvers.sector.step_compiled import run_steps
 
@@ -75,7 +76,7 @@ def test_the_numpy_step_with_bearings_is_the_compiled_steps_twin():
         assert ref.status == OK
         twin = SectorStepState(*(x.copy() for x in st))
         assert run_steps(step - 1, 1, twin, *packs, tq, out, face_pack(None, model.gears),
-                         model.bearing_pack()) == (step, OK)
+                         bearing_pack(model.bear)) == (step, OK)
         for a, b in zip(twin, ref.state):
             if b.size:
                 np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-12 * np.abs(b).max())

@@ -385,9 +385,8 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
     grading = _number(mesh_table, "grading", "mesh", DEFAULT_GRADING)
     row_grading = _number(mesh_table, "row_grading", "mesh", DEFAULT_ROW_GRADING)
-    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading,
-                      row_grading=row_grading, faults=faults_from_dict(data, pair),
-                      bearings=bearings_from_dict(data))
+    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading, row_grading=row_grading,
+                      faults=faults_from_dict(data, pair), bearings=bearings_from_dict(data))
 
 
 #: The keys of a gear table that set its root (its dedendum), in the order a refusal names them.

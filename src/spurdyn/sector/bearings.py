@@ -66,9 +66,11 @@ class HubBearings:
         return BearingPack(self.rows.copy(), self.tinv.copy(), self.k.copy(), self.c.copy())
 
 
-def no_bearings() -> BearingPack:
-    """The compiled loops' pack of a run without bearings (no translations)."""
-    return BearingPack(np.zeros((2, 0)), np.zeros(0), np.zeros(0), np.zeros(0))
+def bearing_pack(bearings: HubBearings | None) -> BearingPack:
+    """The compiled implicit loop's pack of a run's bearings (no translations without)."""
+    if bearings is None:
+        return BearingPack(np.zeros((2, 0)), np.zeros(0), np.zeros(0), np.zeros(0))
+    return bearings.compiled()
 
 
 def gear_mass(block: Any) -> float:
@@ -104,4 +106,4 @@ def hub_bearings(bearings: Any, driver: str, alpha_w: float, blocks: Any, gamma_
     return HubBearings(rows, mass, k, damp, tinv)
 
 
-__all__ = ["HubBearings", "TRANSLATIONS", "gear_mass", "hub_bearings", "no_bearings"]
+__all__ = ["HubBearings", "TRANSLATIONS", "gear_mass", "bearing_pack", "hub_bearings"]

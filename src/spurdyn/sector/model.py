@@ -25,7 +25,7 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.alpha import GeneralizedAlpha
 from spurdyn.model.loading import check_history, hub_torques, static_force
-from spurdyn.sector.bearings import TRANSLATIONS, hub_bearings, no_bearings
+from spurdyn.sector.bearings import TRANSLATIONS, hub_bearings
 from spurdyn.sector.bodies import FullBody, ModalBody
 from spurdyn.sector.cache import cached
 from spurdyn.sector.cyclic import statics_body
@@ -367,13 +367,9 @@ class SectorModel:
         return sum(coef * x[self.parts[g]][0] + self.gears[g].elastic(elastic, x[self.parts[g]])
                    for g, (coef, elastic) in enumerate(rows.sides)) + self._translated(rows, x)
 
-    def trans_rows(self, rows: Rows) -> NDArray[np.float64]:
-        """``(p, t)`` the rows' entries on the hubs' translations (none without bearings)."""
-        return self.bear.of(self.c_side[rows.on]) if self.bear is not None else np.zeros((rows.on.size, 0))
-
     def _translated(self, rows: Rows, x: NDArray[np.float64]) -> Any:
         """``T x_t``: the rows' translation part of ``x`` (0 without bearings)."""
-        return self.trans_rows(rows) @ x[self.tpart] if self.bear is not None else 0.0
+        return self.bear.of(self.c_side[rows.on]) @ x[self.tpart] if self.bear is not None else 0.0
 
     def rigid_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``D x``: the rows' rigid part alone, their entries on the hubs' turns and translations (the mesh damper's
@@ -397,7 +393,7 @@ class SectorModel:
             res += body.residual(elastic)
             cols.append(full)
         if self.bear is not None:       # the translations' block, its own (S_tt diagonal)
-            tr = self.trans_rows(rows)
+            tr = self.bear.of(self.c_side[rows.on])
             tt = (tr * self.bear.tinv) @ tr.T
             w += tt
             w_gd += tt
@@ -418,7 +414,7 @@ class SectorModel:
         """``S^-1 D^T lam``: the responses to the hub torques of the rows' rigid parts."""
         out = [float(coef @ lam) * self.z_theta[g] for g, (coef, _) in enumerate(rows.sides)]
         if self.bear is not None:
-            out.append(self.bear.tinv * (self.trans_rows(rows).T @ lam))
+            out.append(self.bear.tinv * (self.bear.of(self.c_side[rows.on]).T @ lam))
         return np.concatenate(out)
 
     # -- the compiled loops' packs ---------------------------------------------------------
@@ -435,10 +431,6 @@ class SectorModel:
             self.c_h, self.am, self.af, self.beta, self.gamma, self.h, self.bp, self.gp, self.sigma, self.jn,
             self.theta_lo, self.theta_hi)))
         return self.gears[0].compiled(), self.gears[1].compiled(), contacts, self.table.compiled(), cfg
-
-    def bearing_pack(self) -> Any:
-        """The hubs' bearings as the compiled implicit loop reads them (no translations without)."""
-        return self.bear.compiled() if self.bear is not None else no_bearings()
 
     def beyond(self, theta_a: float) -> str:
         """Why a run stopped where the driver left the turns its teeth cover (at ``theta_a``)."""

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from spurdyn.errors import InputError
+from spurdyn.sector.bearings import bearing_pack
 from spurdyn.sector.faces import face_pack
 from spurdyn.sector.model import SectorModel
 from spurdyn.solvers.layout import OK, SectorRk4State
@@ -40,7 +41,7 @@ class CompiledImplicitStepper(ImplicitStepper):
         super().__init__(model, record, offset, energy)
         self.gear0, self.gear1, self.contacts, self.table, self.cfg = model.packs(self.start_state.offset)
         self.faces = face_pack(model.faces, model.gears)
-        self.bear = model.bearing_pack()
+        self.bear = bearing_pack(model.bear)
 
     def _steps(self, n: int) -> tuple[int, int]:
         from spurdyn.solvers.sector.step_compiled import run_steps

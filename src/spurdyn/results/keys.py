@@ -188,6 +188,9 @@ KEYS: tuple[Key, ...] = (
                            "(N, a node pair's) and when, and the share of the steps with faces closed "
                            "(docs/faults.md)",
        ("sector",), OPTIONAL),
+    _k("bearings", "-", "the hubs' radial bearings, gear A's and gear B's: stiffness (N/m), damping (N s/m) and the "
+                        "gear's translating mass (kg); null for a hub whose centre is held (docs/sector.md, 6.12)",
+       ("sector",), OPTIONAL),
     _k("body_damping", "-", "the bodies' Rayleigh damping and whose it was", ("sector",)),
     _k("mesh_damping", "-", "the mesh damper's ratio and whose it was (model default or run)",
        ("sector",)),

@@ -5,6 +5,7 @@ loop and its verdict, Paris's life, and ``spurdyn crack``'s refusals."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -209,6 +210,20 @@ def test_a_tip_below_a_web_s_junction_is_through_the_rim(sector):
     assert grown.length == pytest.approx(0.0399 - 0.038, rel=1e-9)
 
 
+def test_a_tip_running_just_above_a_web_s_junction_is_through_the_rim(sector):
+    """A crack running across the tooth 0.1 mm above the junction (its ray never crosses the
+    circle) is decided when its next tip comes within a quarter of the increment above it:
+    at the circle's point nearest that tip, a rim fracture; 0.2 mm above, it runs on."""
+    region = cell_region(sector.cell, math.pi / 28, 0.02, rim_radius=0.038)
+    path = np.array([[0.0015, 0.0381], [0.001, 0.0381]])
+    grown = grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
+    nxt = np.array([0.0005, 0.0381])
+    assert grown.verdict == "rim" and len(grown.steps) == 1
+    assert np.allclose(grown.exit, nxt * 0.038 / np.hypot(*nxt), rtol=0, atol=1e-15)
+    higher = grow(path + [0.0, 1e-4], 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
+    assert len(higher.steps) > 1
+
+
 # --- life ---------------------------------------------------------------------------------
 
 def test_paris_cycles_match_the_closed_form():
@@ -267,6 +282,52 @@ def test_crack_command_refusals(tmp_path, capsys, extra, flag):
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and flag in err[0]
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("extra, flag", [(["--start", "0.05"], "--start"),
+                                         (["--length", "0.02"], "--length")])
+def test_start_and_length_are_refused_before_the_sectors_are_built(tmp_path, capsys, monkeypatch,
+                                                                   extra, flag):
+    """``--start`` off the fillet and ``--length`` leaving the cell are refused on the tooth's
+    cell alone: the sectors (seconds of assembly) are never built."""
+    import spurdyn.sector.crack_tip as crack_tip
+
+    def built(*args, **kwargs):
+        raise AssertionError("the sectors were built before --start and --length were checked")
+
+    monkeypatch.setattr(crack_tip, "cracked_sector", built)
+    out = tmp_path / "crack"
+    code = main(["crack", "paper", "--out", str(out)] + extra)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and flag in err[0]
+    assert not out.exists()
+
+
+THIN_RIM = Path(__file__).resolve().parents[1] / "examples" / "thin_rim.toml"
+
+
+def test_backup_ratio_on_a_web_moves_the_web_s_junction(tmp_path, capsys):
+    """On a webbed blank ``--backup-ratio`` moves the rim's inner radius (the web's junction)
+    to MB whole depths below the root circle, the hub and the web kept; a junction inside the
+    hub is refused in one line naming the flag."""
+    import argparse
+
+    from spurdyn.cli.crack import add_crack_parser, crack_inputs
+
+    parser = argparse.ArgumentParser()
+    add_crack_parser(parser.add_subparsers())
+    args = parser.parse_args(["crack", str(THIN_RIM), "--backup-ratio", "0.5",
+                              "--out", str(tmp_path / "crack")])
+    spec = crack_inputs(args)
+    gear = spec["case"].pair.gear_a
+    depth = gear.tip_radius - gear.root_radius
+    assert gear.blank.rim_radius == pytest.approx(gear.root_radius - 0.5 * depth, rel=1e-12)
+    assert (gear.blank.hub_radius, gear.blank.web_width) == (0.020, 0.0016)
+    assert spec["inner_radius"] is None
+    code = main(["crack", str(THIN_RIM), "--backup-ratio", "3", "--out", str(tmp_path / "crack")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "--backup-ratio" in err[0] and "hub" in err[0]
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_crack_command_refuses_an_out_that_is_not_its_own(tmp_path, capsys):

@@ -11,6 +11,7 @@ import pytest
 
 from spurdyn.errors import InputError
 from spurdyn.fem.assembly import assemble_stiffness
+from spurdyn.fem.factor import factor_spd
 from spurdyn.fem.material import STEEL, plane_stress_matrix
 from spurdyn.fracture import (
     centre_crack_plate, edge_crack_strip, end_load, equivalent_k, growth_angle, solve,
@@ -136,6 +137,35 @@ def test_domains_agree_and_supports_idle(strips):
                          plate.ahead[0], rings=(1, 2, 3, 4, 5))
     assert np.ptp(k.k_i) < 0.005 * k.k_i.mean()
     assert np.all(np.diff(k.radius) > 0.0)
+
+
+def test_domains_kept_to_the_tip_s_width_agree_across_a_change_of_width(strips):
+    """A strip whose elements beyond 1.5 times the 2-ring domain's radius from the tip are a
+    quarter as wide (a web's junction, docs/fracture.md 8.7): the domains reaching across the
+    change disagree (the domain form assumes one width), those kept to the tip's width agree
+    with the domains inside it to 0.5 %; with one width everywhere ``widths`` changes nothing."""
+    plate = _strip(strips, 0.4)
+    nd, el, tip = plate.nodes, plate.elements, int(plate.tips[0])
+    forces = end_load(plate, _uniform)
+    rings = (1, 2, 3, 4, 5, 6)
+    u = solve(plate, STEEL, forces)
+    same = stress_intensity(nd, el, u, STEEL, tip, plate.ahead[0], rings)
+    kept = stress_intensity(nd, el, u, STEEL, tip, plate.ahead[0], rings, widths=np.ones(len(el)))
+    assert np.array_equal(same.k_i, kept.k_i) and np.array_equal(same.k_ii, kept.k_ii)
+    far = np.hypot(*(nd[el].mean(axis=1) - nd[tip]).T) > 1.5 * same.radius[1]
+    widths = np.where(far, 0.25, 1.0)
+    k = sum(assemble_stiffness(nd, el[widths == w], STEEL, w) for w in (0.25, 1.0)).tocsr()
+    x, y = nd.T
+    held = [int(np.argmin(np.hypot(x - x.min(), y - y.min()))),
+            int(np.argmin(np.hypot(x - x.max(), y - y.min())))]
+    free = np.setdiff1d(np.arange(forces.size), [2 * held[0], 2 * held[0] + 1, 2 * held[1] + 1])
+    u = np.zeros(forces.size)
+    u[free] = factor_spd(k[free][:, free]).solve(forces[free])
+    across = stress_intensity(nd, el, u, STEEL, tip, plate.ahead[0], rings)
+    kept = stress_intensity(nd, el, u, STEEL, tip, plate.ahead[0], rings, widths=widths)
+    assert np.ptp(across.k_i) > 0.1 * across.k_i[1]
+    assert np.all(np.abs(kept.k_i / kept.k_i[1] - 1.0) < 0.005)
+    assert kept.k_i[1] == across.k_i[1]          # the 2-ring domain lies inside: unchanged
 
 
 def test_refusals(strips):

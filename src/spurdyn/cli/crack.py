@@ -46,8 +46,9 @@ def add_crack_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--increment", type=float, metavar="M", help="the growth increment (m; "
                    f"default {INCREMENT_SHARE:g} of the whole depth)")
     p.add_argument("--backup-ratio", type=float, metavar="MB", help="the cracked gear's rim "
-                   "thickness below the root circle over the tooth's whole depth, the hub held "
-                   "there (default the sector model's rim: the blank's, or 3 whole depths)")
+                   "thickness below the root circle over the tooth's whole depth: on a webbed "
+                   "blank the web's junction moves there, otherwise the hub is held there "
+                   "(default the sector model's rim: the blank's, or 3 whole depths)")
     p.add_argument("--torque", type=float, metavar="NM", help="the driver's torque (default the case's)")
     p.add_argument("--mesh", metavar="NXxNY", help="elements across x along each tooth of the sectors")
     p.add_argument("--grading", type=float, metavar="G", help="grading of each tooth's columns")
@@ -139,16 +140,10 @@ def crack_inputs(args: argparse.Namespace) -> dict[str, Any]:
                          f"{depth * 1e3:.4g} mm (got {increment * 1e3:.4g} mm)")
     if args.start is not None:
         _positive("--start", args.start, "radius in m")
-    inner = None
-    if args.backup_ratio is not None:
-        _positive("--backup-ratio", args.backup_ratio, "ratio")
-        if gear.blank is not None and gear.blank.webbed:
-            raise InputError("--backup-ratio", f"gear {gear_name}'s blank has a web: its rim is "
-                             "the blank's (rim_radius); leave --backup-ratio out")
-        inner = gear.root_radius - args.backup_ratio * depth
-        if not inner > 0.05 * gear.root_radius:
-            raise InputError("--backup-ratio", f"leaves no bore: the rim would reach "
-                             f"{inner * 1e3:.4g} mm from the centre; give a smaller ratio")
+    case, gear = _webbed_rim(args, case, gear, gear_name, depth)
+    inner = _inner_radius(args, gear, gear_name, depth)
+    _first_crack(case, gear, inner, length, args.start)    # --start and --length, before the work
+
     torque = args.torque if args.torque is not None else case_torque(args.case)
     if torque is None:
         raise InputError("--torque", "the case has no [run] torque: give the driver's torque (N m)")
@@ -163,15 +158,59 @@ def crack_inputs(args: argparse.Namespace) -> dict[str, Any]:
             "increment": increment, "paris": _paris(args)}
 
 
+def _webbed_rim(args: argparse.Namespace, case: Any, gear: Any, gear_name: str,
+                depth: float) -> tuple[Any, Any]:
+    """``--backup-ratio`` on a webbed blank moves the web's junction (the rim's inner radius,
+    the blank's ``rim_radius``) to ``MB`` whole depths below the root circle, the hub and the
+    web's width kept: the case and the cracked gear so changed (unchanged otherwise)."""
+    import dataclasses
+
+    if args.backup_ratio is None or gear.blank is None or not gear.blank.webbed:
+        return case, gear
+    _positive("--backup-ratio", args.backup_ratio, "ratio")
+    rim = gear.root_radius - args.backup_ratio * depth
+    hub = gear.blank.hub_radius
+    if not rim > hub:
+        raise InputError("--backup-ratio", f"puts gear {gear_name}'s web junction at "
+                         f"{rim * 1e3:.4g} mm, inside its hub ({hub * 1e3:.4g} mm): "
+                         f"give a ratio below {(gear.root_radius - hub) / depth:.4g}")
+    new = dataclasses.replace(gear, blank=dataclasses.replace(gear.blank, rim_radius=rim),
+                              disk_inertia=None)
+    pair = dataclasses.replace(case.pair, **{f"gear_{gear_name}": new})
+    return dataclasses.replace(case, pair=pair), new
+
+
+def _inner_radius(args: argparse.Namespace, gear: Any, gear_name: str, depth: float) -> float | None:
+    """The cracked gear's held inner radius of ``--backup-ratio`` (m), ``None`` without it or
+    on a webbed blank (:func:`_webbed_rim` moved its rim)."""
+    if args.backup_ratio is None or (gear.blank is not None and gear.blank.webbed):
+        return None
+    _positive("--backup-ratio", args.backup_ratio, "ratio")
+    inner = gear.root_radius - args.backup_ratio * depth
+    if not inner > 0.05 * gear.root_radius:
+        raise InputError("--backup-ratio", f"leaves no bore: the rim would reach "
+                         f"{inner * 1e3:.4g} mm from the centre; give a smaller ratio")
+    return inner
+
+
+def _first_crack(case: Any, gear: Any, inner: float | None, length: float, start: float | None) -> None:
+    """Refuse ``--start`` off the fillet or ``--length`` leaving the cell, on the cracked
+    tooth's cell alone (a fraction of a second; the sectors take seconds)."""
+    from spurdyn.sector.body import body_cell
+    from spurdyn.sector.crack_growth import first_crack
+
+    cell = body_cell(gear, case.nx, case.ny, case.grading, inner)
+    first_crack(gear, cell, case.nx, case.ny, case.grading, length, start)
+
+
 def cmd_crack(args: argparse.Namespace) -> int:
-    from spurdyn.sector.crack_growth import grow_crack, initial_path
+    from spurdyn.sector.crack_growth import grow_crack
     from spurdyn.sector.crack_tip import cracked_sector
 
     spec = crack_inputs(args)
     case = spec["case"]
     sector = cracked_sector(case.pair, spec["torque"], spec["gear"], case.nx, case.ny,
                             case.grading, positions=args.positions, inner_radius=spec["inner_radius"])
-    initial_path(sector, spec["length"], args.start)     # --start and --length, before the work
     progress = None if args.json else _printer()
     grown = grow_crack(sector, spec["length"], spec["increment"], args.start,
                        args.max_increments, progress)

@@ -34,6 +34,10 @@ __all__ = ["DECIDE_REACH", "Growth", "GrowthStopped", "Region", "Step", "TipStat
 #: the outline: the next tip would leave no room for the elements and domains at it.
 DECIDE_REACH = 1.5
 DECIDE_NEAR = 0.75
+#: A next tip above the rim's inner circle (a web's junction) by less than this share of the
+#: increment decides a rim fracture: three tip sizes (the tip's elements are 0.08 of the
+#: increment), so a solved tip's own elements and first ring stay in the rim's width.
+JUNCTION_NEAR = 0.25
 #: Most increments a crack may take before the loop stops undecided.
 MAX_STEPS = 400
 
@@ -194,7 +198,8 @@ def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], in
     """``(distance, kind, point)`` if the crack at ``tip`` running along ``d`` is to be decided
     now (module constants), else ``None``: the nearest of the outline ahead (within reach,
     or the next tip near it: then the outline's point nearest that tip) and the rim's
-    inner circle within an increment."""
+    inner circle within an increment (or the next tip above it by less than
+    :data:`JUNCTION_NEAR` increments: then the circle's point nearest that tip)."""
     found: list[tuple[float, str, NDArray[np.float64]]] = []
     dist, kind, point = region.ray(tip, d)
     if dist <= DECIDE_REACH * increment:
@@ -206,6 +211,12 @@ def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], in
     down = _below_rim(region, tip, d)
     if down <= increment:
         found.append((down, "rim", tip + down * d))
+    r_next = float(np.hypot(*nxt))
+    if region.inner_radius <= r_next < region.inner_radius + JUNCTION_NEAR * increment:
+        # the next tip just above the junction: the rim's ligament is gone (and a tip's
+        # elements there would reach the junction: no domain of one width)
+        point = nxt * (region.inner_radius / r_next)
+        found.append((float(np.hypot(*(point - tip))), "rim", point))
     return min(found, key=lambda f: f[0]) if found else None
 
 

@@ -10,7 +10,9 @@ crack), with the field ``1`` the finite elements' and ``2`` a unit mode's near-t
 where ``q`` is 1 at the tip and 0 on the domain's outer edge. ``q`` is 1 on the nodes of the
 first ``d`` rings of elements around the tip and 0 elsewhere, interpolated by the elements'
 shape functions, so only ring ``d + 1`` carries ``q,j``: the tip's own elements, where the
-field is least accurate, are never integrated.
+field is least accurate, are never integrated. Where the elements' width varies (a web), ``q``
+is 0 on every node of an element whose width is not the tip's, so each domain lies in one
+width, where the domain form holds (docs/fracture.md, section 8.7).
 """
 
 from __future__ import annotations
@@ -122,9 +124,27 @@ def _ring_integral(xy: NDArray[np.float64], ue: NDArray[np.float64], qe: NDArray
     return out
 
 
+def _other_width(elements: NDArray[np.intp], tip: int, widths: ArrayLike | None,
+                 n_nodes: int) -> NDArray[np.bool_]:
+    """The nodes of elements whose width is not that of the tip's elements (none without
+    ``widths``); refused if the tip's own elements differ in width."""
+    other = np.zeros(n_nodes, dtype=bool)
+    if widths is None:
+        return other
+    w = np.asarray(widths, dtype=float)
+    if w.shape != (elements.shape[0],):
+        raise ValueError(f"widths must have one value an element ({elements.shape[0]}, got {w.shape})")
+    own = np.unique(w[(elements == tip).any(axis=1)])
+    if own.size != 1:
+        raise InputError("rings", "the crack's tip lies on a change of width; the domain "
+                         "form needs one width round the tip")
+    other[elements[w != own[0]].ravel()] = True
+    return other
+
+
 def stress_intensity(nodes: ArrayLike, elements: ArrayLike, u: ArrayLike, material: Material,
-                     tip: int, ahead: ArrayLike, rings: tuple[int, ...] = DEFAULT_RINGS
-                     ) -> TipFactors:
+                     tip: int, ahead: ArrayLike, rings: tuple[int, ...] = DEFAULT_RINGS,
+                     widths: ArrayLike | None = None) -> TipFactors:
     """K_I and K_II at a crack tip by the interaction integral, one value per domain.
 
     Parameters
@@ -143,6 +163,10 @@ def stress_intensity(nodes: ArrayLike, elements: ArrayLike, u: ArrayLike, materi
         ``(2,)`` the direction the crack would run on (from the crack into the material).
     rings
         The domains: ``q = 1`` on the nodes of the first ``k`` rings of elements for each ``k``.
+    widths
+        ``(E,)`` each element's out-of-plane width (m) where it varies (a web): ``q`` is then
+        0 on every node of an element whose width is not the tip's, so each domain stays in
+        the tip's width, where the domain form holds (docs/fracture.md, section 8.7).
 
     Returns
     -------
@@ -163,12 +187,17 @@ def stress_intensity(nodes: ArrayLike, elements: ArrayLike, u: ArrayLike, materi
     if wanted.ndim != 1 or wanted.size == 0 or wanted.min() < 1:
         raise InputError("rings", f"must be ring counts of at least 1 (got {rings!r})")
     ring = element_rings(el, tip, int(wanted.max()) + 1)
+    other = _other_width(el, tip, widths, nd.shape[0])
     values, radius = [], []
     for d in wanted:
         inner = np.zeros(nd.shape[0], dtype=bool)
         inner[el[(ring >= 1) & (ring <= d)].ravel()] = True
+        inner &= ~other
         _check_inside(nd, el, inner, tip, rot, int(d))
-        band = el[ring == d + 1]
+        # q varies only in the elements holding nodes of both kinds: ring d + 1, and where
+        # a width changes, the elements of the tip's width beside the change
+        q = inner[el]
+        band = el[(ring >= 1) & q.any(axis=1) & ~q.all(axis=1)]
         values.append(_ring_integral(nd[band], uu[band], inner[band].astype(float), nd[tip],
                                      rot, material))
         radius.append(float(np.max(np.hypot(*(nd[inner] - nd[tip]).T))))

@@ -19,7 +19,7 @@ from spurdyn.mesh import outline as ol
 from spurdyn.mesh.cracked import crack_path
 from spurdyn.sector.crack_tip import CrackedSector, TipLoad, tip_loads
 
-__all__ = ["TIP_SHARE", "GrownCrack", "grow_crack", "initial_path", "sector_region"]
+__all__ = ["TIP_SHARE", "GrownCrack", "first_crack", "grow_crack", "initial_path", "sector_region"]
 
 #: The element size at the tip, as a share of the increment (and of the first crack's
 #: length, if shorter): the domains of 2 and 3 rings then lie within the last piece.
@@ -50,20 +50,23 @@ def sector_region(sector: CrackedSector) -> Region:
     return cell_region(sector.cell, math.pi / gear.teeth, inner, rim)
 
 
-def _fillet_normal(sector: CrackedSector, mouth: NDArray[np.float64]) -> float:
+def _fillet_normal(cell: Any, mouth: NDArray[np.float64]) -> float:
     """The angle (rad) below the line across the tooth of the fillet's inward normal at the
-    mouth (the structured outline's quadratic edge there)."""
-    edges = ol.outline_edges(sector.cell)
-    k, xi, _ = ol.locate(sector.cell.nodes, edges, mouth)
-    xyz = sector.cell.nodes[edges[k]]
+    mouth (the structured outline's quadratic edge there) of the tooth's ``cell``."""
+    edges = ol.outline_edges(cell)
+    k, xi, _ = ol.locate(cell.nodes, edges, mouth)
+    xyz = cell.nodes[edges[k]]
     tangent = ol.edge_point(xyz, xi + 1e-6) - ol.edge_point(xyz, xi - 1e-6)
     inward = np.array([-tangent[1], tangent[0]])          # the outline runs counter-clockwise
     return math.atan2(-inward[1], -inward[0])
 
 
-def initial_path(sector: CrackedSector, length: float, start: float | None) -> NDArray[np.float64]:
-    """The first crack: straight, ``length`` (m) from the right fillet's point of radius
-    ``start`` (default ISO 6336-3's 30 deg tangent point) along the fillet's inward normal.
+def first_crack(gear: Any, cell: Any, nx: int, ny: int, grading: float, length: float,
+                start: float | None) -> NDArray[np.float64]:
+    """The first crack in ``gear``'s tooth ``cell`` (:func:`spurdyn.sector.body.body_cell`):
+    straight, ``length`` (m) from the right fillet's point of radius ``start`` (default ISO
+    6336-3's 30 deg tangent point) along the fillet's inward normal. Needs the cell only,
+    so the command checks ``--start`` and ``--length`` before building the sectors.
 
     Raises
     ------
@@ -72,15 +75,19 @@ def initial_path(sector: CrackedSector, length: float, start: float | None) -> N
     """
     from spurdyn.mesh.tooth import tooth_mesh
 
-    tooth = tooth_mesh(sector.gear, sector.nx, sector.ny, grading=sector.grading)
+    tooth = tooth_mesh(gear, nx, ny, grading=grading)
     try:
-        probe = crack_path(sector.gear, tooth, "right", 1e-6, math.radians(45.0), start,
-                           region=sector.cell)
-        angle = _fillet_normal(sector, probe[0])
-        return crack_path(sector.gear, tooth, "right", length, angle, start, region=sector.cell)
+        probe = crack_path(gear, tooth, "right", 1e-6, math.radians(45.0), start, region=cell)
+        angle = _fillet_normal(cell, probe[0])
+        return crack_path(gear, tooth, "right", length, angle, start, region=cell)
     except InputError as err:
         key = {"fault.start": "--start", "fault.depth": "--length"}.get(err.field, err.field)
         raise InputError(key, err.reason) from None
+
+
+def initial_path(sector: CrackedSector, length: float, start: float | None) -> NDArray[np.float64]:
+    """:func:`first_crack` in ``sector``'s cell."""
+    return first_crack(sector.gear, sector.cell, sector.nx, sector.ny, sector.grading, length, start)
 
 
 def grow_crack(sector: CrackedSector, length: float, increment: float, start: float | None = None,

@@ -212,8 +212,9 @@ def tip_loads(sector: CrackedSector, path: NDArray[np.float64], tip_size: float,
     for rho in rolls:
         u_a, u_b, faces, js, pair_f = _solved(sector, float(rho), bodies)
         u = u_a if sector.g == 0 else u_b
+        # the domains kept to the tip's width (a web's junction: docs/fracture.md, 8.7)
         tf = stress_intensity(body.mesh.nodes, body.mesh.elements, u, sector.gear.material, tip,
-                              ahead, DEFAULT_RINGS)
+                              ahead, DEFAULT_RINGS, widths=body.mesh.width)
         lam = faces if faces.size else np.zeros(body.mesh.seams.shape[0])
         near = np.hypot(*(body.mesh.nodes[body.mesh.seams[:, 0]] - path[-1]).T) <= tf.radius[-1]
         k_i, k_ii = float(np.mean(tf.k_i)), float(np.mean(tf.k_ii))

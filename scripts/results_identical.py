@@ -46,8 +46,7 @@ def runs() -> dict[str, list[str]]:
         table[f"example-{toml.stem}"] = [str(toml)]
     # a pair-only file: the run settings come from the command line
     table["example-paper_pair"] += ["--speed-a", "4000", "--torque", "22.25"]
-    # a case for `spurdyn stiffness`: no speed, and a spall over part of the face width,
-    # which no run in motion takes
+    # a case for `spurdyn stiffness`: no speed
     table.pop("example-paper_faulty", None)
     table["numpy-fig8-300"] = ["paper-fig8", "--backend", "numpy",
                                "--angle", repr(NUMPY_ANGLE_DEG)]

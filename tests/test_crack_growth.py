@@ -13,7 +13,8 @@ import pytest
 from spurdyn.cli.main import main
 from spurdyn.errors import InputError
 from spurdyn.fracture.direction import driving_k, equivalent_k, growth_angle
-from spurdyn.fracture.growth import GrowthStopped, Region, TipState, cell_region, grow, path_length
+from spurdyn.fracture.growth import (JUNCTION_SHARE, JUNCTION_TIPS, GrowthStopped, Region, TipState,
+                                     cell_region, grow, junction_band, path_length)
 from spurdyn.fracture.life import ParisLaw, paris_cycles
 from spurdyn.geometry.presets import PAPER_TORQUE, paper_pair
 from spurdyn.mesh.cracked import cracked_tooth
@@ -212,16 +213,57 @@ def test_a_tip_below_a_web_s_junction_is_through_the_rim(sector):
 
 def test_a_tip_running_just_above_a_web_s_junction_is_through_the_rim(sector):
     """A crack running across the tooth 0.1 mm above the junction (its ray never crosses the
-    circle) is decided when its next tip comes within a quarter of the increment above it:
-    at the circle's point nearest that tip, a rim fracture; 0.2 mm above, it runs on."""
+    circle) is decided when its next tip comes within the band above it (10 tip sizes of
+    0.024 mm): at the circle's point nearest that tip, a rim fracture; 0.3 mm above, or
+    without the band, it runs on."""
     region = cell_region(sector.cell, math.pi / 28, 0.02, rim_radius=0.038)
+    band = junction_band(0.024e-3, 0.04048 - 0.038)
+    assert band == pytest.approx(JUNCTION_TIPS * 0.024e-3, rel=1e-12)
     path = np.array([[0.0015, 0.0381], [0.001, 0.0381]])
-    grown = grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
+    grown = grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region, band=band)
     nxt = np.array([0.0005, 0.0381])
     assert grown.verdict == "rim" and len(grown.steps) == 1
     assert np.allclose(grown.exit, nxt * 0.038 / np.hypot(*nxt), rtol=0, atol=1e-15)
-    higher = grow(path + [0.0, 1e-4], 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region)
+    higher = grow(path + [0.0, 3e-4], 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region,
+                  band=band)
     assert len(higher.steps) > 1
+    assert len(grow(path, 0.5e-3, lambda p: TipState(1.0, 0.0, 1.0, 0.0), region).steps) > 1
+
+
+def test_the_cracked_sector_keeps_the_domains_to_the_tip_s_width():
+    """The paper's driver on a web of 1.6 mm at m_b = 0.3 (``examples/thin_rim.toml``), a
+    crack whose tip is 0.127 mm (5 tip sizes) above the web's junction: the domains reach
+    web elements; the tip's K is the integral's with ``widths=`` the mesh's widths, and far
+    from the one without (the domains across the junction, docs/fracture.md 8.7)."""
+    import dataclasses
+
+    from spurdyn.fracture.integral import DEFAULT_RINGS, element_rings, stress_intensity
+    from spurdyn.geometry.blank import Blank
+    from spurdyn.sector.crack_tip import tip_node
+
+    gear = dataclasses.replace(PAIR.gear_a, blank=Blank(0.0, 0.020, 0.0383365, 0.0016),
+                               disk_inertia=None)
+    webbed = cracked_sector(dataclasses.replace(PAIR, gear_a=gear), PAPER_TORQUE, "a", 4, 14,
+                            positions=1)
+    path = np.vstack([initial_path(webbed, 0.3e-3, None), [1.0e-3, 38.45e-3]])
+    load, bodies, u = tip_loads(webbed, path, 0.024e-3, rolls=webbed.rolls[-1:])
+    mesh = bodies[0].mesh
+    tip = tip_node(bodies[0], path[-1])
+    ring = element_rings(mesh.elements, tip, max(DEFAULT_RINGS) + 1)
+    assert np.any(mesh.width[ring > 0] != gear.face_width)      # the domains cross the junction
+    k = [stress_intensity(mesh.nodes, mesh.elements, u, gear.material, tip, path[-1] - path[-2],
+                          DEFAULT_RINGS, widths=w) for w in (mesh.width, None)]
+    assert load.k_i[0] == pytest.approx(np.mean(k[0].k_i), rel=1e-9)
+    assert load.k_ii[0] == pytest.approx(np.mean(k[0].k_ii), rel=1e-9)
+    scale = math.hypot(load.k_i[0], load.k_ii[0])
+    across = max(abs(np.mean(k[1].k_i) - load.k_i[0]), abs(np.mean(k[1].k_ii) - load.k_ii[0]))
+    assert across > 0.1 * scale and load.spread[0] < 0.01
+
+
+def test_the_junction_s_band_is_capped_by_the_rim_s_thickness():
+    """A large tip size (a long first crack) takes at most a quarter of a thin rim."""
+    assert junction_band(0.16e-3, 0.5e-3) == pytest.approx(JUNCTION_SHARE * 0.5e-3, rel=1e-12)
+    assert junction_band(0.01e-3, 0.5e-3) == pytest.approx(JUNCTION_TIPS * 0.01e-3, rel=1e-12)
 
 
 # --- life ---------------------------------------------------------------------------------
@@ -312,7 +354,7 @@ def test_backup_ratio_on_a_web_moves_the_web_s_junction(tmp_path, capsys):
     hub is refused in one line naming the flag."""
     import argparse
 
-    from spurdyn.cli.crack import add_crack_parser, crack_inputs
+    from spurdyn.cli.crack import add_crack_parser, crack_inputs, rim_support
 
     parser = argparse.ArgumentParser()
     add_crack_parser(parser.add_subparsers())
@@ -324,9 +366,21 @@ def test_backup_ratio_on_a_web_moves_the_web_s_junction(tmp_path, capsys):
     assert gear.blank.rim_radius == pytest.approx(gear.root_radius - 0.5 * depth, rel=1e-12)
     assert (gear.blank.hub_radius, gear.blank.web_width) == (0.020, 0.0016)
     assert spec["inner_radius"] is None
+    assert rim_support(gear) == "web" and rim_support(PAIR.gear_a) == "held"
     code = main(["crack", str(THIN_RIM), "--backup-ratio", "3", "--out", str(tmp_path / "crack")])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "--backup-ratio" in err[0] and "hub" in err[0]
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("case", ["paper", str(THIN_RIM)])
+def test_a_backup_ratio_leaving_no_rim_is_refused_naming_the_flag(tmp_path, capsys, case):
+    """A ratio whose rim is thinner than the sector mesh takes (on a web, or held) is refused
+    in one line naming ``--backup-ratio``, not as the blank's or the model's radius."""
+    out = tmp_path / "crack"
+    code = main(["crack", case, "--backup-ratio", "1e-4", "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "--backup-ratio" in err[0] and "rim_radius" not in err[0]
     assert list(tmp_path.iterdir()) == []
 
 
@@ -360,6 +414,7 @@ def test_crack_command_grows_to_a_verdict_and_writes_its_folder(tmp_path, capsys
     summary = json.loads(capsys.readouterr().out)
     assert sorted(p.name for p in out.iterdir()) == sorted(summary["files"])
     assert summary["verdict"]["breaks_through"] == "tooth"       # the paper's solid blank
+    assert summary["rim_support"] == "held"
     rows = list(csv.DictReader(open(out / "path.csv")))
     assert len(rows) == summary["increments"] + 1
     length = [float(r["length_m"]) for r in rows]

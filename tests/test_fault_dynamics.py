@@ -119,7 +119,9 @@ def test_a_crack_opening_on_a_loaded_flank_edge_is_refused():
 
 
 @pytest.mark.parametrize("faults, settings, key", [
-    ((Fault("a", 1, "spall", roll=SPALL.roll, depth=1e-6, width_fraction=0.5),), {}, "fault"),
+    # spalls over part of the face width on both gears would split a pair four ways
+    ((Fault("a", 1, "spall", roll=SPALL.roll, depth=1e-6, width_fraction=0.5),
+      Fault("b", 1, "spall", roll=SPALL.roll, depth=1e-6, width_fraction=0.5)), {}, "fault"),
     ((Fault("a", 1, "missing"),), {"bodies": "full"}, "fault"),
 ])
 def test_what_a_faulty_dynamic_run_refuses(faults, settings, key):

@@ -113,7 +113,7 @@ def test_tables_refused_by_the_key_written(pair):
     cases = [
         ({"gear": "c", "tooth": 5, "kind": "missing"}, "fault[0].gear"),
         ({"gear": "a", "tooth": 28, "kind": "missing"}, "fault[0].tooth"),
-        ({"gear": "a", "tooth": 5, "kind": "chip"}, "fault[0].kind"),
+        ({"gear": "a", "tooth": 5, "kind": "dent"}, "fault[0].kind"),
         ({"gear": "a", "tooth": 5, "kind": "missing", "depth": 1e-5}, "fault[0].depth"),
         ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [0, 5], "depth": 1e-5}, "fault[0].roll_deg"),
         ({"gear": "a", "tooth": 5, "kind": "spall", "roll_deg": [20, 25], "depth": -1.0}, "fault[0].depth"),

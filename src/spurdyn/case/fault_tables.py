@@ -2,7 +2,8 @@
 
 Each table names a gear, a tooth on it and a kind; a spall adds the stretch of the flank
 it covers (``roll_deg``, the gear's own roll angles, inside its active profile), its
-``depth`` (m) and ``width_fraction`` (of the face width, default 1). Every problem is
+``depth`` (m) and ``width_fraction`` (of the face width, default 1); a chip its ``height``
+below the tip circle and ``width`` along the top land (m). Every problem is
 refused naming the key as written: ``fault[2].depth`` for the third table of a file,
 ``--fault`` for the option.
 """
@@ -16,10 +17,11 @@ from spurdyn.errors import InputError
 from spurdyn.geometry.fault import KINDS, PLANNED_KINDS, Fault, active_rolls
 from spurdyn.geometry.pair import GearPair
 
-FAULT_KEYS = {"gear", "tooth", "kind", "roll_deg", "depth", "width_fraction", "angle_deg", "start_radius"}
+FAULT_KEYS = {"gear", "tooth", "kind", "roll_deg", "depth", "width_fraction", "angle_deg", "start_radius",
+              "height", "width"}
 #: The keys each kind reads beyond ``gear``, ``tooth`` and ``kind``.
 KIND_KEYS = {"missing": set(), "spall": {"roll_deg", "depth", "width_fraction"},
-             "crack": {"depth", "angle_deg", "start_radius"}}
+             "crack": {"depth", "angle_deg", "start_radius"}, "chip": {"height", "width"}}
 #: Deepest spall (m): beyond it a pit is a broken tooth (``kind = "missing"``).
 MAX_SPALL_DEPTH = 1e-3
 #: Steepest crack below the horizontal (deg): a crack along the tooth is not a root crack.
@@ -84,6 +86,8 @@ def fault_from_table(table: Any, where: str, pair: GearPair) -> Fault:
         return Fault(gear=gear, tooth=tooth, kind=kind)
     if kind == "crack":
         return _crack(table, where, pair, gear, tooth)
+    if kind == "chip":
+        return _chip(table, where, pair, gear, tooth)
     return Fault(gear=gear, tooth=tooth, kind=kind, roll=_spall_roll(table, where, pair, gear),
                  depth=_positive(table, "depth", where, None, MAX_SPALL_DEPTH),
                  width_fraction=_positive(table, "width_fraction", where, 1.0, 1.0))
@@ -116,6 +120,25 @@ def _crack(table: dict[str, Any], where: str, pair: GearPair, gear: str, tooth: 
     return Fault(gear=gear, tooth=tooth, kind="crack", depth=depth, angle=angle, start=start)
 
 
+def _chip(table: dict[str, Any], where: str, pair: GearPair, gear: str, tooth: int) -> Fault:
+    """A chip's fault: its cut must leave the loaded flank above the lowest point of its
+    active profile (the mating tip's reach) and meet the top land short of its far corner."""
+    g = pair.gear_a if gear == "a" else pair.gear_b
+    low = g.base_radius * math.hypot(1.0, active_rolls(pair, gear)[0])
+    height = _positive(table, "height", where, None, math.inf)
+    if not g.tip_radius - height > low:
+        raise InputError(f"{where}.height", f"must leave the cut on the active flank of gear_{gear}: "
+                         f"below {(g.tip_radius - low) * 1e3:.4g} mm (the tip radius "
+                         f"{g.tip_radius * 1e3:.4g} mm less the lowest contact radius "
+                         f"{low * 1e3:.4g} mm; got {height * 1e3:.4g} mm)")
+    land = g.tip_thickness
+    width = _positive(table, "width", where, None, math.inf)
+    if not width < land:
+        raise InputError(f"{where}.width", f"must be less than the top land of gear_{gear}, "
+                         f"{land * 1e3:.4g} mm along the tip circle (got {width * 1e3:.4g} mm)")
+    return Fault(gear=gear, tooth=tooth, kind="chip", depth=height, width=width)
+
+
 def fault_to_table(fault: Fault) -> dict[str, Any]:
     """The ``[[fault]]`` table :func:`fault_from_table` reads back as ``fault`` (a stored
     case's, which stands on its own)."""
@@ -129,6 +152,8 @@ def fault_to_table(fault: Fault) -> dict[str, Any]:
             table["angle_deg"] = math.degrees(fault.angle)
         if fault.start is not None:
             table["start_radius"] = fault.start
+    elif fault.kind == "chip":
+        table.update(height=fault.depth, width=fault.width)
     return table
 
 
@@ -144,7 +169,8 @@ def faults_from_dict(data: dict[str, Any], pair: GearPair) -> tuple[Fault, ...]:
 
 def check_faults(faults: tuple[Fault, ...], keys: list[str]) -> None:
     """Refuse, naming fault ``i``'s ``keys[i]``, a tooth missing twice, a missing tooth with
-    another fault, or a tooth cracked twice (spalls may be several on a flank)."""
+    another fault, or a tooth cracked or chipped twice or both (each meshes the tooth's cell
+    again; spalls may be several on a flank)."""
     seen: dict[tuple[str, int], set[str]] = {}
     for f, key in zip(faults, keys):
         kinds = seen.setdefault((f.gear, f.tooth), set())
@@ -152,6 +178,9 @@ def check_faults(faults: tuple[Fault, ...], keys: list[str]) -> None:
             raise InputError(key, f"tooth {f.tooth} of gear_{f.gear} is missing: it takes no other fault")
         if f.kind == "crack" and "crack" in kinds:
             raise InputError(key, f"tooth {f.tooth} of gear_{f.gear} is already cracked: one crack a tooth")
+        if f.kind in ("crack", "chip") and kinds & {"crack", "chip"}:
+            raise InputError(key, f"tooth {f.tooth} of gear_{f.gear} is already cracked or chipped: one "
+                             "crack or one chip a tooth")
         kinds.add(f.kind)
 
 

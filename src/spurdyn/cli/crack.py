@@ -21,7 +21,7 @@ import numpy as np
 
 from spurdyn.errors import InputError
 
-__all__ = ["add_crack_parser", "cmd_crack"]
+__all__ = ["add_crack_parser", "cmd_crack", "rim_support"]
 
 #: The first crack's length by default, as a share of the tooth's whole depth.
 LENGTH_SHARE = 0.05
@@ -174,6 +174,7 @@ def _webbed_rim(args: argparse.Namespace, case: Any, gear: Any, gear_name: str,
         raise InputError("--backup-ratio", f"puts gear {gear_name}'s web junction at "
                          f"{rim * 1e3:.4g} mm, inside its hub ({hub * 1e3:.4g} mm): "
                          f"give a ratio below {(gear.root_radius - hub) / depth:.4g}")
+    _thick_enough(rim, gear, gear_name, depth)
     new = dataclasses.replace(gear, blank=dataclasses.replace(gear.blank, rim_radius=rim),
                               disk_inertia=None)
     pair = dataclasses.replace(case.pair, **{f"gear_{gear_name}": new})
@@ -187,10 +188,22 @@ def _inner_radius(args: argparse.Namespace, gear: Any, gear_name: str, depth: fl
         return None
     _positive("--backup-ratio", args.backup_ratio, "ratio")
     inner = gear.root_radius - args.backup_ratio * depth
+    _thick_enough(inner, gear, gear_name, depth)
     if not inner > 0.05 * gear.root_radius:
         raise InputError("--backup-ratio", f"leaves no bore: the rim would reach "
                          f"{inner * 1e3:.4g} mm from the centre; give a smaller ratio")
     return inner
+
+
+def _thick_enough(rim: float, gear: Any, gear_name: str, depth: float) -> None:
+    """Refuse naming ``--backup-ratio`` a rim's inner radius ``rim`` (m) that leaves a rim
+    thinner than the sector mesh takes (:data:`~spurdyn.mesh.sector.RIM_THICKNESS_MIN`)."""
+    from spurdyn.mesh.sector import RIM_THICKNESS_MIN
+
+    if not rim < gear.root_radius - RIM_THICKNESS_MIN:
+        raise InputError("--backup-ratio", f"leaves gear {gear_name} a rim of "
+                         f"{(gear.root_radius - rim) * 1e6:.3g} um below its root circle, thinner "
+                         f"than the mesh takes: give a ratio above {RIM_THICKNESS_MIN / depth:.2g}")
 
 
 def _first_crack(case: Any, gear: Any, inner: float | None, length: float, start: float | None) -> None:
@@ -269,6 +282,7 @@ def _summary(args: argparse.Namespace, spec: dict[str, Any], sector: Any, grown:
         "rim_inner_radius_m": _rim_inner(sector),
         "backup_ratio": (sector.gear.root_radius - _rim_inner(sector))
         / (sector.gear.tip_radius - sector.gear.root_radius),
+        "rim_support": rim_support(sector.gear),
         "initial_length_m": spec["length"], "increment_m": spec["increment"],
         "tip_size_m": grown.tip_size, "increments": len(g.steps) - 1,
         "load_positions_deg": np.degrees(sector.rolls).tolist(),
@@ -282,6 +296,12 @@ def _summary(args: argparse.Namespace, spec: dict[str, Any], sector: Any, grown:
         "domain_spread_max": float(max(np.max(ld.spread) for ld in grown.loads)),
         "life": life,
     }
+
+
+def rim_support(gear: Any) -> str:
+    """How the cracked gear's rim is carried below ``backup_ratio``: ``"web"`` on a webbed
+    blank (the rim bends on the web), ``"held"`` otherwise (clamped all round its inside)."""
+    return "web" if gear.blank is not None and gear.blank.webbed else "held"
 
 
 def _rim_inner(sector: Any) -> float:

@@ -273,7 +273,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--torque", type=float, metavar="NM", help="external torque on the driver (N m)")
     run.add_argument("--fault", action="append", metavar="SPEC",
                      help="a fault beside the case's [[fault]] tables, the keys of one, e.g. "
-                     "gear=a,tooth=5,kind=crack,depth=1e-3 (the sector model; docs/faults.md)")
+                     "gear=a,tooth=5,kind=crack,depth=1e-3 or gear=a,tooth=5,kind=chip,height=1e-3,"
+                     "width=5e-4; kinds missing, spall, crack, chip (the sector model; docs/faults.md)")
     run.add_argument("--angle", type=float, metavar="DEG",
                      help="rotation of A to simulate (deg; default the whole angle of action)")
     run.add_argument("--mesh", metavar="NXxNY", help="Q8 elements across x along each tooth")

@@ -160,6 +160,8 @@ def pair_info(case: MeshedPair, contact: str = "point", force: float | None = No
 def _fault_words(f: Fault) -> str:
     """One fault in words, SI with degrees for its roll."""
     what = {"missing": "missing", "crack": f"a root crack {f.depth * 1e3:.3g} mm long",
+            "chip": f"its tip chipped {f.depth * 1e3:.3g} mm down the drive flank, {f.width * 1e3:.3g} mm "
+                    "across the top land",
             "spall": (f"a spall {f.depth * 1e6:.3g} um deep over {100 * f.width_fraction:.3g} % of the "
                       f"face, roll {math.degrees(f.roll[0]):.3g}-{math.degrees(f.roll[1]):.3g} deg"
                       if f.roll is not None else "a spall")}[f.kind]

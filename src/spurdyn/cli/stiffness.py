@@ -38,7 +38,8 @@ def add_stiffness_parser(sub: argparse._SubParsersAction) -> None:
                    "toward its outlines (default 1: even)")
     p.add_argument("--fault", action="append", metavar="SPEC", help="a fault, the keys of a "
                    "[[fault]] table, e.g. gear=a,tooth=5,kind=missing or gear=a,tooth=5,kind=spall,"
-                   "roll_deg=20:24,depth=2e-5,width_fraction=0.5 (repeatable; with the case's "
+                   "roll_deg=20:24,depth=2e-5,width_fraction=0.5; kinds missing, spall, crack, chip "
+                   "(height=1e-3,width=5e-4) (repeatable; with the case's "
                    "faults the figures cover the faulty gear's revolution)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--png", metavar="FILE", help="draw the cycle (or the revolution) into this picture")

@@ -322,10 +322,12 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    "adds a torque dimension (default: the case's torque)")
     p.add_argument("--fault", action="append", metavar="SPEC",
                    help="a fault beside the case's [[fault]] tables, the keys of one, e.g. "
-                   "gear=a,tooth=5,kind=crack,depth=1e-3 (the sector model; docs/faults.md): a "
+                   "gear=a,tooth=5,kind=crack,depth=1e-3; kinds missing, spall, crack, chip (the sector "
+                   "model; docs/faults.md): a "
                    "faulty sweep writes DIR/fault_sweep.nc, the sensors' signals and indicators")
     p.add_argument("--fault-size", metavar="START:STOP/N",
-                   help="sizes (m) of the case's one fault, a crack's length or a spall's depth: "
+                   help="sizes (m) of the case's one fault, a crack's length, a spall's depth or a chip's "
+                   "height: "
                    "START:STOP/N, START:STOP:STEP or a list A,B,C; 0 is the healthy pair (run by the "
                    "healthy model over the faulty gear's revolutions); adds a fault_size dimension "
                    "(default: the fault's own size)")

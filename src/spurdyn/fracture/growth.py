@@ -27,17 +27,22 @@ from spurdyn.mesh import outline as ol
 from spurdyn.mesh.tooth import ToothMesh
 
 __all__ = ["DECIDE_REACH", "Growth", "GrowthStopped", "Region", "Step", "TipState", "cell_region", "grow",
-           "path_length"]
+           "junction_band", "path_length"]
 
 #: The crack is decided when the ray along its new direction meets the outline within this
 #: many increments of its tip, or the tip comes within :data:`DECIDE_NEAR` increments of
 #: the outline: the next tip would leave no room for the elements and domains at it.
 DECIDE_REACH = 1.5
 DECIDE_NEAR = 0.75
-#: A next tip above the rim's inner circle (a web's junction) by less than this share of the
-#: increment decides a rim fracture: three tip sizes (the tip's elements are 0.08 of the
-#: increment), so a solved tip's own elements and first ring stay in the rim's width.
-JUNCTION_NEAR = 0.25
+#: A next tip above the rim's inner circle (a web's junction) by less than this many tip
+#: sizes decides a rim fracture: the tip's own elements and the ring round them (q = 1 on
+#: their nodes in the 2-ring domain) reach 8.4-10.0 tip sizes from the tip in the cracked
+#: cell's graded mesh (docs/fracture.md, 8.5), so a tip solved further up keeps them all in
+#: the rim's width, only the domains' outer rings cut by ``widths=``.
+JUNCTION_TIPS = 10.0
+#: ... and by no more than this share of the rim's thickness below the root circle (a tip
+#: size from a long first crack must not take a thin rim's ligament away).
+JUNCTION_SHARE = 0.25
 #: Most increments a crack may take before the loop stops undecided.
 MAX_STEPS = 400
 
@@ -193,13 +198,20 @@ def _below_rim(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64])
     return -b - math.sqrt(disc)
 
 
-def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], increment: float
-            ) -> tuple[float, str, NDArray[np.float64]] | None:
+def junction_band(tip_size: float, rim_thickness: float) -> float:
+    """How far above the rim's inner circle (m) a next tip decides a rim fracture:
+    :data:`JUNCTION_TIPS` tip sizes ``tip_size`` (m), at most :data:`JUNCTION_SHARE` of the
+    rim's ``rim_thickness`` below the root circle (m)."""
+    return min(JUNCTION_TIPS * tip_size, JUNCTION_SHARE * rim_thickness)
+
+
+def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], increment: float,
+            band: float = 0.0) -> tuple[float, str, NDArray[np.float64]] | None:
     """``(distance, kind, point)`` if the crack at ``tip`` running along ``d`` is to be decided
     now (module constants), else ``None``: the nearest of the outline ahead (within reach,
     or the next tip near it: then the outline's point nearest that tip) and the rim's
-    inner circle within an increment (or the next tip above it by less than
-    :data:`JUNCTION_NEAR` increments: then the circle's point nearest that tip)."""
+    inner circle within an increment (or the next tip above it by less than ``band`` (m,
+    :func:`junction_band`): then the circle's point nearest that tip)."""
     found: list[tuple[float, str, NDArray[np.float64]]] = []
     dist, kind, point = region.ray(tip, d)
     if dist <= DECIDE_REACH * increment:
@@ -212,7 +224,7 @@ def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], in
     if down <= increment:
         found.append((down, "rim", tip + down * d))
     r_next = float(np.hypot(*nxt))
-    if region.inner_radius <= r_next < region.inner_radius + JUNCTION_NEAR * increment:
+    if region.inner_radius <= r_next < region.inner_radius + band:
         # the next tip just above the junction: the rim's ligament is gone (and a tip's
         # elements there would reach the junction: no domain of one width)
         point = nxt * (region.inner_radius / r_next)
@@ -222,9 +234,11 @@ def _decide(region: Region, tip: NDArray[np.float64], d: NDArray[np.float64], in
 
 def grow(path: NDArray[np.float64], increment: float, evaluate: Callable[[NDArray[np.float64]], TipState],
          region: Region, max_steps: int = MAX_STEPS,
-         progress: Callable[[Step], None] | None = None) -> Growth:
+         progress: Callable[[Step], None] | None = None, band: float = 0.0) -> Growth:
     """Grow the crack ``path`` (``(k, 2)``, mouth first) by ``increment`` (m) a step until
-    it reaches ``region``'s outline (module docstring), at most ``max_steps`` increments.
+    it reaches ``region``'s outline (module docstring), at most ``max_steps`` increments;
+    a next tip less than ``band`` (m, :func:`junction_band`; default none) above the rim's
+    inner circle decides a rim fracture.
 
     Raises
     ------
@@ -255,7 +269,7 @@ def grow(path: NDArray[np.float64], increment: float, evaluate: Callable[[NDArra
         if progress is not None:
             progress(step)
         d = _turned(ahead, turn)
-        decided = _decide(region, tip, d, increment)
+        decided = _decide(region, tip, d, increment, band)
         if decided is not None:
             dist, kind, point = decided
             return Growth(path, tuple(steps), kind, step.length + dist, point,

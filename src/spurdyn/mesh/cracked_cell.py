@@ -17,7 +17,8 @@ def cracked_cell(body: Any, t_in: NDArray[np.intp], hub_radius: float, web_radiu
     """A cracked cell's nodes, elements, hub nodes, tooth nodes (the structured tooth's nodes'
     places, -1 where none) and web flags, numbered from ``count``; ``t_in`` the structured
     tooth's nodes in the structured cell."""
-    where = np.asarray(body.structured)
+    # a chipped cell's flank nodes above its cut have the cut's node standing in for them
+    where = np.asarray(getattr(body, "stand_in", body.structured))
     nodes = np.asarray(body.nodes, dtype=float)
     el = np.asarray(body.elements)
     teeth = where[t_in]

@@ -277,6 +277,25 @@ def mesh_with_crack(curves: list[NDArray[np.float64]], mouth: int, tip: NDArray[
                      crack=_crack_nodes(quads.nodes, np.vstack([points[mouth][None], path])))
 
 
+def mesh_region(curves: list[NDArray[np.float64]], size: float, key: str) -> GmshQuads:
+    """Mesh the region inside ``curves`` (as :func:`mesh_with_crack`) with nothing embedded,
+    the element size ``size`` throughout (a chipped tooth, :mod:`spurdyn.mesh.chipped`).
+
+    Raises
+    ------
+    InputError
+        ``key`` if gmsh fails or leaves an element other than an 8-node quad.
+    """
+    def build(gmsh: object, scaled: list[NDArray[np.float64]], at: Callable,
+              h_tip: float) -> list[int]:
+        tags, _, sides = _outline(gmsh, scaled)
+        gmsh.model.geo.synchronize()
+        _count_sides(gmsh, scaled, sides, scaled[0][0][None], 1.0, 1.0)
+        return tags[:1]
+
+    return _generate(curves, build, size, size, key, "the region")
+
+
 def mesh_with_inner_crack(curves: list[NDArray[np.float64]], ends: NDArray[np.float64],
                           size: float, tip_size: float, key: str) -> GmshQuads:
     """Mesh the region inside ``curves`` (as :func:`mesh_with_crack`) with a crack whose two

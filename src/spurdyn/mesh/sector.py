@@ -44,6 +44,8 @@ RIM_GROWTH = 1.3
 #: of the tooth (docs/sector.md, "Rim depth": the mesh stiffness changes by less than 1 %
 #: beyond it).
 DEFAULT_RIM_DEPTHS = 3.0
+#: Thinnest rim above a web's junction the mesh takes (m): below it the rim's rows vanish.
+RIM_THICKNESS_MIN = 1e-6
 
 
 @dataclass(frozen=True)
@@ -229,7 +231,7 @@ def _cell(gear: Gear, nx: int, ny: int, inner_radius: float | None, grading: flo
           web: tuple[float, float] | None) -> _Cell:
     """One cell's tooth and rim (:func:`sector_mesh`'s arguments)."""
     r_in = default_inner_radius(gear) if inner_radius is None else float(inner_radius)
-    if not 0.0 < r_in < gear.root_radius - 1e-6:
+    if not 0.0 < r_in < gear.root_radius - RIM_THICKNESS_MIN:
         raise InputError("model.rim_inner_radius", f"must lie between 0 and the root radius "
                          f"{gear.root_radius * 1e3:.4g} mm (got {r_in * 1e3:.4g} mm)")
     tooth = tooth_mesh(gear, nx, ny, cut_angle, grading)
@@ -338,7 +340,7 @@ def _rim_radii(gear: Gear, r_top: NDArray[np.float64], r_in: float, h_row: float
         return r_in + (r_top - r_in) * tau[None, :], 0
     # the rim from the top curve down to the circle r_w, then the web to the hub
     r_w = float(web[0])
-    if not r_in < r_w < gear.root_radius - 1e-6:
+    if not r_in < r_w < gear.root_radius - RIM_THICKNESS_MIN:
         raise InputError("blank.rim_radius", f"must lie between the hub radius "
                          f"{r_in * 1e3:.4g} mm and the root radius {gear.root_radius * 1e3:.4g} mm")
     tau = _rim_rows(gear.root_radius - r_w, h_row)
@@ -390,6 +392,9 @@ def _place_cells(cell: _Cell, ks: NDArray[np.int64], cells: NDArray[np.int64], p
             tied, parents, weights = outline_ties(_cell_tooth(cell), body)
             tie_parts.append(count + np.column_stack([tied, parents]))
             weight_parts.append(weights)
+            if getattr(body, "ties", None) is not None:      # a chipped cell's split flank edge
+                tie_parts.append(count + np.asarray(body.ties))
+                weight_parts.append(np.asarray(body.tie_weights))
         else:
             xy, el, hub, teeth, web = _plain_cell(cell, count, k in ks, int(k) in missing)
         for part, item in zip(parts, (turn(xy, ang), el, hub, teeth, web)):
@@ -452,5 +457,5 @@ def _merge_nodes(xy: NDArray[np.float64], elements: NDArray[np.intp], tol: float
     return xy[keep_nodes], renum[elements], renum
 
 
-__all__ = ["DEFAULT_RIM_DEPTHS", "RIM_GROWTH", "SectorMesh", "cell_mesh", "default_inner_radius", "sector_mesh",
+__all__ = ["DEFAULT_RIM_DEPTHS", "RIM_GROWTH", "RIM_THICKNESS_MIN", "SectorMesh", "cell_mesh", "default_inner_radius", "sector_mesh",
            "turn"]

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
 from spurdyn.fracture.growth import (Growth, GrowthStopped, Region, Step, TipState, cell_region, grow,
-                                     path_length)
+                                     junction_band, path_length)
 from spurdyn.mesh import outline as ol
 from spurdyn.mesh.cracked import crack_path
 from spurdyn.sector.crack_tip import CrackedSector, TipLoad, tip_loads
@@ -114,6 +114,8 @@ def grow_crack(sector: CrackedSector, length: float, increment: float, start: fl
         return TipState(float(load.k_i[w]), float(load.k_ii[w]), float(load.k_eq[w]),
                         float(load.roll[w]))
 
-    growth = grow(path, increment, evaluate, sector_region(sector), max_steps, progress)
+    region = sector_region(sector)
+    band = junction_band(tip_size, sector.gear.root_radius - region.inner_radius)
+    growth = grow(path, increment, evaluate, region, max_steps, progress, band)
     return GrownCrack(growth=growth, loads=tuple(loads), bodies=last[0], displacement=last[1],
                       tip_size=tip_size, increment=increment)

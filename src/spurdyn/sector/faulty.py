@@ -10,7 +10,9 @@ as pair 0 (:mod:`spurdyn.geometry.fault` numbers the teeth so), and pair ``j`` i
 A cycle whose sectors hold no faulty tooth is the healthy one, solved once; every other
 is solved on its own sectors: a missing tooth's cell without its tooth and no contact on
 it, a spalled flank's pair split into the intact face and the pit
-(:data:`~spurdyn.sector.statics.Contact`), the pit's contact behind the pit's depth.
+(:data:`~spurdyn.sector.statics.Contact`), the pit's contact behind the pit's depth, a
+cracked or chipped tooth's cell on its own mesh, and a chipped flank's pair left out where
+its point lies beyond the cut.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
-from spurdyn.geometry.fault import Fault, faulty_cycles
+from spurdyn.geometry.fault import Fault, chip_roll, faulty_cycles
 from spurdyn.geometry.gear import Gear
 from spurdyn.mesh.tooth import tooth_mesh
 from spurdyn.geometry.pair import GearPair
@@ -109,6 +111,7 @@ class _Cycle:
     spalls: tuple[tuple[Fault, ...], tuple[Fault, ...]]
     touched: bool
     cracked: tuple[dict[int, Fault], dict[int, Fault]]
+    chips: tuple[tuple[Fault, ...], tuple[Fault, ...]] = ((), ())
 
 
 def _place(faults: tuple[Fault, ...], driver: str, c: int, firsts: tuple[int, int], teeth: int,
@@ -117,6 +120,7 @@ def _place(faults: tuple[Fault, ...], driver: str, c: int, firsts: tuple[int, in
     missing: tuple[set[int], set[int]] = (set(), set())
     spalls: tuple[list[Fault], list[Fault]] = ([], [])
     cracked: tuple[dict[int, Fault], dict[int, Fault]] = ({}, {})
+    chips: tuple[list[Fault], list[Fault]] = ([], [])
     touched = False
     for f in faults:
         g = 0 if f.gear == driver else 1
@@ -126,20 +130,28 @@ def _place(faults: tuple[Fault, ...], driver: str, c: int, firsts: tuple[int, in
         touched = True
         if f.kind == "missing":
             missing[g].add(m)
-        elif f.kind == "crack":
+        elif f.kind in ("crack", "chip"):
+            # both mesh the tooth's cell again
             cracked[g][m] = f
+            if f.kind == "chip":
+                chips[g].append(f)
         else:
             spalls[g].append(f)
     return _Cycle((frozenset(missing[0]), frozenset(missing[1])), (tuple(spalls[0]), tuple(spalls[1])),
-                  touched, cracked)
+                  touched, cracked, (tuple(chips[0]), tuple(chips[1])))
 
 
-def _contacts(c: int, place: _Cycle, zs: tuple[int, int]) -> Contacts:
-    """Cycle ``c``'s contacts: a missing tooth's pair left out, a spalled flank's split."""
+def _contacts(c: int, place: _Cycle, zs: tuple[int, int], cuts: dict[Fault, float]) -> Contacts:
+    """Cycle ``c``'s contacts: a missing tooth's pair left out, a spalled flank's split, a
+    chipped flank's left out where its roll lies beyond the cut's (``cuts``, its gear's
+    own roll of the cut: the flank is gone there)."""
     def split(js: list[int], roll_a: NDArray[np.float64], roll_b: NDArray[np.float64]) -> list[Contact]:
         out: list[Contact] = []
         for i, j in enumerate(js):
             if j in place.missing[0] or -j in place.missing[1]:
+                continue
+            if any((c - j - f.tooth) % zs[g] == 0 and roll > cuts[f] for g, roll in
+                   ((0, float(roll_a[i])), (1, float(roll_b[i]))) for f in place.chips[g]):
                 continue
             parts = [(j, 1.0, 0.0)]
             for g, roll in ((0, float(roll_a[i])), (1, float(roll_b[i]))):
@@ -183,6 +195,23 @@ def cracked_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> 
     return cracked_tooth(gear, cell, path)
 
 
+def chipped_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> Any:
+    """The chipped cell of a chip fault, its corner cut off the loaded flank's tip (the right
+    flank: both bodies are loaded on their right flanks); a chip of no height is the cell
+    meshed again uncut (the reference of a chip's own effect)."""
+    from spurdyn.mesh.chipped import chip_cut, chipped_tooth
+
+    cell = body_cell(gear, nx, ny, grading)
+    if fault.depth == 0.0:         # a chip of no size: the cell meshed again, uncut
+        return chipped_tooth(cell, None)
+    return chipped_tooth(cell, chip_cut(cell, gear.tip_radius, fault.depth, fault.width))
+
+
+def fault_mesh(gear: Gear, fault: Fault, nx: int, ny: int, grading: float) -> Any:
+    """The cell mesh of a crack or a chip fault."""
+    return (chipped_mesh if fault.kind == "chip" else cracked_mesh)(gear, fault, nx, ny, grading)
+
+
 #: Most positions a faulty revolution may solve unasked: each a contact problem of the
 #: faulty sectors (5-50 ms on the paper's pair at 4 x 14), so some minutes at most.
 MAX_FAULTY_POSITIONS = 20_000
@@ -218,8 +247,9 @@ def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], 
     law = contact_law(pair, torque, healthy)
     pitch = 2.0 * math.pi / zs[0]
     rolls = dp.start_roll_a + pitch * np.arange(positions) / (positions - 1)
-    meshes = {f: cracked_mesh(dp.gear_a if f.gear == pair.driver else dp.gear_b, f, nx, ny, grading)
-              for f in faults if f.kind == "crack"}
+    gear_of = {f: dp.gear_a if f.gear == pair.driver else dp.gear_b for f in faults}
+    meshes = {f: fault_mesh(gear_of[f], f, nx, ny, grading) for f in faults if f.kind in ("crack", "chip")}
+    cuts = {f: chip_roll(gear_of[f], f) for f in faults if f.kind == "chip"}
     base = _solve(law, rolls, healthy_contacts, healthy)
     parts, faulty = [], []
     for c, place in enumerate(places):
@@ -230,7 +260,7 @@ def faulty_revolution(pair: GearPair, torque: float, faults: tuple[Fault, ...], 
         cracked = tuple({m: meshes[f] for m, f in place.cracked[g].items()} for g in (0, 1))
         bodies = healthy if not any(place.missing) and not any(cracked) else sector_bodies(
             dp, k_teeth, nx, ny, grading=grading, missing=place.missing, cracked=cracked)
-        parts.append(_solve(law, rolls, _contacts(c, place, zs), bodies))
+        parts.append(_solve(law, rolls, _contacts(c, place, zs, cuts), bodies))
     return _assemble(parts, base, rolls, faulty, gear, turning, zs, law, k_teeth, healthy, torque)
 
 
@@ -254,4 +284,4 @@ def _assemble(parts: list[tuple[NDArray[np.float64], ...]], base: tuple[NDArray[
                       n_dof=healthy[0].mesh.n_dof + healthy[1].mesh.n_dof)
 
 
-__all__ = ["MAX_FAULTY_POSITIONS", "Revolution", "cracked_mesh", "faulty_revolution"]
+__all__ = ["MAX_FAULTY_POSITIONS", "Revolution", "chipped_mesh", "cracked_mesh", "fault_mesh", "faulty_revolution"]

@@ -13,11 +13,17 @@ from numpy.typing import NDArray
 
 class Rows(NamedTuple):
     """The pairs near the path at a step: their indices in the run's teeth, the constant
-    parts of their gaps, and per gear the rows' hub coefficients and elastic parts."""
+    parts of their gaps, and per gear the rows' hub coefficients and elastic parts; where a
+    pit over part of the face width splits a pair (docs/faults.md, section 8) it is two
+    rows, ``on`` naming it twice: per row its ``kind`` (0 whole, 1 the intact strip, 2 the
+    pit's), ``share`` of the face width and force of the step before ``held``."""
 
     on: NDArray[np.intp]
     const: NDArray[np.float64]
     sides: tuple[tuple[NDArray[np.float64], Any], ...]
+    kind: NDArray[np.intp] | None = None
+    share: NDArray[np.float64] | None = None
+    held: NDArray[np.float64] | None = None
 
 
 def lcp(w: NDArray[np.float64], v: NDArray[np.float64],

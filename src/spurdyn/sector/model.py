@@ -29,10 +29,10 @@ from spurdyn.sector.bearings import TRANSLATIONS, hub_bearings
 from spurdyn.sector.bodies import FullBody, ModalBody
 from spurdyn.sector.cache import cached
 from spurdyn.sector.cyclic import statics_body
-from spurdyn.geometry.fault import faulty_cycles
 from spurdyn.sector.damper import mesh_damper_table
 from spurdyn.sector.faces import crack_faces
-from spurdyn.sector.fault_bodies import GearFaults, check_cracked_flanks, cracked_meshes, gear_faults
+from spurdyn.sector.fault_bodies import (GearFaults, any_split, check_cracked_flanks, cracked_meshes, faulty_cycles_of,
+                                         no_faults, run_faults, split_rows, strip_excess)
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
 from spurdyn.sector.reduced import reduce_gear
@@ -110,7 +110,8 @@ class SectorModel:
         self.back = back = back_flanks_on(dp, settings)
         (first_a, count_a), (first_b, count_b) = teeth_for(dp, cover, back, settings.teeth)
         mesh_keys = (settings.nx, settings.ny, settings.grading)
-        self.faults = faults = _faults(pair, settings, ((first_a, count_a), (first_b, count_b)))
+        self.faults = faults = run_faults(pair, settings, ((first_a, count_a), (first_b, count_b)))
+        self.splits = any_split(faults)     # a spall over part of the face width splits its pairs
         self.blocks = blocks = tuple(
             _block(dp, g, sense, first, count, mesh_keys, faults[g] if faults else None)
             for g, (sense, first, count) in enumerate(((1.0, first_a, count_a), (-1.0, first_b, count_b))))
@@ -142,7 +143,7 @@ class SectorModel:
             top = KEEP_FREQUENCY if modes is True else float(modes)
             self.gears: tuple[Any, Any] = tuple(
                 ModalBody(cached(("modes", blk.gear, blk.sense, blk.first, blk.count, *mesh_keys, top,
-                                  blk.missing, faults[g].cracks if faults else ()),
+                                  blk.missing, faults[g].meshed if faults else ()),
                                  lambda blk=blk: reduce_gear(blk, top)), self.gp, self.bp, rayleigh,
                           2 if back else 1)
                 for g, blk in enumerate(blocks))
@@ -239,7 +240,8 @@ class SectorModel:
             loads = np.zeros(blk.mass.size)
             for j, r, b, fj in zip(js, contact_radii(dp, rolls0)[g], hw0, f0):
                 if fj:
-                    loads[blk.flank_dofs(sign * j)] += fj * blk.flank_load(sign * j, float(r), float(b))
+                    # added at each place: a chipped flank's cut node stands in for several
+                    np.add.at(loads, blk.flank_dofs(sign * j), fj * blk.flank_load(sign * j, float(r), float(b)))
             q[self.parts[g]][1:] = self.gears[g].static(loads)
         q[0] = e0 / ra
         if self.bear is not None:   # the hubs at their bearings' static deflection, the driver on by it
@@ -274,19 +276,23 @@ class SectorModel:
         return Start(q, v, acc, qdd, force, st.offset, common / speed)
 
     # -- the contacts at a step (NumPy; compiled twins in rows_compiled) ------------------
-    def rows_at(self, theta_a: float, f: NDArray[np.float64], offset: int = 0) -> Rows | None:
+    def rows_at(self, theta_a: float, f: NDArray[np.float64], offset: int = 0,
+                pit: NDArray[np.float64] | None = None) -> Rows | None:
         """The contacts near their paths at the driver's turn ``theta_a``: their indices in
         ``c_teeth``, the constant part of their gaps, and per gear the rows' coefficients on
         the hub and their elastic parts (the bodies' ``rows``), the strips' half-widths those
         of the forces ``f``. A back flank's roll is ``Sigma - rho``
         (:func:`~spurdyn.sector.system.back_roll_sum`), running backwards as the
         driver turns, and its gap the mirror image's plus the backlash (docs/sector.md, 6.7);
-        ``offset`` the driver's body tooth of pair 0 (a continuation runs on)."""
+        ``offset`` the driver's body tooth of pair 0 (a continuation runs on); ``pit`` the
+        pit strips' forces of the step before where a pit over part of the face width split
+        a contact (-1 elsewhere; none: no contact was split), which splits it into two rows
+        (:class:`~spurdyn.sector.lcp.Rows`)."""
         rolls, near = self._rolls(theta_a, offset)
         on = np.flatnonzero(near)
         if not on.size:
             return None
-        return self._pair_rows(on, rolls[on], f[on], theta_a, offset)
+        return self._pair_rows(on, rolls[on], f[on], theta_a, offset, None if pit is None else pit[on])
 
     def rows_many(self, theta_a: NDArray[np.float64], f: NDArray[np.float64],
                   offset: int = 0) -> tuple[NDArray[np.intp], Rows] | None:
@@ -314,28 +320,35 @@ class SectorModel:
         rolls = np.where(self.c_side == 1, self.sigma - rolls, rolls)
         near = (rolls >= self.roll_0 - self.reach) & (rolls <= self.roll_1 + self.reach)
         if self.faults:
-            near &= self.made(self.c_teeth + offset, self.c_side)
+            near &= self.made(self.c_teeth + offset, self.c_side) & ~self.lost(self.c_teeth + offset, self.c_side, rolls)
         return rolls, near
 
     def _pair_rows(self, on: NDArray[np.intp], rolls: NDArray[np.float64], f: NDArray[np.float64],
-                   theta_a: Any, offset: int) -> Rows:
+                   theta_a: Any, offset: int, pit: NDArray[np.float64] | None = None) -> Rows:
         """The :class:`Rows` of the contacts ``on`` at their ``rolls`` under their forces
-        ``f``, the driver at ``theta_a`` (a number, or one per contact)."""
+        ``f`` (their pit strips' ``pit``, :meth:`rows_at`), the driver at ``theta_a`` (a
+        number, or one per contact)."""
         ra, rb = self.ra, self.rb
+        kind, share, extra = np.zeros(on.size, np.intp), np.ones(on.size), 0.0
+        if self.splits:
+            places = self.flank_places(self.c_teeth[on] + offset, self.c_side[on])
+            idx, kind, share, extra, f = split_rows(self.faults, places, self.c_side[on], rolls, f,
+                                                    np.full(on.size, -1.0) if pit is None else pit)
+            on, rolls, theta_a = on[idx], rolls[idx], theta_a if np.ndim(theta_a) == 0 else theta_a[idx]
         g0, slope, r_a, r_b = self.table.at(rolls)
-        hw = half_widths_at(self.dp, (r_a, r_b), f, self.estar, self.width)
+        hw = half_widths_at(self.dp, (r_a, r_b), f, self.estar, self.width * share)
         sd = self.c_side[on]
         sgn = np.where(sd == 1, -1.0, 1.0)        # d roll / d theta_A
         k = self.c_teeth[on] + offset
         if self.faults:
-            g0 = g0 + self.pit_gaps(k, sd, rolls)
+            g0 = g0 + self.pit_gaps(k, sd, rolls) + extra
         # d gap / d theta: the base circles' and, off the path, the corner's
         sides = tuple((coef, self.gears[g].rows(kg, self.blocks[g].flank_loads(r, hw), sd))
                       for g, (kg, coef, r) in enumerate(((k, sgn * (slope - ra), r_a),
                                                           (-k + sd, sgn * rb, r_b))))
-        return Rows(on, g0 - sgn * slope * theta_a + self.jn * sd, sides)
+        return Rows(on, g0 - sgn * slope * theta_a + self.jn * sd, sides, kind, share, f)
 
-    def _at(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    def flank_places(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
         """The contacts' places in each whole body (from its first tooth) for the driver's
         body teeth ``k`` on flanks ``sd``."""
         b0, b1 = self.blocks
@@ -344,22 +357,33 @@ class SectorModel:
     def made(self, k: NDArray[np.intp], sd: NDArray[np.intp]) -> NDArray[np.bool_]:
         """Whether the contacts of the driver's body teeth ``k`` on flanks ``sd`` are made
         (neither tooth missing; twin in ``rows_compiled.contact_rows``)."""
-        at0, at1 = self._at(k, sd)
+        at0, at1 = self.flank_places(k, sd)
         return (self.faults[0].gone[at0] == 0) & (self.faults[1].gone[at1] == 0)
+
+    def lost(self, k: NDArray[np.intp], sd: NDArray[np.intp], rolls: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Whether those contacts lie, at their rolls on the path ``rolls`` (broadcast with
+        ``k``), where a chip took their flank (twin in ``rows_compiled.contact_rows``)."""
+        out = np.zeros(np.broadcast(k, rolls).shape, dtype=bool)
+        for gf, at in zip(self.faults, self.flank_places(k, sd)):
+            span = gf.lost[at, sd]
+            out |= (span[..., 0] <= rolls) & (rolls <= span[..., 1])
+        return out
 
     def pit_gaps(self, k: NDArray[np.intp], sd: NDArray[np.intp], rolls: NDArray[np.float64]) -> NDArray[np.float64]:
         """The pits' extra gaps (m) of those contacts at their rolls on the path ``rolls``
         (twin: ``rows_compiled.pit_gap``)."""
         out = np.zeros(rolls.size)
-        for gf, at in zip(self.faults, self._at(k, sd)):
+        for gf, at in zip(self.faults, self.flank_places(k, sd)):
             pit = gf.pits[at, sd]
-            out += np.where((pit[:, 0] <= rolls) & (rolls <= pit[:, 1]), pit[:, 2], 0.0)
+            out += np.where((pit[:, 3] >= 1.0) & (pit[:, 0] <= rolls) & (rolls <= pit[:, 1]), pit[:, 2], 0.0)
         return out
 
     def _made_contacts(self, js: list[int], roll_a: NDArray[np.float64], roll_b: NDArray[np.float64]) -> list[Any]:
         """The static start's contacts (:data:`~spurdyn.sector.statics.Contacts`): every pair
         on the path whose teeth are both there."""
-        made = self.made(np.asarray(js, np.intp), np.zeros(len(js), np.intp)) if self.faults else [True] * len(js)
+        ks, sd = np.asarray(js, np.intp), np.zeros(len(js), np.intp)
+        made = self.made(ks, sd) & ~self.lost(ks, sd, np.asarray(roll_a, dtype=float)) if self.faults \
+            else [True] * len(js)
         return [(j, 1.0, 0.0) for j, ok in zip(js, made) if ok]
 
     def gap_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -399,12 +423,13 @@ class SectorModel:
             w_gd += tt
             w_dd += tt
             cols.append(self.bear.tinv[:, None] * tr.T)
-        return w, w_gd, w_dd, res, cols
+        return w, w_gd, w_dd, res + strip_excess(rows.kind, rows.share, self.c_h), cols
 
     def contact_compliance(self, rows: Rows) -> NDArray[np.float64]:
         """``C_s = c_H I + b_i^T R b_j``: the pairs' compliance without inertia (RK4's)."""
         res = sum(self.gears[g].residual(el) for g, (_, el) in enumerate(rows.sides))
-        return res + self.c_h * np.eye(rows.on.size)
+        return res + strip_excess(rows.kind, rows.share, self.c_h) + self.c_h * np.eye(rows.on.size)
+
 
     def columns_times(self, cols: list[NDArray[np.float64]], lam: NDArray[np.float64]) -> NDArray[np.float64]:
         """``S^-1 G^T lam`` from the per-gear columns ``cols``."""
@@ -422,10 +447,10 @@ class SectorModel:
         """``(gear A, gear B, contacts, gap table, config)``: the typed packs of
         :mod:`spurdyn.sector.packs` the compiled loops read (modal bodies of whole gears)."""
         xq, wq = strip_quadrature()
-        faults = self.faults or tuple(_no_faults(blk.count) for blk in self.blocks)
+        faults = self.faults or tuple(no_faults(blk.count) for blk in self.blocks)
         contacts = SectorContacts(np.asarray(self.c_teeth, np.int64), np.asarray(self.c_side, np.int64),
                                   int(offset), xq, wq, self.c_table, faults[0].pits, faults[1].pits,
-                                  faults[0].gone, faults[1].gone)
+                                  faults[0].gone, faults[1].gone, faults[0].lost, faults[1].lost)
         cfg = SectorConfig(*(float(x) for x in (
             self.roll_0, self.roll_1, self.reach, self.pitch, self.ra, self.rb, self.estar, self.width,
             self.c_h, self.am, self.af, self.beta, self.gamma, self.h, self.bp, self.gp, self.sigma, self.jn,
@@ -454,44 +479,15 @@ def whole_periods(cycles: int, most: int, period: int, default_most: bool) -> tu
     return cycles, max(most, cycles + 2 * period) if default_most else most
 
 
-def _no_faults(count: int) -> GearFaults:
-    """A healthy gear's (the compiled loops' packs of every run have the fields)."""
-    return GearFaults(frozenset(), (), np.zeros((count, 2, 3)), np.zeros(count, np.int64))
-
-
-def _faults(pair: GearPair, settings: RunSettings, bodies: tuple[tuple[int, int], tuple[int, int]]) -> Any:
-    """The run's faults on its whole gears (:mod:`spurdyn.sector.fault_bodies`), ``None``
-    without faults; a faulty run on a sector of teeth refused (a fault comes round)."""
-    if not settings.faults:
-        return None
-    dp = driving_pair(pair)
-    if any(count < gear.teeth for (_, count), gear in zip(bodies, (dp.gear_a, dp.gear_b))):
-        raise InputError("fault", f"a faulty gear runs whole: give cycles of {WHOLE_FROM_CYCLES} or more "
-                         "and no fewer teeth than the gears have")
-    if settings.bodies != "modal":
-        raise InputError("fault", "a faulty gear runs on modal bodies: give bodies = \"modal\"")
-    return gear_faults(dp, pair.driver, tuple(settings.faults), (bodies[0][0], bodies[1][0]))
-
-
-def faulty_cycles_of(dp: GearPair, driver: str, faults: Any) -> int:
-    """The mesh cycles after which a faulty pair repeats (the faulty gear's revolution, both
-    gears' meeting again with faults on both); 1 for a healthy pair."""
-    if not faults:
-        return 1
-    gears = {f.gear for f in faults}
-    turning = dp.gear_a if gears == {driver} else dp.gear_b
-    other = dp.gear_b if turning is dp.gear_a else dp.gear_a
-    return faulty_cycles(turning.teeth, other.teeth, len(gears) == 2)
-
-
 def _block(dp: GearPair, g: int, sense: float, first: int, count: int, mesh_keys: tuple[Any, ...],
            faults: GearFaults | None) -> Any:
-    """Gear ``g``'s block (cached per process), with its faults' missing and cracked teeth."""
+    """Gear ``g``'s block (cached per process), with its faults' missing, cracked and chipped
+    teeth."""
     gear = dp.gear_a if g == 0 else dp.gear_b
-    if faults is None or not (faults.missing or faults.cracks):
+    if faults is None or not (faults.missing or faults.meshed):
         return cached(("block", gear, sense, first, count, *mesh_keys), lambda: gear_block(gear, sense, first, count,
                                                                                           *mesh_keys))
-    return cached(("block", gear, sense, first, count, *mesh_keys, faults.missing, faults.cracks),
+    return cached(("block", gear, sense, first, count, *mesh_keys, faults.missing, faults.meshed),
                   lambda: gear_block(gear, sense, first, count, *mesh_keys, missing=faults.missing,
                                      cracked=cracked_meshes(dp, faults, g, *mesh_keys)))
 

@@ -33,12 +33,15 @@ GapArrays = namedtuple("GapArrays", ["rho", "gap", "slope", "r_a", "r_b"])
 #: flank ``sides[i]`` (0 drive, 1 back), ``offset`` the driver's body tooth of pair 0 (a
 #: continuation runs on); ``xq``, ``wq`` the strip's quadrature; ``c_table`` the mesh
 #: damper's coefficient over a pitch (:func:`~spurdyn.sector.damper.mesh_damper_table`);
-#: ``pits0``, ``pits1`` ``(count, sides, 3)`` per body tooth and flank of each gear the
-#: contact's rolls ``(lo, hi)`` on its path over which its gap is ``depth`` wider (a spall's
-#: pit; zeros on a healthy flank); ``gone0``, ``gone1`` ``(count,)`` 1 on a missing tooth
-#: (its contacts are not made).
+#: ``pits0``, ``pits1`` ``(count, sides, 4)`` per body tooth and flank of each gear the
+#: contact's rolls ``(lo, hi)`` on its path over which its gap is ``depth`` wider over the
+#: share ``width`` of the face width (a spall's pit: 1 across the face, less splits the
+#: contact into two rows; zeros on a healthy flank); ``gone0``, ``gone1`` ``(count,)`` 1 on a
+#: missing tooth (its contacts are not made); ``lost0``, ``lost1`` ``(count, sides, 2)`` the
+#: contact's rolls ``(lo, hi)`` on its path where a chip took its flank (not made there;
+#: ``(inf, -inf)``: none).
 SectorContacts = namedtuple("SectorContacts", ["teeth", "sides", "offset", "xq", "wq", "c_table", "pits0",
-                                               "pits1", "gone0", "gone1"])
+                                               "pits1", "gone0", "gone1", "lost0", "lost1"])
 
 #: The scalars of a sector run (SI units): the path's rolls ``roll_0``, ``roll_1`` and the
 #: ``reach`` beyond them, the ``pitch``, the base radii ``ra``, ``rb``, Hertz's ``estar``, the

@@ -153,7 +153,8 @@ def _flank_loads(block: GearBlock) -> NDArray[np.float64]:
     loads = np.zeros((block.mass.size, len(teeth) * FLANK_SHAPES))
     for t, tooth in enumerate(teeth):
         for i, r in enumerate(_radii(block)):
-            loads[block.flank_dofs(tooth), t * FLANK_SHAPES + i] = block.flank_load(tooth, float(r), 0.0)
+            # added, not set: a chipped flank's cut node stands in for several flank nodes
+            np.add.at(loads, (block.flank_dofs(tooth), t * FLANK_SHAPES + i), block.flank_load(tooth, float(r), 0.0))
     return loads
 
 

@@ -107,9 +107,11 @@ ImplicitPack = namedtuple("ImplicitPack", [
 # model's data: spurdyn.sector.packs)
 
 #: The implicit sector loop's state, changed in place: coordinates, velocities, the
-#: scheme's two accelerations, the contacts' forces and a crack's faces' (none without).
-SectorStepState = namedtuple("SectorStepState", ["q", "v", "acc", "qdd", "force", "faces"],
-                             defaults=(np.zeros(0),))
+#: scheme's two accelerations, the contacts' forces, a crack's faces' (none without) and per
+#: contact its pit strip's force where a pit over part of the face width splits it, -1
+#: elsewhere (none: no contact splits; docs/faults.md, section 8).
+SectorStepState = namedtuple("SectorStepState", ["q", "v", "acc", "qdd", "force", "faces", "pit"],
+                             defaults=(np.zeros(0), np.zeros(0)))
 
 #: The RK4 reference's state, changed in place: coordinates, velocities, the contacts'
 #: forces at the step's start and the forces whose half-widths the step holds.

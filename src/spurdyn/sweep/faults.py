@@ -25,8 +25,9 @@ from numpy.typing import NDArray
 from spurdyn.errors import InputError
 from spurdyn.geometry.fault import Fault
 
-#: Fault kinds that have a size (what the size axis scales: a crack's length, a spall's depth).
-SIZED_KINDS = ("crack", "spall")
+#: Fault kinds that have a size (what the size axis scales: a crack's length, a spall's
+#: depth, a chip's height; all held in ``Fault.depth``).
+SIZED_KINDS = ("crack", "spall", "chip")
 #: The sensors' signals a point keeps (``result.nc``'s, :mod:`spurdyn.results.vibration`).
 SIGNALS = ("mesh_force", "hub_acceleration_a", "hub_acceleration_b", "bearing_force_separating",
            "bearing_force_transverse")
@@ -54,8 +55,8 @@ BYTES_PER_SAMPLE = 52
 
 
 def size_of(fault: Fault) -> float | None:
-    """The size the axis scales: a crack's length or a spall's depth (m); ``None`` for a
-    missing tooth."""
+    """The size the axis scales: a crack's length, a spall's depth or a chip's height (m);
+    ``None`` for a missing tooth."""
     return float(fault.depth) if fault.kind in SIZED_KINDS else None
 
 
@@ -132,7 +133,7 @@ def fault_axis(case: Any, sizes: tuple[float, ...] | None) -> FaultAxis | None:
                          "(several faults at once are a case for `spurdyn run`)")
     fault = faults[0]
     if sizes is not None and size_of(fault) is None:
-        raise InputError("--fault-size", f"a {fault.kind} tooth has no size: give a crack or a spall, "
+        raise InputError("--fault-size", f"a {fault.kind} tooth has no size: give a crack, a spall or a chip, "
                          "or leave out --fault-size")
     if sizes is None:
         sizes = (size_of(fault),) if size_of(fault) is not None else (None,)   # type: ignore[assignment]

@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from spurdyn.jit import njit
-from spurdyn.solvers.sector.rows_compiled import _modal_rows, lcp_pivot, trans_back
+from spurdyn.solvers.sector.bearings_compiled import trans_back
+from spurdyn.solvers.sector.rows_compiled import _modal_rows, lcp_pivot
 
 
 @njit

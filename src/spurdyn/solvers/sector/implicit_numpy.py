@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from spurdyn.sector.damper import damper_at
 from spurdyn.sector.faces import closed_start
+from spurdyn.sector.fault_bodies import row_forces
 from spurdyn.sector.lcp import Rows, lcp, lcp_pivot
 from spurdyn.sector.model import SectorModel
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK, SectorStepState
@@ -49,7 +50,7 @@ def implicit_step(model: SectorModel, st: SectorStepState, tq: NDArray[np.float6
     its end (module docstring); ``offset`` the driver's body tooth of pair 0."""
     m_, gears, parts = model, model.gears, model.parts
     am, af, beta, gamma, h, bp, gp = m_.am, m_.af, m_.beta, m_.gamma, m_.h, m_.bp, m_.gp
-    q, v, acc, qdd, last = st.q, st.v, st.acc, st.qdd, st.force
+    q, v, acc, qdd, last, last_pit = st.q, st.v, st.acc, st.qdd, st.force, st.pit
     a_part = (af * qdd - am * acc) / (1.0 - am)
     q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
     v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
@@ -59,33 +60,37 @@ def implicit_step(model: SectorModel, st: SectorStepState, tq: NDArray[np.float6
         r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
     x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)]
                         + ([m_.bear.free(q_hat[m_.tpart], v_hat[m_.tpart])] if m_.bear is not None else []))
-    rows = m_.rows_at(float(q_hat[0]), last, offset)
+    rows = m_.rows_at(float(q_hat[0]), last, offset, last_pit if last_pit.size else None)
     force = np.zeros(m_.c_teeth.size)
+    pit = np.full(last_pit.size, -1.0)
     faces = np.zeros(st.faces.size)
     c_res = c_pairs = None
     if rows is not None or m_.faces is not None:
-        out = _contacts(m_, rows, q_hat, v_hat, x0, last, st.faces)
+        out = _contacts(m_, rows, q_hat, v_hat, x0, st.faces)
         if out is None:
             return ImplicitStep(st, rows, c_res, c_pairs, FAIL_LCP)
         qdd_new, lam, faces, c_res, c_pairs = out
-        if rows is not None:
-            force[rows.on] = lam
+        if rows is not None:     # a split pair's force the sum of its rows'
+            np.add.at(force, rows.on, lam)
+            if pit.size:
+                pit[rows.on[rows.kind == 2]] = lam[rows.kind == 2]
     else:
         qdd_new = x0
     if not np.isfinite(qdd_new).all():
         return ImplicitStep(st, rows, c_res, c_pairs, FAIL_NAN)
     new = SectorStepState(q_hat + bp * qdd_new, v_hat + gp * qdd_new,
-                          a_part + (1.0 - af) / (1.0 - am) * qdd_new, qdd_new, force, faces)
+                          a_part + (1.0 - af) / (1.0 - am) * qdd_new, qdd_new, force, faces, pit)
     status = OK if m_.theta_lo <= new.q[0] <= m_.theta_hi else FAIL_BEYOND
     return ImplicitStep(new, rows, c_res, c_pairs, status)
 
 
 def _contacts(m_: SectorModel, rows: Rows | None, q_hat: NDArray[np.float64], v_hat: NDArray[np.float64],
-              x0: NDArray[np.float64], last: NDArray[np.float64], last_faces: NDArray[np.float64]) -> Any:
+              x0: NDArray[np.float64], last_faces: NDArray[np.float64]) -> Any:
     """The step's accelerations with the pairs ``rows`` in contact (and a crack's faces,
     :func:`_with_faces`): ``(qdd, F, face forces, C_res, c_pairs)``, ``None`` where their
     problem has no solution. ``x0`` the accelerations without them (changed by the mesh
-    damper), ``last`` and ``last_faces`` the forces of the step before."""
+    damper), the rows' forces of the step before ``rows.held`` and the faces'
+    ``last_faces``."""
     bp, gp = m_.bp, m_.gp
     if rows is None:        # a crack's faces alone
         p, empty = 0, np.zeros((0, 0))
@@ -98,7 +103,7 @@ def _contacts(m_: SectorModel, rows: Rows | None, q_hat: NDArray[np.float64], v_
         # the mesh damper on the rate of the whole approach of the pairs in contact at the
         # step before (the rows' rigid part D, in parallel with the mesh stiffness), shared
         # by their forces: S + gamma' D^T C D, by Woodbury through the pairs' couplings
-        shares = last[rows.on]
+        shares = rows.held
         c_mesh = damper_at(m_.c_table, m_.pitch, float(q_hat[0]))
         c_pairs = c_mesh * shares / shares.sum() if c_mesh > 0.0 and shares.sum() > 0.0 else np.zeros(p)
         if c_pairs.any():
@@ -156,7 +161,8 @@ class ImplicitStepper(SectorStepper):
         self.start_state = start
         faces = model.faces
         self.state = SectorStepState(start.q, start.v, start.acc, start.qdd, start.force,
-                                     np.zeros(faces.size if faces is not None else 0))
+                                     np.zeros(faces.size if faces is not None else 0),
+                                     np.full(start.force.size, -1.0))
         self.c_res = np.zeros((0, 0))
         self.damper_torque = [0.0, 0.0]     # the mesh damper's torques on the hubs at the last step
         q, na = start.q, model.na
@@ -207,7 +213,8 @@ class ImplicitStepper(SectorStepper):
         rec.keep_state(i, q)
         if model.bear is not None:
             rec.hubs[i] = np.concatenate([q[model.tpart], v[model.tpart]])
-        fo = force[rows.on] if rows is not None else np.zeros(0)
+        fo = np.zeros(0) if rows is None else force[rows.on] if not rows.kind.any() else \
+            row_forces(rows.kind, rows.share, force[rows.on], st.pit[rows.on])
         if model.faces is not None:
             fo = np.concatenate([fo, st.faces])
             opening = model.faces.rows(model.parts, q) + c_res[fo.size - st.faces.size:] @ fo
@@ -233,7 +240,8 @@ class ImplicitStepper(SectorStepper):
         t_kin, t_strain = (bear.kinetic(v[model.tpart]), bear.strain(q[model.tpart])) if bear is not None else (0, 0)
         return (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)) + t_kin,
                 sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res + t_strain,
-                0.5 * model.c_h * float(force @ force), work[0],
+                0.5 * model.c_h * float(force @ force if rows is None or not rows.kind.any() else
+                                        fo[:rows.on.size] @ fo[:rows.on.size]), work[0],
                 *(gears[g].momentum(v[parts[g]]) for g in range(2)),
                 # the pairs' generalised forces on the hubs: the rows' hub entries, and the
                 # mesh damper's torques (it acts on the hubs)

@@ -95,7 +95,7 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
     if back is not None:
         back_force = back[1][sel]
         out["back_pair_teeth"] = back[0].tolist()
-    contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep)
+    contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep, offset)
     # a faulty gear's fillets differ tooth by tooth (missing, cracked): not recovered yet
     stress = None if model.faults else root_stress(model, record, n_kept, offset)
     _fault_records(model, out, record, n_kept, most)

@@ -101,45 +101,6 @@ def modal_free(tq0, tq1, q, v, gear0, gear1):
 
 
 @njit
-def trans_free(x0, q, v, bear):
-    """The bodies' free accelerations ``x0`` followed by the hubs' translations',
-    ``S_tt^-1 (-k x - c x_dot)`` (twin of ``HubBearings.free``); ``x0`` itself without bearings."""
-    nt = bear.tinv.size
-    if nt == 0:
-        return x0
-    nb = x0.size
-    out = np.empty(nb + nt)
-    out[:nb] = x0
-    for j in range(nt):
-        out[nb + j] = bear.tinv[j] * (-bear.k[j] * q[nb + j] - bear.c[j] * v[nb + j])
-    return out
-
-
-@njit
-def trans_times(tr, x):
-    """``(p,)`` the rows' translation entries ``tr`` ``(p, t)`` times the translations ``x``
-    (zeros without bearings: ``t = 0``)."""
-    p, nt = tr.shape
-    out = np.zeros(p)
-    for a in range(p):
-        for j in range(nt):
-            out[a] += tr[a, j] * x[j]
-    return out
-
-
-@njit
-def trans_back(qdd, nb, lam, trans):
-    """``qdd[nb:] += S_tt^-1 T^T lam``: loads ``lam`` on the rows ``T`` through the
-    translations' block (``trans = (T, S_tt^-1)``; nothing without bearings)."""
-    tr, tinv = trans
-    for j in range(tinv.size):
-        acc = 0.0
-        for a in range(lam.size):
-            acc += tr[a, j] * lam[a]
-        qdd[nb + j] += tinv[j] * acc
-
-
-@njit
 def arrow(gear, x):
     """``S^-1 x`` of the gear's arrow ``S`` (:data:`~spurdyn.sector.packs.ModalGear`; twin
     of :func:`spurdyn.sector.bodies.arrow_solve`): O(n), not a dense inverse's O(n^2)."""
@@ -181,15 +142,23 @@ def contact_rows(theta, widths, gear0, gear1, con, table, cfg):
     their gaps, per gear the rows' hub coefficients and modal rows, and the bodies' residual
     compliance between their loads (``b_i^T R b_j``); the strips' half-widths those of the
     forces ``widths`` (twin of ``SectorModel.rows_at`` with the bodies' ``residual``). A back
-    flank's roll runs backwards (``system.back_roll_sum``). No contact: ``on`` empty."""
-    return rows_and_loads(theta, widths, gear0, gear1, con, table, cfg)[0]
+    flank's roll runs backwards (``system.back_roll_sum``). No contact: ``on`` empty. A
+    contact in a pit over part of the face width is two rows (:func:`rows_and_loads`), here
+    entering it (the RK4 reference refuses such pits)."""
+    return rows_and_loads(theta, widths, np.full(widths.size, -1.0), gear0, gear1, con, table, cfg)[0]
 
 
 @njit
-def rows_and_loads(theta, widths, gear0, gear1, con, table, cfg):
+def rows_and_loads(theta, widths, pit, gear0, gear1, con, table, cfg):
     """:func:`contact_rows` and the pairs' unit loads it took, per gear ``(loads, idx, cnt,
-    at)`` (the loads in tooth 0's frame, their nonzero columns and the body teeth), and the
-    flanks ``sd``: ``(rows, loads0, loads1, sd)``."""
+    at)`` (the loads in tooth 0's frame, their nonzero columns and the body teeth), the
+    flanks ``sd``, and per row its kind and force of the step before (:func:`split_rows`):
+    ``(rows, loads0, loads1, sd, (kind, held))``. A contact whose flank is in a pit over part
+    of the face width is two rows (docs/faults.md, section 8): ``on`` names its contact twice,
+    the intact strip's row and then the pit's, each with the strip compliance of its share
+    ``s`` of the width, ``c_H / s`` (its part beyond ``c_H`` on ``res``'s diagonal), the
+    Hertz half-width of its own force per width and the pit's row its gap ``+ depth``;
+    ``pit`` the pit strips' forces of the step before (:func:`split_rows`)."""
     teeth, sides = con.teeth, con.sides
     nt = teeth.size
     on_all = np.empty(nt, np.int64)
@@ -199,17 +168,24 @@ def rows_and_loads(theta, widths, gear0, gear1, con, table, cfg):
         if sides[i]:
             roll = cfg.sigma - roll
         k = teeth[i] + con.offset
-        gone = (con.gone0[(k - gear0.first) % gear0.count] != 0
-                or con.gone1[(-k + sides[i] - gear1.first) % gear1.count] != 0)
+        k0, k1 = (k - gear0.first) % gear0.count, (-k + sides[i] - gear1.first) % gear1.count
+        # a missing tooth, or a chipped flank beyond its cut (twin: SectorModel.made, lost)
+        gone = (con.gone0[k0] != 0 or con.gone1[k1] != 0
+                or con.lost0[k0, sides[i], 0] <= roll <= con.lost0[k0, sides[i], 1]
+                or con.lost1[k1, sides[i], 0] <= roll <= con.lost1[k1, sides[i], 1])
         if roll >= cfg.roll_0 - cfg.reach and roll <= cfg.roll_1 + cfg.reach and not gone:
             on_all[p] = i
             p += 1
-    on = on_all[:p].copy()
+    near = on_all[:p].copy()
+    shares, depths = _pit_shares(theta, near, gear0, gear1, con, cfg)
+    on, kind, share, extra, held = split_rows(near, shares, depths, widths, pit)
+    p = on.size
     nf = gear0.modes.shape[2]
     if p == 0:      # no pair near the path: no rows (and no products of empty arrays)
         none = (np.empty((0, nf)), np.empty((0, nf), np.int64), np.empty(0, np.int64), np.empty(0, np.int64))
         return ((on, np.empty(0), np.empty(0), np.empty(0), np.empty((0, gear0.omega2.size)),
-                 np.empty((0, gear1.omega2.size)), np.zeros((0, 0))), none, none, np.empty(0, np.int64))
+                 np.empty((0, gear1.omega2.size)), np.zeros((0, 0))), none, none, np.empty(0, np.int64),
+                (kind, held))
     const = np.empty(p)
     coef0 = np.empty(p)
     coef1 = np.empty(p)
@@ -227,15 +203,15 @@ def rows_and_loads(theta, widths, gear0, gear1, con, table, cfg):
         if sd[a]:
             rho = cfg.sigma - rho
         g0, slope, r_a, r_b = table_at(table, rho)
-        hw = hertz_half_width(widths[i], involute_curvature(r_a, gear0.geo[3]),
-                              involute_curvature(r_b, gear1.geo[3]), cfg.estar, cfg.width)
+        hw = hertz_half_width(held[a], involute_curvature(r_a, gear0.geo[3]),
+                              involute_curvature(r_b, gear1.geo[3]), cfg.estar, cfg.width * share[a])
         const[a] = g0 - sgn * slope * theta + (cfg.jn if sd[a] else 0.0)
         coef0[a] = sgn * (slope - cfg.ra)
         coef1[a] = sgn * cfg.rb
         k = teeth[i] + con.offset
         at0[a] = (k - gear0.first) % gear0.count
         at1[a] = (-k + sd[a] - gear1.first) % gear1.count
-        const[a] += pit_gap(con.pits0[at0[a], sd[a]], rho) + pit_gap(con.pits1[at1[a], sd[a]], rho)
+        const[a] += pit_gap(con.pits0[at0[a], sd[a]], rho) + pit_gap(con.pits1[at1[a], sd[a]], rho) + extra[a]
         flank_load(gear0.geo, r_a, hw, con.xq, con.wq, loads0[a])
         flank_load(gear1.geo, r_b, hw, con.xq, con.wq, loads1[a])
     # a strip's load touches a few of the flank's nodes: the products run over those alone
@@ -246,8 +222,66 @@ def rows_and_loads(theta, widths, gear0, gear1, con, table, cfg):
     res = (_static_pairs(loads0, idx0, cnt0, gear0.flex, at0, sd, gear0.count, gear0.ring)
            + _static_pairs(loads1, idx1, cnt1, gear1.flex, at1, sd, gear1.count, gear1.ring))
     res -= (rows0 / gear0.omega2) @ rows0.T + (rows1 / gear1.omega2) @ rows1.T
+    for a in range(p):
+        if kind[a]:     # a strip's compliance c_H / s beyond the c_H every row has
+            res[a, a] += cfg.c_h / share[a] - cfg.c_h
     return ((on, const, coef0, coef1, rows0, rows1, res), (loads0, idx0, cnt0, at0), (loads1, idx1, cnt1, at1),
-            sd)
+            sd, (kind, held))
+
+
+@njit
+def _pit_shares(theta, near, gear0, gear1, con, cfg):
+    """Per contact ``near`` the share of the face width a pit over part of it covers at its
+    roll (0: none there) and the pit's depth: ``(shares, depths)`` (one gear's pits at most
+    are partial, :func:`~spurdyn.sector.fault_bodies.gear_faults`)."""
+    p = near.size
+    shares, depths = np.zeros(p), np.zeros(p)
+    for a in range(p):
+        i = near[a]
+        sd = con.sides[i]
+        rho = cfg.roll_0 + theta + con.teeth[i] * cfg.pitch
+        if sd:
+            rho = cfg.sigma - rho
+        k = con.teeth[i] + con.offset
+        at0, at1 = (k - gear0.first) % gear0.count, (-k + sd - gear1.first) % gear1.count
+        for pit in (con.pits0[at0, sd], con.pits1[at1, sd]):
+            if 0.0 < pit[3] < 1.0 and pit[0] <= rho <= pit[1]:
+                shares[a], depths[a] = pit[3], pit[2]
+    return shares, depths
+
+
+@njit
+def split_rows(near, shares, depths, last, pit):
+    """The step's rows of the contacts ``near`` (docs/faults.md, section 8): one a contact,
+    two where a pit over the share ``shares[a]`` of the face width (0: none) splits it, the
+    intact strip's and then the pit's. Per row ``(on, kind, share, extra, held)``: its
+    contact, kind (0 whole, 1 the intact strip, 2 the pit's), share of the width, extra gap
+    (the pit's ``depths[a]``) and force of the step before: the contact's ``last``, split by
+    ``pit`` (the pit strip's force, -1 where the contact was whole) or, as it enters the
+    pit, in proportion to the shares (equal forces per width, a whole contact's)."""
+    p = near.size
+    n = p
+    for a in range(p):
+        if shares[a] > 0.0:
+            n += 1
+    on = np.empty(n, np.int64)
+    kind = np.zeros(n, np.int64)
+    share, extra, held = np.ones(n), np.zeros(n), np.empty(n)
+    r = 0
+    for a in range(p):
+        i = near[a]
+        on[r] = i
+        held[r] = last[i]
+        w = shares[a]
+        if w > 0.0:
+            was = pit.size > 0 and pit[i] >= 0.0
+            held[r] = last[i] - pit[i] if was else (1.0 - w) * last[i]
+            kind[r], share[r] = 1, 1.0 - w
+            r += 1
+            on[r], kind[r], share[r], extra[r] = i, 2, w, depths[a]
+            held[r] = pit[i] if was else w * last[i]
+        r += 1
+    return on, kind, share, extra, held
 
 
 @njit
@@ -282,9 +316,10 @@ def _modal_rows(loads, idx, cnt, modes, at, sd):
 
 @njit
 def pit_gap(pit, rho):
-    """The extra gap (m) of a flank's pit ``(lo, hi, depth)`` at the contact's roll ``rho``
-    (twin of ``SectorModel.pit_gaps``)."""
-    return pit[2] if pit[0] <= rho <= pit[1] else 0.0
+    """The extra gap (m) of a flank's pit ``(lo, hi, depth, width)`` across the face width
+    at the contact's roll ``rho`` (twin of ``SectorModel.pit_gaps``); one over part of it
+    splits the contact instead (:func:`split_rows`)."""
+    return pit[2] if pit[3] >= 1.0 and pit[0] <= rho <= pit[1] else 0.0
 
 
 @njit
@@ -446,5 +481,5 @@ def _active_solve(w, v, act):
     return f
 
 
-__all__ = ["ORDERS", "contact_rows", "lcp_pivot", "rows_and_loads", "trans_back", "trans_free", "trans_times", "damper_coefficient", "flank_load", "lcp_ordered", "mask_orders",
-           "masks_by_size", "modal_free", "table_at"]
+__all__ = ["ORDERS", "contact_rows", "lcp_pivot", "rows_and_loads", "damper_coefficient", "flank_load", "lcp_ordered", "mask_orders",
+           "masks_by_size", "modal_free", "split_rows", "table_at"]

@@ -21,6 +21,7 @@ import numpy as np
 
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK
+from spurdyn.solvers.sector.bearings_compiled import trans_back, trans_free, trans_times
 from spurdyn.solvers.sector.faces_compiled import face_accelerations, face_record
 from spurdyn.solvers.sector.rows_compiled import (
     damper_coefficient,
@@ -29,18 +30,15 @@ from spurdyn.solvers.sector.rows_compiled import (
     mask_orders,
     modal_free,
     rows_and_loads,
-    trans_back,
-    trans_free,
-    trans_times,
 )
 
 
 @njit
 def _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg, orders, trans):
     """The step's accelerations with the pairs ``rows`` (of :func:`rows_and_loads`) in
-    contact: ``(qdd, F, found)``. ``x0`` the accelerations without them (changed by the mesh
-    damper), ``last`` the forces of the step before (the damper's shares, the active set
-    tried first), ``hub_cols`` per gear ``S^-1`` of a unit hub torque ``z`` and
+    contact: ``(qdd, F, found)``, ``F`` per row. ``x0`` the accelerations without them
+    (changed by the mesh damper), ``last`` the rows' forces of the step before (the damper's
+    shares, the active set tried first), ``hub_cols`` per gear ``S^-1`` of a unit hub torque ``z`` and
     ``elastic_cols`` its arrow's ``(u, 1 / d)``, ``c_mesh`` the damper's coefficient,
     ``trans`` the rows' entries on the hubs' translations and their ``S_tt^-1`` (none without
     bearings)."""
@@ -72,7 +70,8 @@ def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, c
     """The pairs' blocks of the step's problem (:func:`_contact_accelerations`): per gear
     ``S^-1 G^T``, ``G S^-1 G^T``, ``G S^-1 D^T``, the damper's Woodbury ``K``, ``D x0``, the
     problem's ``W`` and ``v`` and the active set tried first (the step before's, a mask);
-    with bearings the translations' block ``T S_tt^-1 T^T`` in the three couplings (``T``, the
+    ``last`` the rows' forces of the step before (``held`` of :func:`rows_and_loads`); with
+    bearings the translations' block ``T S_tt^-1 T^T`` in the three couplings (``T``, the
     rows' translation entries, is part of both ``G`` and ``D``)."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     z0, z1 = hub_cols
@@ -103,7 +102,7 @@ def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, c
     total = 0.0
     guess = 0
     for a in range(p):
-        shares[a] = last[on[a]]
+        shares[a] = last[a]
         total += shares[a]
         if shares[a] > 0.0:
             guess |= 1 << a
@@ -136,11 +135,12 @@ def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, c
 
 
 @njit
-def _save(out, step, q, v, force, faces, rows, r_fc, c_h, na, tr):
+def _save(out, step, q, v, force, lam, faces, rows, r_fc, c_h, na, tr):
     """Step ``step``'s samples into ``out``: turns, speeds, forces, the smallest gap of the
-    pairs ``rows`` near the path (none: left as it was; with a crack's ``faces`` their
-    residual coupling ``r_fc`` with the pairs; ``tr`` their entries on the hubs'
-    translations), on a sampled step ``q``, and with bearings the translations and rates."""
+    rows ``rows`` near the path under their forces ``lam`` (none: left as it was; with a
+    crack's ``faces`` their residual coupling ``r_fc`` with the pairs; ``tr`` their entries on
+    the hubs' translations), on a sampled step ``q``, and with bearings the translations and
+    rates."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     nb = na + rows1.shape[1] + 1
     nt = q.size - nb
@@ -156,9 +156,7 @@ def _save(out, step, q, v, force, faces, rows, r_fc, c_h, na, tr):
         out.states[out.sample[step]] = q
     p = on.size
     if p:
-        fo = np.empty(p)
-        for a in range(p):
-            fo[a] = force[on[a]]
+        fo = lam
         gaps = (const + coef0 * q[0] + rows0 @ q[1:na] + coef1 * q[na] + rows1 @ q[na + 1:nb]
                 + trans_times(tr, q[nb:]) + c_h * fo + res @ fo)
         if faces.size:
@@ -173,13 +171,16 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
     ``out`` (:data:`~spurdyn.solvers.layout.SectorOut`) written at ``first_step + 1 ...``;
     ``hub`` the hubs' torques at the end of each step, ``fp`` a crack's faces
     (:data:`~spurdyn.sector.packs.FacePack`, empty without), ``bear`` the hubs' bearings
-    (:data:`~spurdyn.sector.packs.BearingPack`, no translations without).
+    (:data:`~spurdyn.sector.packs.BearingPack`, no translations without). The state's ``pit``
+    holds each contact's pit strip's force where a pit over part of the face width splits it,
+    -1 elsewhere (:func:`~spurdyn.solvers.sector.rows_compiled.split_rows`); ``force`` the
+    contacts' whole forces, the sums of their rows'.
 
     Returns the last step done and ``OK``, or the failed step and its status of
     :mod:`spurdyn.solvers.layout`: ``FAIL_NAN`` (not finite), ``FAIL_LCP`` (the pairs'
     problem without a solution), ``FAIL_BEYOND`` (the driver left ``theta_lo .. theta_hi``
     at the step's end)."""
-    q, v, acc, qdd, force, faces = st.q, st.v, st.acc, st.qdd, st.force, st.faces
+    q, v, acc, qdd, force, faces, pit = st.q, st.v, st.acc, st.qdd, st.force, st.faces, st.pit
     am, af, beta, gamma, h, bp, gp = cfg.am, cfg.af, cfg.beta, cfg.gamma, cfg.h, cfg.bp, cfg.gp
     na = gear0.omega2.size + 1
     n = q.size      # the bodies' coordinates, then the hubs' translations (with bearings)
@@ -195,31 +196,33 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
         theta = q_hat[0]
         last = force.copy()
         force[:] = 0.0
-        rows, lo0, lo1, sd = rows_and_loads(theta, last, gear0, gear1, con, table, cfg)
+        rows, lo0, lo1, sd, (kind, held) = rows_and_loads(theta, last, pit, gear0, gear1, con, table, cfg)
+        pit[:] = -1.0      # read into held; this step's splits are written below
         on = rows[0]
         trans = (bear.rows[sd], bear.tinv)
+        lam = np.zeros(on.size)
         r_fc = np.zeros((faces.size, on.size))
         opening = np.zeros(faces.size)
         if cracked:
             c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta) if on.size else 0.0
-            pairs = _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg, trans)
+            pairs = _pair_blocks(x0, q_hat, v_hat, held, rows, hub_cols, elastic_cols, c_mesh, cfg, trans)
             qdd_new, lam, lam_f, found, r_fc, opening = face_accelerations(x0, q_hat, faces, fp, pairs, rows, lo0,
                                                                            lo1, sd, hub_cols, cfg, trans)
             if not found:
                 return step, FAIL_LCP
-            for a in range(on.size):
-                force[on[a]] = lam[a]
             faces[:] = lam_f
         elif on.size == 0:
             qdd_new = x0
         else:
             c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta)
-            qdd_new, lam, found = _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols,
+            qdd_new, lam, found = _contact_accelerations(x0, q_hat, v_hat, held, rows, hub_cols, elastic_cols,
                                                          c_mesh, cfg, orders, trans)
             if not found:
                 return step, FAIL_LCP
-            for a in range(on.size):
-                force[on[a]] = lam[a]
+        for a in range(on.size):    # a split contact's force the sum of its rows'
+            force[on[a]] += lam[a]
+            if kind[a] == 2 and pit.size:
+                pit[on[a]] = lam[a]
         for j in range(n):
             if not math.isfinite(qdd_new[j]):
                 return step, FAIL_NAN
@@ -229,7 +232,7 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
         qdd[:] = qdd_new
         if q[0] < cfg.theta_lo or q[0] > cfg.theta_hi:
             return step, FAIL_BEYOND
-        _save(out, step, q, v, force, faces, rows, r_fc, cfg.c_h, na, trans[0])
+        _save(out, step, q, v, force, lam, faces, rows, r_fc, cfg.c_h, na, trans[0])
         if cracked:
             face_record(out, step, faces, opening)
     return first_step + steps, OK

@@ -125,10 +125,14 @@ class SectorStepper(Stepper):
 
     @staticmethod
     def refuse_crack(model: SectorModel) -> None:
-        """Refuse a model with a crack's faces (their contact is the implicit loop's alone)."""
+        """Refuse a model with a crack's faces or a spall over part of the face width (their
+        contacts, the faces' and the split pairs', are the implicit loop's alone)."""
         if model.faces is not None:
             raise InputError("fault", "the RK4 reference does not step a crack's faces' contact: "
                              "give the implicit integrator")
+        if model.splits:
+            raise InputError("fault", "the RK4 reference does not split a pair over a spall on part of the face "
+                             "width: give the implicit integrator, or width_fraction = 1")
 
     def _steps(self, n: int) -> tuple[int, int]:
         """Take up to ``n`` steps; ``(steps done, status)``."""

@@ -14,6 +14,7 @@ from threadpoolctl import threadpool_limits
 from spurdyn.contact.hertz import peak_pressure
 from spurdyn.model.root import peaks
 from spurdyn.result import ToothStress
+from spurdyn.sector.fault_bodies import pit_shares
 from spurdyn.sector.fillets import GearFillets
 from spurdyn.sector.rules import STRESS_SAMPLES, stress_steps
 from spurdyn.sector.system import half_widths_at
@@ -30,16 +31,22 @@ if TYPE_CHECKING:  # annotations only
     from spurdyn.solvers.sector.stepper import SectorRecord
 
 
-def contact_pressures(model: SectorModel, theta_a: NDArray[np.float64],
-                      force: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def contact_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: NDArray[np.float64],
+                      offset: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """``(p_max, b)`` ``(n, C)``: Hertz's peak pressure (Pa) and half-width (m) of every
     contact of ``model.c_teeth`` at the driver's turns ``theta_a`` ``(n,)`` under its forces
     ``force`` ``(n, C)``, at the contact radii and curvatures the run's strips had (the gap
-    table's, tip corners' included); NaN where a contact carries no force or is off its path."""
+    table's, tip corners' included); NaN where a contact carries no force or is off its path,
+    and where a pit over part of the face width splits it (its strips' own forces, which
+    set theirs, are not recorded; docs/faults.md, section 8). ``offset`` the driver's body
+    tooth of pair 0."""
     rolls = model.roll_0 + theta_a[:, None] + model.c_teeth[None, :] * model.pitch
     rolls = np.where(model.c_side[None, :] == 1, model.sigma - rolls, rolls)
     on = (rolls >= model.roll_0 - model.reach) & (rolls <= model.roll_1 + model.reach) \
         & np.isfinite(force) & (np.nan_to_num(force) > 0.0)
+    if model.splits:
+        at = model.flank_places(model.c_teeth + offset, model.c_side)
+        on &= pit_shares(model.faults, at, model.c_side, rolls)[0] == 0.0
     p, b = np.full(force.shape, np.nan), np.full(force.shape, np.nan)
     if on.any():
         _, _, r_a, r_b = model.table.at(rolls[on])
@@ -49,12 +56,12 @@ def contact_pressures(model: SectorModel, theta_a: NDArray[np.float64],
 
 
 def pair_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: NDArray[np.float64],
-                   keep: NDArray[np.bool_] | None) -> dict[str, NDArray[np.float64]]:
+                   keep: NDArray[np.bool_] | None, offset: int = 0) -> dict[str, NDArray[np.float64]]:
     """The :class:`~spurdyn.result.Result` fields of the contacts' pressure: per drive pair
     (those of ``keep``, all if ``None``) ``pair_contact_pressure`` and
     ``pair_contact_half_width``, and at each step the largest over every contact, the back
     flanks' too (``contact_pressure_max``, ``contact_half_width``; NaN with none)."""
-    pressure, half = contact_pressures(model, theta_a, force)
+    pressure, half = contact_pressures(model, theta_a, force, offset)
     drive = (slice(None), slice(0, model.teeth.size))
     pair_p, pair_b = pressure[drive], half[drive]
     if keep is not None:

@@ -104,7 +104,7 @@ def test_a_deep_partial_pit_carries_the_pair_on_its_intact_strip():
 
 def test_a_split_pairs_pressure_is_absent_not_the_whole_widths():
     """The strips' own forces are not recorded, so neither is a split pair's pressure."""
-    from spurdyn.solvers.sector.teeth import contact_pressures
+    from spurdyn.solvers.sector.teeth import contact_pressures, pair_pressures, split_anywhere
 
     model = _model(2e-6, 0.5)
     c0 = int(np.searchsorted(model.c_teeth, 0))
@@ -114,6 +114,14 @@ def test_a_split_pairs_pressure_is_absent_not_the_whole_widths():
     p, b = contact_pressures(model, theta, force)
     assert np.isfinite(p[0, c0]) and np.isfinite(b[0, c0])
     assert np.isnan(p[1, c0]) and np.isnan(b[1, c0])
+    # the run's largest: absent wherever a step split a contact, kept where none did
+    whole = pair_pressures(model, theta[:1], force[:1], None)
+    assert whole["contact_pressure_max"][0] == pytest.approx(p[0, c0], rel=1e-12)
+    assert not split_anywhere(model, theta[:1], force[:1])
+    split = pair_pressures(model, theta, force, None)
+    assert split_anywhere(model, theta, force)
+    assert np.isnan(split["contact_pressure_max"]).all() and np.isnan(split["contact_half_width"]).all()
+    assert np.isfinite(split["pair_contact_pressure"][0, c0])
 
 
 def test_the_rk4_reference_refuses_a_split_pair():

@@ -172,8 +172,9 @@ class ImplicitStepper(SectorStepper):
             r_fc = faces.blocks(rows0, model.z_theta)[2]
             self.c_res = np.block([[self.c_res, r_fc.T], [r_fc, faces.r_ff]])
             if start.reset is None:     # a static start: the faces closed where they would overlap
+                # per row: a split pair's strips their shares of its force, not each the whole
                 self.state.faces[:] = closed_start(faces, model.parts, q, r_fc,
-                                                   start.force[rows0.on] if rows0 is not None else np.zeros(0))
+                                                   rows0.held if rows0 is not None else np.zeros(0))
         # the torques' work (J), by the trapezoid rule between saved steps (exact for constant ones)
         self.work = [float(record.torque[0] @ np.array([q[0], q[na]])), q[0], q[na]]
         self.save(0, rows0)

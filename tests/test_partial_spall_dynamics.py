@@ -162,3 +162,16 @@ def test_a_crack_beside_a_split_pair_at_the_start_closes_its_faces_as_without_th
     got, ref = (st.record for st in steppers)
     np.testing.assert_allclose(got.force[:n + 1], ref.force[:n + 1], rtol=0, atol=1e-9 * np.nanmax(ref.force[:n + 1]))
     np.testing.assert_allclose(got.faces[:n + 1], ref.faces[:n + 1], rtol=0, atol=1e-9 * faces[1].max())
+
+
+def test_rows_of_several_states_name_a_split_pairs_state_for_both_rows():
+    model = _model(2e-6, 0.5)
+    theta = np.array([math.radians(1.0), math.radians(19.0) - model.roll_0, math.radians(2.0)])
+    force = np.full((3, model.c_teeth.size), 300.0)
+    sample, rows = model.rows_many(theta, force)
+    assert rows.kind.tolist().count(2) == 1 and sample.size == rows.on.size
+    for s, th in enumerate(theta):
+        one = model.rows_at(float(th), force[s])
+        np.testing.assert_array_equal(rows.on[sample == s], one.on)
+        np.testing.assert_array_equal(rows.kind[sample == s], one.kind)
+        np.testing.assert_allclose(rows.const[sample == s], one.const, rtol=1e-13, atol=1e-18)

@@ -175,3 +175,19 @@ def test_rows_of_several_states_name_a_split_pairs_state_for_both_rows():
         np.testing.assert_array_equal(rows.on[sample == s], one.on)
         np.testing.assert_array_equal(rows.kind[sample == s], one.kind)
         np.testing.assert_allclose(rows.const[sample == s], one.const, rtol=1e-13, atol=1e-18)
+
+
+def test_a_split_models_steps_refuse_a_state_without_its_pit_strips():
+    from spurdyn.solvers.layout import SectorStepState
+    from spurdyn.solvers.sector.implicit_numpy import implicit_step
+
+    model = _model(2e-6, 0.5)
+    record = SectorRecord(model, model.per_cycle * model.cycles)
+    stepper = make_stepper(model, record, "implicit", "numba")
+    start = stepper.start_state
+    bare = SectorStepState(start.q, start.v, start.acc, start.qdd, start.force.copy())
+    with pytest.raises(ValueError, match="pit"):
+        implicit_step(model, bare, record.torque[1], start.offset)
+    stepper.state = bare
+    with pytest.raises(ValueError, match="pit"):
+        stepper.steps(1)

@@ -191,3 +191,15 @@ def test_a_split_models_steps_refuse_a_state_without_its_pit_strips():
     stepper.state = bare
     with pytest.raises(ValueError, match="pit"):
         stepper.steps(1)
+
+
+def test_a_continued_run_refuses_a_split_pair():
+    """Another run's end keeps one force a contact, not its strips': a continuation inside a
+    pit would restart them in proportion, so a model with a pit over part of the face width
+    refuses it, naming ``start_state``, as a cracked tooth does."""
+    model = _model(2e-6, 0.5)
+    assert model.whole
+    continued = SectorModel.build(PAIR, model.settings.with_(start_state=(0.0,) * 8))
+    with pytest.raises(InputError) as err:
+        continued.start()
+    assert err.value.field == "start_state" and "spall over part of the face width" in err.value.reason

@@ -247,9 +247,9 @@ class SectorModel:
             raise InputError("start_state", "a sector run starts from another's end only on whole "
                              f"gears: give {WHOLE_FROM_CYCLES} cycles or more, and no fewer teeth than "
                              "the gears have")
-        if self.faces is not None:
-            raise InputError("start_state", "a run with a cracked tooth starts from rest or a "
-                             "static state: another run's end does not carry its crack faces' forces")
+        if self.faces is not None or self.splits:
+            raise InputError("start_state", "a run with a cracked tooth or a spall over part of the face width starts from "
+                             "rest or a static state: another run's end does not carry the crack faces' or pit strips' forces")
         speed, na, parts = self.speed, self.na, self.parts
         st = unpack_state(self.settings.start_state, self.n)
         q, v, acc, qdd = st.q.copy(), speed * st.dq, speed**2 * st.ddq, speed**2 * st.qdd

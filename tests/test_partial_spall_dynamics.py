@@ -6,6 +6,7 @@ NumPy ones, a deep pit's pair carried on its intact strip alone, what is refused
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import numpy as np
@@ -138,7 +139,7 @@ def test_the_rk4_reference_refuses_a_split_pair():
         assert err.value.field == "fault" and "width_fraction = 1" in err.value.reason
 
 
-def test_a_crack_beside_a_split_pair_at_the_start_closes_its_faces_as_without_the_split():
+def test_a_crack_beside_a_split_pair_at_the_start_closes_its_faces_as_without_the_split(monkeypatch):
     """The crack's faces' closed start takes each row's force: a split pair's strips their
     shares of its force, not each the whole (which pressed the faces 1.7 % harder here). A
     pit of no depth over half the face on tooth 0, in contact at the start, beside cracked
@@ -165,6 +166,21 @@ def test_a_crack_beside_a_split_pair_at_the_start_closes_its_faces_as_without_th
     got, ref = (st.record for st in steppers)
     np.testing.assert_allclose(got.force[:n + 1], ref.force[:n + 1], rtol=0, atol=1e-9 * np.nanmax(ref.force[:n + 1]))
     np.testing.assert_allclose(got.faces[:n + 1], ref.faces[:n + 1], rtol=0, atol=1e-9 * faces[1].max())
+    # the cracked tooth's flank check: its strip (1 - w)^-1/2 wider where a pit over the share
+    # w of the face width is on that tooth (its intact strip may carry the pair)
+    import spurdyn.contact.strip_numpy as strips
+    from spurdyn.sector.fault_bodies import check_cracked_flanks
+
+    seen, weights = [], strips.strip_weights
+    monkeypatch.setattr(strips, "strip_weights", lambda f, x, b: seen.append(float(b[0])) or weights(f, x, b))
+    gf = split.faults[0]
+    k = gf.cracks[0][0] - split.blocks[0].first
+    pits = gf.pits.copy()
+    pits[k, 0, 3] = 0.3
+    low = (split.roll_0, split.roll_0)      # any radius: only the strip's width is read here
+    for one in (gf, dataclasses.replace(gf, pits=pits)):
+        check_cracked_flanks(split.blocks, (one, split.faults[1]), low, 1e-4)
+    assert gf.pits[k, :, 3].max() == 0.0 and seen == [1e-4, pytest.approx(1e-4 / math.sqrt(0.7), rel=1e-15)]
 
 
 def test_rows_of_several_states_name_a_split_pairs_state_for_both_rows():

@@ -30,6 +30,8 @@ page (``docs/``)                module                 what
 ``faults_flanks.md``            ``fault_flanks``       spalls and chipped tips: the contact lost, the
                                                        signature over the revolution
 ``fracture.md`` (printed)       ``fracture``           stress intensity factors against the handbooks
+``fracture_rims.md``            ``thin_rims``          crack paths against the backup ratio, held rims
+                                                       and webbed, beside Lewicki & Ballarini
 ==============================  =====================  ===============================================
 
 What they share (the pages' folder, writing a page and keeping its figures, a run timed,
@@ -58,6 +60,7 @@ PAGES = {
     "faults_dynamics": "fault_dynamics",
     "faults_flanks": "fault_flanks",
     "fracture": "fracture",
+    "fracture_rims": "thin_rims",
 }
 
 __all__ = ["PAGES"]

@@ -125,6 +125,8 @@ KEYS: tuple[Key, ...] = (
        ("fe",), sector=(OPTIONAL,)),
     _k("contact_half_width_max_m", "m", "largest half-width of the Hertzian strip",
        ("fe",), sector=(OPTIONAL,)),
+    _k("contact_pressure_note", "-", "why a run has no contact pressure maximum (a pit over part "
+                                     "of the face width split a contact)", ("sector",), OPTIONAL),
     _k("separations", "1", "times contact was lost after first being made and the gap opened "
                            "beyond 10 nm"),
     _k("separation_times_s", "s", "the times of those separations"),

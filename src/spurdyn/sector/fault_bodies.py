@@ -236,14 +236,19 @@ def check_cracked_flanks(blocks: tuple[Any, Any], faults: tuple[GearFaults, Gear
                          low: tuple[float, float], half_width: float) -> None:
     """Refuse (``fault``) a cracked tooth whose mesh has no node where its contacts load its
     flank: the crack's mouth splits a fillet edge that reaches the lowest contact radius
-    ``low`` of its gear (a strip of ``half_width`` there), on a coarse mesh or a high mouth."""
+    ``low`` of its gear (a strip of ``half_width`` there, ``(1 - w)^-1/2`` times wider on a
+    tooth with a pit over the share ``w`` of the face width: its intact strip may carry the
+    pair), on a coarse mesh or a high mouth."""
     from spurdyn.contact.strip_numpy import strip_weights
 
     for blk, gf, r in zip(blocks, faults, low):
         body = blk.body
         for k, fault in gf.cracks:
             absent = body.mesh.tooth_dofs(k).reshape(-1, 2)[body.flank.side_nodes][:, 0] < 0
-            w = strip_weights(body.flank, body.flank_coordinate(np.array([r])), np.array([half_width]))[0]
+            part = gf.pits[k - blk.first, :, 3]
+            share = float(np.where(part < 1.0, part, 0.0).max())
+            b = half_width / np.sqrt(1.0 - share)
+            w = strip_weights(body.flank, body.flank_coordinate(np.array([r])), np.array([b]))[0]
             if np.any(w[absent] > 0.0):
                 raise InputError("fault", f"the crack on tooth {fault.tooth} of gear {fault.gear} opens on the "
                                  f"flank's edge the contacts load ({r * 1e3:.4g} mm and up) on this mesh: give a "

@@ -259,9 +259,9 @@ class SectorModel:
         if self.bear is not None:
             raise InputError("start_state", "a run with bearings starts from rest or a static state: "
                              "another run's end does not carry its hubs' translations")
-        if self.faces is not None:
-            raise InputError("start_state", "a run with a cracked tooth starts from rest or a "
-                             "static state: another run's end does not carry its crack faces' forces")
+        if self.faces is not None or self.splits:
+            raise InputError("start_state", "a run with a cracked tooth or a spall over part of the face width starts from "
+                             "rest or a static state: another run's end does not carry the crack faces' or pit strips' forces")
         speed, na, parts = self.speed, self.na, self.parts
         st = unpack_state(self.settings.start_state, self.n)
         q, v, acc, qdd = st.q.copy(), speed * st.dq, speed**2 * st.ddq, speed**2 * st.qdd
@@ -299,14 +299,15 @@ class SectorModel:
         """:meth:`rows_at` of several states at once, the driver's turns ``theta_a`` ``(S,)``
         and forces ``f`` ``(S, C)``: ``(sample, rows)``, one entry a contact near its path in
         a state, ``rows.on`` its index in ``c_teeth`` and ``sample`` its state's (in the
-        states' order, each state's contacts in :meth:`rows_at`'s); entry by entry the same
-        numbers as :meth:`rows_at`. ``None`` where no contact is near."""
+        states' order, each state's contacts in :meth:`rows_at`'s, a split pair's two rows
+        naming it twice); entry by entry :meth:`rows_at`'s numbers. ``None`` where none is near."""
         theta_a = np.asarray(theta_a, dtype=float)
         rolls, near = self._rolls(theta_a[:, None], offset)
         sample, on = np.nonzero(near)
         if not on.size:
             return None
-        return sample, self._pair_rows(on, rolls[sample, on], f[sample, on], theta_a[sample], offset)
+        rows = self._pair_rows(on, rolls[sample, on], f[sample, on], theta_a[sample], offset)
+        return (sample if rows.on.size == on.size else sample[np.cumsum(rows.kind != 2) - 1]), rows
 
     def near_many(self, theta_a: NDArray[np.float64], offset: int = 0) -> NDArray[np.intp]:
         """``(S,)`` how many contacts :meth:`rows_many` gives in each state of the driver's

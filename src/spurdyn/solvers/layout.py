@@ -109,7 +109,8 @@ ImplicitPack = namedtuple("ImplicitPack", [
 #: The implicit sector loop's state, changed in place: coordinates, velocities, the
 #: scheme's two accelerations, the contacts' forces, a crack's faces' (none without) and per
 #: contact its pit strip's force where a pit over part of the face width splits it, -1
-#: elsewhere (none: no contact splits; docs/faults.md, section 8).
+#: elsewhere (none: no contact splits, the steppers refuse none where one may;
+#: docs/faults.md, section 8).
 SectorStepState = namedtuple("SectorStepState", ["q", "v", "acc", "qdd", "force", "faces", "pit"],
                              defaults=(np.zeros(0), np.zeros(0)))
 

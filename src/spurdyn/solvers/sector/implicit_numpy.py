@@ -45,9 +45,19 @@ class ImplicitStep(NamedTuple):
     status: int
 
 
+def check_pit(model: SectorModel, st: SectorStepState) -> None:
+    """Refuse a state of a model whose pits split contacts without a pit strip's force per
+    contact (``st.pit``, -1 where whole): the layout's empty default would restart every
+    split pair's strips in proportion at each step (and the compiled loop read past it)."""
+    if model.splits and st.pit.size != st.force.size:
+        raise ValueError(f"a split model's step state needs pit ({st.force.size},), -1 where a "
+                         f"contact is whole; got {st.pit.shape}")
+
+
 def implicit_step(model: SectorModel, st: SectorStepState, tq: NDArray[np.float64], offset: int = 0) -> ImplicitStep:
     """One generalized-alpha step of ``model`` from ``st`` under the hubs' torques ``tq`` at
     its end (module docstring); ``offset`` the driver's body tooth of pair 0."""
+    check_pit(model, st)
     m_, gears, parts = model, model.gears, model.parts
     am, af, beta, gamma, h, bp, gp = m_.am, m_.af, m_.beta, m_.gamma, m_.h, m_.bp, m_.gp
     q, v, acc, qdd, last, last_pit = st.q, st.v, st.acc, st.qdd, st.force, st.pit
@@ -173,8 +183,9 @@ class ImplicitStepper(SectorStepper):
             r_fc = faces.blocks(rows0, model.z_theta)[2]
             self.c_res = np.block([[self.c_res, r_fc.T], [r_fc, faces.r_ff]])
             if start.reset is None:     # a static start: the faces closed where they would overlap
+                # per row: a split pair's strips their shares of its force, not each the whole
                 self.state.faces[:] = closed_start(faces, model.parts, q, r_fc,
-                                                   start.force[rows0.on] if rows0 is not None else np.zeros(0))
+                                                   rows0.held if rows0 is not None else np.zeros(0))
         # the torques' work (J), by the trapezoid rule between saved steps (exact for constant ones)
         self.work = [float(record.torque[0] @ np.array([q[0], q[na]])), q[0], q[na]]
         self.save(0, rows0)
@@ -249,4 +260,4 @@ class ImplicitStepper(SectorStepper):
                   for g in range(2)))
 
 
-__all__ = ["ImplicitStep", "ImplicitStepper", "implicit_step"]
+__all__ = ["ImplicitStep", "ImplicitStepper", "check_pit", "implicit_step"]

@@ -14,7 +14,7 @@ from spurdyn.result import Result, ToothStress
 from spurdyn.sector.rules import mesh_damping
 from spurdyn.sector.system import REACH
 from spurdyn.settings import DEFAULT_RAMP_CYCLES
-from spurdyn.solvers.sector.teeth import pair_pressures, root_stress
+from spurdyn.solvers.sector.teeth import SPLIT_PRESSURE_NOTE, pair_pressures, root_stress, split_anywhere
 from spurdyn.solvers.sector.crack_faces import face_openings
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
@@ -96,6 +96,8 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         back_force = back[1][sel]
         out["back_pair_teeth"] = back[0].tolist()
     contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep, offset)
+    if split_anywhere(model, record.theta[sel, 0], record.force[sel], offset):
+        out["contact_pressure_note"] = SPLIT_PRESSURE_NOTE
     # a faulty gear's fillets differ tooth by tooth (missing, cracked): not recovered yet
     stress = None if model.faults else root_stress(model, record, n_kept, offset)
     _fault_records(model, out, record, n_kept, most)

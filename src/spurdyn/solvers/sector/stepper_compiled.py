@@ -14,7 +14,7 @@ from spurdyn.sector.bearings import bearing_pack
 from spurdyn.sector.faces import face_pack
 from spurdyn.sector.model import SectorModel
 from spurdyn.solvers.layout import OK, SectorRk4State
-from spurdyn.solvers.sector.implicit_numpy import ImplicitStepper
+from spurdyn.solvers.sector.implicit_numpy import ImplicitStepper, check_pit
 from spurdyn.solvers.sector.stepper import SectorRecord, SectorStepper
 
 
@@ -46,6 +46,7 @@ class CompiledImplicitStepper(ImplicitStepper):
     def _steps(self, n: int) -> tuple[int, int]:
         from spurdyn.solvers.sector.step_compiled import run_steps
 
+        check_pit(self.model, self.state)
         step, status = run_steps(self.index, n, self.state, self.gear0, self.gear1, self.contacts, self.table,
                                  self.cfg, self.record.torque, self.record.out(), self.faces, self.bear)
         if status != OK:

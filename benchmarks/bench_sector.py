@@ -7,7 +7,7 @@ Prints
    setup apart), beside the paper model's RK4 and implicit steps on Fig. 8 (the issue's
    yardstick: within 1.5 times the paper model's per step per DOF), and the modal loop with
    the back flanks as contacts (the pair 0.1 mm further apart: 69 um of backlash, no back
-   contact) beside it without them, 20 cycles;
+   contact) beside it without them, 20 cycles, and with the hubs on bearings beside them held;
 2. the wall time of ``spurdyn sweep paper-fig8 --model sector --integrator implicit --cycles 20
    --damping 0.05 --rpm 1000:20000/40`` (the issue's command; modal bodies, their default damping) in a fresh process and an empty folder, unless
    ``--no-sweep``; ``--speeds N`` for fewer speeds (the sweep's time scales with them).
@@ -66,6 +66,26 @@ def back_flank_steps() -> None:
               f"{loop * 1e6:.1f} us a step; run {run.wall_s:.2f} s")
 
 
+def bearing_steps() -> None:
+    """The compiled modal loop with the hubs on bearings (1e8 N/m, 1e3 N s/m each) beside it
+    with their centres held, 20 cycles at 4,000 rpm (docs/sector.md, 6.12)."""
+    from spurdyn.geometry.presets import paper_pair
+    from spurdyn.settings import RPM, Bearing
+    from spurdyn.solvers.check import run_settings
+    from spurdyn.solvers.sector.run import simulate_sector
+
+    pair = paper_pair()
+    s = run_settings(pair, 4000 * RPM, 22.25, dt=1e-6, cycles=20, max_cycles=20)
+    on = (Bearing(1e8, 1e3), Bearing(1e8, 1e3))
+    simulate_sector(pair, s.with_(bearings=on))        # the modes and the compiled loop, once
+    for bearings in (None, on):
+        ticks: list[float] = []
+        run = simulate_sector(pair, s.with_(bearings=bearings), lambda k, a, tot: ticks.append(time.perf_counter()))
+        loop = (ticks[-1] - ticks[0]) / (run.steps * (len(ticks) - 1) / len(ticks))
+        print(f"sector, modal, bearings {'on' if bearings else 'off'}: {run.steps:,} steps, "
+              f"{loop * 1e6:.1f} us a step; run {run.wall_s:.2f} s")
+
+
 def paper_steps() -> None:
     from spurdyn.case import preset_case
     from spurdyn.solvers.loop import simulate
@@ -96,6 +116,7 @@ def main() -> None:
     paper_steps()
     sector_steps()
     back_flank_steps()
+    bearing_steps()
     if args.no_sweep:
         return
     jobs = [] if args.jobs is None else ["--jobs", str(args.jobs)]

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from spurdyn.case.bearing_table import BEARING_TABLE_KEYS
 from spurdyn.case.crack_table import CRACK_KEYS
 from spurdyn.case.fault_tables import FAULT_KEYS
 from spurdyn.cli.main import main
@@ -25,7 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "pinion_23_47.toml"
 SECTIONS = {"top": TOP_KEYS, "gear": GEAR_KEYS, "basic_rack": RACK_KEYS, "blank": BLANK_KEYS,
             "material": MATERIAL_KEYS, "pair": PAIR_KEYS, "mesh": MESH_KEYS, "run": RUN_KEYS,
-            "fault": FAULT_KEYS, "crack": CRACK_KEYS}
+            "fault": FAULT_KEYS, "crack": CRACK_KEYS, "bearing": set(BEARING_TABLE_KEYS)}
 
 
 def _documented() -> dict[str, set[str]]:

@@ -160,3 +160,23 @@ def test_the_rk4_reference_refuses_a_crack(model):
         with pytest.raises(InputError) as err:
             make_stepper(model, SectorRecord(model, 10), "rk4", backend)
         assert err.value.field == "fault"
+
+
+def test_the_compiled_steps_with_the_faces_and_bearings_are_the_numpy_ones(model):
+    """Half of the cracked gear's first mesh cycle (its faces closed) with the hubs on two
+    unlike bearings (docs/sector.md, 6.12): the compiled loop's pair and face forces and the
+    hubs' translations are the NumPy loop's to 1e-9 of their largest (7e-12 measured over the
+    whole cycle)."""
+    from spurdyn.settings import Bearing
+
+    bearings = (Bearing(1e8, 1e3), Bearing(5e7, 0.0))
+    m = SectorModel.build(SMALL, model.settings.with_(bearings=bearings))     # the modes cached
+    n = m.per_cycle // 2
+    out = []
+    for backend in ("numba", "numpy"):
+        record = SectorRecord(m, m.per_cycle * m.cycles)
+        assert make_stepper(m, record, "implicit", backend).steps(n) == ""
+        out.append((record.force[:n + 1], record.faces[:n + 1, 0], record.hubs[:n + 1]))
+    for fast, slow in zip(*out):
+        assert np.abs(fast - slow).max() <= 1e-9 * np.abs(slow).max()
+    assert out[1][1].max() > 1.0         # the faces carry their force (N)

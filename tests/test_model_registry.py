@@ -15,7 +15,7 @@ import pytest
 from spurdyn.errors import InputError
 from spurdyn.geometry.presets import paper_pair
 from spurdyn.geometry.fault import Fault
-from spurdyn.settings import (MODEL_NAMES, RPM, RunSettings, TorqueHistory, setting_keys,
+from spurdyn.settings import (MODEL_NAMES, RPM, Bearing, RunSettings, TorqueHistory, setting_keys,
                               settings_read_by)
 from spurdyn.simulators import DEFAULTS, MODELS
 
@@ -33,7 +33,7 @@ OTHER = {
     "max_cycles": 3, "teeth": 5, "start": "rest", "ramp_cycles": 2.0,
     "torque_history": TorqueHistory((0.0, 1.0), (1.0, 1.0)), "start_state": (0.0, 0.0),
     "stiffness": "sector", "bodies": "full", "back_flanks": True,
-    "faults": (Fault("a", 1, "missing"),),
+    "faults": (Fault("a", 1, "missing"),), "bearings": (Bearing(1e8, 1e3), None),
 }
 #: What a setting needs beside it (RunSettings refuses it alone).
 COMPANIONS = {"max_cycles": {"cycles": 2}, "start": {"cycles": 2}, "torque_history": {"cycles": 2},

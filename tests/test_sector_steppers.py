@@ -34,6 +34,7 @@ def model() -> SectorModel:
 def test_the_numpy_implicit_step_is_the_compiled_steps_twin(model: SectorModel) -> None:
     """Step by step from the same state, ``implicit_step`` and ``run_steps`` give the same
     state and forces to round-off (each step restarts both from the NumPy state)."""
+    from spurdyn.sector.bearings import bearing_pack
     from spurdyn.sector.faces import face_pack
     from spurdyn.solvers.sector.step_compiled import run_steps
 
@@ -47,7 +48,8 @@ def test_the_numpy_implicit_step_is_the_compiled_steps_twin(model: SectorModel) 
         ref = implicit_step(model, st, tq[step], start.offset)
         assert ref.status == OK
         twin = SectorStepState(*(x.copy() for x in st))
-        done, status = run_steps(step - 1, 1, twin, *packs, tq, out, face_pack(None, model.gears))
+        done, status = run_steps(step - 1, 1, twin, *packs, tq, out, face_pack(None, model.gears),
+                                 bearing_pack(model.bear))
         assert (done, status) == (step, OK)
         for a, b in zip(twin, ref.state):
             assert a.shape == b.shape

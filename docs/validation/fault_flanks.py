@@ -322,6 +322,18 @@ pair carries.
 
 ![The mesh stiffness over the faulty tooth's passage, and its pair force at speed]({figure})
 
+Where a pit is deeper than any approach over the recess's double contact (0.2 mm) and above a
+chip's cut, the faulty tooth carries exactly nothing whenever another pair is on the path,
+in the statics and at speed: the contact is lost where it should be, and nowhere else
+(the figure's left: the dip only in the cycles of tooth {tooth}'s passage). Over half the
+face the intact half carries on its own, narrower strip, so its force never falls to 0
+and the dip is shallow. The whole-face pit of 20 um over the single-contact stretch is
+another matter at speed: the pair, alone there, drops into the pit (the transmission
+error's range grows by about the pit's depth) and strikes its bottom and, leaving, the
+next pair's entry: the impacts reach well above the healthy peak, they carry over into the
+stretch's ends where the next pair is already on, and the run has not settled in three
+revolutions.
+
 ## 3. The balances with the faults in motion
 
 An 18-tooth version of the pair (two mesh cycles meeting the faults, 1,000 rpm, 60 N m,
@@ -333,4 +345,17 @@ momentum's round-off. A fault's balance is as tight as the healthy one's where i
 at the healthy's figure.
 
 {balances}
+
+A pit's gap steps by its depth at its edges, a change of the rigid gap that the rows carry
+no slope of: where the pair is loaded as it crosses an edge, its force does work `-F dg`
+the balance does not book (docs/sector.md 6.2 books the smooth gap's through its slope).
+Booked with the force at the step's end (`edge_work` in the script), the 2 um pit's drift is
+the healthy run's to the digits shown: its edges are all of its excess. The 20 um pit, deeper
+than the pair's approach where it carries alone, is entered by a drop and left by an impact
+on the edge, whose work the force at the step's end does not measure: part is left. A pit's
+edge is a step in the gap, not a modelled edge (docs/faults.md, section 3, leaves the pit's
+rim out). The half-face pit of 20 um never closes its strip and its intact strip has no
+edge; a chip's lost stretch is a contact not made, with no step in any gap: both balance as
+the healthy pair does. The crack's faces close (their force) and never pass through each
+other (their least opening is round-off), with the missing tooth's drift all but unchanged.
 """

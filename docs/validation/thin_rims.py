@@ -7,7 +7,7 @@ Every run is ``spurdyn crack CASE --length 3e-4 --increment 5e-4 [--backup-ratio
 paper's pinion (28 teeth, 8 diametral pitch, 6.35 mm face) under 22.25 N m, a first crack
 0.3 mm long at ISO's 30 deg point of the drive flank's fillet, the path grown in 0.5 mm
 increments under each tip's worst mesh load until it leaves through the tooth or the rim.
-Some fifteen minutes (``--quick``: the thinnest rim on a web and the thickest held, some
+Some fifteen minutes on a quiet machine (``--quick``: the thinnest rim on a web and the thickest held, some
 three).
 
 ``python docs/validation fracture_rims [--quick]``
@@ -31,10 +31,10 @@ PAGE = DOCS / "fracture_rims.md"
 FIGURE = FIGURES / "fracture_rims.png"
 WEBBED = ROOT / "examples" / "thin_rim.toml"
 #: The runs: (support, backup ratio, web width (m) or None for the held rim).
-RUNS = (("held", 3.0, None), ("held", 1.0, None), ("held", 0.5, None), ("held", 0.3, None),
+RUNS = (("held", 3.0, None), ("held", 0.3, None),
         ("web", 3.3, 1.6e-3), ("web", 1.0, 1.6e-3), ("web", 0.5, 1.6e-3), ("web", 0.3, 1.6e-3),
         ("web", 0.5, 0.8e-3), ("web", 0.3, 3.2e-3))
-QUICK = (RUNS[0], RUNS[7])
+QUICK = (RUNS[0], RUNS[5])
 #: Lewicki & Ballarini (1997): the verdicts of their FRANC predictions and their tests.
 LITERATURE = {3.3: ("tooth", "tooth"), 1.0: ("tooth", "tooth"), 0.5: ("tooth or rim", "rim"),
               0.3: ("rim", "rim")}

@@ -101,6 +101,11 @@ class Result:
         of the integrator's ``k`` stages, the first ``k`` of :data:`STAGES` (the paper's
         RK4: all three; the implicit integrator: its Newton iteration, one); ``None`` for a
         model without a constraint iteration (the lumped and the sector model).
+    hub_translation
+        The hubs' translations on their bearings ``(n, 8)``: gear A's and gear B's
+        ``(x, y)``, then their rates (m, m/s), each in its gear's own frame, ``x`` along the
+        line of centres away from the other gear, ``y`` across it (the side the drive flanks'
+        force on the gear points to); ``None`` where the hubs' centres are held.
     corner
         Contact at a tip corner: 0 flank to flank, 1 A's tip corner, 2 B's tip corner;
         ``None`` for a model without a contact point.
@@ -134,6 +139,7 @@ class Result:
     pair_contact_pressure: NDArray[np.float64] | None = None
     pair_contact_half_width: NDArray[np.float64] | None = None
     tooth_stress: ToothStress | None = None
+    hub_translation: NDArray[np.float64] | None = None
 
     @property
     def angle_deg(self) -> NDArray[np.float64]:

@@ -117,6 +117,37 @@ STARTS = ("static", "rest")
 DEFAULT_RAMP_CYCLES = 1.0
 #: The case keys of the Rayleigh damping (as a ratio at two frequencies, for both coefficients).
 RAYLEIGH_RATIO_KEYS = ("run.rayleigh_ratio", "run.rayleigh_hz")
+@dataclass(frozen=True)
+class Bearing:
+    """A hub's radial bearing, isotropic (docs/sector.md, 6.12): ``stiffness`` (N/m) and
+    ``damping`` (N s/m) of the force ``-k x - c x_dot`` on the hub's translation ``x``."""
+
+    stiffness: float
+    damping: float = 0.0
+
+
+#: The case keys of the hubs' bearings, gear A's and gear B's.
+BEARING_KEYS = ("gear_a.bearing", "gear_b.bearing")
+
+
+def check_bearings(bearings: Any) -> None:
+    """Refuse bearings that are not two (gear A's, gear B's), each a :class:`Bearing` of a
+    positive stiffness and a damping >= 0 (or ``None`` for none; both ``None`` is no bearing)."""
+    if bearings is None:
+        return
+    if not isinstance(bearings, tuple) or len(bearings) != 2 or all(b is None for b in bearings):
+        raise InputError("bearings", f"must be gear A's and gear B's Bearing, at least one (got {bearings!r})")
+    for key, b in zip(BEARING_KEYS, bearings):
+        if b is None:
+            continue
+        for name, lo in (("stiffness", 0.0), ("damping", None)):
+            v = getattr(b, name, None)
+            if (not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v)
+                    or (v <= 0.0 if lo is not None else v < 0.0)):
+                what = "a positive number of N/m" if lo is not None else "a number of N s/m >= 0"
+                raise InputError(f"{key}.{name}", f"must be {what} (got {v!r})")
+
+
 #: The case keys of a torque history.
 HISTORY_KEYS = ("run.torque_history", "run.torque_history_periodic")
 
@@ -247,6 +278,9 @@ class RunSettings:
         The case's faults (:class:`spurdyn.geometry.fault.Fault`, its ``[[fault]]``
         tables): the sector model carries them on its whole gears (docs/faults.md, "Faults
         in motion").
+    bearings
+        The hubs' radial bearings, gear A's and gear B's (:class:`Bearing`, ``None`` for a
+        hub whose centre is held), or ``None``: both centres held (docs/sector.md, 6.12).
     """
 
     # Every model reads these.
@@ -293,12 +327,14 @@ class RunSettings:
     bodies: str = _setting("modal", "sector")
     back_flanks: bool | None = _setting(None, "sector")
     faults: tuple[Any, ...] = _setting((), "sector", keys=("fault",))
+    bearings: tuple[Bearing | None, Bearing | None] | None = _setting(None, "sector", keys=BEARING_KEYS)
 
     def __post_init__(self) -> None:
         """Refuse a setting out of its range, naming its key, in the order of the fields' checks."""
         self._check_numbers()
         self._check_cycles_and_stepper()
         self._check_steady_state()
+        check_bearings(self.bearings)
 
     def _check_numbers(self) -> None:
         """Refuse a speed, step, torque, angle, whole number, grading or damping out of range."""

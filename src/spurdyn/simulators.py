@@ -467,14 +467,18 @@ def simulate_lumped(pair: GearPair, settings: RunSettings,
 FAULTS_REASON = ("the sector model carries faults (--model sector); `spurdyn stiffness` follows a faulty "
                  "gear over its revolution")
 
+#: Why the FE and the lumped model refuse the hubs' bearings.
+BEARINGS_REASON = "the sector model carries the hubs' bearings (--model sector); this model holds the hubs' centres"
+
 #: Model name -> its entry, in the order of :data:`~spurdyn.settings.MODEL_NAMES`.
 MODELS: dict[str, ModelEntry] = {
     "fe": FEEntry("fe", "spurdyn.solvers.loop:simulate", "paper's FE model",
                   reasons={"faults": FAULTS_REASON, "stiffness": FE_STIFFNESS_REASON, "cycles": FE_CYCLES_REASON,
-                           "teeth": TEETH_REASON.format(model="the paper's FE model")},
-                  strict=("cycles", "teeth", "stiffness", "faults"), keeps_frames=True),
+                           "teeth": TEETH_REASON.format(model="the paper's FE model"), "bearings": BEARINGS_REASON},
+                  strict=("cycles", "teeth", "stiffness", "faults", "bearings"), keeps_frames=True),
     "lumped": LumpedEntry("lumped", "spurdyn.simulators:simulate_lumped", "lumped model",
-                          reasons={"faults": FAULTS_REASON}, strict=("faults",)),
+                          reasons={"faults": FAULTS_REASON, "bearings": BEARINGS_REASON},
+                          strict=("faults", "bearings")),
     "sector": SectorEntry("sector", "spurdyn.solvers.sector.run:simulate_sector", "sector model",
                           reasons={"dt": SECTOR_DT_REASON, "integrator": SECTOR_INTEGRATOR_REASON,
                                    "contact": SECTOR_CONTACT_REASON,

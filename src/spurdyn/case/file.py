@@ -179,7 +179,7 @@ def case_from_pair(meshed_pair: MeshedPair, run_table: Mapping[str, Any] | None,
         angle=None if angle_deg is None else math.radians(angle_deg), nx=nx, ny=ny,
         grading=grading, row_grading=row_grading,
         **_run_options(src, base),
-        name=name, faults=faults,
+        name=name, faults=faults, bearings=meshed_pair.bearings,
     )
     try:
         run = RunSettings(**settings)
@@ -473,6 +473,12 @@ def case_to_dict(case: Case) -> dict[str, Any]:
         "run": run_table,
         "model": {"kind": case.model},
     }
+    if run.bearings is not None:     # written only when given: the stored cases without stay as they were
+        from spurdyn.case.bearing_table import bearing_to_table
+
+        for name, b in zip(("gear_a", "gear_b"), run.bearings):
+            if b is not None:
+                out[name]["bearing"] = bearing_to_table(b)
     if run.faults:
         from spurdyn.case.fault_tables import fault_to_table
 

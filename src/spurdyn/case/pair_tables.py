@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from spurdyn.case.files import read_text
+from spurdyn.case.bearing_table import bearings_from_dict
 from spurdyn.case.fault_tables import faults_from_dict
 from spurdyn.errors import InputError
 from spurdyn.geometry.fault import Fault
@@ -32,7 +33,7 @@ GEAR_KEYS = {
     "teeth", "module", "pitch_radius", "tip_radius", "root_radius", "addendum", "dedendum",
     "pressure_angle_deg", "face_width", "disk_inertia", "cutter_tip_radius", "material",
     "tip_relief", "tip_relief_start_roll_deg", "tip_relief_start_radius", "tip_relief_shape",
-    "profile_shift", "thickness_allowance", "basic_rack", "blank",
+    "profile_shift", "thickness_allowance", "basic_rack", "blank", "bearing",
 }
 RACK_KEYS = {"addendum", "dedendum", "fillet_radius"}
 BLANK_KEYS = {"bore_radius", "hub_radius", "rim_radius", "web_width"}
@@ -57,6 +58,7 @@ class MeshedPair:
     grading: float = DEFAULT_GRADING
     row_grading: float = DEFAULT_ROW_GRADING
     faults: tuple[Fault, ...] = ()
+    bearings: tuple[Any, Any] | None = None
 
 
 def check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
@@ -383,8 +385,8 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
     grading = _number(mesh_table, "grading", "mesh", DEFAULT_GRADING)
     row_grading = _number(mesh_table, "row_grading", "mesh", DEFAULT_ROW_GRADING)
-    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading,
-                      row_grading=row_grading, faults=faults_from_dict(data, pair))
+    return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading, row_grading=row_grading,
+                      faults=faults_from_dict(data, pair), bearings=bearings_from_dict(data))
 
 
 #: The keys of a gear table that set its root (its dedendum), in the order a refusal names them.

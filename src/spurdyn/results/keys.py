@@ -125,6 +125,8 @@ KEYS: tuple[Key, ...] = (
        ("fe",), sector=(OPTIONAL,)),
     _k("contact_half_width_max_m", "m", "largest half-width of the Hertzian strip",
        ("fe",), sector=(OPTIONAL,)),
+    _k("contact_pressure_note", "-", "why a run has no contact pressure maximum (a pit over part "
+                                     "of the face width split a contact)", ("sector",), OPTIONAL),
     _k("separations", "1", "times contact was lost after first being made and the gap opened "
                            "beyond 10 nm"),
     _k("separation_times_s", "s", "the times of those separations"),
@@ -187,6 +189,9 @@ KEYS: tuple[Key, ...] = (
                            "round-off where they touch), largest opening, when the least was, their largest force "
                            "(N, a node pair's) and when, and the share of the steps with faces closed "
                            "(docs/faults.md)",
+       ("sector",), OPTIONAL),
+    _k("bearings", "-", "the hubs' radial bearings, gear A's and gear B's: stiffness (N/m), damping (N s/m) and the "
+                        "gear's translating mass (kg); null for a hub whose centre is held (docs/sector.md, 6.12)",
        ("sector",), OPTIONAL),
     _k("body_damping", "-", "the bodies' Rayleigh damping and whose it was", ("sector",)),
     _k("mesh_damping", "-", "the mesh damper's ratio and whose it was (model default or run)",

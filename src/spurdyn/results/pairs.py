@@ -166,8 +166,12 @@ def info_figures(ds: xr.Dataset, info: dict[str, Any], complete: bool) -> dict[s
         a, b = info["rayleigh"]
         out["body_damping"] = {"rayleigh_mass": a, "rayleigh_stiffness": b,
                                "source": "model default" if info.get("rayleigh_default") else "run"}
+    if "contact_pressure_note" in info:     # a pit over part of the width split a contact
+        out["contact_pressure_note"] = info["contact_pressure_note"]
     if "crack_faces" in info:   # a crack's faces in motion (docs/faults.md, section 8)
         out["crack_faces"] = info["crack_faces"]
+    if "bearings" in info:      # the hubs on bearings (docs/sector.md, 6.12)
+        out["bearings"] = info["bearings"]
     if "damping_ratio_source" in info:
         out["mesh_damping"] = {"ratio": info["damping_ratio"], "source": info["damping_ratio_source"]}
     return out

@@ -12,7 +12,11 @@ The signals, in ``result.nc`` along ``time``:
   the contacts' forces on their two lines of action: ``(F_d + F_b) sin alpha_w`` and
   ``(F_d - F_b) cos alpha_w``, ``F_d`` the drive flanks' total and ``F_b`` the back flanks'
   (the two hubs' are equal and opposite; the bodies' own inertia, whose centre of mass the
-  deformation moves by micrometres, is left out).
+  deformation moves by micrometres, is left out). With the hubs on bearings (docs/sector.md,
+  6.12) they are the force the followed gear's bearing carries instead, ``k x + c x_dot``
+  (their ``source`` attribute says which), and each hub's own are beside them:
+  ``hub_displacement_separating_a`` ... and ``bearing_force_separating_a`` ... (a hub whose
+  centre is held: the contacts' force).
 
 The indicators (``summary.json``'s ``vibration``) are taken over the whole revolutions of
 the faulty gear (of the driver on a healthy pair) from the last mesh cycle of its first
@@ -64,12 +68,60 @@ def sensor_variables(time: NDArray[np.float64], omega: NDArray[np.float64], driv
 
 def result_sensors(result: Any, alpha_w: float) -> dict[str, xr.Variable]:
     """:func:`sensor_variables` of a sector run's :class:`~spurdyn.result.Result` (none for
-    another model's, or a run without samples)."""
+    another model's, or a run without samples); with the hubs on bearings,
+    :func:`bearing_variables` in place of the rigid hubs' bearing forces."""
     if result.info.get("model") != "sector" or result.pair_force is None or not len(result.time):
         return {}
     back = None if result.back_force is None else np.nansum(np.asarray(result.back_force, float), axis=1)
-    return sensor_variables(np.asarray(result.time, float), np.asarray(result.omega, float),
-                            np.nansum(np.asarray(result.pair_force, float), axis=1), back, alpha_w)
+    out = sensor_variables(np.asarray(result.time, float), np.asarray(result.omega, float),
+                           np.nansum(np.asarray(result.pair_force, float), axis=1), back, alpha_w)
+    if result.hub_translation is not None:
+        gear = result.info.get("fault_gear") or result.info.get("driver", "a")
+        out.update(bearing_variables(np.asarray(result.hub_translation, float), result.info["bearings"], out, gear))
+    return out
+
+
+#: The hubs' own variables with bearings: name -> (units, long name), ``{g}`` the gear.
+BEARING_VARIABLES = {
+    "hub_displacement_separating_{g}": ("m", "gear {G}'s hub's translation along the line of centres, away from "
+                                             "the other gear"),
+    "hub_displacement_transverse_{g}": ("m", "gear {G}'s hub's translation across the line of centres (the side "
+                                             "the drive flanks' force on it points to)"),
+    "bearing_force_separating_{g}": ("N", "force gear {G}'s bearing carries along the line of centres"),
+    "bearing_force_transverse_{g}": ("N", "force gear {G}'s bearing carries across the line of centres"),
+}
+
+
+def bearing_variables(hubs: NDArray[np.float64], bearings: list[Any], rigid: dict[str, xr.Variable],
+                      gear: str) -> dict[str, xr.Variable]:
+    """Each hub's translation and the force its bearing carries, ``k x + c x_dot`` in its
+    gear's frame (the contacts' force, ``rigid``'s, on a hub whose centre is held), from
+    ``hubs`` ``(n, 8)`` (:attr:`~spurdyn.result.Result.hub_translation`) and ``bearings``
+    (the result's record, A's and B's); ``bearing_force_separating`` and
+    ``bearing_force_transverse`` then the followed ``gear``'s."""
+    out: dict[str, xr.Variable] = {}
+    for j, (g, b) in enumerate(zip("ab", bearings)):
+        x, v = hubs[:, 2 * j:2 * j + 2], hubs[:, 4 + 2 * j:6 + 2 * j]
+        values = [x[:, 0], x[:, 1]]
+        if b is None:
+            source = "the contacts' force (this hub's centre is held)"
+            values += [rigid["bearing_force_separating"].values, rigid["bearing_force_transverse"].values]
+        else:
+            source = f"gear {g.upper()}'s bearing: k x + c x_dot, k = {b['stiffness']:g} N/m, c = {b['damping']:g} N s/m"
+            values += list((b["stiffness"] * x + b["damping"] * v).T)
+        for (name, (units, long)), value in zip(BEARING_VARIABLES.items(), values):
+            attrs = {"units": units, "long_name": long.format(G=g.upper())}
+            if name.startswith("bearing"):
+                attrs["source"] = source
+            out[name.format(g=g)] = xr.Variable(("time",), np.array(value, float), attrs)
+        if g == gear:
+            for name in ("bearing_force_separating", "bearing_force_transverse"):
+                own = out[f"{name}_{g}"]
+                out[name] = xr.Variable(("time",), own.values.copy(), {
+                    "units": "N", "long_name": f"force on gear {g.upper()}'s bearing (the followed gear's) "
+                    + ("along the line of centres" if "separating" in name else "across the line of centres"),
+                    "source": source})
+    return out
 
 
 def window(ds: xr.Dataset, steady: dict[str, Any], teeth: int) -> NDArray[np.bool_]:
@@ -172,5 +224,5 @@ def vibration_figures(ds: xr.Dataset, info: dict[str, Any], teeth: tuple[int, in
     return {"vibration": {"gear": f.gear, "shaft_frequency_Hz": f.f_shaft, "mesh_frequency_Hz": f.teeth * f.f_shaft,
                           "window_s": [float(f.time[0]), float(f.time[-1])], "signals": signals}}
 
-__all__ = ["SENSOR_VARIABLES", "SIGNALS", "Followed", "average_indicators", "followed", "result_sensors", "sensor_variables", "signal_indicators",
+__all__ = ["BEARING_VARIABLES", "SENSOR_VARIABLES", "bearing_variables", "SIGNALS", "Followed", "average_indicators", "followed", "result_sensors", "sensor_variables", "signal_indicators",
            "synchronous", "tsa_points", "vibration_figures", "window"]

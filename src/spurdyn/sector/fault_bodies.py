@@ -30,8 +30,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from spurdyn.errors import InputError
-from spurdyn.geometry.fault import Fault, chip_roll
+from spurdyn.geometry.fault import Fault, chip_roll, faulty_cycles
 from spurdyn.geometry.pair import GearPair
+from spurdyn.sector.statics import driving_pair
+from spurdyn.sector.system import WHOLE_FROM_CYCLES
+from spurdyn.settings import RunSettings
 
 
 @dataclass(frozen=True)
@@ -199,18 +202,53 @@ def row_forces(kind: NDArray[np.intp], share: NDArray[np.float64], force: NDArra
     return np.where(kind == 0, force, np.where(pit >= 0.0, np.where(kind == 1, force - pit, pit), share * force))
 
 
+def no_faults(count: int) -> GearFaults:
+    """A healthy gear's (the compiled loops' packs of every run have the fields)."""
+    return GearFaults(frozenset(), (), np.zeros((count, 2, 4)), np.zeros(count, np.int64), (), no_lost(count))
+
+
+def run_faults(pair: GearPair, settings: RunSettings, bodies: tuple[tuple[int, int], tuple[int, int]]) -> Any:
+    """The run's faults on its whole gears (:func:`gear_faults`), ``None``
+    without faults; a faulty run on a sector of teeth refused (a fault comes round)."""
+    if not settings.faults:
+        return None
+    dp = driving_pair(pair)
+    if any(count < gear.teeth for (_, count), gear in zip(bodies, (dp.gear_a, dp.gear_b))):
+        raise InputError("fault", f"a faulty gear runs whole: give cycles of {WHOLE_FROM_CYCLES} or more "
+                         "and no fewer teeth than the gears have")
+    if settings.bodies != "modal":
+        raise InputError("fault", "a faulty gear runs on modal bodies: give bodies = \"modal\"")
+    return gear_faults(dp, pair.driver, tuple(settings.faults), (bodies[0][0], bodies[1][0]))
+
+
+def faulty_cycles_of(dp: GearPair, driver: str, faults: Any) -> int:
+    """The mesh cycles after which a faulty pair repeats (the faulty gear's revolution, both
+    gears' meeting again with faults on both); 1 for a healthy pair."""
+    if not faults:
+        return 1
+    gears = {f.gear for f in faults}
+    turning = dp.gear_a if gears == {driver} else dp.gear_b
+    other = dp.gear_b if turning is dp.gear_a else dp.gear_a
+    return faulty_cycles(turning.teeth, other.teeth, len(gears) == 2)
+
+
 def check_cracked_flanks(blocks: tuple[Any, Any], faults: tuple[GearFaults, GearFaults],
                          low: tuple[float, float], half_width: float) -> None:
     """Refuse (``fault``) a cracked tooth whose mesh has no node where its contacts load its
     flank: the crack's mouth splits a fillet edge that reaches the lowest contact radius
-    ``low`` of its gear (a strip of ``half_width`` there), on a coarse mesh or a high mouth."""
+    ``low`` of its gear (a strip of ``half_width`` there, ``(1 - w)^-1/2`` times wider on a
+    tooth with a pit over the share ``w`` of the face width: its intact strip may carry the
+    pair), on a coarse mesh or a high mouth."""
     from spurdyn.contact.strip_numpy import strip_weights
 
     for blk, gf, r in zip(blocks, faults, low):
         body = blk.body
         for k, fault in gf.cracks:
             absent = body.mesh.tooth_dofs(k).reshape(-1, 2)[body.flank.side_nodes][:, 0] < 0
-            w = strip_weights(body.flank, body.flank_coordinate(np.array([r])), np.array([half_width]))[0]
+            part = gf.pits[k - blk.first, :, 3]
+            share = float(np.where(part < 1.0, part, 0.0).max())
+            b = half_width / np.sqrt(1.0 - share)
+            w = strip_weights(body.flank, body.flank_coordinate(np.array([r])), np.array([b]))[0]
             if np.any(w[absent] > 0.0):
                 raise InputError("fault", f"the crack on tooth {fault.tooth} of gear {fault.gear} opens on the "
                                  f"flank's edge the contacts load ({r * 1e3:.4g} mm and up) on this mesh: give a "
@@ -225,5 +263,6 @@ def cracked_meshes(dp: GearPair, faults: GearFaults, g: int, nx: int, ny: int, g
     return {k: fault_mesh(gear, f, nx, ny, grading) for k, f in faults.meshed}
 
 
-__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "gear_faults", "no_lost",
+__all__ = ["GearFaults", "body_tooth", "check_cracked_flanks", "cracked_meshes", "faulty_cycles_of", "gear_faults",
+           "no_faults", "no_lost", "run_faults",
            "any_split", "pit_shares", "row_forces", "split_rows", "strip_excess"]

@@ -25,14 +25,14 @@ from spurdyn.geometry.pair import GearPair
 from spurdyn.iso6336.dynamics import reduced_mass
 from spurdyn.model.alpha import GeneralizedAlpha
 from spurdyn.model.loading import check_history, hub_torques, static_force
+from spurdyn.sector.bearings import TRANSLATIONS, hub_bearings
 from spurdyn.sector.bodies import FullBody, ModalBody
 from spurdyn.sector.cache import cached
 from spurdyn.sector.cyclic import statics_body
-from spurdyn.geometry.fault import faulty_cycles
 from spurdyn.sector.damper import mesh_damper_table
 from spurdyn.sector.faces import crack_faces
-from spurdyn.sector.fault_bodies import (GearFaults, any_split, check_cracked_flanks, cracked_meshes, gear_faults,
-                                         no_lost, split_rows, strip_excess)
+from spurdyn.sector.fault_bodies import (GearFaults, any_split, check_cracked_flanks, cracked_meshes, faulty_cycles_of,
+                                         no_faults, run_faults, split_rows, strip_excess)
 from spurdyn.sector.lcp import Rows
 from spurdyn.sector.packs import SectorConfig, SectorContacts
 from spurdyn.sector.reduced import reduce_gear
@@ -110,7 +110,7 @@ class SectorModel:
         self.back = back = back_flanks_on(dp, settings)
         (first_a, count_a), (first_b, count_b) = teeth_for(dp, cover, back, settings.teeth)
         mesh_keys = (settings.nx, settings.ny, settings.grading)
-        self.faults = faults = _faults(pair, settings, ((first_a, count_a), (first_b, count_b)))
+        self.faults = faults = run_faults(pair, settings, ((first_a, count_a), (first_b, count_b)))
         self.splits = any_split(faults)     # a spall over part of the face width splits its pairs
         self.blocks = blocks = tuple(
             _block(dp, g, sense, first, count, mesh_keys, faults[g] if faults else None)
@@ -159,6 +159,12 @@ class SectorModel:
         self.na = na = self.gears[0].n
         self.n = n = na + self.gears[1].n
         self.parts = (slice(0, na), slice(na, n))
+        # the hubs on bearings: their translations after the bodies (none without)
+        self.bear = hub_bearings(settings.bearings, pair.driver, dp.working_pressure_angle, blocks, self.gp,
+                                 self.bp, self.whole)
+        self.nt = TRANSLATIONS if self.bear is not None else 0
+        self.n = n + self.nt
+        self.tpart = slice(n, n + self.nt)
         self.cycle = cached(("cycle", pair, settings.torque, first_a, count_a, first_b, count_b, *mesh_keys),
                             lambda: mesh_cycle(pair, settings.torque, settings.nx, settings.ny,
                                                positions=CYCLE_POSITIONS, bodies=bodies))
@@ -238,6 +244,9 @@ class SectorModel:
                     np.add.at(loads, blk.flank_dofs(sign * j), fj * blk.flank_load(sign * j, float(r), float(b)))
             q[self.parts[g]][1:] = self.gears[g].static(loads)
         q[0] = e0 / ra
+        if self.bear is not None:   # the hubs at their bearings' static deflection, the driver on by it
+            q[self.tpart] = self.bear.static(float(np.sum(f0)))
+            q[0] += float(self.bear.rows[0] @ q[self.tpart]) / ra
         force[np.searchsorted(self.teeth, js)] = f0      # the drive flanks come first
         return Start(q, v, acc, qdd, force, 0, None)
 
@@ -247,9 +256,12 @@ class SectorModel:
             raise InputError("start_state", "a sector run starts from another's end only on whole "
                              f"gears: give {WHOLE_FROM_CYCLES} cycles or more, and no fewer teeth than "
                              "the gears have")
-        if self.faces is not None:
-            raise InputError("start_state", "a run with a cracked tooth starts from rest or a "
-                             "static state: another run's end does not carry its crack faces' forces")
+        if self.bear is not None:
+            raise InputError("start_state", "a run with bearings starts from rest or a static state: "
+                             "another run's end does not carry its hubs' translations")
+        if self.faces is not None or self.splits:
+            raise InputError("start_state", "a run with a cracked tooth or a spall over part of the face width starts from "
+                             "rest or a static state: another run's end does not carry the crack faces' or pit strips' forces")
         speed, na, parts = self.speed, self.na, self.parts
         st = unpack_state(self.settings.start_state, self.n)
         q, v, acc, qdd = st.q.copy(), speed * st.dq, speed**2 * st.ddq, speed**2 * st.qdd
@@ -287,14 +299,15 @@ class SectorModel:
         """:meth:`rows_at` of several states at once, the driver's turns ``theta_a`` ``(S,)``
         and forces ``f`` ``(S, C)``: ``(sample, rows)``, one entry a contact near its path in
         a state, ``rows.on`` its index in ``c_teeth`` and ``sample`` its state's (in the
-        states' order, each state's contacts in :meth:`rows_at`'s); entry by entry the same
-        numbers as :meth:`rows_at`. ``None`` where no contact is near."""
+        states' order, each state's contacts in :meth:`rows_at`'s, a split pair's two rows
+        naming it twice); entry by entry :meth:`rows_at`'s numbers. ``None`` where none is near."""
         theta_a = np.asarray(theta_a, dtype=float)
         rolls, near = self._rolls(theta_a[:, None], offset)
         sample, on = np.nonzero(near)
         if not on.size:
             return None
-        return sample, self._pair_rows(on, rolls[sample, on], f[sample, on], theta_a[sample], offset)
+        rows = self._pair_rows(on, rolls[sample, on], f[sample, on], theta_a[sample], offset)
+        return (sample if rows.on.size == on.size else sample[np.cumsum(rows.kind != 2) - 1]), rows
 
     def near_many(self, theta_a: NDArray[np.float64], offset: int = 0) -> NDArray[np.intp]:
         """``(S,)`` how many contacts :meth:`rows_many` gives in each state of the driver's
@@ -377,12 +390,16 @@ class SectorModel:
     def gap_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``G x`` for the pairs ``rows`` (their constant parts not included)."""
         return sum(coef * x[self.parts[g]][0] + self.gears[g].elastic(elastic, x[self.parts[g]])
-                   for g, (coef, elastic) in enumerate(rows.sides))
+                   for g, (coef, elastic) in enumerate(rows.sides)) + self._translated(rows, x)
+
+    def _translated(self, rows: Rows, x: NDArray[np.float64]) -> Any:
+        """``T x_t``: the rows' translation part of ``x`` (0 without bearings)."""
+        return self.bear.of(self.c_side[rows.on]) @ x[self.tpart] if self.bear is not None else 0.0
 
     def rigid_rows(self, rows: Rows, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``D x``: the rows' rigid part alone, their entries on the hubs (the mesh damper's
+        """``D x``: the rows' rigid part alone, their entries on the hubs' turns and translations (the mesh damper's
         rows: ``-D q_dot`` is the rate of the pairs' whole approach while they touch)."""
-        return sum(coef * x[self.parts[g]][0] for g, (coef, _) in enumerate(rows.sides))
+        return sum(coef * x[self.parts[g]][0] for g, (coef, _) in enumerate(rows.sides)) + self._translated(rows, x)
 
     def compliance(self, rows: Rows) -> tuple[Any, ...]:
         """``(G S^-1 G^T, G S^-1 D^T, D S^-1 D^T, C_res, S^-1 G^T)``: the pairs' coupling
@@ -400,6 +417,13 @@ class SectorModel:
             w_dd += z[0] * np.outer(coef, coef)
             res += body.residual(elastic)
             cols.append(full)
+        if self.bear is not None:       # the translations' block, its own (S_tt diagonal)
+            tr = self.bear.of(self.c_side[rows.on])
+            tt = (tr * self.bear.tinv) @ tr.T
+            w += tt
+            w_gd += tt
+            w_dd += tt
+            cols.append(self.bear.tinv[:, None] * tr.T)
         return w, w_gd, w_dd, res + strip_excess(rows.kind, rows.share, self.c_h), cols
 
     def contact_compliance(self, rows: Rows) -> NDArray[np.float64]:
@@ -414,14 +438,17 @@ class SectorModel:
 
     def rigid_columns_times(self, rows: Rows, lam: NDArray[np.float64]) -> NDArray[np.float64]:
         """``S^-1 D^T lam``: the responses to the hub torques of the rows' rigid parts."""
-        return np.concatenate([float(coef @ lam) * self.z_theta[g] for g, (coef, _) in enumerate(rows.sides)])
+        out = [float(coef @ lam) * self.z_theta[g] for g, (coef, _) in enumerate(rows.sides)]
+        if self.bear is not None:
+            out.append(self.bear.tinv * (self.bear.of(self.c_side[rows.on]).T @ lam))
+        return np.concatenate(out)
 
     # -- the compiled loops' packs ---------------------------------------------------------
     def packs(self, offset: int = 0) -> tuple[Any, ...]:
         """``(gear A, gear B, contacts, gap table, config)``: the typed packs of
         :mod:`spurdyn.sector.packs` the compiled loops read (modal bodies of whole gears)."""
         xq, wq = strip_quadrature()
-        faults = self.faults or tuple(_no_faults(blk.count) for blk in self.blocks)
+        faults = self.faults or tuple(no_faults(blk.count) for blk in self.blocks)
         contacts = SectorContacts(np.asarray(self.c_teeth, np.int64), np.asarray(self.c_side, np.int64),
                                   int(offset), xq, wq, self.c_table, faults[0].pits, faults[1].pits,
                                   faults[0].gone, faults[1].gone, faults[0].lost, faults[1].lost)
@@ -451,36 +478,6 @@ def whole_periods(cycles: int, most: int, period: int, default_most: bool) -> tu
     cycles = max(-(-cycles // period), FAULTY_PERIODS) * period
     most = max(-(-most // period) * period, cycles)
     return cycles, max(most, cycles + 2 * period) if default_most else most
-
-
-def _no_faults(count: int) -> GearFaults:
-    """A healthy gear's (the compiled loops' packs of every run have the fields)."""
-    return GearFaults(frozenset(), (), np.zeros((count, 2, 4)), np.zeros(count, np.int64), (), no_lost(count))
-
-
-def _faults(pair: GearPair, settings: RunSettings, bodies: tuple[tuple[int, int], tuple[int, int]]) -> Any:
-    """The run's faults on its whole gears (:mod:`spurdyn.sector.fault_bodies`), ``None``
-    without faults; a faulty run on a sector of teeth refused (a fault comes round)."""
-    if not settings.faults:
-        return None
-    dp = driving_pair(pair)
-    if any(count < gear.teeth for (_, count), gear in zip(bodies, (dp.gear_a, dp.gear_b))):
-        raise InputError("fault", f"a faulty gear runs whole: give cycles of {WHOLE_FROM_CYCLES} or more "
-                         "and no fewer teeth than the gears have")
-    if settings.bodies != "modal":
-        raise InputError("fault", "a faulty gear runs on modal bodies: give bodies = \"modal\"")
-    return gear_faults(dp, pair.driver, tuple(settings.faults), (bodies[0][0], bodies[1][0]))
-
-
-def faulty_cycles_of(dp: GearPair, driver: str, faults: Any) -> int:
-    """The mesh cycles after which a faulty pair repeats (the faulty gear's revolution, both
-    gears' meeting again with faults on both); 1 for a healthy pair."""
-    if not faults:
-        return 1
-    gears = {f.gear for f in faults}
-    turning = dp.gear_a if gears == {driver} else dp.gear_b
-    other = dp.gear_b if turning is dp.gear_a else dp.gear_a
-    return faulty_cycles(turning.teeth, other.teeth, len(gears) == 2)
 
 
 def _block(dp: GearPair, g: int, sense: float, first: int, count: int, mesh_keys: tuple[Any, ...],

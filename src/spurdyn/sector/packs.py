@@ -64,4 +64,10 @@ SectorConfig = namedtuple("SectorConfig", [
 FacePack = namedtuple("FacePack", ["modal0", "modal1", "columns0", "columns1", "cross0", "cross1", "reach0",
                                    "reach1", "w_ff", "r_ff"])
 
-__all__ = ["FacePack", "GapArrays", "ModalGear", "SectorConfig", "SectorContacts"]
+#: The hubs' bearings as the compiled implicit loop reads them (twin of
+#: :class:`~spurdyn.sector.bearings.HubBearings`): ``rows`` ``(2, t)`` a drive and a back
+#: contact's entries on the ``t`` translations (4, or 0 without bearings), per translation
+#: ``tinv`` the inverse of ``S_tt``, the bearing's ``k`` and ``c``.
+BearingPack = namedtuple("BearingPack", ["rows", "tinv", "k", "c"])
+
+__all__ = ["BearingPack", "FacePack", "GapArrays", "ModalGear", "SectorConfig", "SectorContacts"]

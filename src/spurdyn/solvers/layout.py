@@ -109,7 +109,8 @@ ImplicitPack = namedtuple("ImplicitPack", [
 #: The implicit sector loop's state, changed in place: coordinates, velocities, the
 #: scheme's two accelerations, the contacts' forces, a crack's faces' (none without) and per
 #: contact its pit strip's force where a pit over part of the face width splits it, -1
-#: elsewhere (none: no contact splits; docs/faults.md, section 8).
+#: elsewhere (none: no contact splits, the steppers refuse none where one may;
+#: docs/faults.md, section 8).
 SectorStepState = namedtuple("SectorStepState", ["q", "v", "acc", "qdd", "force", "faces", "pit"],
                              defaults=(np.zeros(0), np.zeros(0)))
 
@@ -121,6 +122,7 @@ SectorRk4State = namedtuple("SectorRk4State", ["q", "v", "force", "held"])
 #: forces and the smallest gap; and every few steps the coordinates (``states``, row
 #: ``sample[step]`` of step ``step``, -1 for a step not sampled; none by default), from which
 #: the teeth's root stress is recovered after the run; with a crack, per step its faces' largest
-#: force, least and largest opening (``faces``, none without).
-SectorOut = namedtuple("SectorOut", ["theta", "omega", "force", "gap", "states", "sample", "faces"],
-                       defaults=(np.zeros((0, 0)), np.zeros(0, np.int64), np.zeros((0, 3))))
+#: force, least and largest opening (``faces``, none without); with the hubs on bearings their
+#: translations and rates per step (``hubs``, none without).
+SectorOut = namedtuple("SectorOut", ["theta", "omega", "force", "gap", "states", "sample", "faces", "hubs"],
+                       defaults=(np.zeros((0, 0)), np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros((0, 8))))

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from spurdyn.jit import njit
+from spurdyn.solvers.sector.bearings_compiled import trans_back
 from spurdyn.solvers.sector.rows_compiled import _modal_rows, lcp_pivot
 
 
@@ -50,21 +51,22 @@ def face_rows(fp, x, na):
     s0 = fp.modal0.shape[0]
     out = np.empty(fp.r_ff.shape[0])
     out[:s0] = fp.modal0 @ x[1:na]
-    out[s0:] = fp.modal1 @ x[na + 1:]
+    out[s0:] = fp.modal1 @ x[na + 1:na + 1 + fp.modal1.shape[1]]
     return out
 
 
 @njit
-def face_accelerations(x0, q_hat, last_faces, fp, pairs, rows, lo0, lo1, sd, hub_cols, cfg):
+def face_accelerations(x0, q_hat, last_faces, fp, pairs, rows, lo0, lo1, sd, hub_cols, cfg, trans):
     """The step's accelerations with the pairs and the crack's faces in contact: ``(qdd, F,
     face forces, found, R_fc, openings)``, the faces' openings at the step's end those of its
     problem (``W (F, lam) + v``: the NumPy loop's ``B^T Phi eta + C_res (F, lam)`` of the new
     state, to round-off); ``pairs`` the pairs' blocks of
     :func:`~spurdyn.solvers.sector.step_compiled._pair_blocks` (``x0`` changed by their
-    damper), ``last_faces`` the face forces of the step before."""
+    damper), ``last_faces`` the face forces of the step before, ``trans`` the pairs' rows on the
+    hubs' translations and their ``S_tt^-1`` (the faces' rows have none)."""
     full0, full1, w0, w_gd, k_w, d_x0, _, vv, guess = pairs
     bp = cfg.bp
-    na = full0.shape[0]
+    na, nb = full0.shape[0], full0.shape[0] + full1.shape[0]
     p, s = vv.size, fp.r_ff.shape[0]
     w_fc, w_fd, r_fc = face_blocks(fp, rows, lo0, lo1, sd, hub_cols)
     n = p + s
@@ -98,15 +100,16 @@ def face_accelerations(x0, q_hat, last_faces, fp, pairs, rows, lo0, lo1, sd, hub
     s0 = fp.modal0.shape[0]
     qdd_new = x0.copy()
     qdd_new[:na] += fp.columns0 @ lam[p:p + s0]
-    qdd_new[na:] += fp.columns1 @ lam[p + s0:]
+    qdd_new[na:nb] += fp.columns1 @ lam[p + s0:]
     if p:
         qdd_new[:na] += full0 @ lam[:p]
-        qdd_new[na:] += full1 @ lam[:p]
+        qdd_new[na:nb] += full1 @ lam[:p]
         kd = k_w @ (d_x0 + w_gd_all.T @ lam)
         coef0, coef1 = rows[2], rows[3]
         z0, z1 = hub_cols
         qdd_new[:na] -= (coef0 @ kd) * z0
-        qdd_new[na:] -= (coef1 @ kd) * z1
+        qdd_new[na:nb] -= (coef1 @ kd) * z1
+        trans_back(qdd_new, nb, lam[:p] - kd, trans)
     return qdd_new, lam[:p].copy(), lam[p:].copy(), found, r_fc, opening
 
 

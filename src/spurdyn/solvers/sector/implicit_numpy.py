@@ -45,9 +45,19 @@ class ImplicitStep(NamedTuple):
     status: int
 
 
+def check_pit(model: SectorModel, st: SectorStepState) -> None:
+    """Refuse a state of a model whose pits split contacts without a pit strip's force per
+    contact (``st.pit``, -1 where whole): the layout's empty default would restart every
+    split pair's strips in proportion at each step (and the compiled loop read past it)."""
+    if model.splits and st.pit.size != st.force.size:
+        raise ValueError(f"a split model's step state needs pit ({st.force.size},), -1 where a "
+                         f"contact is whole; got {st.pit.shape}")
+
+
 def implicit_step(model: SectorModel, st: SectorStepState, tq: NDArray[np.float64], offset: int = 0) -> ImplicitStep:
     """One generalized-alpha step of ``model`` from ``st`` under the hubs' torques ``tq`` at
     its end (module docstring); ``offset`` the driver's body tooth of pair 0."""
+    check_pit(model, st)
     m_, gears, parts = model, model.gears, model.parts
     am, af, beta, gamma, h, bp, gp = m_.am, m_.af, m_.beta, m_.gamma, m_.h, m_.bp, m_.gp
     q, v, acc, qdd, last, last_pit = st.q, st.v, st.acc, st.qdd, st.force, st.pit
@@ -58,7 +68,8 @@ def implicit_step(model: SectorModel, st: SectorStepState, tq: NDArray[np.float6
     r[0], r[m_.na] = tq
     for g in range(2):
         r[parts[g]] -= gears[g].forces(q_hat[parts[g]], v_hat[parts[g]])
-    x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)])
+    x0 = np.concatenate([gears[g].solve(r[parts[g]]) for g in range(2)]
+                        + ([m_.bear.free(q_hat[m_.tpart], v_hat[m_.tpart])] if m_.bear is not None else []))
     rows = m_.rows_at(float(q_hat[0]), last, offset, last_pit if last_pit.size else None)
     force = np.zeros(m_.c_teeth.size)
     pit = np.full(last_pit.size, -1.0)
@@ -172,8 +183,9 @@ class ImplicitStepper(SectorStepper):
             r_fc = faces.blocks(rows0, model.z_theta)[2]
             self.c_res = np.block([[self.c_res, r_fc.T], [r_fc, faces.r_ff]])
             if start.reset is None:     # a static start: the faces closed where they would overlap
+                # per row: a split pair's strips their shares of its force, not each the whole
                 self.state.faces[:] = closed_start(faces, model.parts, q, r_fc,
-                                                   start.force[rows0.on] if rows0 is not None else np.zeros(0))
+                                                   rows0.held if rows0 is not None else np.zeros(0))
         # the torques' work (J), by the trapezoid rule between saved steps (exact for constant ones)
         self.work = [float(record.torque[0] @ np.array([q[0], q[na]])), q[0], q[na]]
         self.save(0, rows0)
@@ -210,6 +222,8 @@ class ImplicitStepper(SectorStepper):
         rec.omega[i] = v[0], v[na]
         rec.force[i] = force
         rec.keep_state(i, q)
+        if model.bear is not None:
+            rec.hubs[i] = np.concatenate([q[model.tpart], v[model.tpart]])
         fo = np.zeros(0) if rows is None else force[rows.on] if not rows.kind.any() else \
             row_forces(rows.kind, rows.share, force[rows.on], st.pit[rows.on])
         if model.faces is not None:
@@ -232,8 +246,11 @@ class ImplicitStepper(SectorStepper):
             work[0] += 0.5 * float((tq[i - 1] + tq[i]) @ np.array([q[0] - work[1], q[na] - work[2]]))
             work[1:] = q[0], q[na]
         res = 0.5 * float(fo @ self.c_res @ fo) if fo.size else 0.0
-        return (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)),
-                sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res,
+        # the hubs' translations and their bearings' springs
+        bear = model.bear
+        t_kin, t_strain = (bear.kinetic(v[model.tpart]), bear.strain(q[model.tpart])) if bear is not None else (0, 0)
+        return (sum(gears[g].kinetic(v[parts[g]]) for g in range(2)) + t_kin,
+                sum(gears[g].strain(q[parts[g]]) for g in range(2)) + res + t_strain,
                 0.5 * model.c_h * float(force @ force if rows is None or not rows.kind.any() else
                                         fo[:rows.on.size] @ fo[:rows.on.size]), work[0],
                 *(gears[g].momentum(v[parts[g]]) for g in range(2)),
@@ -243,4 +260,4 @@ class ImplicitStepper(SectorStepper):
                   for g in range(2)))
 
 
-__all__ = ["ImplicitStep", "ImplicitStepper", "implicit_step"]
+__all__ = ["ImplicitStep", "ImplicitStepper", "check_pit", "implicit_step"]

@@ -14,7 +14,7 @@ from spurdyn.result import Result, ToothStress
 from spurdyn.sector.rules import mesh_damping
 from spurdyn.sector.system import REACH
 from spurdyn.settings import DEFAULT_RAMP_CYCLES
-from spurdyn.solvers.sector.teeth import pair_pressures, root_stress
+from spurdyn.solvers.sector.teeth import SPLIT_PRESSURE_NOTE, pair_pressures, root_stress, split_anywhere
 from spurdyn.solvers.sector.crack_faces import face_openings
 from spurdyn.solvers.steady import cycle_figures, steady_record
 
@@ -96,6 +96,8 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         back_force = back[1][sel]
         out["back_pair_teeth"] = back[0].tolist()
     contact = pair_pressures(model, record.theta[sel, 0], record.force[sel], keep, offset)
+    if split_anywhere(model, record.theta[sel, 0], record.force[sel], offset):
+        out["contact_pressure_note"] = SPLIT_PRESSURE_NOTE
     # a faulty gear's fillets differ tooth by tooth (missing, cracked): not recovered yet
     stress = None if model.faults else root_stress(model, record, n_kept, offset)
     _fault_records(model, out, record, n_kept, most)
@@ -104,6 +106,12 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         out["momentum"] = {"hub_momentum": en[sel, 4:6].tolist(), "contact_torque": en[sel, 6:8].tolist()}
         out["energy"] = {"kinetic_J": en[sel, 0].tolist(), "strain_J": en[sel, 1].tolist(),
                          "strip_J": en[sel, 2].tolist(), "work_J": en[sel, 3].tolist()}
+    hubs = None
+    if model.bear is not None:      # the translations in A's and B's order (the record's: driver first)
+        hubs = record.hubs[sel]
+        if swap:
+            hubs = hubs[:, [2, 3, 0, 1, 6, 7, 4, 5]]
+        out["bearings"] = bearing_record(model, swap)
     if stress is not None and swap:
         stress = ToothStress(stress.time, stress.teeth[::-1], stress.values[::-1], stress.per_cycle)
     return Result(
@@ -113,7 +121,17 @@ def sector_result(model: SectorModel, record: SectorRecord, *, n_kept: int, stat
         frame_u=np.zeros((0, 0)), status=status, reason=reason, steps=max(n - 1, 0), wall_s=wall,
         info={**out, **(info or {}), "static_cycle": static_cycle(model)}, pair_force=forces,
         pair_roll=np.where(on, rolls, np.nan), back_force=back_force, transmission_error=te, tooth_stress=stress,
-        **contact)
+        hub_translation=hubs, **contact)
+
+
+def bearing_record(model: SectorModel, swap: bool) -> list[dict[str, float] | None]:
+    """Gear A's and gear B's bearing as the result's record keeps it: its stiffness (N/m),
+    damping (N s/m) and the gear's translating mass (kg); ``None`` for a hub whose centre is
+    held."""
+    bear, given = model.bear, model.settings.bearings
+    mass = bear.mass[::2][::-1] if swap else bear.mass[::2]
+    return [None if b is None else {"stiffness": b.stiffness, "damping": b.damping, "mass_kg": float(m)}
+            for b, m in zip(given, mass)]
 
 
 def _fault_records(model: SectorModel, out: dict[str, Any], record: SectorRecord, n_kept: int,
@@ -180,4 +198,4 @@ def sector_record(model: SectorModel, teeth: NDArray[np.intp], back: bool, angle
     }
 
 
-__all__ = ["sector_record", "sector_result", "static_cycle"]
+__all__ = ["bearing_record", "sector_record", "sector_result", "static_cycle"]

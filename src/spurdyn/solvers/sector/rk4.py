@@ -134,6 +134,7 @@ class Rk4Stepper(SectorStepper):
     def refuse(cls, model: SectorModel, energy: bool) -> None:
         super().refuse(model, energy)
         cls.refuse_crack(model)
+        cls.refuse_bearings(model)
 
     def __init__(self, model: SectorModel, record: SectorRecord, offset: int = 0, energy: bool = False) -> None:
         super().__init__(model, record, offset, energy)

@@ -21,6 +21,7 @@ import numpy as np
 
 from spurdyn.jit import njit
 from spurdyn.solvers.layout import FAIL_BEYOND, FAIL_LCP, FAIL_NAN, OK
+from spurdyn.solvers.sector.bearings_compiled import trans_back, trans_free, trans_times
 from spurdyn.solvers.sector.faces_compiled import face_accelerations, face_record
 from spurdyn.solvers.sector.rows_compiled import (
     damper_coefficient,
@@ -33,20 +34,24 @@ from spurdyn.solvers.sector.rows_compiled import (
 
 
 @njit
-def _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg, orders):
+def _contact_accelerations(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg, orders, trans):
     """The step's accelerations with the pairs ``rows`` (of :func:`rows_and_loads`) in
     contact: ``(qdd, F, found)``, ``F`` per row. ``x0`` the accelerations without them
     (changed by the mesh damper), ``last`` the rows' forces of the step before (the damper's
     shares, the active set tried first), ``hub_cols`` per gear ``S^-1`` of a unit hub torque ``z`` and
-    ``elastic_cols`` its arrow's ``(u, 1 / d)``, ``c_mesh`` the damper's coefficient."""
+    ``elastic_cols`` its arrow's ``(u, 1 / d)``, ``c_mesh`` the damper's coefficient,
+    ``trans`` the rows' entries on the hubs' translations and their ``S_tt^-1`` (none without
+    bearings)."""
     full0, full1, w0, w_gd, k_w, d_x0, w, vv, guess = _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols,
-                                                                   elastic_cols, c_mesh, cfg)
+                                                                   elastic_cols, c_mesh, cfg, trans)
     lam, found = lcp_ordered(0.5 * (w + w.T), vv, guess, orders)
     qdd_new = x0.copy()
-    na = full0.shape[0]
+    na, nb = full0.shape[0], full1.shape[0]
     qdd_new[:na] += full0 @ lam
-    qdd_new[na:] += full1 @ lam
-    _damper_back(qdd_new, k_w @ (d_x0 + w_gd.T @ lam), rows, hub_cols)
+    qdd_new[na:na + nb] += full1 @ lam
+    kd = k_w @ (d_x0 + w_gd.T @ lam)
+    _damper_back(qdd_new, kd, rows, hub_cols)
+    trans_back(qdd_new, na + nb, lam - kd, trans)
     return qdd_new, lam, found
 
 
@@ -57,21 +62,25 @@ def _damper_back(qdd, kd, rows, hub_cols):
     z0, z1 = hub_cols
     na = z0.size
     qdd[:na] -= (coef0 @ kd) * z0
-    qdd[na:] -= (coef1 @ kd) * z1
+    qdd[na:na + z1.size] -= (coef1 @ kd) * z1
 
 
 @njit
-def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg):
+def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, cfg, trans):
     """The pairs' blocks of the step's problem (:func:`_contact_accelerations`): per gear
     ``S^-1 G^T``, ``G S^-1 G^T``, ``G S^-1 D^T``, the damper's Woodbury ``K``, ``D x0``, the
     problem's ``W`` and ``v`` and the active set tried first (the step before's, a mask);
-    ``last`` the rows' forces of the step before (``held`` of :func:`rows_and_loads`)."""
+    ``last`` the rows' forces of the step before (``held`` of :func:`rows_and_loads`); with
+    bearings the translations' block ``T S_tt^-1 T^T`` in the three couplings (``T``, the
+    rows' translation entries, is part of both ``G`` and ``D``)."""
     on, const, coef0, coef1, rows0, rows1, res = rows
     z0, z1 = hub_cols
     (u0, dinv0), (u1, dinv1) = elastic_cols
     bp, gp = cfg.bp, cfg.gp
     p = on.size
     na = z0.size
+    nb = na + z1.size       # the bodies' coordinates; the translations after them
+    tr, tinv = trans
     # couplings (docs/sector.md 6.3): per gear S^-1 G^T = z c^T + S^-1 E^T, the arrow's
     # S^-1 [0; r] = [0; r / d] - (u . r) z
     full0 = np.outer(z0, coef0 - rows0 @ u0)
@@ -83,6 +92,11 @@ def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, c
     w_gd = (np.outer(coef0 * z0[0] + rows0 @ z0[1:], coef0)
             + np.outer(coef1 * z1[0] + rows1 @ z1[1:], coef1))
     w_dd = z0[0] * np.outer(coef0, coef0) + z1[0] * np.outer(coef1, coef1)
+    if tinv.size:
+        tt = (tr * tinv) @ tr.T
+        w0 += tt
+        w_gd += tt
+        w_dd += tt
     # the mesh damper, shared by the forces of the step before
     shares = np.empty(p)
     total = 0.0
@@ -100,11 +114,12 @@ def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, c
             if c_pairs[a] != 0.0:
                 damped = True
     if damped:
-        rate = c_pairs * (coef0 * v_hat[0] + coef1 * v_hat[na])
+        rate = c_pairs * (coef0 * v_hat[0] + coef1 * v_hat[na] + trans_times(tr, v_hat[nb:]))
         x0[:na] -= (coef0 @ rate) * z0
-        x0[na:] -= (coef1 @ rate) * z1
-    g_x0 = coef0 * x0[0] + rows0 @ x0[1:na] + coef1 * x0[na] + rows1 @ x0[na + 1:]
-    d_x0 = coef0 * x0[0] + coef1 * x0[na]
+        x0[na:nb] -= (coef1 @ rate) * z1
+        trans_back(x0, nb, -rate, trans)
+    g_x0 = coef0 * x0[0] + rows0 @ x0[1:na] + coef1 * x0[na] + rows1 @ x0[na + 1:nb] + trans_times(tr, x0[nb:])
+    d_x0 = coef0 * x0[0] + coef1 * x0[na] + trans_times(tr, x0[nb:])
     if damped:
         gc = gp * c_pairs
         k_w = np.empty((p, p))
@@ -114,18 +129,24 @@ def _pair_blocks(x0, q_hat, v_hat, last, rows, hub_cols, elastic_cols, c_mesh, c
     else:
         k_w = np.zeros((p, p))
     w = bp * (w0 - w_gd @ k_w @ w_gd.T) + res + cfg.c_h * np.eye(p)
-    vv = (const + coef0 * q_hat[0] + rows0 @ q_hat[1:na] + coef1 * q_hat[na] + rows1 @ q_hat[na + 1:]
-          + bp * (g_x0 - w_gd @ (k_w @ d_x0)))
+    vv = (const + coef0 * q_hat[0] + rows0 @ q_hat[1:na] + coef1 * q_hat[na] + rows1 @ q_hat[na + 1:nb]
+          + trans_times(tr, q_hat[nb:]) + bp * (g_x0 - w_gd @ (k_w @ d_x0)))
     return full0, full1, w0, w_gd, k_w, d_x0, w, vv, guess
 
 
 @njit
-def _save(out, step, q, v, force, lam, faces, rows, r_fc, c_h, na):
+def _save(out, step, q, v, force, lam, faces, rows, r_fc, c_h, na, tr):
     """Step ``step``'s samples into ``out``: turns, speeds, forces, the smallest gap of the
     rows ``rows`` near the path under their forces ``lam`` (none: left as it was; with a
-    crack's ``faces`` their residual coupling ``r_fc`` with the pairs) and, on a sampled
-    step, ``q``."""
+    crack's ``faces`` their residual coupling ``r_fc`` with the pairs; ``tr`` their entries on
+    the hubs' translations), on a sampled step ``q``, and with bearings the translations and
+    rates."""
     on, const, coef0, coef1, rows0, rows1, res = rows
+    nb = na + rows1.shape[1] + 1
+    nt = q.size - nb
+    if nt:
+        out.hubs[step, :nt] = q[nb:]
+        out.hubs[step, nt:] = v[nb:]
     out.theta[step, 0] = q[0]
     out.theta[step, 1] = q[na]
     out.omega[step, 0] = v[0]
@@ -136,22 +157,23 @@ def _save(out, step, q, v, force, lam, faces, rows, r_fc, c_h, na):
     p = on.size
     if p:
         fo = lam
-        gaps = (const + coef0 * q[0] + rows0 @ q[1:na] + coef1 * q[na] + rows1 @ q[na + 1:]
-                + c_h * fo + res @ fo)
+        gaps = (const + coef0 * q[0] + rows0 @ q[1:na] + coef1 * q[na] + rows1 @ q[na + 1:nb]
+                + trans_times(tr, q[nb:]) + c_h * fo + res @ fo)
         if faces.size:
             gaps += r_fc.T @ faces
         out.gap[step] = gaps.min()
 
 
 @njit(entry=True)
-def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp):
+def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp, bear):
     """``steps`` steps from ``first_step`` of the state ``st`` (a
     :data:`~spurdyn.solvers.layout.SectorStepState`, changed in place), the saved columns
     ``out`` (:data:`~spurdyn.solvers.layout.SectorOut`) written at ``first_step + 1 ...``;
     ``hub`` the hubs' torques at the end of each step, ``fp`` a crack's faces
-    (:data:`~spurdyn.sector.packs.FacePack`, empty without). The state's ``pit`` holds each
-    contact's pit strip's force where a pit over part of the face width splits it, -1
-    elsewhere (:func:`~spurdyn.solvers.sector.rows_compiled.split_rows`); ``force`` the
+    (:data:`~spurdyn.sector.packs.FacePack`, empty without), ``bear`` the hubs' bearings
+    (:data:`~spurdyn.sector.packs.BearingPack`, no translations without). The state's ``pit``
+    holds each contact's pit strip's force where a pit over part of the face width splits it,
+    -1 elsewhere (:func:`~spurdyn.solvers.sector.rows_compiled.split_rows`); ``force`` the
     contacts' whole forces, the sums of their rows'.
 
     Returns the last step done and ``OK``, or the failed step and its status of
@@ -161,7 +183,7 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
     q, v, acc, qdd, force, faces, pit = st.q, st.v, st.acc, st.qdd, st.force, st.faces, st.pit
     am, af, beta, gamma, h, bp, gp = cfg.am, cfg.af, cfg.beta, cfg.gamma, cfg.h, cfg.bp, cfg.gp
     na = gear0.omega2.size + 1
-    n = na + gear1.omega2.size + 1
+    n = q.size      # the bodies' coordinates, then the hubs' translations (with bearings)
     hub_cols = (hub_column(gear0), hub_column(gear1))
     elastic_cols = ((gear0.u, gear0.dinv), (gear1.u, gear1.dinv))
     orders = mask_orders()
@@ -170,21 +192,22 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
         a_part = (af * qdd - am * acc) / (1.0 - am)
         q_hat = q + h * v + h * h * (0.5 - beta) * acc + h * h * beta * a_part
         v_hat = v + h * (1.0 - gamma) * acc + h * gamma * a_part
-        x0 = modal_free(hub[step, 0], hub[step, 1], q_hat, v_hat, gear0, gear1)
+        x0 = trans_free(modal_free(hub[step, 0], hub[step, 1], q_hat, v_hat, gear0, gear1), q_hat, v_hat, bear)
         theta = q_hat[0]
         last = force.copy()
         force[:] = 0.0
         rows, lo0, lo1, sd, (kind, held) = rows_and_loads(theta, last, pit, gear0, gear1, con, table, cfg)
         pit[:] = -1.0      # read into held; this step's splits are written below
         on = rows[0]
+        trans = (bear.rows[sd], bear.tinv)
         lam = np.zeros(on.size)
         r_fc = np.zeros((faces.size, on.size))
         opening = np.zeros(faces.size)
         if cracked:
             c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta) if on.size else 0.0
-            pairs = _pair_blocks(x0, q_hat, v_hat, held, rows, hub_cols, elastic_cols, c_mesh, cfg)
+            pairs = _pair_blocks(x0, q_hat, v_hat, held, rows, hub_cols, elastic_cols, c_mesh, cfg, trans)
             qdd_new, lam, lam_f, found, r_fc, opening = face_accelerations(x0, q_hat, faces, fp, pairs, rows, lo0,
-                                                                           lo1, sd, hub_cols, cfg)
+                                                                           lo1, sd, hub_cols, cfg, trans)
             if not found:
                 return step, FAIL_LCP
             faces[:] = lam_f
@@ -193,7 +216,7 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
         else:
             c_mesh = damper_coefficient(con.c_table, cfg.pitch, theta)
             qdd_new, lam, found = _contact_accelerations(x0, q_hat, v_hat, held, rows, hub_cols, elastic_cols,
-                                                         c_mesh, cfg, orders)
+                                                         c_mesh, cfg, orders, trans)
             if not found:
                 return step, FAIL_LCP
         for a in range(on.size):    # a split contact's force the sum of its rows'
@@ -209,7 +232,7 @@ def run_steps(first_step, steps, st, gear0, gear1, con, table, cfg, hub, out, fp
         qdd[:] = qdd_new
         if q[0] < cfg.theta_lo or q[0] > cfg.theta_hi:
             return step, FAIL_BEYOND
-        _save(out, step, q, v, force, lam, faces, rows, r_fc, cfg.c_h, na)
+        _save(out, step, q, v, force, lam, faces, rows, r_fc, cfg.c_h, na, trans[0])
         if cracked:
             face_record(out, step, faces, opening)
     return first_step + steps, OK

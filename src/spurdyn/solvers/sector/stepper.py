@@ -55,6 +55,8 @@ class SectorRecord:
         self.gap = np.full(n_out, np.nan)
         self.faces = np.full((n_out if model.faces is not None else 0, 3), np.nan)
         self.energy = np.full((n_out, 8), np.nan) if energy else None
+        # the hubs' translations and their rates (x_A, y_A, x_B, y_B, then their rates; driver first)
+        self.hubs = np.full((n_out if model.bear is not None else 0, 2 * model.nt), np.nan)
         self._sample_states(model, n_steps)
 
     def _sample_states(self, model: SectorModel, n_steps: int) -> None:
@@ -74,7 +76,8 @@ class SectorRecord:
 
     def out(self) -> SectorOut:
         """The saved columns as the compiled loops write them."""
-        return SectorOut(self.theta, self.omega, self.force, self.gap, self.states, self.sample, self.faces)
+        return SectorOut(self.theta, self.omega, self.force, self.gap, self.states, self.sample, self.faces,
+                         self.hubs)
 
     def extend(self, model: SectorModel, n_steps: int, more: int) -> None:
         """``more`` rows beyond the run's ``n_steps`` (now ``n_steps + more``), their torques."""
@@ -83,6 +86,8 @@ class SectorRecord:
             for x in (self.theta, self.omega, self.force, self.gap))
         if self.faces.size:
             self.faces = np.concatenate([self.faces, np.full((more, 3), np.nan)])
+        if self.hubs.size:
+            self.hubs = np.concatenate([self.hubs, np.full((more, self.hubs.shape[1]), np.nan)])
         self.torque = np.concatenate([self.torque, model.torques_at(np.arange(n_steps + 1, n_steps + more + 1))])
         if self.energy is not None:
             self.energy = np.concatenate([self.energy, np.full((more, 8), np.nan)])
@@ -110,6 +115,13 @@ class SectorStepper(Stepper):
         if energy and not cls.keeps_energy:
             raise InputError("energy", "the energy record is kept by the NumPy implicit loop alone: "
                              "give backend='numpy'")
+
+    @staticmethod
+    def refuse_bearings(model: SectorModel) -> None:
+        """Refuse a model with the hubs on bearings (the implicit loop's alone)."""
+        if model.bear is not None:
+            raise InputError("gear_a.bearing" if model.settings.bearings[0] is not None else "gear_b.bearing",
+                             "the RK4 reference does not step the hubs on bearings: give the implicit integrator")
 
     @staticmethod
     def refuse_crack(model: SectorModel) -> None:

@@ -10,10 +10,11 @@ from __future__ import annotations
 import numpy as np
 
 from spurdyn.errors import InputError
+from spurdyn.sector.bearings import bearing_pack
 from spurdyn.sector.faces import face_pack
 from spurdyn.sector.model import SectorModel
 from spurdyn.solvers.layout import OK, SectorRk4State
-from spurdyn.solvers.sector.implicit_numpy import ImplicitStepper
+from spurdyn.solvers.sector.implicit_numpy import ImplicitStepper, check_pit
 from spurdyn.solvers.sector.stepper import SectorRecord, SectorStepper
 
 
@@ -40,12 +41,14 @@ class CompiledImplicitStepper(ImplicitStepper):
         super().__init__(model, record, offset, energy)
         self.gear0, self.gear1, self.contacts, self.table, self.cfg = model.packs(self.start_state.offset)
         self.faces = face_pack(model.faces, model.gears)
+        self.bear = bearing_pack(model.bear)
 
     def _steps(self, n: int) -> tuple[int, int]:
         from spurdyn.solvers.sector.step_compiled import run_steps
 
+        check_pit(self.model, self.state)
         step, status = run_steps(self.index, n, self.state, self.gear0, self.gear1, self.contacts, self.table,
-                                 self.cfg, self.record.torque, self.record.out(), self.faces)
+                                 self.cfg, self.record.torque, self.record.out(), self.faces, self.bear)
         if status != OK:
             return step - 1 - self.index, int(status)
         self.reached = step
@@ -60,6 +63,7 @@ class CompiledRk4Stepper(SectorStepper):
         super().refuse(model, energy)
         _refuse_compiled(model)
         cls.refuse_crack(model)
+        cls.refuse_bearings(model)
 
     def __init__(self, model: SectorModel, record: SectorRecord, offset: int = 0, energy: bool = False) -> None:
         super().__init__(model, record, offset, energy)

@@ -25,6 +25,11 @@ from spurdyn.sector.system import half_widths_at
 ROWS_BYTES = 8 * 2**20
 #: Most samples formed at once (whole bodies, which gather nothing).
 MOST_SAMPLES = 256
+#: Why a run whose pit over part of the face width split a contact has no largest pressure.
+SPLIT_PRESSURE_NOTE = ("none: a pit over part of the face width split a contact into two strips, "
+                       "whose own forces (and pressures, the intact strip's the run's highest) are "
+                       "not recorded; so no contact pressure maximum and no model contact safety "
+                       "factor (docs/faults.md, section 8)")
 
 if TYPE_CHECKING:  # annotations only
     from spurdyn.sector.model import SectorModel
@@ -55,18 +60,34 @@ def contact_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: N
     return p, b
 
 
+def split_anywhere(model: SectorModel, theta_a: NDArray[np.float64], force: NDArray[np.float64],
+                   offset: int = 0) -> bool:
+    """Whether a pit over part of the face width splits a loaded contact at any of the
+    driver's turns ``theta_a`` (:func:`contact_pressures`' arguments)."""
+    if not model.splits:
+        return False
+    rolls = model.roll_0 + theta_a[:, None] + model.c_teeth[None, :] * model.pitch
+    rolls = np.where(model.c_side[None, :] == 1, model.sigma - rolls, rolls)
+    at = model.flank_places(model.c_teeth + offset, model.c_side)
+    loaded = np.isfinite(force) & (np.nan_to_num(force) > 0.0)
+    return bool((loaded & (pit_shares(model.faults, at, model.c_side, rolls)[0] > 0.0)).any())
+
+
 def pair_pressures(model: SectorModel, theta_a: NDArray[np.float64], force: NDArray[np.float64],
                    keep: NDArray[np.bool_] | None, offset: int = 0) -> dict[str, NDArray[np.float64]]:
     """The :class:`~spurdyn.result.Result` fields of the contacts' pressure: per drive pair
     (those of ``keep``, all if ``None``) ``pair_contact_pressure`` and
     ``pair_contact_half_width``, and at each step the largest over every contact, the back
-    flanks' too (``contact_pressure_max``, ``contact_half_width``; NaN with none)."""
+    flanks' too (``contact_pressure_max``, ``contact_half_width``; NaN with none, and NaN
+    throughout a run where a pit over part of the face width splits a contact at any step:
+    the split pair's strips are not recorded, and its intact strip is the run's highest
+    pressure, so no step's or run's largest is known; docs/faults.md, section 8)."""
     pressure, half = contact_pressures(model, theta_a, force, offset)
     drive = (slice(None), slice(0, model.teeth.size))
     pair_p, pair_b = pressure[drive], half[drive]
     if keep is not None:
         pair_p, pair_b = pair_p[:, keep], pair_b[:, keep]
-    any_on = np.isfinite(pressure).any(axis=1)
+    any_on = np.isfinite(pressure).any(axis=1) & (not split_anywhere(model, theta_a, force, offset))
     p_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], pressure, 0.0), axis=1), np.nan)
     b_max = np.where(any_on, np.nanmax(np.where(any_on[:, None], half, 0.0), axis=1), np.nan)
     return {"pair_contact_pressure": pair_p, "pair_contact_half_width": pair_b,
@@ -134,4 +155,4 @@ def root_stress(model: SectorModel, record: SectorRecord, n_kept: int, offset: i
                        values=(values[0], values[1]), per_cycle=min(STRESS_SAMPLES, model.per_cycle))
 
 
-__all__ = ["contact_pressures", "fillet_stress", "pair_budget", "pair_pressures", "root_stress", "sample_runs"]
+__all__ = ["SPLIT_PRESSURE_NOTE", "contact_pressures", "split_anywhere", "fillet_stress", "pair_budget", "pair_pressures", "root_stress", "sample_runs"]

@@ -381,8 +381,7 @@ def pair_from_dict(data: dict[str, Any], name: str = "pair") -> MeshedPair:
     if not isinstance(mesh_table, dict):
         raise InputError("mesh", "must be a table")
     check_keys(mesh_table, MESH_KEYS, "mesh")
-    nx = _integer(mesh_table, "nx", "mesh", DEFAULT_NX)
-    ny = _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
+    nx, ny = _integer(mesh_table, "nx", "mesh", DEFAULT_NX), _integer(mesh_table, "ny", "mesh", DEFAULT_NY)
     grading = _number(mesh_table, "grading", "mesh", DEFAULT_GRADING)
     row_grading = _number(mesh_table, "row_grading", "mesh", DEFAULT_ROW_GRADING)
     return MeshedPair(pair=pair, nx=nx, ny=ny, name=name, grading=grading, row_grading=row_grading,

@@ -76,12 +76,15 @@ def bearing_pack(bearings: HubBearings | None) -> BearingPack:
 def gear_mass(block: Any) -> float:
     """The gear's translating mass (kg): the meshed body's lumped masses (its free nodes',
     and its hub circle's, held, from their share of ``J_body`` at the hub circle's radius)
-    and the hub's, a uniform disk inside the hub circle with the hub's inertia
-    (``2 J_hub / r_in^2``: exact for the solid blank)."""
+    and the blank's inside the hub circle, full face width from the bore (the hub's
+    inertia is not read: a case's ``disk_inertia`` may carry a shaft's beside the gear)."""
+    gear = block.body.gear
     r_in = float(block.body.mesh.inner_radius)
+    bore = gear.blank.bore_radius if gear.blank is not None else 0.0
     j_free = float(block.rot @ (block.mass * block.rot))
     held = max(block.body_inertia - j_free, 0.0) / r_in**2
-    return 0.5 * float(block.mass.sum()) + held + 2.0 * block.hub_inertia / r_in**2
+    hub = gear.material.density * gear.face_width * math.pi * (r_in**2 - bore**2)
+    return 0.5 * float(block.mass.sum()) + held + hub
 
 
 def hub_bearings(bearings: Any, driver: str, alpha_w: float, blocks: Any, gamma_p: float, beta_p: float,

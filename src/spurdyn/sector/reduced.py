@@ -182,9 +182,13 @@ def _reduce(block: GearBlock, target: float, loads: NDArray[np.float64]) -> dict
     k = block.stiffness.tocsc()
     kr = basis.T @ (k @ basis)
     mr = basis.T @ (block.mass[:, None] * basis)
-    # a dependent basis (loads on one node) would give Ritz values below the held body's
-    # lowest: truncated to its independent span first; an independent one as it always was
-    w2r, vr = _generalized_eigh(kr, mr) if _independent(mr) else _truncated_eigh(kr, mr)
+    # a chipped flank's shapes load one stand-in node and may be dependent, which would give
+    # Ritz values below the held body's lowest: truncated to their independent span first.
+    # Other bodies as they always were (a whole ring's basis may stand near the threshold
+    # without being dependent: a missing tooth's at 8e-12)
+    chipped = any(_cut_radius(block, block.first + t) is not None for t in range(block.count)
+                  if block.first + t not in block.missing)
+    w2r, vr = _truncated_eigh(kr, mr) if chipped and not _independent(mr) else _generalized_eigh(kr, mr)
     phi = basis @ vr
     return {"phi": phi, "omega2": w2r, "coupling": phi.T @ (block.mass * block.rot)}
 

@@ -59,11 +59,17 @@ def back_flank_steps() -> None:
     s = run_settings(loose, 4000 * RPM, 22.25, dt=1e-6, cycles=20, max_cycles=20, damping_ratio=0.05)
     simulate_sector(loose, s.with_(back_flanks=True))        # the modes and the compiled loop, once
     for back in (False, True):
-        ticks: list[float] = []
-        run = simulate_sector(loose, s.with_(back_flanks=back), lambda k, a, tot: ticks.append(time.perf_counter()))
-        loop = (ticks[-1] - ticks[0]) / (run.steps * (len(ticks) - 1) / len(ticks))
-        print(f"sector, modal, back flanks {'on' if back else 'off'}: {run.steps:,} steps, "
-              f"{loop * 1e6:.1f} us a step; run {run.wall_s:.2f} s")
+        _step_time(loose, s.with_(back_flanks=back), f"back flanks {'on' if back else 'off'}")
+
+
+def _step_time(pair: object, settings: object, label: str) -> None:
+    """Print the compiled modal loop's time a step of one run (from its progress ticks)."""
+    from spurdyn.solvers.sector.run import simulate_sector
+
+    ticks: list[float] = []
+    run = simulate_sector(pair, settings, lambda k, a, tot: ticks.append(time.perf_counter()))
+    loop = (ticks[-1] - ticks[0]) / (run.steps * (len(ticks) - 1) / len(ticks))
+    print(f"sector, modal, {label}: {run.steps:,} steps, {loop * 1e6:.1f} us a step; run {run.wall_s:.2f} s")
 
 
 def bearing_steps() -> None:
@@ -79,11 +85,7 @@ def bearing_steps() -> None:
     on = (Bearing(1e8, 1e3), Bearing(1e8, 1e3))
     simulate_sector(pair, s.with_(bearings=on))        # the modes and the compiled loop, once
     for bearings in (None, on):
-        ticks: list[float] = []
-        run = simulate_sector(pair, s.with_(bearings=bearings), lambda k, a, tot: ticks.append(time.perf_counter()))
-        loop = (ticks[-1] - ticks[0]) / (run.steps * (len(ticks) - 1) / len(ticks))
-        print(f"sector, modal, bearings {'on' if bearings else 'off'}: {run.steps:,} steps, "
-              f"{loop * 1e6:.1f} us a step; run {run.wall_s:.2f} s")
+        _step_time(pair, s.with_(bearings=bearings), f"bearings {'on' if bearings else 'off'}")
 
 
 def paper_steps() -> None:

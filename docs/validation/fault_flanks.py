@@ -23,6 +23,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from validation.common import DOCS, FIGURES, table, timed, write_page
+# the paper's pair in the sector model at ``{rpm}``: the crack page's case
+from validation.fault_dynamics import CASE
 
 PAGE = DOCS / "faults_flanks.md"
 FIGURE = FIGURES / "fault_flanks.png"
@@ -39,18 +41,7 @@ FAULTS: dict[str, dict[str, Any]] = {
     "pit 0.2 mm, 24-30 deg, whole face": {"kind": "spall", "roll_deg": [24.0, 30.0], "depth": 2e-4},
     "chip 1 mm high, 0.5 mm wide": {"kind": "chip", "height": 1e-3, "width": 5e-4},
 }
-CASE = """[gear_a]
-teeth = 28
-module = 0.003175
-face_width = 0.00635
 
-[run]
-torque = 22.25
-speed_a_rpm = {rpm}
-
-[model]
-kind = "sector"
-"""
 
 
 def fault_of(keys: dict[str, Any], pair: Any) -> Any:

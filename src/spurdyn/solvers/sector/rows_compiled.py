@@ -394,13 +394,7 @@ def lcp_ordered(w, v, guess, orders):
                 m += 1
         ok = True
         if m:
-            sub = np.empty((m, m))
-            rhs = np.empty(m)
-            for a in range(m):
-                rhs[a] = -v[idx[a]]
-                for c in range(m):
-                    sub[a, c] = w[idx[a], idx[c]]
-            sol = np.linalg.solve(sub, rhs)
+            sol = _sub_solve(w, v, idx, m)
             for a in range(m):
                 if sol[a] < 0.0:
                     ok = False
@@ -469,16 +463,22 @@ def _active_solve(w, v, act):
     m = idx.size
     f = np.zeros(n)
     if m:
-        sub = np.empty((m, m))
-        rhs = np.empty(m)
-        for a in range(m):
-            rhs[a] = -v[idx[a]]
-            for c in range(m):
-                sub[a, c] = w[idx[a], idx[c]]
-        sol = np.linalg.solve(sub, rhs)
+        sol = _sub_solve(w, v, idx, m)
         for a in range(m):
             f[idx[a]] = sol[a]
     return f
+
+
+@njit
+def _sub_solve(w, v, idx, m):
+    """``F_A`` of ``W_AA F_A = -v_A`` for the active rows ``idx[:m]``."""
+    sub = np.empty((m, m))
+    rhs = np.empty(m)
+    for a in range(m):
+        rhs[a] = -v[idx[a]]
+        for c in range(m):
+            sub[a, c] = w[idx[a], idx[c]]
+    return np.linalg.solve(sub, rhs)
 
 
 __all__ = ["ORDERS", "contact_rows", "lcp_pivot", "rows_and_loads", "damper_coefficient", "flank_load", "lcp_ordered", "mask_orders",

@@ -55,6 +55,34 @@ def test_the_compiled_right_hand_side_is_the_python_ones_twin(cycles, source):
 
 
 @pytest.mark.parametrize("source", ["tooth", "sector"])
+def test_the_twins_agree_at_the_tables_edges_and_with_gear_b_driving(cycles, source):
+    """At the rows' ends and the table's breaks (where ``<=`` against ``<``, a search's side
+    or a truncation would tell), their float neighbours and the pitch's multiples, with A
+    and then B driving: the right-hand sides equal to round-off."""
+    from dataclasses import replace
+
+    cycle = cycles[source]
+    pitch = 2 * math.pi / PAIR.gear_a.teeth
+    if source == "sector":
+        edges = cycle.bounds.ravel()
+    else:
+        roll0 = cycle.pair.start_roll_a
+        edges = np.asarray(cycle.table.breaks) - roll0
+    edges = np.concatenate([edges, [0.0, pitch, 2 * pitch, np.nextafter(pitch, 0.0)]])
+    phis = np.concatenate([edges, np.nextafter(edges, -np.inf), np.nextafter(edges, np.inf)])
+    zeta = 2.0 * 0.05 * math.sqrt(equivalent_mass(PAIR))
+    for driver in ("a", "b"):
+        pair = replace(PAIR, driver=driver)
+        c = cycle if source == "sector" or driver == "a" else TableCycle(pair, cycle.table)
+        run = run_settings(pair, 6000 * RPM, 22.25, model="lumped", cycles=4, start="static")
+        compiled = _steady_equations(pair, run, c, zeta)[0]
+        python = _steady_equations(pair, run.with_(backend="numpy"), c, zeta)[0]
+        for phi in phis:
+            y = np.array([phi, 6000 * RPM, 1e-5, 0.01])
+            np.testing.assert_allclose(compiled(0.0, y), np.asarray(python(0.0, y)), rtol=1e-14, atol=0.0)
+
+
+@pytest.mark.parametrize("source", ["tooth", "sector"])
 def test_a_steady_run_is_the_same_on_either_backend(cycles, source):
     run = run_settings(PAIR, 6000 * RPM, 22.25, model="lumped", cycles=6, start="static")
     a = simulate_steady(PAIR, run, cycles[source], 0.05, 6)

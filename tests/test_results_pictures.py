@@ -214,3 +214,32 @@ def test_prefetch_shortens_the_switch_interval_while_it_loads_and_restores_it(mo
         assert sys.getswitchinterval() == default
     finally:
         sys.setswitchinterval(default)
+
+
+def test_overlapping_prefetches_restore_pythons_interval_whichever_ends_first(monkeypatch):
+    """Two loads at once (a run that never reached ``wait`` before the next): the first to
+    end must not put back the second's shortened interval as the default, nor the second the
+    first's; Python's own comes back when the last ends."""
+    import sys
+    import threading
+
+    from spurdyn.results import prefetch
+
+    gates = [threading.Event(), threading.Event()]
+    calls = iter(gates)
+
+    def load() -> None:
+        next(calls).wait(10)
+
+    monkeypatch.setattr(prefetch, "_load", load)
+    default = sys.getswitchinterval()
+    try:
+        first, second = prefetch.start(), prefetch.start()
+        gates[0].set()
+        prefetch.wait(first)
+        assert sys.getswitchinterval() == pytest.approx(prefetch.SWITCH_INTERVAL, rel=1e-6)
+        gates[1].set()
+        prefetch.wait(second)
+        assert sys.getswitchinterval() == default
+    finally:
+        sys.setswitchinterval(default)

@@ -55,7 +55,6 @@ def test_a_case_gives_its_bearings_and_a_bad_one_is_refused_by_its_key():
     assert err.value.field == "gear_a.bearing"
 
 
-
 def test_a_continuation_sweep_with_bearings_is_refused_before_it_starts(tmp_path, capsys):
     """A continuation carries the gears' modal state, not the hubs' translations: refused
     up front, naming the option, not at its second speed under a key the user never gave."""
@@ -73,6 +72,7 @@ def test_a_continuation_sweep_with_bearings_is_refused_before_it_starts(tmp_path
     assert code == 2 and err.count("\n") == 1, err
     assert err.startswith("spurdyn: error: --continuation:") and "bearing" in err
     assert not out.exists()
+
 
 def test_the_numpy_step_with_bearings_is_the_compiled_steps_twin():
     """Step by step from the same state, with the translations, the mesh damper on them and

@@ -63,10 +63,17 @@ def slow(monkeypatch):
     monkeypatch.setattr(point_mod, "run_point", ch.slow_point)
 
 
-def _kill_when_started(cluster: ch.LoopbackCluster, proc_of) -> threading.Thread:
-    """In the background: once the slow point has started, SIGKILL ``proc_of()``."""
+def _kill_when_started(cluster: ch.LoopbackCluster, proc_of, kept: Path | None = None) -> threading.Thread:
+    """In the background: once the slow point has started (and, given the sweep's folder
+    ``kept``, the two other points are kept in it: a worker's threads may still be finishing
+    one when the slow point starts), SIGKILL ``proc_of()``."""
     def kill() -> None:
         ch.wait_for(cluster.marks / f"{ch.SLOW_RPM:.0f}.started")
+        deadline = time.monotonic() + 120.0
+        while kept is not None and len(list((kept / "points").glob("*.json"))) < 2:
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"the fast points were not kept in {kept}")
+            time.sleep(0.05)
         cluster.kill(proc_of())
 
     thread = threading.Thread(target=kill, daemon=True)
@@ -184,7 +191,7 @@ def test_worker_killed_mid_point_then_same_command_resumes(tmp_path, capsys, clu
     cluster.start_worker()
     argv = ["paper-fig8", "--rpm", RPMS, "--model", "lumped", "--scheduler",
             cluster.address, "--out", tmp_path / "sw", "--quiet"]
-    killer = _kill_when_started(cluster, lambda: cluster.workers[-1])
+    killer = _kill_when_started(cluster, lambda: cluster.workers[-1], kept=tmp_path / "sw")
     code, _, err = sweep(capsys, *argv)
     killer.join(timeout=5)
     assert code == 1
@@ -213,7 +220,7 @@ def test_scheduler_lost_mid_sweep_then_same_command_resumes(tmp_path, capsys, cl
     cluster.start_worker()
     argv = ["paper-fig8", "--rpm", RPMS, "--model", "lumped", "--scheduler",
             cluster.address, "--out", tmp_path / "sw"]
-    killer = _kill_when_started(cluster, lambda: cluster.scheduler)
+    killer = _kill_when_started(cluster, lambda: cluster.scheduler, kept=tmp_path / "sw")
     t0 = time.monotonic()
     code, _, err = sweep(capsys, *argv)
     killer.join(timeout=5)

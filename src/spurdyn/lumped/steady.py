@@ -152,11 +152,8 @@ def _steady_equations(pair: GearPair, settings: RunSettings, cycle: Cycle, zeta2
         return [w_a, acc_a, ddelta, s * (ra * acc_a - rb * acc_b)]
 
     rhs: Callable[[float, NDArray[np.float64]], Any] = rhs_python
-    if not varying and settings.backend == "numba":
-        # the same arithmetic compiled (lumped/steady_compiled.py): the torques constant
-        dense, bounds, h, roll0, droll = cycle.tables()
-        par = np.array([h, pitch, zeta2_sqrt_me, ra, rb, ja, jb, s, amp_a, amp_b, roll0, droll])
-        rhs = _compiled_rhs(dense, bounds, par, cycle.rows)
+    if not varying and settings.backend == "numba":   # the torques constant: compiled
+        rhs = _compiled_rhs(cycle, [pitch, zeta2_sqrt_me, ra, rb, ja, jb, s, amp_a, amp_b])
 
     def pair_forces(phi_a: NDArray[np.float64], delta: NDArray[np.float64],
                     ddelta: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
@@ -177,12 +174,15 @@ def _steady_equations(pair: GearPair, settings: RunSettings, cycle: Cycle, zeta2
     return rhs, pair_forces, stiffnesses
 
 
-def _compiled_rhs(dense: NDArray[np.float64], bounds: NDArray[np.float64], par: NDArray[np.float64],
-                  rows: int) -> Callable[[float, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`spurdyn.lumped.steady_compiled.rhs` on these tables, as SciPy calls it."""
+def _compiled_rhs(cycle: Cycle, scalars: list[float]) -> Callable[[float, NDArray[np.float64]], NDArray[np.float64]]:
+    """:func:`spurdyn.lumped.steady_compiled.rhs` (the same arithmetic as the Python closure
+    of :func:`_steady_equations`) on ``cycle``'s tables and the pair's ``scalars`` (its
+    ``PAR`` from the pitch to the torques), as SciPy calls it."""
     from spurdyn.lumped.steady_compiled import rhs as kernel
 
-    rows = np.int64(rows)
+    dense, bounds, h, roll0, droll = cycle.tables()
+    par = np.array([h, *scalars, roll0, droll])
+    rows = np.int64(cycle.rows)
     return lambda t, y: kernel(t, y, dense, bounds, par, rows)
 
 

@@ -64,7 +64,7 @@ def stiffness_at(phi, dense, bounds, par, ks):
     return total
 
 
-@njit
+@njit(entry=True)
 def rhs(t, y, dense, bounds, par, rows):
     """``dy/dt`` of ``y = (phi_a, omega_a, delta, delta_dot)``; ``par`` the scalars of
     :data:`PAR`, ``rows`` the pairs the path holds (:func:`stiffness_at`'s tables)."""

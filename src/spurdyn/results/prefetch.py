@@ -54,26 +54,50 @@ def _load() -> None:
         os.rmdir(folder)
 
 
+#: How many loading threads run, and the switch interval before the first of them (the one
+#: to restore when the last ends): overlapping starts must not restore each other's 0.2 ms.
+_LOADING = {"count": 0, "interval": 0.0}
+_LOCK = threading.Lock()
+
+
+def _shorten() -> None:
+    with _LOCK:
+        if _LOADING["count"] == 0:
+            _LOADING["interval"] = sys.getswitchinterval()
+            sys.setswitchinterval(min(_LOADING["interval"], SWITCH_INTERVAL))
+        _LOADING["count"] += 1
+
+
+def _restore() -> None:
+    with _LOCK:
+        _LOADING["count"] -= 1
+        if _LOADING["count"] == 0:
+            sys.setswitchinterval(_LOADING["interval"])
+
+
 def start() -> threading.Thread:
     """Start loading the writers in a daemon thread; errors surface at the real import.
 
     The loading holds the GIL (imports are Python), the time loop runs without it and needs
     it back between its chunks of steps (~100 a run, ~10 ms apart on the design pair): at
     Python's default switch interval the loop's thread waited up to 5 ms at each, so the
-    interval is shortened while the thread runs (docs/performance.md).
+    interval is shortened while a loading thread runs, and restored when the last of them
+    ends (docs/performance.md).
     """
-    default = sys.getswitchinterval()
-
     def run() -> None:
         try:
             _load()
         except Exception:  # noqa: BLE001 - the writer's own import reports it
             pass
         finally:
-            sys.setswitchinterval(default)
+            _restore()
     thread = threading.Thread(target=run, name="spurdyn-prefetch", daemon=True)
-    sys.setswitchinterval(min(default, SWITCH_INTERVAL))
-    thread.start()
+    _shorten()
+    try:
+        thread.start()
+    except BaseException:
+        _restore()
+        raise
     return thread
 
 

@@ -236,6 +236,10 @@ class DaskBackend:
                 self._pending.add(fut)
                 return
             except Exception as err:  # noqa: BLE001 - e.g. it cannot be unpickled
+                if isinstance(err, OSError) or self.client.status != "running":
+                    # the scheduler went between the task's end and its result's fetch
+                    # (distributed's CommClosedError): the point is not failed, only not kept
+                    raise ClusterLost("lost the connection to the scheduler") from err
                 outcome = _failed(task, f"{type(err).__name__}: {err}")
             fut.release()
             yield task, outcome, ""

@@ -62,7 +62,15 @@ def step(P, S, cfg, strip):
     # full positions at t + dt by superposition
     th1, u1, _, _ = superpose(P, S, h, pred, x, force.cn, force.cw, force.normal, force.gth,
                               np.bool_(False))
-    rows1 = end_rows(P, strip, pair, last)
+    # the contact rows at t + dt: the last iterate's strip, or its material points
+    ns = last.cn.size // 2
+    rows1 = ContactRows(np.empty(2 * ns, dtype=np.int64), np.empty(2 * ns),
+                        np.array([pair.nx, pair.ny]), last.gth.copy())
+    if strip is not None:
+        assign(rows1.cn, last.cn)
+        assign(rows1.cw, last.cw)
+    else:
+        contact_rows(P, pair.alpha, pair.beta, rows1.cn, rows1.cw)
     status = velocity_stage(P, S, cfg, strip, pred, resp, x, th1, rows1, pair, last, p_bar, wk)
     if status != OK:
         return status
@@ -210,20 +218,6 @@ def move_force(P, S, h, strip, pred, resp, pair, th_try, u_try, force, last, wk)
 
 
 @njit
-def end_rows(P, strip, pair, last):
-    """The contact rows at ``t + dt``: the last iterate's strip, or its material points."""
-    ns = last.cn.size // 2
-    cn1 = np.empty(2 * ns, dtype=np.int64)
-    cw1 = np.empty(2 * ns)
-    if strip is not None:
-        assign(cn1, last.cn)
-        assign(cw1, last.cw)
-    else:
-        contact_rows(P, pair.alpha, pair.beta, cn1, cw1)
-    return ContactRows(cn1, cw1, np.array([pair.nx, pair.ny]), last.gth.copy())
-
-
-@njit
 def velocity_stage(P, S, cfg, strip, pred, resp, x, th1, rows1, pair, last, p_bar, wk):
     """Stage 2: iterate ``x`` (in place) until the velocities at ``t + dt`` meet the
     constraints (positions from stage 1, same force directions); returns a status."""
@@ -315,7 +309,16 @@ def acceleration_stage(P, S, cfg, strip, x, end, rows1, pair, last, p_bar, wk, a
         constraint_force(P, th1, rows1.cn, rows1.cw, rows1.normal, rows1.gth, x, fth, fu)
         for g in range(2):
             al_try[g] = al_free[g] + fth[g] / P.J[g]
-        root_acceleration_errors(P, th1, om1, al_try, a_free, fu, e)
+        for k in range(P.rnode.size):
+            i = P.rnode[k]
+            g = P.rgear[k]
+            px, py = root_phi_theta(P, th1, k)
+            c, s = rotation(P, th1, g)
+            yx, yy = P.Y[2 * i], P.Y[2 * i + 1]
+            ax = a_free[2 * i] + fu[2 * i] / P.mass[2 * i]
+            ay = a_free[2 * i + 1] + fu[2 * i + 1] / P.mass[2 * i + 1]
+            e[2 * k] = -(ax + px * al_try[g]) - (c * yx - s * yy) * om1[g] ** 2
+            e[2 * k + 1] = -(ay + py * al_try[g]) - (s * yx + c * yy) * om1[g] ** 2
         for j in range(rows1.cn.size):
             i = rows1.cn[j]
             a_try[2 * i] = a_free[2 * i] + fu[2 * i] / P.mass[2 * i]
@@ -339,22 +342,6 @@ def acceleration_stage(P, S, cfg, strip, x, end, rows1, pair, last, p_bar, wk, a
     S.res[2] = res
     S.its[2] = it
     return OK
-
-
-@njit
-def root_acceleration_errors(P, th1, om1, al_try, a_free, fu, e):
-    """The root nodes' acceleration errors into ``e`` for the disks' accelerations
-    ``al_try`` and the nodes' ``a_free + fu / m``."""
-    for k in range(P.rnode.size):
-        i = P.rnode[k]
-        g = P.rgear[k]
-        px, py = root_phi_theta(P, th1, k)
-        c, s = rotation(P, th1, g)
-        yx, yy = P.Y[2 * i], P.Y[2 * i + 1]
-        ax = a_free[2 * i] + fu[2 * i] / P.mass[2 * i]
-        ay = a_free[2 * i + 1] + fu[2 * i + 1] / P.mass[2 * i + 1]
-        e[2 * k] = -(ax + px * al_try[g]) - (c * yx - s * yy) * om1[g] ** 2
-        e[2 * k + 1] = -(ay + py * al_try[g]) - (s * yx + c * yy) * om1[g] ** 2
 
 
 @njit

@@ -55,6 +55,25 @@ def test_a_case_gives_its_bearings_and_a_bad_one_is_refused_by_its_key():
     assert err.value.field == "gear_a.bearing"
 
 
+
+def test_a_continuation_sweep_with_bearings_is_refused_before_it_starts(tmp_path, capsys):
+    """A continuation carries the gears' modal state, not the hubs' translations: refused
+    up front, naming the option, not at its second speed under a key the user never gave."""
+    from spurdyn.cli.main import main
+
+    case = tmp_path / "bearing.toml"
+    case.write_text("[gear_a]\nteeth = 28\nmodule = 0.003175\nface_width = 0.00635\n"
+                    "[gear_a.bearing]\nstiffness = 1e8\ndamping = 1e3\n"
+                    "[run]\ntorque = 22.25\nspeed_a_rpm = 4000\n[model]\nkind = \"sector\"\n"
+                    "[mesh]\nnx = 2\nny = 8\n")
+    out = tmp_path / "sw"
+    code = main(["sweep", str(case), "--cycles", "4", "--rpm", "4000,5000", "--continuation", "up",
+                 "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1, err
+    assert err.startswith("spurdyn: error: --continuation:") and "bearing" in err
+    assert not out.exists()
+
 def test_the_numpy_step_with_bearings_is_the_compiled_steps_twin():
     """Step by step from the same state, with the translations, the mesh damper on them and
     the two bearings unlike: the same state and forces to round-off; the RK4 reference

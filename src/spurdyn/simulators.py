@@ -406,6 +406,10 @@ class SectorEntry(ModelEntry):
         if case.run.teeth is not None and case.run.teeth < most:
             raise InputError("--continuation", "carries the sector model's whole gears from one "
                              f"speed to the next: leave out --teeth or give {most}")
+        if case.run.bearings is not None:   # the model's own start refuses it too, at the second speed
+            raise InputError("--continuation", "carries the gears' modal state from one speed to the "
+                             "next, not their hubs' translations on bearings: leave out the case's "
+                             "[gear_a.bearing] and [gear_b.bearing] tables, or --continuation")
 
     @staticmethod
     def _driver(settings: RunSettings, pair: GearPair) -> tuple[float, int]:

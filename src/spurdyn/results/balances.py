@@ -30,7 +30,7 @@ the moments and powers by the trapezoidal rule. World z is counter-clockwise pos
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -107,41 +107,93 @@ def state_snapshot(system: PairSystem, tau0: float, t: float, theta: NDArray[np.
         docs/solver.md section 11.3; None: zero): the contact force puts ``theta_row p``
         on each disk along its own sense, and its moment and power count.
     """
-    o = system.offsets
-    n_a = o[1] // 2
-    torques = gear_torques(system.pair, tau0, float(theta[0]), float(theta[1]))
-    tau = np.array([float(torques[0]), float(torques[1])])
-    momentum, kinetic, strain = np.zeros(2), np.zeros(2), np.zeros(2)
+    one = States(np.array([t], dtype=float), *(np.asarray(a, dtype=float)[None] for a in (theta, omega, u, v)),
+                 np.array([p], dtype=float), np.asarray(contact_nodes)[None],
+                 np.asarray(contact_weights, dtype=float)[None], np.asarray(normal, dtype=float)[None],
+                 None if theta_row is None else np.asarray(theta_row, dtype=float)[None])
+    b = batch_balances(system, tau0, one)
+    return Snapshot(t=float(t), theta=np.array(theta, dtype=float), momentum=b.momentum[0], kinetic=b.kinetic[0],
+                    strain=b.strain[0], torque_moment=b.torque_moment[0], contact_moment=b.contact_moment[0],
+                    torque_power=float(b.torque_power[0]), contact_power=float(b.contact_power[0]),
+                    contact_force=float(b.contact_force[0]))
+
+
+class States(NamedTuple):
+    """``B`` states of a run, each field :func:`state_snapshot`'s argument with a leading
+    axis of ``B`` (``theta_row`` None: no disk entries)."""
+
+    t: NDArray[np.float64]
+    theta: NDArray[np.float64]
+    omega: NDArray[np.float64]
+    u: NDArray[np.float64]
+    v: NDArray[np.float64]
+    p: NDArray[np.float64]
+    contact_nodes: NDArray[np.int64]
+    contact_weights: NDArray[np.float64]
+    normal: NDArray[np.float64]
+    theta_row: NDArray[np.float64] | None
+
+
+class Balances(NamedTuple):
+    """:class:`Snapshot`'s quantities of ``B`` states, each with a leading axis of ``B``."""
+
+    momentum: NDArray[np.float64]
+    kinetic: NDArray[np.float64]
+    strain: NDArray[np.float64]
+    torque_moment: NDArray[np.float64]
+    contact_moment: NDArray[np.float64]
+    torque_power: NDArray[np.float64]
+    contact_power: NDArray[np.float64]
+    contact_force: NDArray[np.float64]
+
+
+def batch_balances(system: PairSystem, tau0: float, s: States) -> Balances:
+    """The balance quantities of the states ``s`` at once (the one home of the formulas in
+    the module docstring; :func:`state_snapshot` is its batch of one)."""
+    o, n_a, count = system.offsets, system.offsets[1] // 2, s.t.size
+    tau_a, tau_b = gear_torques(system.pair, tau0, s.theta[:, 0], s.theta[:, 1])
+    tau = np.column_stack([np.broadcast_to(tau_a, (count,)), np.broadcast_to(tau_b, (count,))]).astype(float)
+    senses = np.array([gb.sense for gb in system.gears], dtype=float)
+    momentum, kinetic, strain = np.zeros((count, 2)), np.zeros((count, 2)), np.zeros((count, 2))
     positions = []
     for g, gb in enumerate(system.gears):
-        ub, vb = u[o[g]:o[g + 1]], v[o[g]:o[g + 1]]
-        y = (gb.Y + ub).reshape(-1, 2)
-        vv = vb.reshape(-1, 2)
+        ub, vb = s.u[:, o[g]:o[g + 1]], s.v[:, o[g]:o[g + 1]]
+        y = (gb.Y + ub).reshape(count, -1, 2)
+        vv = vb.reshape(count, -1, 2)
         m = gb.mass.reshape(-1, 2)[:, 0]
-        momentum[g] = gb.inertia * gb.sense * omega[g] + np.sum(m * (y[:, 0] * vv[:, 1] - y[:, 1] * vv[:, 0]))
-        w = (y @ rot(gb.sense * theta[g])).ravel() - gb.Y
-        kinetic[g] = 0.5 * gb.inertia * omega[g] ** 2 + 0.5 * float(np.sum(gb.mass * vb * vb))
-        strain[g] = 0.5 * float(w @ (gb.stiffness @ w))
+        momentum[:, g] = (gb.inertia * gb.sense * s.omega[:, g]
+                          + np.sum(m * (y[..., 0] * vv[..., 1] - y[..., 1] * vv[..., 0]), axis=1))
+        # each state's nodes turned back by its disk's rotation: rot's (2, 2, B) stack
+        w = np.einsum("bni,ijb->bnj", y, rot(gb.sense * s.theta[:, g])).reshape(count, -1) - gb.Y
+        kinetic[:, g] = 0.5 * gb.inertia * s.omega[:, g] ** 2 + 0.5 * np.sum(gb.mass * vb * vb, axis=1)
+        strain[:, g] = 0.5 * np.sum(w * (gb.stiffness @ w.T).T, axis=1)
         positions.append(y)
-    contact_moment = np.zeros(2)
-    contact_power = 0.0
-    vv_all = v.reshape(-1, 2)
-    for j, (node, wj) in enumerate(zip(contact_nodes, contact_weights)):
-        g = 0 if node < n_a else 1
-        sign = 1.0 if g == 0 else -1.0
-        f = sign * wj * p * np.asarray(normal, dtype=float)
-        y = positions[g][node - (0 if g == 0 else n_a)]
-        contact_moment[g] += y[0] * f[1] - y[1] * f[0]
-        contact_power += float(f @ vv_all[node])
-    senses = np.array([gb.sense for gb in system.gears])
-    if theta_row is not None:
-        disk = np.asarray(theta_row, dtype=float) * p
+    contact_moment, contact_power = _contact(s, n_a, np.concatenate(positions, axis=1))
+    if s.theta_row is not None:
+        disk = s.theta_row * s.p[:, None]
         contact_moment += senses * disk
-        contact_power += float(disk @ np.asarray(omega, dtype=float))
-    return Snapshot(t=float(t), theta=np.array(theta, dtype=float), momentum=momentum, kinetic=kinetic, strain=strain,
-                    torque_moment=tau * senses, contact_moment=contact_moment,
-                    torque_power=float(tau @ np.asarray(omega, dtype=float)),
-                    contact_power=contact_power, contact_force=float(-p))
+        contact_power += np.sum(disk * s.omega, axis=1)
+    return Balances(momentum, kinetic, strain, tau * senses, contact_moment, np.sum(tau * s.omega, axis=1),
+                    contact_power, -s.p)
+
+
+def _contact(s: States, n_a: int, y_all: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The contact force's moment on each gear ``(B, 2)`` and its power on the teeth
+    ``(B,)``, the nodes' positions ``y_all`` ``(B, nodes, 2)`` (A's, then B's)."""
+    count = s.t.size
+    rows = np.arange(count)
+    v_all = s.v.reshape(count, -1, 2)
+    contact_moment, contact_power = np.zeros((count, 2)), np.zeros(count)
+    for j in range(s.contact_nodes.shape[1]):
+        node = s.contact_nodes[:, j]
+        on_a = node < n_a
+        f = (np.where(on_a, 1.0, -1.0) * s.contact_weights[:, j] * s.p)[:, None] * s.normal
+        y = y_all[rows, node]
+        moment = y[:, 0] * f[:, 1] - y[:, 1] * f[:, 0]
+        contact_moment[:, 0] += np.where(on_a, moment, 0.0)
+        contact_moment[:, 1] += np.where(on_a, 0.0, moment)
+        contact_power += np.sum(f * v_all[rows, node], axis=1)
+    return contact_moment, contact_power
 
 
 def snapshot(stepper: Any) -> Snapshot:
@@ -193,7 +245,8 @@ class BalanceRecord:
         return self.energy - self.energy[0] - self.torque_work - self.contact_work
 
 
-def track(stepper: Any, steps: int | None = None, angle: float | None = None) -> BalanceRecord:
+def track(stepper: Any, steps: int | None = None, angle: float | None = None,
+          block: int = 1024) -> BalanceRecord:
     """Step ``stepper`` and record the balances after every step.
 
     Parameters
@@ -205,6 +258,9 @@ def track(stepper: Any, steps: int | None = None, angle: float | None = None) ->
         Number of steps to take, or
     angle
         take steps until gear A has turned this angle (rad).
+    block
+        States kept before their balances are taken together (:func:`batch_balances`):
+        the arithmetic of a state in a batch, a few megabytes held.
 
     The moments and powers are integrated by the trapezoidal rule over each step; the
     run stops early at a step whose status is not 0.
@@ -213,34 +269,49 @@ def track(stepper: Any, steps: int | None = None, angle: float | None = None) ->
         raise ValueError("give exactly one of steps and angle")
     dt = stepper.settings.dt
     n_max = steps if steps is not None else int(np.ceil(angle / (stepper.S.omega[0] * dt) * 1.5)) + 10
-    rows = [snapshot(stepper)]
+    kept: list[tuple[Any, ...]] = [_state_of(stepper.S)]
+    parts: list[Balances] = []
+    times: list[float] = []
+    angles: list[float] = []
     status = 0
     for _ in range(n_max):
         if angle is not None and stepper.S.theta[0] >= angle:
             break
         status = stepper.step()
-        rows.append(snapshot(stepper))
+        kept.append(_state_of(stepper.S))
+        if len(kept) == block:
+            parts.append(_take(stepper, kept, times, angles))
         if status:
             break
-    t = np.array([r.t for r in rows])
+    if kept:
+        parts.append(_take(stepper, kept, times, angles))
+    b = Balances(*(np.concatenate(field) for field in zip(*parts)))
+    t = np.array(times)
     h = np.diff(t)
 
     def integral(values: NDArray[np.float64]) -> NDArray[np.float64]:
-        values = np.asarray(values, dtype=float)
         mid = 0.5 * (values[1:] + values[:-1])
         inc = mid * (h if values.ndim == 1 else h[:, None])
         return np.concatenate([np.zeros((1,) + values.shape[1:]), np.cumsum(inc, axis=0)])
 
-    moments = np.array([r.torque_moment + r.contact_moment for r in rows])
     return BalanceRecord(
-        t=t,
-        angle=np.array([r.theta[0] for r in rows]),
-        contact_force=np.array([r.contact_force for r in rows]),
-        momentum=np.array([r.momentum for r in rows]),
-        angular_impulse=integral(moments),
-        energy=np.array([r.energy for r in rows]),
-        strain=np.array([r.strain.sum() for r in rows]),
-        torque_work=integral(np.array([r.torque_power for r in rows])),
-        contact_work=integral(np.array([r.contact_power for r in rows])),
-        status=int(status),
+        t=t, angle=np.array(angles), contact_force=b.contact_force, momentum=b.momentum,
+        angular_impulse=integral(b.torque_moment + b.contact_moment),
+        energy=b.kinetic.sum(axis=1) + b.strain.sum(axis=1), strain=b.strain.sum(axis=1),
+        torque_work=integral(b.torque_power), contact_work=integral(b.contact_power), status=int(status),
     )
+
+
+def _state_of(S: Any) -> tuple[Any, ...]:
+    """A copy of what :func:`snapshot` reads of a compiled state."""
+    return (float(S.t[0]), S.theta.copy(), S.omega.copy(), S.u.copy(), S.v.copy(), float(S.x[-1]),
+            S.cn.copy(), S.cw.copy(), S.normal.copy(), S.gth.copy())
+
+
+def _take(stepper: Any, kept: list[tuple[Any, ...]], times: list[float], angles: list[float]) -> Balances:
+    """The balances of the states ``kept`` (emptied), their times and A's angles appended."""
+    t, theta, omega, u, v, p, cn, cw, normal, gth = (np.array(field) for field in zip(*kept))
+    kept.clear()
+    times.extend(t.tolist())
+    angles.extend(theta[:, 0].tolist())
+    return batch_balances(stepper.system, stepper.settings.torque, States(t, theta, omega, u, v, p, cn, cw, normal, gth))

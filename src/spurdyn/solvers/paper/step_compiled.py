@@ -91,10 +91,9 @@ def step(P, S, cfg, strip):
 
 @njit
 def displacement_stage(P, S, cfg, strip, pred, resp, x, force, last, wk):
-    """Stage 1: iterate the forces ``x`` (in place) until the positions at ``t + dt`` meet
-    the constraints; returns ``(status, the contact pair found)``. The force moves with the
-    contact pair (``force``'s rows, ``S.C``); ``last`` and ``wk``'s splines are left as the
-    last iterate's."""
+    """Stage 1: iterate the forces ``x`` (in place) until the positions at ``t + dt`` meet the
+    constraints; returns ``(status, the pair found)``. The force moves with the pair (``force``'s
+    rows, ``S.C``); ``last`` and ``wk``'s splines are left as the last iterate's."""
     hertz = strip is not None
     m = S.x.size
     e, e_up = wk.e, wk.e_up

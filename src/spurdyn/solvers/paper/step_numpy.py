@@ -57,6 +57,12 @@ class State:
                        v=self.v.copy(), x=self.x.copy())
 
 
+#: What the displacement stage hands on: status, ``x``, the force's pair and its
+#: ``G M^-1 G^T``, the pair at t + dt, ``theta`` and ``u`` at t + dt.
+StageOne = tuple[int, NDArray[np.float64], ContactPair, NDArray[np.float64], ContactPair,
+                 NDArray[np.float64], NDArray[np.float64]]
+
+
 @dataclass
 class StepReport:
     """What a step leaves besides the new state: its status
@@ -204,9 +210,7 @@ class PaperMethod:
         return new, StepReport(residual=residual, iterations=iters, p_bar=float(p_bar), s=c1.s)
 
     def displacement_stage(self, st: State, residual: NDArray[np.float64],
-                           iters: NDArray[np.int64]) -> tuple[int, NDArray[np.float64], ContactPair,
-                                                               NDArray[np.float64], ContactPair,
-                                                               NDArray[np.float64], NDArray[np.float64]]:
+                           iters: NDArray[np.int64]) -> StageOne:
         """Stage 1: ``(status, x, the force's pair, its G M^-1 G^T, the pair at t + dt, theta
         and u at t + dt)``; the stage's residual and iterations into ``residual[0]``,
         ``iters[0]``.

@@ -24,16 +24,12 @@ import numba
 
 try:
     from numba.core import compiler
-    from numba.core.codegen import CPUCodegen, JITCodeLibrary
+    from numba.core.codegen import JITCodeLibrary
     from numba.core.compiler_lock import require_global_compiler_lock
     AVAILABLE = all(hasattr(JITCodeLibrary, name) for name in (
-        "_get_module_for_linking", "_finalize_dynamic_globals", "_raise_if_finalized",
-        "_optimize_functions"))
-    #: whether a kernel's own module can be given dead-code removal alone
-    DEAD_CODE_ONLY = (hasattr(CPUCodegen, "_pass_builder")
-                      and hasattr(ll, "create_new_module_pass_manager"))
+        "_get_module_for_linking", "_finalize_dynamic_globals", "_raise_if_finalized"))
 except ImportError:                                  # pragma: no cover - other Numba
-    AVAILABLE = DEAD_CODE_ONLY = False
+    AVAILABLE = False
 
 __all__ = ["AVAILABLE", "linked_njit"]
 
@@ -43,7 +39,6 @@ class _LinkedOnly(JITCodeLibrary):
 
     Its disk cache holds the linked module's bitcode (Numba's "bitcode" form): a later
     process compiling another entry loads it instead of typing and lowering the kernel again.
-    Its own code gets no optimisation but dead-code removal (:meth:`_optimize_functions`).
     """
 
     def finalize(self) -> None:
@@ -78,22 +73,6 @@ class _LinkedOnly(JITCodeLibrary):
             gv.linkage = "common"
             gv.initializer = llvmir.Constant(gv.type.pointee, None)
         engine.add_module(ll.parse_assembly(str(module)))
-
-    def _optimize_functions(self, ll_module: Any) -> None:
-        """Only dead code out of the kernel's own module, not Numba's function passes: the
-        entry's module passes optimise the whole tree anyway (a sixth of a first run's
-        compile saved, docs/performance.md). The dead code must go: Numba loads the address
-        of every kernel a kernel calls from a "dynamic global", unused, and a module that
-        keeps one is not written to the disk cache."""
-        if not DEAD_CODE_ONLY:                       # pragma: no cover - other llvmlite
-            super()._optimize_functions(ll_module)
-            return
-        ll_module.data_layout = self._codegen._data_layout
-        pb = self._codegen._pass_builder(opt=0)
-        mpm = ll.create_new_module_pass_manager()
-        mpm.add_dead_code_elimination_pass()
-        mpm.add_global_dead_code_eliminate_pass()
-        mpm.run(ll_module, pb)
 
     def get_pointer_to_function(self, name: str) -> int:
         # Without wrappers nothing of it is called from Python: no address is asked for.

@@ -49,3 +49,23 @@ def test_a_run_keeps_dask_out_and_other_commands_leave_it() -> None:
     assert "dask blocked False" in _command(f"import atexit\n{probe}", "cases").stdout
     loaded = _command(f"import atexit, dask\n{probe}", "run", "x.toml").stdout
     assert "dask blocked False" in loaded
+
+
+def test_a_sector_runs_modules_leave_out_the_libraries_it_never_calls() -> None:
+    """What a ``spurdyn run`` of the sector model imports (the command, the registry, the
+    model's run and compiled loop, the writers and pictures) brings no SciPy signal
+    processing or statistics (~0.5 s to import; the summary's vibration figures import them
+    when a diagnostics study asks), no ODE solvers or splines (the lumped and paper models')."""
+    code = ("import sys\n"
+            "import spurdyn.cli.main, spurdyn.solvers.sector.run, spurdyn.solvers.sector.stepper_compiled\n"
+            "import spurdyn.results.io, spurdyn.results.folder, spurdyn.results.mesh_plot, spurdyn.results.prefetch\n"
+            "from spurdyn.results.mesh_plot import plot_pair_pictures\n"
+            "import spurdyn.results.cycle_plot, spurdyn.results.teeth_stress_plot, spurdyn.results.vibration_plot\n"
+            "import spurdyn.lumped.sources, spurdyn.iso6336.rating\n"
+            "heavy = ('scipy.signal', 'scipy.stats', 'scipy.integrate', 'scipy.interpolate')\n"
+            "print(sorted(m for m in heavy if m in sys.modules))\n"
+            "import spurdyn.lumped\n"
+            "print(callable(spurdyn.lumped.simulate_lumped), 'scipy.integrate' in sys.modules)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[:2] == ["[]", "True True"]

@@ -141,6 +141,21 @@ def test_the_statics_read_the_flank_flexibility(even):
     np.testing.assert_allclose(statics.compliance(loads), body.compliance(loads), rtol=1e-12)
 
 
+def test_the_statics_kept_blocks_are_each_pair_of_teeths(even):
+    """The blocks :class:`FlankStatics` keeps between calls (a mesh cycle asks for the same
+    few some 600 times) are those of the pair of teeth asked for: after loads on other
+    teeth (the same tooth distances at other teeth among them), a compliance is the one a
+    fresh object computes, bit for bit."""
+    reduction = reduce_gear(even, TOP)
+    warm = FlankStatics(reduction)
+    body = even.body
+    r = 0.5 * (body.flank.r0 + body.flank.r_tip)
+    for teeth in ((0, 1), (-8, -7), (2, 5), (-3, 0)):
+        warm.compliance(np.column_stack([body.load(k, r, 1e-4) for k in teeth]))
+    loads = np.column_stack([body.load(k, r, 1e-4) for k in (1, 2, -7, 4)])
+    assert np.array_equal(warm.compliance(loads), FlankStatics(reduction).compliance(loads))
+
+
 def test_the_store_gives_the_cyclic_modes_back_bit_for_bit(even, tmp_path, monkeypatch):
     monkeypatch.setenv("SPURDYN_MODE_CACHE", str(tmp_path))
     first = reduce_gear(even, TOP)

@@ -184,3 +184,33 @@ def test_the_elastic_part_of_all_frames_at_once_is_each_frames(loaded_run):
         for k in (0, frames.n_frames // 2, frames.n_frames - 1):
             # a difference of positions ~0.05 m: round-off of a few 1e-17 m either way
             np.testing.assert_allclose(every[k], frames.elastic(g, k), rtol=0, atol=1e-16)
+
+
+def test_prefetch_shortens_the_switch_interval_while_it_loads_and_restores_it(monkeypatch):
+    """While the writers load (a thread holding the GIL), the time loop's thread takes the GIL
+    back within :data:`prefetch.SWITCH_INTERVAL`; Python's own interval comes back after."""
+    import sys
+    import threading
+
+    from spurdyn.results import prefetch
+
+    seen: list[float] = []
+    go = threading.Event()
+
+    def load() -> None:
+        go.wait(10)
+        seen.append(sys.getswitchinterval())
+
+    monkeypatch.setattr(prefetch, "_load", load)
+    default = sys.getswitchinterval()
+    try:
+        thread = prefetch.start()
+        during = sys.getswitchinterval()
+        go.set()
+        prefetch.wait(thread)
+        # Python keeps the interval in whole microseconds
+        assert during == seen[0] == pytest.approx(prefetch.SWITCH_INTERVAL, rel=1e-6)
+        assert during < default
+        assert sys.getswitchinterval() == default
+    finally:
+        sys.setswitchinterval(default)

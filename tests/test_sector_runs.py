@@ -265,7 +265,7 @@ def test_a_run_not_settled_goes_on_a_cycle_at_a_time_until_it_settles():
     settled, and by default it may go on to ``SETTLE_CYCLES_FACTOR`` times its cycles."""
     from spurdyn.settings import SETTLE_CYCLES_FACTOR
 
-    s = run_settings(PAIR, 6000 * RPM, 22.25, cycles=3, model="sector", max_cycles=12, damping_ratio=0.1, backend="numpy", **MESH)
+    s = run_settings(PAIR, 6000 * RPM, 22.25, cycles=3, model="sector", max_cycles=12, damping_ratio=0.1, **MESH)
     run = simulate_sector(PAIR, s)
     st = run.info["steady"]
     done = st["cycles_done"]

@@ -204,7 +204,8 @@ class RunSettings:
         ``"paper"``: the accelerated iteration of Appendix B with ``C = c G M^-1 G^T``
         (the one of :data:`METHODS`).
     backend
-        ``"numba"`` (compiled, superposed) or ``"numpy"`` (the straightforward reference).
+        ``"numba"`` (compiled, superposed) or ``"numpy"`` (the straightforward reference);
+        the lumped model's steady right-hand side compiled or in Python.
     contact
         ``"hertz"`` (the distributed contact, the default: it holds at design loads and
         its stiffness converges with the mesh) or ``"point"`` (the paper's, which its
@@ -308,7 +309,7 @@ class RunSettings:
     frames_every: int = _setting(100, "fe")
     keep_theta_term: bool = _setting(True, "fe")
     # Elastic bodies stepped by generalized-alpha: the FE model (implicit) and the sector model.
-    backend: str = _setting("numba", "fe", "sector")
+    backend: str = _setting("numba", "fe", "sector", "lumped")
     rho_inf: float = _setting(DEFAULT_RHO_INF, "fe", "sector")
     rayleigh_mass: float | None = _setting(None, "fe", "sector", keys=("run.rayleigh_mass", *RAYLEIGH_RATIO_KEYS))
     rayleigh_stiffness: float | None = _setting(None, "fe", "sector",

@@ -14,8 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
-from scipy.signal import get_window
 
 from spurdyn.diagnostics.checks import as_signal, positive
 from spurdyn.errors import InputError
@@ -65,6 +63,10 @@ class Tone:
 
 def window_values(window: Window, n: int) -> NDArray[np.float64]:
     """The ``n`` weights of ``window`` (periodic, as for a DFT), refused naming ``window``."""
+    # imported when used: scipy.signal brings scipy.stats (~0.5 s), which a run that only
+    # writes its summary (results.io imports this module) never needs
+    from scipy.signal import get_window
+
     try:
         return np.asarray(get_window(window, n, fftbins=True), dtype=np.float64)
     except (ValueError, TypeError) as err:
@@ -152,6 +154,8 @@ def read_tone(spec: Spectrum, near: float, half_width: float | None = None) -> T
     def mismatch(d: float) -> float:
         r = window_response(spec.window, spec.n, [d, 1.0 - d])
         return r[1] / r[0] - ratio
+
+    from scipy.optimize import brentq      # imported when used: scipy.optimize is slow to load
 
     lo, hi = mismatch(0.0), mismatch(0.5)
     d = 0.0 if lo >= 0 else 0.5 if hi <= 0 else brentq(mismatch, 0.0, 0.5, xtol=1e-12)

@@ -16,7 +16,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.interpolate import CubicSpline
 
 from spurdyn.diagnostics.checks import as_signal, count
 from spurdyn.errors import InputError
@@ -91,6 +90,9 @@ def synchronous_average(signal: ArrayLike, angle: ArrayLike, points: int) -> Syn
         turns = (theta[-1] - theta[0]) / (2.0 * np.pi)
         raise InputError("angle", f"covers {turns:.3g} revolutions and no whole one (from one "
                                   "multiple of 2 pi to the next): give a longer record")
+    # imported when used: results.io imports this module for every run's summary
+    from scipy.interpolate import CubicSpline
+
     grid = 2.0 * np.pi * (np.arange(first, last)[:, None] + np.arange(n)[None, :] / n)
     resampled = CubicSpline(theta, x)(grid.ravel()).reshape(grid.shape)
     return SynchronousAverage(resampled.mean(axis=0), last - first)

@@ -6,12 +6,22 @@ static stiffness (:func:`mesh_stiffness_table`) and torque schedule; it returns 
 :mod:`~spurdyn.lumped.steady` runs the pair under constant torques over many mesh cycles,
 every tooth pair in contact a spring, with the pairs' stiffnesses over a mesh cycle from
 :mod:`~spurdyn.lumped.cycle` (the single-pair table, or the sector model's mesh cycle).
+
+Its names are served lazily (:mod:`spurdyn.lazy`): the registry of models imports
+:mod:`~spurdyn.lumped.sources` for every run, and :mod:`~spurdyn.lumped.model` brings
+SciPy's ODE solvers and splines (``scipy.integrate``, ``scipy.interpolate``), which a run
+of another model never needs.
 """
 
-from spurdyn.lumped.model import (
-    MeshStiffnessTable, equivalent_mass, mesh_stiffness_table, simulate_lumped,
-    torsional_natural_frequency,
-)
+from __future__ import annotations
 
-__all__ = ["MeshStiffnessTable", "equivalent_mass", "mesh_stiffness_table", "simulate_lumped",
-           "torsional_natural_frequency"]
+from spurdyn.lazy import lazy_facade
+
+#: Public names and the module each comes from (imported when first asked for).
+_EXPORTS = {name: "model" for name in ("MeshStiffnessTable", "equivalent_mass", "mesh_stiffness_table",
+                                       "simulate_lumped", "torsional_natural_frequency")}
+
+__all__ = sorted(_EXPORTS)
+
+# served lazily (spurdyn.lazy); an unknown name is an AttributeError
+__getattr__, __dir__ = lazy_facade(__name__, _EXPORTS, globals())

@@ -78,6 +78,15 @@ class TableCycle:
         droll = 1.0 if self.pair.driver == "a" else -1.0
         return roll0, droll, [r * self.pitch for r in range(self.rows)], self.table.scalar
 
+    def tables(self) -> tuple[NDArray[np.float64], NDArray[np.float64], float, float, float]:
+        """What :func:`~spurdyn.lumped.steady_compiled.stiffness_at` reads for :meth:`at`:
+        the table's pieces ``(pieces, order)``, its breaks ``(1, n)``, ``h = 0``, the start
+        roll and its sense."""
+        roll0, droll, _, _ = self._consts
+        table = self.table
+        return (np.array(table.piece_coefficients, dtype=float), np.array([table.breaks], dtype=float),
+                0.0, roll0, droll)
+
     def grid(self, phase: ArrayLike) -> NDArray[np.float64]:
         """``(rows, n)`` ``k_r`` at the phases ``phase``."""
         phase = np.asarray(phase, dtype=float)
@@ -152,6 +161,12 @@ class SectorCycle:
         w = x - i
         return [(row[i] + w * (row[i + 1] - row[i])) if lo <= phase <= hi else 0.0
                 for row, (lo, hi) in zip(dense, bounds)]
+
+    def tables(self) -> tuple[NDArray[np.float64], NDArray[np.float64], float, float, float]:
+        """What :func:`~spurdyn.lumped.steady_compiled.stiffness_at` reads for :meth:`at`:
+        the dense rows, their bounds ``(rows, 2)``, the spacing ``h``, and two unused zeros."""
+        dense, bounds, h = self._dense
+        return np.array(dense, dtype=float), np.array(bounds, dtype=float), h, 0.0, 0.0
 
     @cached_property
     def _dense(self) -> tuple[list[list[float]], list[tuple[float, float]], float]:

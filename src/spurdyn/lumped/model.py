@@ -109,6 +109,16 @@ class MeshStiffnessTable:
         """Stiffness (N/m) at roll angles of A (rad); 0 outside the path of contact."""
         return np.nan_to_num(self._poly(np.asarray(roll_a, dtype=float)), nan=0.0)
 
+    @property
+    def breaks(self) -> list[float]:
+        """The polynomial pieces' breaks (roll angles of A, rad) :meth:`scalar` reads."""
+        return self._breaks
+
+    @property
+    def piece_coefficients(self) -> list[tuple[float, ...]]:
+        """Each piece's coefficients, highest power first, in its offset from its break."""
+        return self._coefs
+
     def scalar(self, roll_a: float) -> float:
         """Fast scalar evaluation of :meth:`__call__` (plain Python)."""
         b = self._breaks

@@ -116,7 +116,7 @@ class _Grid(NamedTuple):
 
 
 def _steady_equations(pair: GearPair, settings: RunSettings, cycle: Cycle, zeta2_sqrt_me: float) -> tuple[
-        Callable[[float, NDArray[np.float64]], list[float]],
+        Callable[[float, NDArray[np.float64]], Any],
         Callable[..., tuple[NDArray[np.float64], NDArray[np.int64]]], Callable[[float], list[float]]]:
     """The steady pair's right-hand side in ``y = (phi_a, omega_a, delta, delta_dot)``, every
     pair's force at samples (with the pairs' numbers) and the pairs' stiffnesses at ``phi``."""
@@ -143,13 +143,20 @@ def _steady_equations(pair: GearPair, settings: RunSettings, cycle: Cycle, zeta2
         c = zeta2_sqrt_me * math.sqrt(k)
         return sum(max(0.0, kj * delta + c * kj / k * ddelta) for kj in ks)
 
-    def rhs(t: float, y: NDArray[np.float64]) -> list[float]:
+    def rhs_python(t: float, y: NDArray[np.float64]) -> list[float]:
         phi_a, w_a, delta, ddelta = y
         f = mesh_force(phi_a, delta, ddelta)
         t_a, t_b = hub_torques(pair, settings, t) if varying else (amp_a, amp_b)
         acc_a = (t_a - s * ra * f) / ja
         acc_b = (t_b + s * rb * f) / jb
         return [w_a, acc_a, ddelta, s * (ra * acc_a - rb * acc_b)]
+
+    rhs: Callable[[float, NDArray[np.float64]], Any] = rhs_python
+    if not varying and settings.backend == "numba":
+        # the same arithmetic compiled (lumped/steady_compiled.py): the torques constant
+        dense, bounds, h, roll0, droll = cycle.tables()
+        par = np.array([h, pitch, zeta2_sqrt_me, ra, rb, ja, jb, s, amp_a, amp_b, roll0, droll])
+        rhs = _compiled_rhs(dense, bounds, par, cycle.rows)
 
     def pair_forces(phi_a: NDArray[np.float64], delta: NDArray[np.float64],
                     ddelta: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
@@ -168,6 +175,15 @@ def _steady_equations(pair: GearPair, settings: RunSettings, cycle: Cycle, zeta2
         return np.where(delta > 0, np.maximum(ks * delta + c * share * ddelta, 0.0), 0.0), j_all
 
     return rhs, pair_forces, stiffnesses
+
+
+def _compiled_rhs(dense: NDArray[np.float64], bounds: NDArray[np.float64], par: NDArray[np.float64],
+                  rows: int) -> Callable[[float, NDArray[np.float64]], NDArray[np.float64]]:
+    """:func:`spurdyn.lumped.steady_compiled.rhs` on these tables, as SciPy calls it."""
+    from spurdyn.lumped.steady_compiled import rhs as kernel
+
+    rows = np.int64(rows)
+    return lambda t, y: kernel(t, y, dense, bounds, par, rows)
 
 
 def _steady_grid(pair: GearPair, settings: RunSettings, cycle: Cycle, stiffnesses: Callable[[float], list[float]],
@@ -202,7 +218,7 @@ def _steady_grid(pair: GearPair, settings: RunSettings, cycle: Cycle, stiffnesse
     return _Grid(period, per_cycle, h, t, y0, atol, step, f_n, static)
 
 
-def _go_on(rhs: Callable[[float, NDArray[np.float64]], list[float]],
+def _go_on(rhs: Callable[[float, NDArray[np.float64]], Any],
            pair_forces: Callable[..., tuple[NDArray[np.float64], NDArray[np.int64]]], grid: _Grid, sol: Any,
            status: str, reason: str, cycles: int,
            limit: int) -> tuple[NDArray[np.float64], NDArray[np.float64], int, str, str]:

@@ -10,7 +10,12 @@ meanwhile: :func:`start` before the run, :func:`wait` before writing.
 
 from __future__ import annotations
 
+import sys
 import threading
+
+#: Python's thread switch interval (s) while the writers load: the time loop's thread takes
+#: the GIL back after each chunk of steps within this, not Python's default 5 ms.
+SWITCH_INTERVAL = 2e-4
 
 
 def _load() -> None:
@@ -50,13 +55,24 @@ def _load() -> None:
 
 
 def start() -> threading.Thread:
-    """Start loading the writers in a daemon thread; errors surface at the real import."""
+    """Start loading the writers in a daemon thread; errors surface at the real import.
+
+    The loading holds the GIL (imports are Python), the time loop runs without it and needs
+    it back between its chunks of steps (~100 a run, ~10 ms apart on the design pair): at
+    Python's default switch interval the loop's thread waited up to 5 ms at each, so the
+    interval is shortened while the thread runs (docs/performance.md).
+    """
+    default = sys.getswitchinterval()
+
     def run() -> None:
         try:
             _load()
         except Exception:  # noqa: BLE001 - the writer's own import reports it
             pass
+        finally:
+            sys.setswitchinterval(default)
     thread = threading.Thread(target=run, name="spurdyn-prefetch", daemon=True)
+    sys.setswitchinterval(min(default, SWITCH_INTERVAL))
     thread.start()
     return thread
 

@@ -438,15 +438,20 @@ class FlankStatics:
         self.body, self.mesh, self.gear = blk.body, blk.body.mesh, blk.gear
         self._flex, self._pitch = gear.flank_flex(0, 0), gear.cell.pitch
         self._rows = blk.body.free_dofs[np.concatenate([blk.flank_dofs(blk.first + o) for o in range(blk.count)])]
+        self._blocks: dict[tuple[int, int], NDArray[np.float64]] = {}
 
     def load(self, k: int, r: float, b: float) -> NDArray[np.float64]:
         return self.body.load(k, r, b)
 
     def _block(self, i: int, j: int) -> NDArray[np.float64]:
-        """``E_i^T K^-1 E_j`` of the body's teeth ``first + i`` and ``first + j``."""
-        f = self._flex.shape[1]
-        turn = np.kron(np.eye(f // 2), turn_matrix(j * self._pitch))
-        return turn @ self._flex[(i - j) % self._flex.shape[0]] @ turn.T
+        """``E_i^T K^-1 E_j`` of the body's teeth ``first + i`` and ``first + j`` (kept: a mesh
+        cycle asks for the same few pairs of teeth some 600 times)."""
+        found = self._blocks.get((i, j))
+        if found is None:
+            f = self._flex.shape[1]
+            turn = np.kron(np.eye(f // 2), turn_matrix(j * self._pitch))
+            found = self._blocks[(i, j)] = turn @ self._flex[(i - j) % self._flex.shape[0]] @ turn.T
+        return found
 
     def compliance(self, loads: NDArray[np.float64]) -> NDArray[np.float64]:
         """``C = F^T K^-1 F`` for load columns ``F`` on the drive flanks (any others: solved)."""

@@ -88,6 +88,29 @@ Prediction = namedtuple("Prediction", ["qs_th", "qs_u", "vs_th", "vs_u", "q3th",
 #: and ``nz_nodes`` lists of nodes.
 SparseWork = namedtuple("SparseWork", ["scratch", "mark", "touched", "nz_nodes", "zu", "acc3", "acc4"])
 
+# -- the phases of the paper's compiled step (spurdyn.solvers.paper.step_compiled) ------------
+
+#: The response to the forces on the rows the constraints read (``Wq`` positions, ``Wv``
+#: velocities, one column a force) and the free state there (``qs_rel``, ``vs_rel``: the
+#: prediction less the response to the last step's forces), with the sparse workspace.
+StepResponse = namedtuple("StepResponse", ["Wq", "Wv", "qs_rel", "vs_rel", "sparse"])
+#: Contact rows: the nodes ``cn`` and weights ``cw`` (A's half, then B's), the ``normal``
+#: and the disk entries ``gth``.
+ContactRows = namedtuple("ContactRows", ["cn", "cw", "normal", "gth"])
+#: The last displacement iterate's strip: its rows, its ``delta_bar`` on A and B (4,), its
+#: pair's roll with the disks (2,) and its row's disk entries (2,).
+IterateStrip = namedtuple("IterateStrip", ["cn", "cw", "delta", "roll", "gth"])
+#: The contact pair a displacement iterate found: flank coordinates, mode, normal, gap
+#: and the half-width of its strip (0 for a point).
+ContactFound = namedtuple("ContactFound", ["alpha", "beta", "mode", "nx", "ny", "s", "half_width"])
+#: The step's scratch: the error ``e`` and its update's copy ``e_up`` (n_x,), the
+#: iteration's ``Cp`` and ``work``, and the flank splines the search refits (``va``, ``vb``
+#: positions, ``Ma``, ``Mb`` second derivatives) that the later stages read.
+StepWork = namedtuple("StepWork", ["e", "e_up", "Cp", "work", "va", "vb", "Ma", "Mb"])
+#: The motion at ``t + dt``: rotations and displacements (displacement stage), speeds
+#: and velocities (velocity stage).
+StepEnd = namedtuple("StepEnd", ["theta", "u", "omega", "v"])
+
 #: What the compiled implicit step reads besides :class:`Packed` (docs/implicit.md):
 #: ``h``, the generalized-alpha coefficients ``am``, ``af``, ``beta``, ``gamma`` and
 #: ``bp = beta'``, ``gp = gamma'``; ``mq`` the masses of ``q = [theta, u]``; the teeth's

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from spurdyn.jit import njit
-from spurdyn.solvers.layout import Prediction
+from spurdyn.solvers.layout import Prediction, SparseWork, StepResponse
 from spurdyn.solvers.paper.dynamics_compiled import (
     accelerations, constraint_force, root_phi_theta, rotation, torque,
 )
@@ -319,3 +319,35 @@ def response_columns(P, h, pred, theta, cn, cw, normal, gth, j0, j1, Wq, Wv, wor
             i = nz_nodes[k]
             zu[2 * i] = 0.0
             zu[2 * i + 1] = 0.0
+
+
+@njit
+def free_rows(P, S, h, pred):
+    """The response matrices on the rows the constraints read, for the forces on the last
+    step's contact rows, and the free state there (a
+    :class:`~spurdyn.solvers.layout.StepResponse`)."""
+    m = S.x.size
+    n = S.u.size
+    nn = n // 2
+    nrel = P.rel_nodes.size
+    R = 2 + 2 * nrel
+    Wq = np.zeros((R, m))
+    Wv = np.zeros((R, m))
+    sparse = SparseWork(np.zeros(n), np.zeros(nn, dtype=np.int64), np.empty(nn, dtype=np.int64),
+                        np.empty(nn, dtype=np.int64), np.zeros(n), np.zeros(n), np.zeros(n))
+    response_columns(P, h, pred, S.theta, S.cn, S.cw, S.normal, S.gth, np.int64(0), m, Wq, Wv, sparse)
+    qs_rel = np.empty(R)
+    vs_rel = np.empty(R)
+    qs_rel[0], qs_rel[1] = pred.qs_th[0], pred.qs_th[1]
+    vs_rel[0], vs_rel[1] = pred.vs_th[0], pred.vs_th[1]
+    for k in range(nrel):
+        i = P.rel_nodes[k]
+        for d in range(2):
+            qs_rel[2 + 2 * k + d] = pred.qs_u[2 * i + d]
+            vs_rel[2 + 2 * k + d] = pred.vs_u[2 * i + d]
+    # The forces are G^T x with the contact row where the contact now is; the prediction
+    # used the last step's forces, so rel(x) = rel* - W0 x0 + W x.
+    x0 = S.x.copy()
+    qs_rel -= Wq @ x0
+    vs_rel -= Wv @ x0
+    return StepResponse(Wq, Wv, qs_rel, vs_rel, sparse)

@@ -57,6 +57,12 @@ class State:
                        v=self.v.copy(), x=self.x.copy())
 
 
+#: What the displacement stage hands on: status, ``x``, the force's pair and its
+#: ``G M^-1 G^T``, the pair at t + dt, ``theta`` and ``u`` at t + dt.
+StageOne = tuple[int, NDArray[np.float64], ContactPair, NDArray[np.float64], ContactPair,
+                 NDArray[np.float64], NDArray[np.float64]]
+
+
 @dataclass
 class StepReport:
     """What a step leaves besides the new state: its status
@@ -185,22 +191,44 @@ class PaperMethod:
     # -- the step ----------------------------------------------------------------------
     def step(self, st: State, index: int = 0) -> tuple[State, StepReport]:
         """Advance one time step by the paper's three stages."""
+        residual = np.zeros(3)
+        iters = np.zeros(3, dtype=np.int64)
+        status, x, c_force, cbase, c1, th1, u1 = self.displacement_stage(st, residual, iters)
+        p_bar = x[-1]
+        if status == OK:
+            status, x, om2, v2 = self.velocity_stage(st, x, c_force, cbase, c1, th1, residual, iters)
+        if status == OK:
+            status, x = self.acceleration_stage(th1, u1, om2, v2, x, c1, p_bar, residual, iters)
+        if status != OK:
+            return st, StepReport(residual, iters, float("nan"), float("nan"), status)
+        # The next step spreads its force over the strip of the force now (same pair); the gap
+        # kept is the one the constraint holds, for a strip its mean deformed gap s_bar - c_H |p|.
+        spread = self.restrip(replace(c1, s=c1.s + self.c_h * p_bar), abs(float(x[-1])))
+        new = State(t=st.t + self.case.dt, theta=th1, omega=om2, u=u1, v=v2, x=x, contact=spread,
+                    p_held=float(p_bar) if self.law is not None else 0.0,
+                    jump=self.respread_jump(c1, spread, th1, u1))
+        return new, StepReport(residual=residual, iterations=iters, p_bar=float(p_bar), s=c1.s)
+
+    def displacement_stage(self, st: State, residual: NDArray[np.float64],
+                           iters: NDArray[np.int64]) -> StageOne:
+        """Stage 1: ``(status, x, the force's pair, its G M^-1 G^T, the pair at t + dt, theta
+        and u at t + dt)``; the stage's residual and iterations into ``residual[0]``,
+        ``iters[0]``.
+
+        The distributed contact spreads the force of this step, and averages its gap, over
+        the strip of the force at t (docs/solver.md, section 11): st.contact's rows. The
+        contact force acts where the contact pair is: when an iterate finds the pair moved
+        (by more than RELOCATE in flank coordinates), the force moves with it for the next
+        iterates.
+        """
         settings, sys_ = self.case, self.system
         h, nlev, cap = settings.dt, settings.accel_levels, settings.max_iter
-        # The distributed contact spreads the force of this step, and averages its gap,
-        # over the strip of the force at t (docs/solver.md, section 11): st.contact's rows.
         load = abs(float(st.x[-1])) if self.law is not None else 0.0
         c_force = st.contact
         gmat = jacobian(sys_, st.theta, c_force)
         cbase = (gmat * self.minv) @ gmat.T
         guess = (st.contact.alpha, st.contact.beta)
         c_h = self.c_h
-        residual = np.zeros(3)
-        iters = np.zeros(3, dtype=np.int64)
-
-        # Stage 1: displacements. The contact force acts where the contact pair is: when an
-        # iterate finds the pair moved (by more than RELOCATE in flank coordinates), the
-        # force moves with it for the next iterates.
         x = st.x.copy()
         moves = 0
         for m in range(cap + 1):
@@ -208,7 +236,7 @@ class PaperMethod:
             th1, om1_, u1, v1_ = self.rk4(st, f_theta, f_u)
             if not (np.isfinite(th1).all() and np.isfinite(u1).all()
                     and np.isfinite(om1_).all() and np.isfinite(v1_).all()):
-                return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_NAN)
+                return FAIL_NAN, x, c_force, cbase, st.contact, th1, u1
             c1 = self.contact_at(th1, u1, guess, load)
             touching = x[-1] < 0.0 or c1.s > 0.0
             # The strip's mean curvature separation c_H |p| is an overlap the force allows.
@@ -219,7 +247,7 @@ class PaperMethod:
                 break
             if m == cap:
                 iters[0] = m
-                return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_DISP)
+                return FAIL_DISP, x, c_force, cbase, c1, th1, u1
             if m == 0:
                 # A penetration the band accepts is held, one outside brought just inside
                 # it: removing an accepted penetration within one step is the 1/dt^2 spike.
@@ -239,10 +267,17 @@ class PaperMethod:
                 gmat = jacobian(sys_, st.theta, c_force)
                 cbase = (gmat * self.minv) @ gmat.T
         iters[0] = m
-        p_bar = x[-1]
+        return OK, x, c_force, cbase, c1, th1, u1
 
-        # Stage 2: velocities (positions from stage 1, same force directions).
-        for m in range(cap + 1):
+    def velocity_stage(self, st: State, x: NDArray[np.float64], c_force: ContactPair,
+                       cbase: NDArray[np.float64], c1: ContactPair, th1: NDArray[np.float64],
+                       residual: NDArray[np.float64], iters: NDArray[np.int64]
+                       ) -> tuple[int, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Stage 2 (positions from stage 1, same force directions): ``(status, x, omega and
+        v at t + dt)``; the stage's residual and iterations into ``residual[1]``, ``iters[1]``."""
+        settings, sys_ = self.case, self.system
+        h, c_h, p_bar = settings.dt, self.c_h, x[-1]
+        for m in range(settings.max_iter + 1):
             f_theta, f_u = constraint_force(sys_, st.theta, c_force, x)
             _, om2, _, v2 = self.rk4(st, f_theta, f_u)
             # The velocity to reach is the secant of the gap the rows hold over this step:
@@ -259,29 +294,28 @@ class PaperMethod:
             # velocity error up to tol/dt that would carry the gap across the band next step.
             if residual[1] <= settings.tol_vel and m > 0:
                 break
-            if m == cap:
+            if m == settings.max_iter:
                 iters[1] = m
-                return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_VEL)
-            x = accelerated_update(x, e, h * cbase, nlev)
+                return FAIL_VEL, x, om2, v2
+            x = accelerated_update(x, e, h * cbase, settings.accel_levels)
             if p_bar == 0.0:
                 x[-1] = 0.0
         iters[1] = m
+        return OK, x, om2, v2
 
-        # Stage 3: accelerations at t + dt, with the constraint directions there.
+    def acceleration_stage(self, th1: NDArray[np.float64], u1: NDArray[np.float64],
+                           om2: NDArray[np.float64], v2: NDArray[np.float64], x: NDArray[np.float64],
+                           c1: ContactPair, p_bar: float, residual: NDArray[np.float64],
+                           iters: NDArray[np.int64]) -> tuple[int, NDArray[np.float64]]:
+        """Stage 3, accelerations at t + dt with the constraint directions there:
+        ``(status, x)``; the stage's residual and iterations into ``residual[2]``, ``iters[2]``."""
+        settings, sys_ = self.case, self.system
         g1 = jacobian(sys_, th1, c1)
         ca = (g1 * self.minv) @ g1.T
-        ua, ub = blocks(sys_, u1)
-        va, vb = blocks(sys_, v2)
-        ra, rb = (rot(g.sense * th) for g, th in zip(sys_.gears, th1))
-        ma, mb = self.velocity_mats(th1, om2)
-        extra, _, _ = sliding_acceleration(
-            *paper_flanks(sys_),
-            sys_.gears[0].X + ua.reshape(-1, 2), sys_.gears[1].X + ub.reshape(-1, 2), ra, rb,
-            va.reshape(-1, 2), vb.reshape(-1, 2), ma, mb, c1,
-            None if self.law is None else tuple(rigid_flanks(sys_, th1, om2)))
+        extra = self.sliding_term(th1, u1, om2, v2, c1)
         zero = np.zeros(sys_.n_x)
         alpha0, a0 = self.accelerations(th1, u1, *constraint_force(sys_, th1, c1, zero))
-        for m in range(cap + 1):
+        for m in range(settings.max_iter + 1):
             dq = self.minv * (g1.T @ x)
             alpha, a = alpha0 + dq[:2], a0 + dq[2:]
             st_ = (self.normal_of(c1, a, self.acceleration_mats(th1, om2, alpha)) + extra
@@ -293,20 +327,30 @@ class PaperMethod:
             # costs little and keeps the force from lagging the load by up to m tol/dt^2.
             if residual[2] <= settings.tol_acc and m > 0:
                 break
-            if m == cap:
+            if m == settings.max_iter:
                 iters[2] = m
-                return st, StepReport(residual, iters, float("nan"), float("nan"), FAIL_ACC)
-            x = accelerated_update(x, e, ca, nlev)
+                return FAIL_ACC, x
+            x = accelerated_update(x, e, ca, settings.accel_levels)
             if p_bar == 0.0:
                 x[-1] = 0.0
         iters[2] = m
-        # The next step spreads its force over the strip of the force now (same pair); the gap
-        # kept is the one the constraint holds, for a strip its mean deformed gap s_bar - c_H |p|.
-        spread = self.restrip(replace(c1, s=c1.s + self.c_h * p_bar), abs(float(x[-1])))
-        new = State(t=st.t + h, theta=th1, omega=om2, u=u1, v=v2, x=x, contact=spread,
-                    p_held=float(p_bar) if self.law is not None else 0.0,
-                    jump=self.respread_jump(c1, spread, th1, u1))
-        return new, StepReport(residual=residual, iterations=iters, p_bar=float(p_bar), s=c1.s)
+        return OK, x
+
+    def sliding_term(self, th1: NDArray[np.float64], u1: NDArray[np.float64],
+                     om2: NDArray[np.float64], v2: NDArray[np.float64], c1: ContactPair) -> float:
+        """What the contact points' sliding along the flanks adds to the normal acceleration
+        of the pair ``c1`` at t + dt."""
+        sys_ = self.system
+        ua, ub = blocks(sys_, u1)
+        va, vb = blocks(sys_, v2)
+        ra, rb = (rot(g.sense * th) for g, th in zip(sys_.gears, th1))
+        ma, mb = self.velocity_mats(th1, om2)
+        extra, _, _ = sliding_acceleration(
+            *paper_flanks(sys_),
+            sys_.gears[0].X + ua.reshape(-1, 2), sys_.gears[1].X + ub.reshape(-1, 2), ra, rb,
+            va.reshape(-1, 2), vb.reshape(-1, 2), ma, mb, c1,
+            None if self.law is None else tuple(rigid_flanks(sys_, th1, om2)))
+        return extra
 
 
 def initial_contact_guess(system: PairSystem) -> tuple[float, float]:

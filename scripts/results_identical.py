@@ -46,8 +46,9 @@ def runs() -> dict[str, list[str]]:
         table[f"example-{toml.stem}"] = [str(toml)]
     # a pair-only file: the run settings come from the command line
     table["example-paper_pair"] += ["--speed-a", "4000", "--torque", "22.25"]
-    # a case for `spurdyn stiffness`: no speed
+    # a case for `spurdyn stiffness`, and one for `spurdyn crack`: no speed
     table.pop("example-paper_faulty", None)
+    table.pop("example-thin_rim", None)
     table["numpy-fig8-300"] = ["paper-fig8", "--backend", "numpy",
                                "--angle", repr(NUMPY_ANGLE_DEG)]
     # the sector model: modal bodies (compiled and NumPy), whole bodies, and the back flanks

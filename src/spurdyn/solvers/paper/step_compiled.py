@@ -153,14 +153,21 @@ def displacement_stage(P, S, cfg, strip, pred, resp, x, force, last, wk):
 
 
 @njit
+def rows_into(P, rel, disks, nodes):
+    """The rows the constraints read (``rel``: the two disks, then each read node's two
+    DOFs) written into the full arrays ``disks`` and ``nodes``: positions or velocities."""
+    disks[0], disks[1] = rel[0], rel[1]
+    for k in range(P.rel_nodes.size):
+        i = P.rel_nodes[k]
+        nodes[2 * i] = rel[2 + 2 * k]
+        nodes[2 * i + 1] = rel[3 + 2 * k]
+
+
+@njit
 def root_position_errors(P, rel, th_try, u_try, e):
     """The iterate's rows the constraints read (``rel``) into ``th_try``, ``u_try``, and the
     root nodes' position errors into ``e``."""
-    th_try[0], th_try[1] = rel[0], rel[1]
-    for k in range(P.rel_nodes.size):
-        i = P.rel_nodes[k]
-        u_try[2 * i] = rel[2 + 2 * k]
-        u_try[2 * i + 1] = rel[3 + 2 * k]
+    rows_into(P, rel, th_try, u_try)
     for k in range(P.rnode.size):
         i = P.rnode[k]
         c, s = rotation(P, th_try, P.rgear[k])
@@ -229,11 +236,7 @@ def velocity_stage(P, S, cfg, strip, pred, resp, x, th1, rows1, pair, last, p_ba
     no_al = np.zeros(2)
     while True:
         rel = resp.vs_rel + resp.Wv @ x
-        om_try[0], om_try[1] = rel[0], rel[1]
-        for k in range(P.rel_nodes.size):
-            i = P.rel_nodes[k]
-            v_try[2 * i] = rel[2 + 2 * k]
-            v_try[2 * i + 1] = rel[3 + 2 * k]
+        rows_into(P, rel, om_try, v_try)
         for k in range(P.rnode.size):
             i = P.rnode[k]
             g = P.rgear[k]

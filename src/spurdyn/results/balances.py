@@ -163,8 +163,11 @@ def batch_balances(system: PairSystem, tau0: float, s: States) -> Balances:
         m = gb.mass.reshape(-1, 2)[:, 0]
         momentum[:, g] = (gb.inertia * gb.sense * s.omega[:, g]
                           + np.sum(m * (y[..., 0] * vv[..., 1] - y[..., 1] * vv[..., 0]), axis=1))
-        # each state's nodes turned back by its disk's rotation: rot's (2, 2, B) stack
-        w = np.einsum("bni,ijb->bnj", y, rot(gb.sense * s.theta[:, g])).reshape(count, -1) - gb.Y
+        # each state's nodes turned back by its disk's rotation R^T y (rot's (2, 2, B) stack,
+        # written out: einsum took two thirds of this function's time)
+        r = rot(gb.sense * s.theta[:, g])[..., None]
+        w = np.stack([y[..., 0] * r[0, 0] + y[..., 1] * r[1, 0], y[..., 0] * r[0, 1] + y[..., 1] * r[1, 1]],
+                     axis=-1).reshape(count, -1) - gb.Y
         kinetic[:, g] = 0.5 * gb.inertia * s.omega[:, g] ** 2 + 0.5 * np.sum(gb.mass * vb * vb, axis=1)
         strain[:, g] = 0.5 * np.sum(w * (gb.stiffness @ w.T).T, axis=1)
         positions.append(y)

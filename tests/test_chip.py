@@ -152,6 +152,7 @@ def revolution():
     return faulty_revolution(PAIR, PAPER_TORQUE, (CHIP_A, CHIP_B), NX, NY, positions=POSITIONS)
 
 
+@pytest.mark.slow
 def test_the_chipped_flanks_contact_ends_at_the_cut(revolution):
     rev = revolution
     dp = driving_pair(PAIR)
@@ -208,6 +209,7 @@ def test_a_very_small_chip_tends_to_the_uncut_cell():
     assert effect[2] < 2e-3
 
 
+@pytest.mark.slow
 def test_a_dynamic_run_with_chips_loads_no_flank_beyond_the_cut_compiled_as_numpy():
     """Two mesh cycles of an 18-tooth pair (the paper's teeth; fewer of them, a cheaper
     eigen-solve) with chips on a tooth of each gear that meets the path in them: no force

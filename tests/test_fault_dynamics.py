@@ -58,6 +58,7 @@ def test_the_flexibility_by_pairs_of_teeth_is_the_rings_by_distance_on_a_healthy
                     assert np.abs(pairs[i, s, j, t] - want).max() <= 1e-9 * np.abs(want).max()
 
 
+@pytest.mark.slow
 def test_the_compiled_faulty_steps_are_the_numpy_ones():
     # the first three mesh cycles, which meet the missing tooth and the pit
     s = run_settings(PAIR, 8000 * RPM, 22.25, model="sector", cycles=3, faults=(Fault("a", 2, "missing"), SPALL),

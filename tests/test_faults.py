@@ -211,6 +211,7 @@ def test_crack_tables_refused_by_the_key_written(pair):
         assert err.value.field == key
 
 
+@pytest.mark.slow
 def test_a_cracked_tooth_over_the_revolution(pair):
     # the mouth at the base circle splits the first flank edge, which at 2 x 4 reaches the
     # lowest contact (refused, below): a finer mesh along the tooth

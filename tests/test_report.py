@@ -61,6 +61,7 @@ class Page(HTMLParser):
         self.attrs += [(tag, k, v or "") for k, v in attrs]
 
 
+@pytest.mark.slow
 def test_numbers_equal_their_sources(report):
     from spurdyn.case.file import load_case
     from spurdyn.iso6336.rating import iso_pair, rate
@@ -105,6 +106,7 @@ def test_numbers_equal_their_sources(report):
     assert given["gear_a.addendum"].startswith("default")
 
 
+@pytest.mark.slow
 def test_lumped_model_beside(report):
     """The lumped model ran at the same speeds and torques on the sector model's mesh cycle
     with the sector run's damping ratio and cycles; each of its numbers equals its point
@@ -196,6 +198,7 @@ def test_default_speeds_reach_the_resonance():
     assert default_rpm(22055.4) == "1450:29000/20"
 
 
+@pytest.mark.slow
 def test_page_is_self_contained(report):
     _, out = report
     text = (out / "report.html").read_text()
@@ -215,6 +218,7 @@ def test_page_is_self_contained(report):
         assert part in text
 
 
+@pytest.mark.slow
 def test_repeat_reuses_points_and_shows_a_failed_one(report, tmp_path, capsys):
     """A third speed whose run fails: the two finished points are not computed again, the
     failed one is on the page with its reason, the rest still written (exit status 1)."""
@@ -244,6 +248,7 @@ def test_repeat_reuses_points_and_shows_a_failed_one(report, tmp_path, capsys):
     assert [p["rpm"] for p in lumped] == [3000.0] and lumped[0]["dynamic_factor"] is None
 
 
+@pytest.mark.slow
 def test_no_lumped(report, tmp_path):
     """--no-lumped: no lumped point runs (the sector's are reused), the page says why."""
     _, first = report
@@ -298,6 +303,7 @@ def _chromium() -> tuple[str, str] | None:
     return None
 
 
+@pytest.mark.slow
 def test_page_in_a_real_browser(report, tmp_path):
     """Every figure loaded (naturalWidth > 0), no error in the browser's console; a
     screenshot kept under tmp_path."""

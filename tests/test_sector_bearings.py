@@ -144,6 +144,7 @@ def _balance_run(bearings):
     return model, record, float(np.abs(total - total[0]).max())
 
 
+@pytest.mark.slow
 def test_the_balances_hold_with_the_hubs_on_bearings():
     """The energy with the translations' kinetic energy and the bearings' springs drifts as
     the held hubs' does over the same steps (the model's left-out terms, 4.8 % of the bodies'

@@ -273,6 +273,7 @@ def test_an_fe_load_lost_in_the_rounding_is_refused(fake, here, capsys, torque):
     assert err.endswith("; or 0 for an unloaded run\n") and list(here.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_an_unloaded_fe_run_is_a_clean_result(here, capsys):
     import json
     import warnings

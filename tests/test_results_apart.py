@@ -8,24 +8,43 @@ computed when stopped.
 
 from __future__ import annotations
 
+import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
 
-from spurdyn.results import apart
+import pytest
+
+from spurdyn.results import apart, beside
 from spurdyn.results.folder import write_run_folder
 from cli_helpers import FILES, check_run_folder, leftovers
 from run_helpers import fake_simulate, short_case  # noqa: F401 (fixture)
 
 TESTS = Path(__file__).resolve().parent
+FORKS = hasattr(os, "fork") and sys.platform.startswith("linux")
 
 
-def test_the_writer_writes_the_folder_this_process_would(tmp_path, short_case):
+@pytest.fixture(params=["fork", "fresh"])
+def way(request, monkeypatch):
+    """A writer forked from this process (which has loaded Numba: allowed here), or a
+    freshly started interpreter."""
+    if request.param == "fork":
+        if not FORKS:
+            pytest.skip("a writer is forked only on Linux")
+        monkeypatch.setattr(beside, "can_fork", lambda: True)
+        monkeypatch.setattr(apart, "_LARGE", ())
+    else:
+        monkeypatch.setattr(beside, "can_fork", lambda: False)
+    return request.param
+
+
+def test_the_writer_writes_the_folder_this_process_would(tmp_path, short_case, way):
     result = fake_simulate(short_case.pair, short_case.run, separations=((0.1, 0.12),))
     writer = apart.start()
-    assert writer is not None
+    assert writer is not None and (writer.popen is None) == (way == "fork")
     summary, final = apart.write(writer, result, short_case, tmp_path / "apart")
-    assert writer.process.returncode == 0 and final == tmp_path / "apart"
+    assert writer.ended and final == tmp_path / "apart"
     here, _ = write_run_folder(result, short_case, tmp_path / "here")
     assert summary == here
     for name in FILES:
@@ -33,27 +52,36 @@ def test_the_writer_writes_the_folder_this_process_would(tmp_path, short_case):
     assert leftovers(tmp_path) == []
 
 
-def test_a_writer_that_dies_loses_nothing(tmp_path, short_case, capsys):
+def test_a_writer_that_dies_loses_nothing(tmp_path, short_case, capsys, way):
     result = fake_simulate(short_case.pair, short_case.run)
     writer = apart.start()
     assert writer is not None
-    writer.process.kill()
-    writer.process.wait()
+    os.kill(writer.pid, signal.SIGKILL)
     summary, final = apart.write(writer, result, short_case, tmp_path / "run")
     ds, written = check_run_folder(final)
     assert written == summary and summary["status"] == "complete"
     assert "the writer process failed" in capsys.readouterr().err
-    assert leftovers(tmp_path) == []
+    assert writer.ended and leftovers(tmp_path) == []
 
 
-def test_a_writer_given_nothing_ends_and_writes_nothing(tmp_path):
+def test_a_writer_given_nothing_ends_and_writes_nothing(tmp_path, way):
     writer = apart.start()
     assert writer is not None
     apart.stop(writer)
-    assert writer.process.returncode is not None
+    assert writer.ended
     apart.stop(writer)   # twice: nothing more to do
     apart.stop(None)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_large_process_starts_a_fresh_writer(monkeypatch):
+    """Once Numba is loaded (LLVM's ~75 MB resident), a fork would count it: a fresh one."""
+    import numba  # noqa: F401 - loaded, as in a run's process after its first run
+
+    monkeypatch.setattr(beside, "can_fork", lambda: True)
+    writer = apart.start()
+    assert writer is not None and writer.popen is not None
+    apart.stop(writer)
 
 
 #: The console command with the synthetic solver, stopped by SIGTERM at its second progress

@@ -178,12 +178,12 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
     target = plan.out
     made = [p for p in [target.parent, *target.parent.parents] if not p.exists()]
     bar = ProgressBar(plan.case.name, enabled=progress)
-    helpers: dict[str, Any] = {}
+    helpers: dict[str, Any] = {"writer": None}   # the writer process, or the loading thread
 
     def report(step: int, angle: float, total: float) -> None:
-        if not helpers:   # the loop runs: load the writers on the other core meanwhile
-            _load_writers(helpers)
-        bar(step, angle, total)
+        if helpers["writer"] is None and "thread" not in helpers:
+            helpers["thread"] = prefetch.start()   # the loop runs (GIL-free): load the
+        bar(step, angle, total)                    # writers here, on the other core
         Interrupts.checkpoint()
 
     try:
@@ -192,6 +192,8 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
         except OSError as err:
             raise InputError(str(target), f"cannot be made ({err.strerror or err}); give "
                              "another --out") from None
+        if WRITE_APART:   # it loads the writers while the run is built and stepped
+            helpers["writer"] = apart.start()
         _compiling_note(plan, simulate, quiet or not progress)
         t0 = time.perf_counter()
         with Interrupts.held():  # from the moment the solver's loop has ended
@@ -205,12 +207,10 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
             if Interrupts.last is not None and \
                     (result.reason or "").startswith("interrupted by the user"):
                 result.reason = result.reason.replace("by the user", f"by {Interrupts.name()}", 1)
-            if WRITE_APART and not helpers:   # a run that never reported
-                _load_writers(helpers)
             prefetch.wait(helpers.get("thread"))
-            summary, target = _write(plan, result, helpers.get("writer"))
+            summary, target = _write(plan, result, helpers["writer"])
     finally:
-        apart.stop(helpers.get("writer"))   # one not given a result (a stop before any)
+        apart.stop(helpers["writer"])   # one not given a result (a stop before any)
         if not target.exists():  # nothing came of it: remove the folders made for it
             for folder in made:
                 try:
@@ -219,17 +219,6 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
                     break
     summary["out"] = str(target)
     return summary
-
-
-def _load_writers(helpers: dict[str, Any]) -> None:
-    """Start loading the writers: in a process of their own (:data:`WRITE_APART`; its
-    ``"writer"``), else in a thread of this process (its ``"thread"``; the compiled loop
-    runs without the GIL)."""
-    from spurdyn.results import apart, prefetch
-
-    helpers["writer"] = apart.start() if WRITE_APART else None
-    if helpers["writer"] is None:
-        helpers["thread"] = prefetch.start()
 
 
 def _write(plan: RunPlan, result: Any, writer: Any) -> tuple[dict[str, Any], Path]:

@@ -1,15 +1,20 @@
-"""A run folder written by a freshly started process: the writers kept out of the one that steps.
+"""A run folder written by a process of its own: the writers kept out of the one that steps.
 
 The libraries a run writes with (xarray, pandas, netCDF4, Matplotlib: ~75 MB resident) and
 those a run steps with (Numba and LLVM: ~140 MB) need not share a process. ``spurdyn run``
-starts a fresh interpreter (:func:`start`) when a run begins; it loads the writers and
-draws a first file and picture (:func:`spurdyn.results.prefetch.load`) while the run is
-built and stepped, then waits for the run. :func:`write` sends it the result and the case
-(pickled, through its standard input) and it writes the folder whole
+starts a writer process (:func:`start`) when a run begins; it loads the writers and draws
+a first file and picture (:func:`spurdyn.results.prefetch.load`) while the run is built and
+stepped, then waits for the run. :func:`write` sends it the result and the case (pickled,
+through a pipe) and it writes the folder whole
 (:func:`spurdyn.results.folder.write_run_folder`) and answers with the summary. The
 stepping process never imports the writers, so the largest process of the command is the
 stepper or the writer, not both at once (docs/performance.md, "The paper's loop and its
 memory").
+
+The writer is a fork of the caller while the caller is still small (on Linux, one Python
+thread, Numba not loaded: at the start of a command's first run, ~85 MB, NumPy, SciPy and
+spurdyn loaded, which the writer then need not import again; a forked child starts with
+its parent's pages counted in its own resident set), else a freshly started interpreter.
 
 Nothing is lost to the writer: stop signals are the stepper's to act on (the writer ignores
 them; the stepper holds them while the folder is written, :mod:`spurdyn.signals`), and when
@@ -23,15 +28,16 @@ from __future__ import annotations
 
 import os
 import pickle
+import signal
 import subprocess
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO, NoReturn
 
 from spurdyn.result import Result
 
-#: What the fresh interpreter runs: this package first on its path (the code of the process
+#: What a fresh interpreter runs: this package first on its path (the code of the process
 #: that started it, whatever the current folder or the environment say), then :func:`serve`.
 _SERVE = ("import sys; sys.path.insert(0, {root!r}); "
           "from spurdyn.results.apart import serve; serve()")
@@ -39,64 +45,114 @@ _SERVE = ("import sys; sys.path.insert(0, {root!r}); "
 #: Characters of the writer's traceback kept for the note printed when it failed.
 _REPORT_CHARS = 4000
 
+#: Modules whose presence makes this process too large to fork a writer from: LLVM's
+#: library (~75 MB resident) would count in the writer's resident set.
+_LARGE = ("llvmlite", "numba")
+
 
 @dataclass
 class Writer:
-    """A writer process and the pipes to it (its standard input and output)."""
+    """A writer process: its id, the pipes to and from it, and its :class:`subprocess.Popen`
+    when it is a fresh interpreter (``None`` for a fork)."""
 
-    process: subprocess.Popen[bytes]
+    pid: int
+    requests: BinaryIO
+    answers: BinaryIO
+    popen: subprocess.Popen[bytes] | None = None
+    ended: bool = False
 
 
 def start() -> Writer | None:
     """Start a writer process; ``None`` when no process can be made here.
 
-    The interpreter is this one (``sys.executable``) with ``-P`` (the current folder not on
-    its path); it inherits the environment and the standard error, and finds this package
-    where this process found it.
+    A fork while this process is small (:data:`_LARGE`), on Linux with no other Python
+    thread (:func:`spurdyn.results.beside.can_fork`); else this interpreter
+    (``sys.executable``) started afresh with ``-P`` (the current folder not on its path),
+    which inherits the environment and the standard error and finds this package where
+    this process found it.
     """
+    from spurdyn.results.beside import can_fork
+
+    if can_fork() and not any(name in sys.modules for name in _LARGE):
+        forked = _forked()
+        if forked is not None:
+            return forked
     root = str(Path(__file__).resolve().parents[2])
     try:
-        process = subprocess.Popen([sys.executable, "-P", "-c", _SERVE.format(root=root)],
-                                   stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        popen = subprocess.Popen([sys.executable, "-P", "-c", _SERVE.format(root=root)],
+                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE)
     except OSError:
         return None
-    return Writer(process)
+    assert popen.stdin is not None and popen.stdout is not None
+    return Writer(popen.pid, popen.stdin, popen.stdout, popen)
+
+
+def _forked() -> Writer | None:
+    """A forked writer, or ``None`` when no process or pipe can be made."""
+    from spurdyn.results.beside import fork
+
+    sys.stdout.flush()    # else the child would inherit, and print, this process's buffers
+    sys.stderr.flush()
+    try:
+        to_child, from_child = os.pipe(), os.pipe()
+    except OSError:
+        return None
+    try:
+        pid = fork()
+    except OSError:
+        for fd in (*to_child, *from_child):
+            os.close(fd)
+        return None
+    if pid == 0:
+        os.close(to_child[1])
+        os.close(from_child[0])
+        _serve(os.fdopen(to_child[0], "rb"), os.fdopen(from_child[1], "wb"))
+    os.close(to_child[0])
+    os.close(from_child[1])
+    return Writer(pid, os.fdopen(to_child[1], "wb"), os.fdopen(from_child[0], "rb"))
+
+
+def _reap(writer: Writer) -> None:
+    """Close the pipes to the writer and wait for it to end."""
+    for pipe in (writer.requests, writer.answers):
+        try:
+            pipe.close()
+        except OSError:    # the rest of a request the writer never read
+            pass
+    if not writer.ended:
+        if writer.popen is not None:
+            writer.popen.wait()
+        else:
+            os.waitpid(writer.pid, 0)
+        writer.ended = True
 
 
 def stop(writer: Writer | None) -> None:
     """End a writer that has not answered (nothing to write, or its answer lost) and wait
     for it: it writes only what :func:`write` sent it, and a folder it left half written is
     removed by the next write there (:func:`spurdyn.results.folder.clean_stale`)."""
-    if writer is not None:
-        if writer.process.poll() is None:
-            writer.process.kill()
-        _close(writer)
-
-
-def _close(writer: Writer) -> None:
-    """Close the pipes to the writer and wait for it to end."""
-    for pipe in (writer.process.stdin, writer.process.stdout):
-        if pipe is not None:
-            pipe.close()
-    writer.process.wait()
+    if writer is not None and not writer.ended:
+        try:
+            os.kill(writer.pid, signal.SIGKILL)
+        except ProcessLookupError:   # ended already (not yet waited for)
+            pass
+        _reap(writer)
 
 
 def _ask(writer: Writer, request: tuple[Any, ...]) -> tuple[Any, ...]:
     """Send the request and read the answer: ``("done", summary, folder)`` or
     ``("failed", traceback)``; ``("failed", why)`` when the writer is gone or talks nonsense."""
-    process = writer.process
-    assert process.stdin is not None and process.stdout is not None
     try:
-        pickle.dump(request, process.stdin, protocol=pickle.HIGHEST_PROTOCOL)
-        process.stdin.close()
-        answer = pickle.load(process.stdout)
+        pickle.dump(request, writer.requests, protocol=pickle.HIGHEST_PROTOCOL)
+        writer.requests.close()
+        answer = pickle.load(writer.answers)
     except (OSError, EOFError, pickle.PickleError, AttributeError, TypeError) as err:
         stop(writer)
         return ("failed", f"{type(err).__name__}: {err}")
     except BaseException:
         stop(writer)
         raise
-    _close(writer)
+    _reap(writer)
     if isinstance(answer, tuple) and answer[:1] in (("done",), ("failed",)):
         return answer
     return ("failed", "an answer of another kind")
@@ -121,32 +177,34 @@ def write(writer: Writer | None, result: Result, case: Any, target: Path, *, for
     return written
 
 
-def serve() -> None:
-    """In the writer process: load the writers, write the folder it is sent, answer, leave.
-
-    Its standard output is its answer's channel alone: what the writers print goes to the
-    standard error. It leaves without the interpreter's teardown, as the command does.
-    """
-    import gc
-    import signal
-    import traceback
-
-    for signum in (signal.SIGINT, signal.SIGTERM):  # the stepper's to act on
-        signal.signal(signum, signal.SIG_IGN)
-    channel = os.fdopen(os.dup(1), "wb")
+def serve() -> NoReturn:
+    """In a freshly started writer: its standard output becomes its answers' channel alone
+    (what the writers print goes to the standard error); then :func:`_serve`."""
+    answers = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)
     sys.modules.setdefault("dask", None)  # type: ignore[arg-type]  # as the command's run
-    from spurdyn.results import prefetch
-    from spurdyn.results.folder import write_run_folder
+    _serve(sys.stdin.buffer, answers)
+
+
+def _serve(requests: BinaryIO, answers: BinaryIO) -> NoReturn:
+    """In the writer: load the writers, write the folder it is sent, answer, leave without
+    the interpreter's teardown (and, in a fork, without running any of the caller's code)."""
+    import gc
+    import traceback
 
     try:
-        prefetch.load()
-    except Exception:  # noqa: BLE001 - the writing's own import reports it
-        pass
-    gc.collect()  # the first picture's figure and its cycles
-    gc.freeze()   # the libraries' objects: the writing's collections need not walk them
-    try:
-        result, case, target, force, vtu = pickle.load(sys.stdin.buffer)
+        for signum in (signal.SIGINT, signal.SIGTERM):  # the stepper's to act on
+            signal.signal(signum, signal.SIG_IGN)
+        from spurdyn.results import prefetch
+        from spurdyn.results.folder import write_run_folder
+
+        try:
+            prefetch.load()
+        except Exception:  # noqa: BLE001 - the writing's own import reports it
+            pass
+        gc.collect()  # the first picture's figure and its cycles
+        gc.freeze()   # the libraries' objects: the writing's collections need not walk them
+        result, case, target, force, vtu = pickle.load(requests)
     except BaseException:  # noqa: BLE001 - nothing (whole) to write: the stepper writes
         os._exit(0)
     try:
@@ -154,10 +212,13 @@ def serve() -> None:
         answer: tuple[Any, ...] = ("done", summary, str(final))
     except BaseException:  # noqa: BLE001 - reported to the stepper, which writes it again
         answer = ("failed", traceback.format_exc()[-_REPORT_CHARS:])
-    pickle.dump(answer, channel, protocol=pickle.HIGHEST_PROTOCOL)
-    channel.flush()
-    sys.stderr.flush()
-    os._exit(0)
+    try:
+        pickle.dump(answer, answers, protocol=pickle.HIGHEST_PROTOCOL)
+        answers.flush()
+        sys.stdout.flush()
+        sys.stderr.flush()
+    finally:
+        os._exit(0)
 
 
 __all__ = ["Writer", "serve", "start", "stop", "write"]

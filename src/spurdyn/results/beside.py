@@ -64,10 +64,11 @@ def _child(work: Callable[[], object], parents_end: int, report: int) -> NoRetur
             os._exit(status)
 
 
-def _fork() -> int:
+def fork() -> int:
+    """``os.fork`` without Python 3.12's warning about the numerical libraries' threads."""
     # Python 3.12+ warns about forking a process with other OS threads. Those here are the
     # native pools of the numerical libraries (OpenBLAS), which prepare for a fork; no
-    # other Python thread runs (can_fork), and the child only draws and leaves.
+    # other Python thread runs (can_fork), and the child only writes and leaves.
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message=r".*use of fork\(\) may lead to deadlocks",
                                 category=DeprecationWarning)
@@ -94,7 +95,7 @@ def _start(work: Callable[[], object]) -> tuple[int, int] | None:
     except OSError:
         return None
     try:
-        pid = _fork()
+        pid = fork()
     except OSError:
         os.close(read_end)
         os.close(write_end)
@@ -146,4 +147,4 @@ def beside(work: Callable[[], object]) -> Iterator[None]:
               "process instead", file=sys.stderr)
 
 
-__all__ = ["beside", "can_fork"]
+__all__ = ["beside", "can_fork", "fork"]

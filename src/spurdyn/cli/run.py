@@ -181,9 +181,13 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
     helpers: dict[str, Any] = {"writer": None}   # the writer process, or the loading thread
 
     def report(step: int, angle: float, total: float) -> None:
-        if helpers["writer"] is None and "thread" not in helpers:
-            helpers["thread"] = prefetch.start()   # the loop runs (GIL-free): load the
-        bar(step, angle, total)                    # writers here, on the other core
+        # the loop runs: the writers load on the other core, in the writer process or in a
+        # thread here (the compiled loop runs without the GIL)
+        if helpers["writer"] is not None:
+            apart.begin(helpers["writer"])
+        elif "thread" not in helpers:
+            helpers["thread"] = prefetch.start()
+        bar(step, angle, total)
         Interrupts.checkpoint()
 
     try:
@@ -192,7 +196,7 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
         except OSError as err:
             raise InputError(str(target), f"cannot be made ({err.strerror or err}); give "
                              "another --out") from None
-        if WRITE_APART:   # it loads the writers while the run is built and stepped
+        if WRITE_APART:   # started while this process is small, before Numba loads
             helpers["writer"] = apart.start()
         _compiling_note(plan, simulate, quiet or not progress)
         t0 = time.perf_counter()

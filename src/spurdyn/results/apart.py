@@ -2,9 +2,9 @@
 
 The libraries a run writes with (xarray, pandas, netCDF4, Matplotlib: ~75 MB resident) and
 those a run steps with (Numba and LLVM: ~140 MB) need not share a process. ``spurdyn run``
-starts a writer process (:func:`start`) when a run begins; it loads the writers and draws
-a first file and picture (:func:`spurdyn.results.prefetch.load`) while the run is built and
-stepped, then waits for the run. :func:`write` sends it the result and the case (pickled,
+starts a writer process (:func:`start`) when a run begins; once the run's loop has begun
+(:func:`begin`) it loads the writers and draws a first file and picture
+(:func:`spurdyn.results.prefetch.load`) on the other core, then waits for the run. :func:`write` sends it the result and the case (pickled,
 through a pipe) and it writes the folder whole
 (:func:`spurdyn.results.folder.write_run_folder`) and answers with the summary. The
 stepping process never imports the writers, so the largest process of the command is the
@@ -42,6 +42,9 @@ from spurdyn.result import Result
 _SERVE = ("import sys; sys.path.insert(0, {root!r}); "
           "from spurdyn.results.apart import serve; serve()")
 
+#: The byte that tells a writer to load the writers (:func:`begin`).
+_BEGIN = b"b"
+
 #: Characters of the writer's traceback kept for the note printed when it failed.
 _REPORT_CHARS = 4000
 
@@ -59,6 +62,7 @@ class Writer:
     requests: BinaryIO
     answers: BinaryIO
     popen: subprocess.Popen[bytes] | None = None
+    begun: bool = False
     ended: bool = False
 
 
@@ -139,9 +143,23 @@ def stop(writer: Writer | None) -> None:
         _reap(writer)
 
 
+def begin(writer: Writer | None) -> None:
+    """Let the writer load the writers now: the run's loop has begun (on one core; the
+    model's build before it is left the machine to itself). Once; :func:`write` does it for
+    a run that never said so."""
+    if writer is not None and not writer.begun:
+        writer.begun = True
+        try:
+            writer.requests.write(_BEGIN)
+            writer.requests.flush()
+        except OSError:      # a writer gone: write() finds out, and writes here
+            pass
+
+
 def _ask(writer: Writer, request: tuple[Any, ...]) -> tuple[Any, ...]:
     """Send the request and read the answer: ``("done", summary, folder)`` or
     ``("failed", traceback)``; ``("failed", why)`` when the writer is gone or talks nonsense."""
+    begin(writer)
     try:
         pickle.dump(request, writer.requests, protocol=pickle.HIGHEST_PROTOCOL)
         writer.requests.close()
@@ -195,6 +213,8 @@ def _serve(requests: BinaryIO, answers: BinaryIO) -> NoReturn:
     try:
         for signum in (signal.SIGINT, signal.SIGTERM):  # the stepper's to act on
             signal.signal(signum, signal.SIG_IGN)
+        if requests.read(1) != _BEGIN:   # the run stopped before its loop
+            os._exit(0)
         from spurdyn.results import prefetch
         from spurdyn.results.folder import write_run_folder
 
@@ -221,4 +241,4 @@ def _serve(requests: BinaryIO, answers: BinaryIO) -> NoReturn:
         os._exit(0)
 
 
-__all__ = ["Writer", "serve", "start", "stop", "write"]
+__all__ = ["Writer", "begin", "serve", "start", "stop", "write"]

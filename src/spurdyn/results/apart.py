@@ -107,10 +107,13 @@ def _forked() -> Writer | None:
         for fd in (*to_child, *from_child):
             os.close(fd)
         return None
-    if pid == 0:
-        os.close(to_child[1])
-        os.close(from_child[0])
-        _serve(os.fdopen(to_child[0], "rb"), os.fdopen(from_child[1], "wb"))
+    if pid == 0:    # never back into the caller's code, whatever comes (a stop signal)
+        try:
+            os.close(to_child[1])
+            os.close(from_child[0])
+            _serve(os.fdopen(to_child[0], "rb"), os.fdopen(from_child[1], "wb"))
+        finally:
+            os._exit(0)
     os.close(to_child[0])
     os.close(from_child[1])
     return Writer(pid, os.fdopen(to_child[1], "wb"), os.fdopen(from_child[0], "rb"))

@@ -7,7 +7,7 @@ time loop (docs/performance.md). The compiled time loop
 releases the GIL (:func:`spurdyn.jit.njit`), so these imports can run on the other core
 meanwhile: :func:`start` before the run, :func:`wait` before writing. (The console command
 writes in a process of its own, :mod:`spurdyn.results.apart`, which calls :func:`load`
-first thing instead.)
+once the loop has begun, instead.)
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ SWITCH_INTERVAL = 2e-4
 
 def load() -> None:
     """Import the writers and write a small NetCDF file and picture in a scratch folder,
-    removed after (in :func:`start`'s thread, or first thing in a writer process,
+    removed after (in :func:`start`'s thread, or in a writer process,
     :mod:`spurdyn.results.apart`)."""
     import json
     import os

@@ -138,7 +138,7 @@ class GearFillets:
         if self.reduced is None:
             self._ops, self._rows = self._operators(first)
             return
-        self._flank = gear.flank_modes          # (count, sides, f, m): the modes at the flanks
+        self._gear = gear                       # its flank modes, read by stress_many
         # the maps from the mode store when a run before made them for the same body and
         # modes (a whole ring's static response costs its harmonics' solves); every tooth's
         # stress operator is made only to make them (72 teeth: ~0.5 s of a design pair's run)
@@ -267,7 +267,8 @@ class GearFillets:
         np.add.at(w, (sample, at.ravel()), loads)       # a split pair's two rows in one state
         tooth, side = np.divmod(key, 2)
         maps = [self._static_maps(int(t), int(sd)).reshape(-1, f).T for t, sd in zip(tooth, side)]
-        return w.reshape(states, -1), self._flank[tooth, side].reshape(key.size * f, -1), np.concatenate(maps)
+        flank = self._gear.flank_modes[tooth, side].reshape(key.size * f, -1)
+        return w.reshape(states, -1), flank, np.concatenate(maps)
 
 
 __all__ = ["GearFillets", "boundary_edges", "incidence", "tangential_operator", "tooth_fillets"]

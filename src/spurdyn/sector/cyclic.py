@@ -379,9 +379,9 @@ class _RealForm:
 
     def real(self, b: NDArray[np.float64], together: bool = False) -> NDArray[np.float64]:
         """The real form's solve, column by column, or with ``together`` all in one call on
-        one BLAS thread: 2-3 times faster, the same numbers on unit loads, not on others (on
-        two threads one call was 4-35 times slower than the columns one by one;
-        docs/performance.md, "The Fig. 8 sector sweep's root stress")."""
+        one BLAS thread: 2-3 times faster, on unit loads the same numbers (measured; not on
+        others, so the modes' solves keep the columns); on two threads one call was 4-35
+        times slower (docs/performance.md, "The Fig. 8 sector sweep's root stress")."""
         b = np.asarray(b, dtype=float)
         if b.ndim == 1:
             return self._lu.solve(b)

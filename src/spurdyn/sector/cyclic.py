@@ -254,7 +254,7 @@ class CyclicGear(Reduction):
                 if keep:
                     self._lu[h] = found
             solve, t = found
-            y = t @ solve(loads, together=True)     # unit loads: the same as column by column
+            y = t @ solve(loads, together=True)     # the columns' to round-off (the same bits here)
             weight = 1.0 if h == 0 or 2 * h == cell.z else 2.0
             # the harmonic's complex field a block of rows at a time: over a whole gear's
             # fillets at once its temporaries took some 180 MB (docs/performance.md)

@@ -329,7 +329,7 @@ class SectorModel:
                    theta_a: Any, offset: int, pit: NDArray[np.float64] | None = None, full: bool = True) -> Rows:
         """The :class:`Rows` of the contacts ``on`` at their ``rolls`` under their forces
         ``f`` (their pit strips' ``pit``, :meth:`rows_at`), the driver at ``theta_a`` (a
-        number, or one per contact)."""
+        number, or one per contact); without the bodies' modal rows unless ``full``."""
         ra, rb = self.ra, self.rb
         kind, share, extra = np.zeros(on.size, np.intp), np.ones(on.size), 0.0
         if self.splits:

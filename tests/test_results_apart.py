@@ -119,3 +119,33 @@ def test_the_command_steps_without_the_writers_and_keeps_what_it_computed(tmp_pa
     _, summary = check_run_folder(out)
     assert summary["status"] == "incomplete" and summary["steps"] == 40
     assert [p.name for p in tmp_path.iterdir()] == ["run"]
+
+
+_FAILED_RUN = """
+import os, sys
+sys.path.insert(0, {tests!r})
+from spurdyn.cli import run as runner
+def failing(pair, case, progress=None):
+    progress(20, 0.001, 0.01)   # the loop has begun: the writer loads the writers
+    raise RuntimeError("the solver failed")
+runner.load_simulate = lambda model="fe": failing
+runner.WRITE_APART = True
+from spurdyn.cli.main import main
+try:
+    main(["run", "paper-fig9", "--angle", "0.3", "--quiet", "--out", {out!r}])
+except RuntimeError:
+    pass
+try:
+    os.waitpid(-1, os.WNOHANG)
+    print("a child left")
+except ChildProcessError:
+    print("no child left")
+"""
+
+
+def test_a_run_that_fails_leaves_no_writer_and_no_folder(tmp_path):
+    out = tmp_path / "run"
+    code = _FAILED_RUN.format(tests=str(TESTS), out=str(out))
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.stdout.strip().splitlines()[-1] == "no child left", (done.stdout, done.stderr)
+    assert list(tmp_path.iterdir()) == []

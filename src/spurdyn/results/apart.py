@@ -4,8 +4,8 @@ The libraries a run writes with (xarray, pandas, netCDF4, Matplotlib: ~75 MB res
 those a run steps with (Numba and LLVM: ~140 MB) need not share a process. ``spurdyn run``
 starts a writer process (:func:`start`) when a run begins; once the run's loop has begun
 (:func:`begin`) it loads the writers and draws a first file and picture
-(:func:`spurdyn.results.prefetch.load`) on the other core, then waits for the run. :func:`write` sends it the result and the case (pickled,
-through a pipe) and it writes the folder whole
+(:func:`spurdyn.results.prefetch.load`) on the other core, then waits for the run.
+:func:`write` sends it the result and the case (pickled, through a pipe) and it writes the folder whole
 (:func:`spurdyn.results.folder.write_run_folder`) and answers with the summary. The
 stepping process never imports the writers, so the largest process of the command is the
 stepper or the writer, not both at once (docs/performance.md, "The paper's loop and its
@@ -39,7 +39,9 @@ from spurdyn.result import Result
 
 #: What a fresh interpreter runs: this package first on its path (the code of the process
 #: that started it, whatever the current folder or the environment say), then :func:`serve`.
-_SERVE = ("import sys; sys.path.insert(0, {root!r}); "
+_SERVE = ("import signal; signal.signal(signal.SIGINT, signal.SIG_IGN); "
+          "signal.signal(signal.SIGTERM, signal.SIG_IGN); "
+          "import sys; {root!r} in sys.path or sys.path.insert(0, {root!r}); "
           "from spurdyn.results.apart import serve; serve()")
 
 #: The byte that tells a writer to load the writers (:func:`begin`).
@@ -82,9 +84,13 @@ def start() -> Writer | None:
         if forked is not None:
             return forked
     root = str(Path(__file__).resolve().parents[2])
+    # out of the terminal's process group: a Ctrl-C is the stepper's alone, even while the
+    # writer starts (before it can ignore it)
+    apart_group: dict[str, Any] = ({"creationflags": subprocess.CREATE_NEW_PROCESS_GROUP}
+                                   if sys.platform == "win32" else {"process_group": 0})
     try:
         popen = subprocess.Popen([sys.executable, "-P", "-c", _SERVE.format(root=root)],
-                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE, **apart_group)
     except OSError:
         return None
     assert popen.stdin is not None and popen.stdout is not None
@@ -95,8 +101,9 @@ def _forked() -> Writer | None:
     """A forked writer, or ``None`` when no process or pipe can be made."""
     from spurdyn.results.beside import fork
 
-    sys.stdout.flush()    # else the child would inherit, and print, this process's buffers
-    sys.stderr.flush()
+    for stream in (sys.stdout, sys.stderr):   # else the child would print these buffers too
+        if stream is not None:    # (None: closed by the caller)
+            stream.flush()
     try:
         to_child, from_child = os.pipe(), os.pipe()
     except OSError:
@@ -130,7 +137,10 @@ def _reap(writer: Writer) -> None:
         if writer.popen is not None:
             writer.popen.wait()
         else:
-            os.waitpid(writer.pid, 0)
+            try:
+                os.waitpid(writer.pid, 0)
+            except ChildProcessError:   # reaped already (SIGCHLD ignored by the caller)
+                pass
         writer.ended = True
 
 
@@ -140,7 +150,10 @@ def stop(writer: Writer | None) -> None:
     removed by the next write there (:func:`spurdyn.results.folder.clean_stale`)."""
     if writer is not None and not writer.ended:
         try:
-            os.kill(writer.pid, signal.SIGKILL)
+            if writer.popen is not None:
+                writer.popen.kill()     # SIGKILL, or TerminateProcess on Windows
+            else:
+                os.kill(writer.pid, signal.SIGKILL)
         except ProcessLookupError:   # ended already (not yet waited for)
             pass
         _reap(writer)
@@ -167,7 +180,7 @@ def _ask(writer: Writer, request: tuple[Any, ...]) -> tuple[Any, ...]:
         pickle.dump(request, writer.requests, protocol=pickle.HIGHEST_PROTOCOL)
         writer.requests.close()
         answer = pickle.load(writer.answers)
-    except (OSError, EOFError, pickle.PickleError, AttributeError, TypeError) as err:
+    except Exception as err:  # noqa: BLE001 - any failure of the writer's: written here
         stop(writer)
         return ("failed", f"{type(err).__name__}: {err}")
     except BaseException:

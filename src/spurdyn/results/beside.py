@@ -88,8 +88,9 @@ def _start(work: Callable[[], object]) -> tuple[int, int] | None:
     child can be made here (:func:`can_fork`, or no process or pipe to spare)."""
     if not can_fork():
         return None
-    sys.stdout.flush()    # else the child would inherit, and print, the parent's buffers
-    sys.stderr.flush()
+    for stream in (sys.stdout, sys.stderr):   # else the child would print the parent's buffers
+        if stream is not None:    # (None: closed by the caller)
+            stream.flush()
     try:
         read_end, write_end = os.pipe()
     except OSError:

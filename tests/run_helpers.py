@@ -14,7 +14,6 @@ from spurdyn.case import preset_case
 from spurdyn.geometry.pair import GearPair
 from spurdyn.geometry.placement import mesh_angles, to_world_a, to_world_b
 from spurdyn.mesh.tooth import tooth_mesh
-from spurdyn.results.io import write_run
 from spurdyn.result import Result
 from spurdyn.settings import RunSettings
 
@@ -111,6 +110,8 @@ def short_case():
 
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory, short_case):
+    from spurdyn.results.io import write_run   # not at the top: a command's process that
+                                              # uses fake_simulate steps without xarray
     d = tmp_path_factory.mktemp("run")
     result = fake_simulate(short_case.pair, short_case.run, separations=((0.1, 0.12),))
     summary = write_run(result, short_case, d, vtu=True)

@@ -69,3 +69,15 @@ def test_a_sector_runs_modules_leave_out_the_libraries_it_never_calls() -> None:
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert done.stdout.split("\n")[:2] == ["[]", "True True"]
+
+
+def test_a_run_writes_apart_and_other_commands_in_their_own_process() -> None:
+    """``spurdyn run`` writes its folders in a process of its own (spurdyn.results.apart);
+    the other commands, and a Python session calling main(), write in theirs."""
+    probe = ("atexit.register(lambda: print('apart', getattr(sys.modules.get('spurdyn.cli.run'), "
+             "'WRITE_APART', False)))")
+    assert "apart True" in _command(f"import atexit\n{probe}", "run", "x.toml").stdout
+    assert "apart False" in _command(f"import atexit\n{probe}", "cases").stdout
+    from spurdyn.cli import run
+
+    assert run.WRITE_APART is False

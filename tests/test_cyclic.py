@@ -189,3 +189,24 @@ def test_the_statics_and_fillet_maps_a_block_of_rows_at_a_time_are_the_whole_fie
     for new, old in zip(found[chunk], found[rows.size + 1]):
         assert new.shape == old.shape
         np.testing.assert_allclose(new, old, rtol=0, atol=1e-13 * np.abs(old).max())
+
+
+@pytest.mark.parametrize("h", [0, 4])
+def test_a_harmonics_unit_loads_solved_together_are_the_columns_one_by_one(even, h):
+    """The static response's solve of all a flank's unit loads in one call on one BLAS
+    thread (``together``, the fillet maps' path) against the columns one by one: the same
+    to round-off on a real (0) and a complex (4) harmonic (measured: the same bits), and
+    BLAS's thread count as it was."""
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    cell = ring_cell(even.body)
+    k, _, _ = cell.harmonic(h)
+    solve = cyclic._RealForm(k)
+    loads = np.hstack([cyclic._unit_loads(cell, even, side) for side in (0, 1)])
+    # the suite runs BLAS on one thread (conftest): two here, so a count not restored shows
+    with threadpool_limits(limits=2, user_api="blas"):
+        threads = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+        one, together = solve(loads), solve(loads, together=True)
+        assert [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"] == threads
+    assert together.dtype == one.dtype and np.abs(one).max() > 0.0
+    np.testing.assert_allclose(together, one, rtol=0, atol=1e-14 * np.abs(one).max())

@@ -13,13 +13,14 @@ import pytest
 
 from cli_helpers import fake, here, run  # noqa: F401  (pytest fixtures)
 from spurdyn.case import case_from_dict, case_to_dict, load_case
+from spurdyn.cli.run import safety_phrase
 from spurdyn.errors import InputError
 from spurdyn.iso6336.__main__ import example_pair
 from spurdyn.iso6336.chain import safety_chain
 from spurdyn.iso6336.materials import GRADES, LINES, allowable_stresses
 from spurdyn.iso6336.rating import rate
 from spurdyn.iso6336.transverse import running_in_allowance, transverse_factors
-from spurdyn.results.stress import safety_figures, safety_phrase
+from spurdyn.results.stress import safety_figures
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pinion_23_47.toml"
 MPA = 1e6

@@ -91,14 +91,14 @@ def test_an_error_of_the_block_stops_the_child(tmp_path: Path,
                                                monkeypatch: pytest.MonkeyPatch) -> None:
     marker = tmp_path / "finished.txt"
     children: list[int] = []
-    fork = beside_module._fork
+    fork = beside_module.fork
 
     def recording_fork() -> int:
         pid = fork()
         if pid:
             children.append(pid)
         return pid
-    monkeypatch.setattr(beside_module, "_fork", recording_fork)
+    monkeypatch.setattr(beside_module, "fork", recording_fork)
 
     def slow() -> None:
         signal.pause()    # until killed: the parent gives the folder up
@@ -145,7 +145,7 @@ def test_no_process_to_spare_and_the_work_is_done_here(tmp_path: Path,
                                                       monkeypatch: pytest.MonkeyPatch) -> None:
     def no_fork() -> int:
         raise BlockingIOError(11, "Resource temporarily unavailable")
-    monkeypatch.setattr(beside_module, "_fork", no_fork)
+    monkeypatch.setattr(beside_module, "fork", no_fork)
     out = tmp_path / "picture.txt"
     with beside(_writer(out)):
         assert not out.exists()

@@ -170,7 +170,7 @@ def test_prefetch_draws_a_picture_of_the_run_kind_and_leaves_nothing(tmp_path, m
     from spurdyn.results import prefetch
 
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
-    prefetch._load()
+    prefetch.load()
     assert list(tmp_path.iterdir()) == []
 
 
@@ -201,7 +201,7 @@ def test_prefetch_shortens_the_switch_interval_while_it_loads_and_restores_it(mo
         go.wait(10)
         seen.append(sys.getswitchinterval())
 
-    monkeypatch.setattr(prefetch, "_load", load)
+    monkeypatch.setattr(prefetch, "load", load)
     default = sys.getswitchinterval()
     try:
         thread = prefetch.start()
@@ -231,7 +231,7 @@ def test_overlapping_prefetches_restore_pythons_interval_whichever_ends_first(mo
     def load() -> None:
         next(calls).wait(10)
 
-    monkeypatch.setattr(prefetch, "_load", load)
+    monkeypatch.setattr(prefetch, "load", load)
     default = sys.getswitchinterval()
     try:
         first, second = prefetch.start(), prefetch.start()

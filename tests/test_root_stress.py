@@ -68,6 +68,21 @@ def test_peaks_skip_missing_rows():
     assert np.isnan(hi[1]) and np.isnan(r_lo[1])
 
 
+def test_peaks_of_finite_rows_are_the_masked_paths():
+    """Every row finite (a run's kept samples) takes the path without masks: the same
+    numbers as the rows among one without a finite value (the masked path), and the
+    largest and smallest by hand."""
+    rng = np.random.default_rng(5)
+    s, r = rng.standard_normal((300, 22)), np.linspace(0.03, 0.035, 22)
+    fast = peaks(s, r)
+    masked = peaks(np.vstack([s, np.full((1, 22), np.nan)]), r)
+    for a, b in zip(fast, masked):
+        assert a.shape == (300,)
+        np.testing.assert_array_equal(a, b[:300])
+    np.testing.assert_array_equal(fast[0], s.max(axis=1))
+    np.testing.assert_array_equal(fast[3], r[s.argmin(axis=1)])
+
+
 def _case_with_allowables(flim=430e6, hlim=1500e6):
     from spurdyn.case import case_from_dict
 

@@ -217,8 +217,9 @@ def test_a_run_continued_from_anothers_end_is_the_long_runs_second_half():
 def test_a_sector_sweep_carries_each_speeds_end_to_the_next(tmp_path, capsys):
     """``spurdyn sweep --model sector --continuation up``: the chain's first point is the
     point a sweep without continuation computes; the next starts from its end (and so
-    differs from a start at the static equilibrium); fewer than three cycles (a sector
-    rather than whole gears) are refused in one line."""
+    differs from a start at the static equilibrium); each gear's largest root stress is the
+    one ``spurdyn run`` of the point reports; fewer than three cycles (a sector rather than
+    whole gears) are refused in one line."""
     from spurdyn.cli.main import main
 
     common = ["sweep", "paper-fig8", "--model", "sector", "--cycles", "3", "--max-cycles", "3", "--damping", "0.05",
@@ -229,6 +230,12 @@ def test_a_sector_sweep_carries_each_speeds_end_to_the_next(tmp_path, capsys):
     alone = xr.open_dataset(tmp_path / "alone" / "sweep.nc").sel(model="sector")
     assert float(up.peak_force.sel(rpm=4000)) == pytest.approx(float(alone.peak_force.sel(rpm=4000)), rel=1e-6)
     assert abs(float(up.peak_force.sel(rpm=5000)) / float(alone.peak_force.sel(rpm=5000)) - 1) > 1e-4
+    # each gear's largest root stress is the one `spurdyn run` of the same point reports
+    assert main(["run", "paper-fig8", "--model", "sector", "--cycles", "3", "--max-cycles", "3", "--damping", "0.05",
+                 "--mesh", "2x8", "--speed-a", "4000", "--quiet", "--out", str(tmp_path / "run")]) == 0
+    run_max = json.loads((tmp_path / "run" / "summary.json").read_text())["root_stress_max_Pa"]
+    swept = [float(alone[f"root_stress_max_{g}"].sel(rpm=4000)) for g in "ab"]
+    assert swept == pytest.approx(run_max, rel=1e-12) and min(swept) > 0
     capsys.readouterr()
     assert main(["sweep", "paper-fig8", "--model", "sector", "--cycles", "2", "--mesh", "2x8",
                  "--rpm", "4000,5000", "--continuation", "up", "--out", str(tmp_path / "bad")]) == 2

@@ -94,8 +94,10 @@ def test_console_script_keeps_results_on_sigterm(tmp_path):
 
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 100, 0, 0))  # 100 columns
-    proc = subprocess.Popen([sys.executable, "-m", "spurdyn.cli.main", "run", "paper-fig8",
-                             "--out", str(out)], stdout=subprocess.PIPE, stderr=slave)
+    # the console command's entry: its run writes the folder in a process of its own
+    entry = "from spurdyn.cli.command import entry; entry()"
+    proc = subprocess.Popen([sys.executable, "-c", entry, "run", "paper-fig8", "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=slave)
     os.close(slave)
     def read(timeout: float) -> bytes:
         if not select.select([master], [], [], timeout)[0]:

@@ -30,6 +30,8 @@ def entry() -> NoReturn:
     gc.disable()
     try:
         from spurdyn.cli.main import main
+
+        write_apart(sys.argv[1:])
     finally:
         gc.freeze()
         gc.enable()
@@ -58,6 +60,25 @@ def keep_out_dask(args: list[str]) -> None:
         sys.modules["dask"] = None  # type: ignore[assignment]
 
 
+def write_apart(args: list[str]) -> None:
+    """Have ``spurdyn run`` write its folders in a process of its own.
+
+    The libraries a run writes with (xarray, pandas, netCDF4, Matplotlib) then never load in
+    the process that steps with Numba and LLVM, and the command's largest process is the
+    one or the other, not both (:mod:`spurdyn.results.apart`, docs/performance.md). Only in
+    the console command's own process, as :func:`keep_out_dask`.
+
+    Parameters
+    ----------
+    args
+        The command line after the program's name.
+    """
+    if args[:1] == ["run"]:
+        from spurdyn.cli import run
+
+        run.WRITE_APART = True
+
+
 def leave(code: int) -> NoReturn:
     """Exit with ``code``, without the interpreter's teardown when nothing needs it.
 
@@ -80,4 +101,4 @@ def leave(code: int) -> NoReturn:
     os._exit(code)
 
 
-__all__ = ["entry", "keep_out_dask", "leave"]
+__all__ = ["entry", "keep_out_dask", "leave", "write_apart"]

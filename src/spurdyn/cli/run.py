@@ -158,6 +158,13 @@ def _compiling_note(plan: RunPlan, simulate: Simulate, quiet: bool) -> None:
               "2-core machine)...", file=sys.stderr, flush=True)
 
 
+#: Whether a run writes its folder in a process of its own (:mod:`spurdyn.results.apart`),
+#: which keeps the writers' libraries out of the process that steps: set by the console
+#: command for ``spurdyn run`` (:func:`spurdyn.cli.command.entry`). A Python session that
+#: calls :func:`spurdyn.cli.main.main` writes in its own process.
+WRITE_APART = False
+
+
 def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
             quiet: bool = False) -> dict[str, Any]:
     """Run one case and write its folder; return the summary (plus ``out``).
@@ -166,19 +173,20 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
     returns the run so far); one that comes later waits until the folder is written. A
     ``KeyboardInterrupt`` before the solver's loop (or escaping it) leaves nothing.
     """
-    from spurdyn.results.folder import write_run_folder
+    from spurdyn.results import apart, prefetch
 
     target = plan.out
     made = [p for p in [target.parent, *target.parent.parents] if not p.exists()]
     bar = ProgressBar(plan.case.name, enabled=progress)
-
-    from spurdyn.results import prefetch
-
-    loading: list[Any] = []
+    helpers: dict[str, Any] = {"writer": None}   # the writer process, or the loading thread
 
     def report(step: int, angle: float, total: float) -> None:
-        if not loading:   # the loop runs (GIL-free): load the writers on the other core
-            loading.append(prefetch.start())
+        # the loop runs: the writers load on the other core, in the writer process or in a
+        # thread here (the compiled loop runs without the GIL)
+        if helpers["writer"] is not None:
+            apart.begin(helpers["writer"])
+        elif "thread" not in helpers:
+            helpers["thread"] = prefetch.start()
         bar(step, angle, total)
         Interrupts.checkpoint()
 
@@ -188,6 +196,8 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
         except OSError as err:
             raise InputError(str(target), f"cannot be made ({err.strerror or err}); give "
                              "another --out") from None
+        if WRITE_APART:   # started while this process is small, before Numba loads
+            helpers["writer"] = apart.start()
         _compiling_note(plan, simulate, quiet or not progress)
         t0 = time.perf_counter()
         with Interrupts.held():  # from the moment the solver's loop has ended
@@ -201,18 +211,10 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
             if Interrupts.last is not None and \
                     (result.reason or "").startswith("interrupted by the user"):
                 result.reason = result.reason.replace("by the user", f"by {Interrupts.name()}", 1)
-            prefetch.wait(loading[0] if loading else None)
-            try:
-                summary, final = write_run_folder(result, plan.case, target, force=plan.force,
-                                                  vtu=plan.vtu)
-            except OSError as err:
-                raise InputError(str(target), f"cannot be written ({err.strerror or err}); "
-                                 "give another --out") from None
-            if final != target:
-                print(f"spurdyn: {target} was filled by another run meanwhile; "
-                      f"{plan.case.name} written to {final} instead", file=sys.stderr)
-                target = final
+            prefetch.wait(helpers.get("thread"))
+            summary, target = _write(plan, result, helpers["writer"])
     finally:
+        apart.stop(helpers["writer"])   # one not given a result (a stop before any)
         if not target.exists():  # nothing came of it: remove the folders made for it
             for folder in made:
                 try:
@@ -221,6 +223,23 @@ def execute(plan: RunPlan, simulate: Simulate, progress: bool = True,
                     break
     summary["out"] = str(target)
     return summary
+
+
+def _write(plan: RunPlan, result: Any, writer: Any) -> tuple[dict[str, Any], Path]:
+    """Write the run's folder (in ``writer``'s process if there is one); the summary and
+    the folder written, which is another when another run filled the planned one meanwhile."""
+    from spurdyn.results import apart
+
+    try:
+        summary, final = apart.write(writer, result, plan.case, plan.out, force=plan.force,
+                                     vtu=plan.vtu)
+    except OSError as err:
+        raise InputError(str(plan.out), f"cannot be written ({err.strerror or err}); "
+                         "give another --out") from None
+    if final != plan.out:
+        print(f"spurdyn: {plan.out} was filled by another run meanwhile; "
+              f"{plan.case.name} written to {final} instead", file=sys.stderr)
+    return summary, final
 
 
 def report_line(summary: dict[str, Any]) -> str:
@@ -247,10 +266,22 @@ def report_line(summary: dict[str, Any]) -> str:
     back = summary.get("back_flanks") or {}
     back_s = (f", back flanks {back['peak_force_N']:,.1f} N at most ({back['steps_in_contact']:,} steps)"
               if back.get("steps_in_contact") else "")
-    from spurdyn.results.stress import safety_phrase  # S_F, S_H below 1, either way
-
     return (f"{summary['case']}: complete{_settled_words(summary)}, {steps} in {summary['wall_s']:.1f} s, "
             f"{peak_s}, {summary['separations']} separation(s){back_s}{safety_phrase(summary)}")
+
+
+def safety_phrase(summary: dict[str, Any]) -> str:
+    """The part of the command's line naming every safety factor below 1, e.g.
+    ``", S_F below 1: gear B 0.83 (ISO)"``, or ``""`` when none is (or none computed)."""
+    parts = []
+    for name, key in (("S_F", "safety_root"), ("S_H", "safety_contact")):
+        low = [f"gear {'AB'[g]} {s:.3g} ({way})"
+               for way, suffix in (("ISO", "_iso"), ("model", "_model"))
+               for g, s in enumerate(summary.get(key + suffix) or ())
+               if s is not None and s < 1.0]
+        if low:
+            parts.append(f"{name} below 1: " + ", ".join(low))
+    return "".join(f", {p}" for p in parts)
 
 
 def _settled_words(summary: dict[str, Any]) -> str:

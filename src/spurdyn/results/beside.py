@@ -64,10 +64,11 @@ def _child(work: Callable[[], object], parents_end: int, report: int) -> NoRetur
             os._exit(status)
 
 
-def _fork() -> int:
+def fork() -> int:
+    """``os.fork`` without Python 3.12's warning about the numerical libraries' threads."""
     # Python 3.12+ warns about forking a process with other OS threads. Those here are the
     # native pools of the numerical libraries (OpenBLAS), which prepare for a fork; no
-    # other Python thread runs (can_fork), and the child only draws and leaves.
+    # other Python thread runs (can_fork), and the child only writes and leaves.
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message=r".*use of fork\(\) may lead to deadlocks",
                                 category=DeprecationWarning)
@@ -87,14 +88,15 @@ def _start(work: Callable[[], object]) -> tuple[int, int] | None:
     child can be made here (:func:`can_fork`, or no process or pipe to spare)."""
     if not can_fork():
         return None
-    sys.stdout.flush()    # else the child would inherit, and print, the parent's buffers
-    sys.stderr.flush()
+    for stream in (sys.stdout, sys.stderr):   # else the child would print the parent's buffers
+        if stream is not None:    # (None: closed by the caller)
+            stream.flush()
     try:
         read_end, write_end = os.pipe()
     except OSError:
         return None
     try:
-        pid = _fork()
+        pid = fork()
     except OSError:
         os.close(read_end)
         os.close(write_end)
@@ -146,4 +148,4 @@ def beside(work: Callable[[], object]) -> Iterator[None]:
               "process instead", file=sys.stderr)
 
 
-__all__ = ["beside", "can_fork"]
+__all__ = ["beside", "can_fork", "fork"]

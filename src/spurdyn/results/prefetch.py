@@ -5,7 +5,9 @@ libraries and so imports ``dask.array``), netCDF4 and Matplotlib, and the first 
 and picture of a process start their libraries: about 2 s of a command's time outside the
 time loop (docs/performance.md). The compiled time loop
 releases the GIL (:func:`spurdyn.jit.njit`), so these imports can run on the other core
-meanwhile: :func:`start` before the run, :func:`wait` before writing.
+meanwhile: :func:`start` before the run, :func:`wait` before writing. (The console command
+writes in a process of its own, :mod:`spurdyn.results.apart`, which calls :func:`load`
+once the loop has begun, instead.)
 """
 
 from __future__ import annotations
@@ -18,7 +20,10 @@ import threading
 SWITCH_INTERVAL = 2e-4
 
 
-def _load() -> None:
+def load() -> None:
+    """Import the writers and write a small NetCDF file and picture in a scratch folder,
+    removed after (in :func:`start`'s thread, or in a writer process,
+    :mod:`spurdyn.results.apart`)."""
     import json
     import os
     import tempfile
@@ -86,7 +91,7 @@ def start() -> threading.Thread:
     """
     def run() -> None:
         try:
-            _load()
+            load()
         except Exception:  # noqa: BLE001 - the writer's own import reports it
             pass
         finally:

@@ -195,20 +195,6 @@ def _chain_figures(rating: Any, chain: Any, mats: tuple[Any, Any]) -> dict[str, 
     }
 
 
-def safety_phrase(summary: dict[str, Any]) -> str:
-    """The part of the command's line naming every safety factor below 1, e.g.
-    ``", S_F below 1: gear B 0.83 (ISO)"``, or ``""`` when none is (or none computed)."""
-    parts = []
-    for name, key in (("S_F", "safety_root"), ("S_H", "safety_contact")):
-        low = [f"gear {'AB'[g]} {s:.3g} ({way})"
-               for way, suffix in (("ISO", "_iso"), ("model", "_model"))
-               for g, s in enumerate(summary.get(key + suffix) or ())
-               if s is not None and s < 1.0]
-        if low:
-            parts.append(f"{name} below 1: " + ", ".join(low))
-    return "".join(f", {p}" for p in parts)
-
-
 def _stress_window(ds: xr.Dataset) -> tuple[float, float, str]:
     """The times a sector run's root-stress peaks are taken over: a complete steady-state
     run's last cycles (those of its dynamic factor), else the whole run; and what it was."""
@@ -293,4 +279,4 @@ def stress_summary(ds: xr.Dataset, case: Case) -> dict[str, Any]:
 
 
 __all__ = ["ROOT_VARIABLES", "iso_figures", "root_stress_variables", "safety_figures",
-           "safety_phrase", "sector_stress_summary", "stress_summary", "tooth_stress_variables"]
+           "sector_stress_summary", "stress_summary", "tooth_stress_variables"]

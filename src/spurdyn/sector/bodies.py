@@ -9,7 +9,8 @@ Both give the loop the same few things for a step's matrix ``S = M + gamma' C + 
 - :meth:`rows`: the pairs' rows ``E`` on the gear's elastic coordinates from their unit
   strip loads (in tooth 0's frame, :meth:`~spurdyn.sector.system.GearBlock.flank_loads`)
   on teeth ``k``, on their right (drive) or left (back) flanks: the flank DOFs and the loads
-  turned (and mirrored) there, or ``Phi^T`` of them;
+  turned (and mirrored) there, or ``Phi^T`` of them (with ``full`` false, what a modal
+  body's fillet maps read alone: its teeth, flanks and loads; none on a whole body);
 - :meth:`elastic`: ``E x`` (``x`` one vector of the gear's coordinates or columns of them);
 - :meth:`columns`: ``S^-1 E^T``, the full columns;
 - :meth:`residual`: the instantaneous compliance between the pairs' loads (zero for the whole
@@ -43,12 +44,12 @@ class FullRows(NamedTuple):
 class ModalRows(NamedTuple):
     """The pairs' rows on a modal body: the teeth (body numbers from its first) and flanks
     (0 right, 1 left), the unit loads in tooth 0's frame and ``(p, m)`` their modal rows
-    ``Phi^T b``."""
+    ``Phi^T b`` (``None``: not formed)."""
 
     teeth: NDArray[np.intp]
     sides: NDArray[np.intp]
     loads: NDArray[np.float64]
-    modal: NDArray[np.float64]
+    modal: NDArray[np.float64] | None
 
 
 def _tooth_frames(reduced: Reduction, sides: int = 1) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -148,7 +149,9 @@ class FullBody:
         return self._resp[key]
 
     def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64],
-             sides: NDArray[np.intp] | None = None) -> FullRows:
+             sides: NDArray[np.intp] | None = None, full: bool = True) -> FullRows | None:
+        if not full:    # the fillets of a whole body read its coordinates alone
+            return None
         sides = np.zeros(len(ks), np.intp) if sides is None else sides
         teeth = [self._tooth(int(k), int(s)) for k, s in zip(ks, sides)]
         dofs = np.array([t[0] for t in teeth])
@@ -238,7 +241,7 @@ class ModalBody:
         return out
 
     def rows(self, ks: NDArray[np.intp], loads: NDArray[np.float64],
-             sides: NDArray[np.intp] | None = None) -> ModalRows:
+             sides: NDArray[np.intp] | None = None, full: bool = True) -> ModalRows:
         blk = self.block
         sides = np.zeros(len(ks), np.intp) if sides is None else np.asarray(sides, np.intp)
         at = np.asarray(ks, dtype=np.intp) - blk.first
@@ -246,6 +249,8 @@ class ModalBody:
             at %= blk.count
         elif at.min() < 0 or at.max() >= blk.count:
             blk.tooth(int(ks[np.argmax((at < 0) | (at >= blk.count))]))     # raises, naming it
+        if not full:
+            return ModalRows(at, sides, loads, None)
         return ModalRows(at, sides, loads, np.einsum("pf,pfm->pm", loads, self._modes[at, sides]))
 
     def elastic(self, rows: ModalRows, x: NDArray[np.float64]) -> NDArray[np.float64]:

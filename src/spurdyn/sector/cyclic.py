@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from scipy.linalg import eigh
 from scipy.sparse.linalg import LinearOperator, eigsh, splu
+from threadpoolctl import threadpool_limits
 
 from spurdyn.fem.assembly import assemble_lumped_mass, assemble_stiffness
 from spurdyn.sector.body import SectorBody
@@ -253,7 +254,7 @@ class CyclicGear(Reduction):
                 if keep:
                     self._lu[h] = found
             solve, t = found
-            y = t @ solve(loads)
+            y = t @ solve(loads, together=True)     # the columns' to round-off (the same bits here)
             weight = 1.0 if h == 0 or 2 * h == cell.z else 2.0
             # the harmonic's complex field a block of rows at a time: over a whole gear's
             # fillets at once its temporaries took some 180 MB (docs/performance.md)
@@ -376,20 +377,25 @@ class _RealForm:
         form = sp.bmat([[a.real, -a.imag], [a.imag, a.real]]) if self.complex else a
         self._lu = splu(form.tocsc())
 
-    def real(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
-        """The real form's solve, column by column (SuperLU's solve of many columns at once
-        is several times slower)."""
+    def real(self, b: NDArray[np.float64], together: bool = False) -> NDArray[np.float64]:
+        """The real form's solve, column by column, or with ``together`` all in one call on
+        one BLAS thread: 2-3 times faster, on unit loads the same numbers (measured; not on
+        others, so the modes' solves keep the columns); on two threads one call was 4-35
+        times slower (docs/performance.md, "The Fig. 8 sector sweep's root stress")."""
         b = np.asarray(b, dtype=float)
         if b.ndim == 1:
             return self._lu.solve(b)
+        if together:
+            with threadpool_limits(limits=1, user_api="blas"):
+                return self._lu.solve(b)
         return np.column_stack([self._lu.solve(np.ascontiguousarray(b[:, i])) for i in range(b.shape[1])])
 
-    def __call__(self, x: NDArray) -> NDArray:
-        """``a^-1 x``."""
+    def __call__(self, x: NDArray, together: bool = False) -> NDArray:
+        """``a^-1 x`` (:meth:`real`'s ``together``)."""
         x = np.asarray(x)
         if not self.complex:
-            return self.real(x.real)
-        y = self.real(np.concatenate([x.real, x.imag]))
+            return self.real(x.real, together)
+        y = self.real(np.concatenate([x.real, x.imag]), together)
         return y[:self.n] + 1j * y[self.n:]
 
 

@@ -138,6 +138,7 @@ class GearFillets:
         if self.reduced is None:
             self._ops, self._rows = self._operators(first)
             return
+        self._gear = gear                       # its flank modes, read by stress_many
         # the maps from the mode store when a run before made them for the same body and
         # modes (a whole ring's static response costs its harmonics' solves); every tooth's
         # stress operator is made only to make them (72 teeth: ~0.5 s of a design pair's run)
@@ -235,30 +236,39 @@ class GearFillets:
         """:meth:`stress` of several states at once: ``(S, K, n)`` for the gear's coordinates
         ``q`` ``(S, 1 + d)`` and, on a modal body, the pairs' rows of all of them
         (:meth:`~spurdyn.sector.model.SectorModel.rows_many`: entry ``e`` a pair in state
-        ``sample[e]``, ``None`` for no contact) and their forces ``force`` ``(E,)``. The
-        same sums as :meth:`stress`, as matrix products over the states."""
+        ``sample[e]``, ``None`` for no contact; their modal rows are not read, so they need
+        not be formed) and their forces ``force`` ``(E,)``. The same sums as :meth:`stress`,
+        as matrix products over the states and the flanks loaded."""
         u = q[:, 1:]
         count, n = self.teeth.size, self.radius.size
         if self.reduced is None:
             return np.stack([u[:, r] @ op.T for op, r in zip(self._ops, self._rows)], axis=1)
-        eta = u.copy()
+        modes = self._modes.reshape(count * n, -1).T
         live = np.zeros(0, np.intp) if rows is None else np.flatnonzero(force != 0.0)
+        if not live.size:
+            return (u @ modes).reshape(-1, count, n)
+        w, flank, maps = self._flank_loads(u.shape[0], sample[live], rows.teeth[live], rows.sides[live],
+                                           force[live, None] * rows.loads[live])
+        # eta less the loads' modal part Omega^-2 Phi^T f, then the static part T_k K^-1 f
+        eta = u - (w @ flank) / self.reduced.omega2
+        return (eta @ modes + w @ maps).reshape(-1, count, n)
 
-        def forces(e: NDArray[np.intp]) -> sp.csr_matrix:
-            """``(S, e)`` the entries' forces in their states' rows: the sums over a state's pairs."""
-            return sp.csr_matrix((force[e], (sample[e], np.arange(e.size))), shape=(eta.shape[0], e.size))
-
-        if live.size:
-            # the loads' modal part, Omega^-2 Phi^T f, state by state
-            eta -= (forces(live) @ rows.modal[live]) / self.reduced.omega2
-        out = eta @ self._modes.reshape(count * n, -1).T
-        # the static part: one map for all the entries on the same tooth and flank
-        key = rows.teeth[live] * 2 + rows.sides[live] if live.size else live
-        for k in np.unique(key):
-            e = live[key == k]
-            maps = self._static_maps(*divmod(int(k), 2))
-            out += forces(e) @ (rows.loads[e] @ maps.reshape(count * n, -1).T)
-        return out.reshape(-1, count, n)
+    def _flank_loads(self, states: int, sample: NDArray[np.intp], teeth: NDArray[np.intp],
+                     sides: NDArray[np.intp], loads: NDArray[np.float64]
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """``(w, flank, maps)`` of the loads ``loads`` ``(E, f)`` (forces times unit loads)
+        of entries in states ``sample`` on the body's teeth ``teeth``, flanks ``sides``:
+        per flank loaded (``G`` of them) ``w`` ``(S, G f)`` the sum of its loads in each
+        state, ``flank`` ``(G f, m)`` the modes at it (its ``Phi^T`` rows) and ``maps``
+        ``(G f, K n)`` the fillets' stress under its unit loads."""
+        key, at = np.unique(teeth * 2 + sides, return_inverse=True)
+        f = loads.shape[1]
+        w = np.zeros((states, key.size, f))
+        np.add.at(w, (sample, at.ravel()), loads)       # a split pair's two rows in one state
+        tooth, side = np.divmod(key, 2)
+        maps = [self._static_maps(int(t), int(sd)).reshape(-1, f).T for t, sd in zip(tooth, side)]
+        flank = self._gear.flank_modes[tooth, side].reshape(key.size * f, -1)
+        return w.reshape(states, -1), flank, np.concatenate(maps)
 
 
 __all__ = ["GearFillets", "boundary_edges", "incidence", "tangential_operator", "tooth_fillets"]

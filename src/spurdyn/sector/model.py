@@ -295,18 +295,19 @@ class SectorModel:
         return self._pair_rows(on, rolls[on], f[on], theta_a, offset, None if pit is None else pit[on])
 
     def rows_many(self, theta_a: NDArray[np.float64], f: NDArray[np.float64],
-                  offset: int = 0) -> tuple[NDArray[np.intp], Rows] | None:
+                  offset: int = 0, full: bool = True) -> tuple[NDArray[np.intp], Rows] | None:
         """:meth:`rows_at` of several states at once, the driver's turns ``theta_a`` ``(S,)``
         and forces ``f`` ``(S, C)``: ``(sample, rows)``, one entry a contact near its path in
         a state, ``rows.on`` its index in ``c_teeth`` and ``sample`` its state's (in the
         states' order, each state's contacts in :meth:`rows_at`'s, a split pair's two rows
-        naming it twice); entry by entry :meth:`rows_at`'s numbers. ``None`` where none is near."""
+        naming it twice); entry by entry :meth:`rows_at`'s numbers. ``None`` where none is near.
+        ``full`` false: the bodies' rows without their elastic parts (the bodies' ``rows``)."""
         theta_a = np.asarray(theta_a, dtype=float)
         rolls, near = self._rolls(theta_a[:, None], offset)
         sample, on = np.nonzero(near)
         if not on.size:
             return None
-        rows = self._pair_rows(on, rolls[sample, on], f[sample, on], theta_a[sample], offset)
+        rows = self._pair_rows(on, rolls[sample, on], f[sample, on], theta_a[sample], offset, full=full)
         return (sample if rows.on.size == on.size else sample[np.cumsum(rows.kind != 2) - 1]), rows
 
     def near_many(self, theta_a: NDArray[np.float64], offset: int = 0) -> NDArray[np.intp]:
@@ -325,10 +326,10 @@ class SectorModel:
         return rolls, near
 
     def _pair_rows(self, on: NDArray[np.intp], rolls: NDArray[np.float64], f: NDArray[np.float64],
-                   theta_a: Any, offset: int, pit: NDArray[np.float64] | None = None) -> Rows:
+                   theta_a: Any, offset: int, pit: NDArray[np.float64] | None = None, full: bool = True) -> Rows:
         """The :class:`Rows` of the contacts ``on`` at their ``rolls`` under their forces
         ``f`` (their pit strips' ``pit``, :meth:`rows_at`), the driver at ``theta_a`` (a
-        number, or one per contact)."""
+        number, or one per contact); without the bodies' modal rows unless ``full``."""
         ra, rb = self.ra, self.rb
         kind, share, extra = np.zeros(on.size, np.intp), np.ones(on.size), 0.0
         if self.splits:
@@ -344,7 +345,7 @@ class SectorModel:
         if self.faults:
             g0 = g0 + self.pit_gaps(k, sd, rolls) + extra
         # d gap / d theta: the base circles' and, off the path, the corner's
-        sides = tuple((coef, self.gears[g].rows(kg, self.blocks[g].flank_loads(r, hw), sd))
+        sides = tuple((coef, self.gears[g].rows(kg, self.blocks[g].flank_loads(r, hw), sd, full))
                       for g, (kg, coef, r) in enumerate(((k, sgn * (slope - ra), r_a),
                                                           (-k + sd, sgn * rb, r_b))))
         return Rows(on, g0 - sgn * slope * theta_a + self.jn * sd, sides, kind, share, f)

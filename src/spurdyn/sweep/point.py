@@ -50,6 +50,10 @@ FIGURES: dict[str, tuple[str, str]] = {
     "separations": ("1", "times contact was lost after first being made and the gap opened "
                     "beyond 10 nm (the tip leaving at the end not counted)"),
     "static_force": ("N", "quasi-static tooth force torque / r_b of the driver"),
+    "root_stress_max_a": ("Pa", "largest root stress (tension) of gear A's teeth over the run "
+                          "(the sector model's fillets; NaN where the model does not compute it)"),
+    "root_stress_max_b": ("Pa", "largest root stress (tension) of gear B's teeth over the run "
+                          "(the sector model's fillets; NaN where the model does not compute it)"),
     "angle_reached_deg": ("degree", "rotation of A the run reached"),
     "steps": ("1", "time steps (FE) or integrator steps (lumped) taken"),
     "wall_s": ("s", "wall-clock time of the point on its worker"),
@@ -162,6 +166,7 @@ def point_figures(result: Result, case: Case, ds: Any = None) -> dict[str, Any]:
     force = np.asarray(ds["contact_force"].values, float)
     finite = force[np.isfinite(force)]
     rms = float(np.sqrt(np.mean(finite * finite))) if finite.size else None
+    stress = s.get("root_stress_max_Pa") or (None, None)
     return {
         "peak_force": s["peak_force_N"],
         "peak_angle_deg": s["peak_angle_deg"],
@@ -172,6 +177,8 @@ def point_figures(result: Result, case: Case, ds: Any = None) -> dict[str, Any]:
         "rms_force": rms,
         "separations": s["separations"],
         "static_force": s["static_force_N"],
+        "root_stress_max_a": stress[0],
+        "root_stress_max_b": stress[1],
         "angle_reached_deg": s["angle_deg"],
         "steps": s["steps"],
         "wall_s": s["wall_s"],

@@ -19,9 +19,9 @@ from spurdyn.sector.fillets import GearFillets
 from spurdyn.sector.rules import STRESS_SAMPLES, stress_steps
 from spurdyn.sector.system import half_widths_at
 
-#: Bytes the pairs' modal rows of the samples formed at once may take: a modal body's rows
-#: are its flank modes at each pair's load, ``f x m`` numbers a pair (58 x 514 on a design
-#: pair's 53-tooth gear, 238 kB), gathered before they are summed.
+#: Bytes the pairs' rows of the samples formed at once may take: on modal bodies a pair's
+#: flank loads, ``f`` numbers on each gear (58 on the paper's pair; their modal rows, ``f x m``
+#: numbers, are not formed: :meth:`GearFillets.stress_many`).
 ROWS_BYTES = 8 * 2**20
 #: Most samples formed at once (whole bodies, which gather nothing).
 MOST_SAMPLES = 256
@@ -99,8 +99,8 @@ def pair_budget(model: SectorModel) -> int:
     :data:`MOST_SAMPLES` samples' worth of every contact)."""
     if not model.modes:
         return MOST_SAMPLES * model.c_teeth.size
-    # a flank load's 2 (2 ny + 1) numbers (BodyBlock.flank_loads) by the body's modes
-    per_pair = max(8 * 2 * (2 * blk.body.flank.ny + 1) * (gear.n - 1) for gear, blk in zip(model.gears, model.blocks))
+    # a flank load's 2 (2 ny + 1) numbers (BodyBlock.flank_loads) on each gear
+    per_pair = 8 * sum(2 * (2 * blk.body.flank.ny + 1) for blk in model.blocks)
     return max(ROWS_BYTES // per_pair, 1)
 
 
@@ -122,7 +122,7 @@ def fillet_stress(model: SectorModel, fillets: list[GearFillets], states: NDArra
     states ``states`` ``(S, n_q)`` under the contacts' forces ``force`` ``(S, C)``: the
     pairs' rows of all of them at once (:meth:`SectorModel.rows_many`) through the
     fillets' maps (:meth:`GearFillets.stress_many`)."""
-    found = model.rows_many(states[:, 0], force, offset)
+    found = model.rows_many(states[:, 0], force, offset, full=False)
     sample, rows = found if found is not None else (None, None)
     f_on = force[sample, rows.on] if rows is not None else None
     return [f.stress_many(states[:, model.parts[g]], sample, rows.sides[g][1] if rows is not None else None, f_on)

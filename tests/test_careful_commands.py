@@ -183,6 +183,7 @@ def test_a_frozen_scheduler_is_given_up_keeping_the_finished_points(tmp_path, ca
     monkeypatch.setattr(backends, "SILENCE_S", 3.0, raising=False)
     monkeypatch.setattr(point_mod, "run_point", ch.slow_point)
     cluster = ch.LoopbackCluster(tmp_path / "cluster")
+    done = threading.Event()    # the test over: the scheduler is let go of, not woken
     try:
         cluster.start_scheduler()
         cluster.start_worker()
@@ -195,8 +196,8 @@ def test_a_frozen_scheduler_is_given_up_keeping_the_finished_points(tmp_path, ca
                     time.monotonic() < deadline:
                 time.sleep(0.02)
             os.kill(cluster.scheduler.pid, signal.SIGSTOP)
-            time.sleep(90.0)
-            os.kill(cluster.scheduler.pid, signal.SIGCONT)
+            if not done.wait(90.0):   # else the test has ended and stopped the scheduler
+                os.kill(cluster.scheduler.pid, signal.SIGCONT)
 
         threading.Thread(target=freeze, daemon=True).start()
         t0 = time.monotonic()
@@ -205,6 +206,7 @@ def test_a_frozen_scheduler_is_given_up_keeping_the_finished_points(tmp_path, ca
                              "--scheduler-timeout", "2", "--out", tmp_path / "sw")
         took = time.monotonic() - t0
     finally:
+        done.set()
         if cluster.scheduler is not None and cluster.scheduler.poll() is None:
             os.kill(cluster.scheduler.pid, signal.SIGCONT)
         cluster.stop()

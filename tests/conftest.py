@@ -89,7 +89,9 @@ def pytest_collection_modifyitems(config, items):
     """Under ``--dist loadgroup`` (``make test``, ``make check``): the tests of a file that
     share one of its module fixtures (or a session fixture) run on one worker, which builds
     the fixture once; every other test goes to whichever worker is free, so that one long
-    file (the sector model's) does not hold up the run on one core."""
+    file (the sector model's) does not hold up the run on one core. (With pytest 9.2 and
+    pytest-xdist 3.8 the groups do not take effect: docs/performance.md, "The test suite's
+    time".)"""
     for item in items:
         if _shares_a_fixture(item):
             item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::")[0]))

@@ -195,9 +195,10 @@ def test_a_frozen_scheduler_is_given_up_keeping_the_finished_points(tmp_path, ca
             while len(list((tmp_path / "sw" / "points").glob("*.json"))) < 2 and \
                     time.monotonic() < deadline:
                 time.sleep(0.02)
-            os.kill(cluster.scheduler.pid, signal.SIGSTOP)
+            if not done.is_set():    # (Popen signals no process it has reaped)
+                cluster.scheduler.send_signal(signal.SIGSTOP)
             if not done.wait(90.0):   # else the test has ended and stopped the scheduler
-                os.kill(cluster.scheduler.pid, signal.SIGCONT)
+                cluster.scheduler.send_signal(signal.SIGCONT)
 
         threading.Thread(target=freeze, daemon=True).start()
         t0 = time.monotonic()

@@ -50,10 +50,12 @@ FIGURES: dict[str, tuple[str, str]] = {
     "separations": ("1", "times contact was lost after first being made and the gap opened "
                     "beyond 10 nm (the tip leaving at the end not counted)"),
     "static_force": ("N", "quasi-static tooth force torque / r_b of the driver"),
-    "root_stress_max_a": ("Pa", "largest root stress (tension) of gear A's teeth over the run "
-                          "(the sector model's fillets; NaN where the model does not compute it)"),
-    "root_stress_max_b": ("Pa", "largest root stress (tension) of gear B's teeth over the run "
-                          "(the sector model's fillets; NaN where the model does not compute it)"),
+    "root_stress_max_a": ("Pa", "largest root stress (tension) of gear A's teeth, over the "
+                          "cycles of the dynamic factor (the sector model's fillets; NaN for a "
+                          "run stopped early and where a sweep does not compute it)"),
+    "root_stress_max_b": ("Pa", "largest root stress (tension) of gear B's teeth, over the "
+                          "cycles of the dynamic factor (the sector model's fillets; NaN for a "
+                          "run stopped early and where a sweep does not compute it)"),
     "angle_reached_deg": ("degree", "rotation of A the run reached"),
     "steps": ("1", "time steps (FE) or integrator steps (lumped) taken"),
     "wall_s": ("s", "wall-clock time of the point on its worker"),
@@ -166,7 +168,9 @@ def point_figures(result: Result, case: Case, ds: Any = None) -> dict[str, Any]:
     force = np.asarray(ds["contact_force"].values, float)
     finite = force[np.isfinite(force)]
     rms = float(np.sqrt(np.mean(finite * finite))) if finite.size else None
-    stress = s.get("root_stress_max_Pa") or (None, None)
+    # a run stopped early has none, as it has no dynamic factor: its largest stress may be
+    # the spike that stopped it
+    stress = (s.get("root_stress_max_Pa") if s.get("status") == "complete" else None) or (None, None)
     return {
         "peak_force": s["peak_force_N"],
         "peak_angle_deg": s["peak_angle_deg"],

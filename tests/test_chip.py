@@ -6,6 +6,8 @@ compiled rows the NumPy ones)."""
 from __future__ import annotations
 
 import math
+import signal
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -315,3 +317,19 @@ def test_a_cut_on_or_by_a_node_ties_each_node_once(node, offset):
         u = ties @ u
         k = body.stiffness
         assert abs(float(u @ (k @ u))) <= 1e-14 * float(k.diagonal().sum())
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads Linux's /proc")
+def test_meshing_with_gmsh_leaves_broken_pipes_an_error_not_a_death():
+    """gmsh's initialisation sets SIGPIPE to its default behind Python's back; after a mesh
+    the process must still ignore it (a write to a closed pipe an error, not the end of the
+    process: a run's writer process that died would otherwise take the run with it)."""
+    def ignored() -> bool:
+        line = next(l for l in Path("/proc/self/status").read_text().splitlines()
+                    if l.startswith("SigIgn:"))
+        return bool(int(line.split()[1], 16) >> (signal.SIGPIPE - 1) & 1)
+
+    assert ignored()
+    g = paper_pair().gear_a
+    chipped_mesh(g, CHIP_A, NX, NY, 1.0)
+    assert ignored()

@@ -318,6 +318,21 @@ def mesh_with_inner_crack(curves: list[NDArray[np.float64]], ends: NDArray[np.fl
                      crack=_crack_nodes(quads.nodes, ends))
 
 
+def _restore_sigpipe() -> None:
+    """Give SIGPIPE back the disposition Python keeps for it (ignored: a write to a closed
+    pipe raises ``BrokenPipeError``). gmsh's initialisation sets it to the default behind
+    Python's back, after which such a write ends the whole process without a word (a run's
+    writer process gone, a reader of the output closed). Outside the main thread a signal
+    cannot be set: left as it is there."""
+    import signal
+
+    if hasattr(signal, "SIGPIPE"):
+        try:
+            signal.signal(signal.SIGPIPE, signal.getsignal(signal.SIGPIPE))
+        except ValueError:
+            pass
+
+
 def _generate(curves: list[NDArray[np.float64]], build: Callable, size: float, tip_size: float,
               key: str, what: str) -> GmshQuads:
     """Start gmsh, let ``build(gmsh, scaled curves, to scaled, scaled tip size)`` draw the
@@ -333,6 +348,7 @@ def _generate(curves: list[NDArray[np.float64]], build: Callable, size: float, t
     scale = 1.0 / size
     # not interruptible: gmsh would install a SIGINT handler, which only the main thread may
     gmsh.initialize(readConfigFiles=False, interruptible=False)
+    _restore_sigpipe()
     try:
         _set_options(gmsh)
         gmsh.model.add(what)

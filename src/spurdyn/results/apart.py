@@ -47,9 +47,6 @@ _SERVE = ("import signal; signal.signal(signal.SIGINT, signal.SIG_IGN); "
 #: The byte that tells a writer to load the writers (:func:`begin`).
 _BEGIN = b"b"
 
-#: Characters of the writer's traceback kept for the note printed when it failed.
-_REPORT_CHARS = 4000
-
 #: Modules whose presence makes this process too large to fork a writer from: LLVM's
 #: library (~75 MB resident) would count in the writer's resident set.
 _LARGE = ("llvmlite", "numba")
@@ -101,9 +98,6 @@ def _forked() -> Writer | None:
     """A forked writer, or ``None`` when no process or pipe can be made."""
     from spurdyn.results.beside import fork
 
-    for stream in (sys.stdout, sys.stderr):   # else the child would print these buffers too
-        if stream is not None:    # (None: closed by the caller)
-            stream.flush()
     try:
         to_child, from_child = os.pipe(), os.pipe()
     except OSError:
@@ -226,6 +220,8 @@ def _serve(requests: BinaryIO, answers: BinaryIO) -> NoReturn:
     import gc
     import traceback
 
+    from spurdyn.results.beside import REPORT_CHARS
+
     try:
         for signum in (signal.SIGINT, signal.SIGTERM):  # the stepper's to act on
             signal.signal(signum, signal.SIG_IGN)
@@ -247,7 +243,7 @@ def _serve(requests: BinaryIO, answers: BinaryIO) -> NoReturn:
         summary, final = write_run_folder(result, case, Path(target), force=force, vtu=vtu)
         answer: tuple[Any, ...] = ("done", summary, str(final))
     except BaseException:  # noqa: BLE001 - reported to the stepper, which writes it again
-        answer = ("failed", traceback.format_exc()[-_REPORT_CHARS:])
+        answer = ("failed", traceback.format_exc()[-REPORT_CHARS:])
     try:
         pickle.dump(answer, answers, protocol=pickle.HIGHEST_PROTOCOL)
         answers.flush()

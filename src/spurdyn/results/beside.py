@@ -29,7 +29,7 @@ from contextlib import contextmanager
 from typing import Callable, Iterator, NoReturn
 
 #: Characters of a child's traceback kept for the note printed when it failed.
-_REPORT_CHARS = 4000
+REPORT_CHARS = 4000
 
 
 def can_fork() -> bool:
@@ -54,7 +54,7 @@ def _child(work: Callable[[], object], parents_end: int, report: int) -> NoRetur
         status = 0
     except BaseException:  # noqa: BLE001 - reported to the parent, which does it again
         try:
-            os.write(report, traceback.format_exc()[-_REPORT_CHARS:].encode("utf-8", "replace"))
+            os.write(report, traceback.format_exc()[-REPORT_CHARS:].encode("utf-8", "replace"))
         except BaseException:  # noqa: BLE001
             pass
     finally:
@@ -65,7 +65,11 @@ def _child(work: Callable[[], object], parents_end: int, report: int) -> NoRetur
 
 
 def fork() -> int:
-    """``os.fork`` without Python 3.12's warning about the numerical libraries' threads."""
+    """``os.fork`` without Python 3.12's warning about the numerical libraries' threads,
+    the standard streams flushed first (else the child would print the parent's buffers)."""
+    for stream in (sys.stdout, sys.stderr):
+        if stream is not None:    # (None: closed by the caller)
+            stream.flush()
     # Python 3.12+ warns about forking a process with other OS threads. Those here are the
     # native pools of the numerical libraries (OpenBLAS), which prepare for a fork; no
     # other Python thread runs (can_fork), and the child only writes and leaves.
@@ -88,9 +92,6 @@ def _start(work: Callable[[], object]) -> tuple[int, int] | None:
     child can be made here (:func:`can_fork`, or no process or pipe to spare)."""
     if not can_fork():
         return None
-    for stream in (sys.stdout, sys.stderr):   # else the child would print the parent's buffers
-        if stream is not None:    # (None: closed by the caller)
-            stream.flush()
     try:
         read_end, write_end = os.pipe()
     except OSError:
